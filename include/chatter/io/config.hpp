@@ -1,0 +1,40 @@
+// TOML configuration: the structural model, the process and sweep defaults.
+// The key reference is docs/config.md. Paths in messages are as given.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "chatter/process.hpp"
+#include "chatter/structural_model.hpp"
+
+namespace chatter {
+
+/// Defaults for the CLI sweep flags ([sweep] table); every field optional.
+struct SweepDefaults {
+  std::optional<double> rpm_min;       ///< rev/min.
+  std::optional<double> rpm_max;       ///< rev/min.
+  std::optional<int> rpm_points;       ///< number of evenly spaced speeds, both ends included.
+  std::optional<double> depth_max_mm;  ///< deepest cut searched, mm.
+};
+
+struct Config {
+  std::string name;                 ///< `name`, or the file stem when absent.
+  std::filesystem::path source;     ///< the file it was read from (empty if parsed from text).
+  StructuralModel model;
+  Process process = Process::turning({1.0});
+  SweepDefaults sweep;
+};
+
+/// Reads and validates a config file.
+/// @throws InputError with a message "<file>: <key path> = <value>: <rule>"
+///         (or "<file>:<line>:<col>: <TOML syntax error>") on any bad input:
+///         unreadable file, syntax error, unknown or missing key, wrong type,
+///         non-physical value.
+Config load_config(const std::filesystem::path& file);
+
+/// Same, from TOML text; `origin` names the source in messages.
+Config parse_config(const std::string& toml_text, const std::string& origin);
+
+}  // namespace chatter

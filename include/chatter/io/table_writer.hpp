@@ -1,0 +1,45 @@
+// Lobe tables as CSV and JSON (the contract CAM integrators parse).
+//
+// CSV: header `spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe` then one
+// row per speed; a speed with no instability below the searched depth has
+// `inf` as depth and empty frequency and lobe. Numbers use up to 10
+// significant digits; the output is byte-identical for identical input.
+//
+// JSON: {"format": "chatter-lobe-table", "version", "method", "config",
+// "options", "absolute_limit", "rows": [{spindle_rpm, depth_limit_mm,
+// chatter_frequency_hz, lobe}]}, with null where the CSV is `inf`/empty.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "chatter/io/config.hpp"
+#include "chatter/lobes.hpp"
+
+namespace chatter {
+
+/// What produced a table, recorded in the JSON.
+struct TableProvenance {
+  std::string method;                 ///< "analytic", "coupled", ...
+  const Config* config = nullptr;     ///< model, process and file (may be null)
+  double rpm_min = 0.0, rpm_max = 0.0;
+  int rpm_points = 0;
+  double depth_max_mm = 0.0;
+  std::optional<AbsoluteLimit> absolute_limit;
+  std::string options_json = "{}";    ///< solver options as a JSON object text
+};
+
+void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows);
+void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p);
+
+/// Writes to a file, creating nothing on failure.
+/// @throws InputError naming the path when it cannot be written.
+void write_text_file(const std::filesystem::path& path, const std::string& text);
+
+/// Library version, "MAJOR.MINOR.PATCH".
+std::string version();
+
+}  // namespace chatter

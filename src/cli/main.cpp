@@ -1,0 +1,362 @@
+// The `chatter` command line. The only file that knows Boost.Program_options;
+// it reads a config, runs a library solver and writes what the library returns.
+// Exit status: 0 success, 2 bad input or usage, 1 internal failure.
+#include <boost/program_options.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/io/table_writer.hpp"
+#include "chatter/lobes.hpp"
+#include "chatter/transfer_function.hpp"
+
+namespace po = boost::program_options;
+using chatter::InputError;
+
+namespace {
+
+constexpr double kDefaultDepthMaxMm = 50.0;
+constexpr int kDefaultRpmPoints = 400;
+
+const char* const kMainHelp = R"(chatter - predict regenerative chatter and draw stability lobes
+
+Usage: chatter <command> CONFIG [options]
+
+Commands:
+  lobes   Stability-lobe table: the deepest stable cut (mm) at each spindle
+          speed (rev/min). Run below the curve: stable; above it: chatter.
+  point   Is one operating point (spindle speed, depth of cut) stable?
+          Prints one JSON object with the depth limit and the margin.
+  frf     Receptance (m/N) of the tool, the workpiece and the relative motion,
+          the frequency response the lobes are computed from.
+
+CONFIG is a TOML file describing the tool and workpiece modes and the cut
+(see configs/ and docs/config.md).
+
+Examples:
+  chatter lobes configs/seed_turning_1dof.toml --table lobes.csv
+  chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
+  chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv
+
+Run 'chatter <command> --help' for the options of a command.
+Options: --help, --version.
+Exit status: 0 success, 2 bad input or usage, 1 internal failure.
+)";
+
+// A number for messages and summaries.
+std::string fmt(double x, int digits = 6) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << x;
+  return os.str();
+}
+
+struct Common {
+  std::string config_path;
+  std::string method = "analytic";
+};
+
+void add_common(po::options_description& d, Common& c) {
+  d.add_options()
+      ("method", po::value<std::string>(&c.method)->default_value("analytic"),
+       "solver: 'analytic' (transfer function, eigenvalues of H0*G) or 'coupled' "
+       "(tool-workpiece characteristic determinant); both are exact and must agree");
+}
+
+// Parses a subcommand's arguments; returns false if --help was printed.
+bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
+           Common& common, po::variables_map& vm) {
+  po::options_description hidden;
+  hidden.add_options()("config", po::value<std::string>(&common.config_path), "config file");
+  po::options_description all;
+  all.add(visible).add(hidden);
+  all.add_options()("help,h", "show this help");
+  po::positional_options_description pos;
+  pos.add("config", 1);
+  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  if (vm.count("help")) {
+    std::cout << usage << "\n" << visible << "  -h [ --help ]            show this help\n";
+    return false;
+  }
+  po::notify(vm);
+  if (common.config_path.empty()) throw po::error("missing CONFIG (a .toml file, see configs/)");
+  return true;
+}
+
+// Speeds and depth from the flags, falling back on the config's [sweep].
+struct Sweep {
+  double rpm_min = 0.0, rpm_max = 0.0, depth_max_mm = kDefaultDepthMaxMm;
+  int rpm_points = kDefaultRpmPoints;
+};
+
+Sweep resolve_sweep(const po::variables_map& vm, const chatter::Config& cfg) {
+  Sweep s;
+  auto pick = [&](const char* flag, const std::optional<double>& from_cfg, const char* key) -> double {
+    if (vm.count(flag)) return vm[flag].as<double>();
+    if (from_cfg) return *from_cfg;
+    throw InputError(cfg.source.string() + ": missing --" + flag + " (or " + key + " in the config)");
+  };
+  s.rpm_min = pick("rpm-min", cfg.sweep.rpm_min, "sweep.rpm_min");
+  s.rpm_max = pick("rpm-max", cfg.sweep.rpm_max, "sweep.rpm_max");
+  if (vm.count("rpm-points")) s.rpm_points = vm["rpm-points"].as<int>();
+  else if (cfg.sweep.rpm_points) s.rpm_points = *cfg.sweep.rpm_points;
+  if (vm.count("depth-max-mm")) s.depth_max_mm = vm["depth-max-mm"].as<double>();
+  else if (cfg.sweep.depth_max_mm) s.depth_max_mm = *cfg.sweep.depth_max_mm;
+  if (!(std::isfinite(s.rpm_min) && s.rpm_min > 0.0))
+    throw InputError("--rpm-min = " + fmt(s.rpm_min) + ": must be > 0 rev/min");
+  if (!(std::isfinite(s.rpm_max) && s.rpm_max > s.rpm_min))
+    throw InputError("--rpm-max = " + fmt(s.rpm_max) + ": must be > --rpm-min (" + fmt(s.rpm_min) + ")");
+  if (s.rpm_points < 2) throw InputError("--rpm-points = " + std::to_string(s.rpm_points) + ": must be >= 2");
+  if (!(std::isfinite(s.depth_max_mm) && s.depth_max_mm > 0.0))
+    throw InputError("--depth-max-mm = " + fmt(s.depth_max_mm) + ": must be > 0 mm");
+  return s;
+}
+
+std::string options_json(const chatter::TransferFunctionSolver& solver) {
+  const auto band = solver.band();
+  nlohmann::json j = {{"depth_max_m", solver.options().depth_max_m},
+                      {"max_phase_step_rad", solver.options().max_phase_step_rad},
+                      {"search_band_hz",
+                       {band.omega_min_rad_s / (2 * std::numbers::pi), band.omega_max_rad_s / (2 * std::numbers::pi)}},
+                      {"frequency_grid_points", band.grid_points}};
+  return j.dump();
+}
+
+int cmd_lobes(const std::vector<std::string>& args) {
+  Common common;
+  std::string table_path, json_path;
+  po::options_description d("Options");
+  add_common(d, common);
+  d.add_options()
+      ("rpm-min", po::value<double>(), "lowest spindle speed, rev/min (default: sweep.rpm_min)")
+      ("rpm-max", po::value<double>(), "highest spindle speed, rev/min (default: sweep.rpm_max)")
+      ("rpm-points", po::value<int>(), "number of evenly spaced speeds, both ends included (default: sweep.rpm_points or 400)")
+      ("depth-max-mm", po::value<double>(), "deepest cut searched, mm; deeper limits print as inf (default: sweep.depth_max_mm or 50)")
+      ("table", po::value<std::string>(&table_path), "write the CSV table here (default: standard output)")
+      ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON");
+  po::variables_map vm;
+  if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
+                   "Computes the stability-lobe envelope: for each spindle speed, the largest depth of\n"
+                   "cut (mm) that does not chatter, the chatter frequency (Hz) you would hear just above\n"
+                   "it and the lobe number. Pick a speed at a peak between lobes to cut deeper.\n"
+                   "CSV columns: spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe ('inf' = stable\n"
+                   "at every depth up to --depth-max-mm).\n",
+             d, common, vm))
+    return 0;
+  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const Sweep s = resolve_sweep(vm, cfg);
+  chatter::TransferFunctionOptions opt;
+  opt.depth_max_m = s.depth_max_mm * 1e-3;
+  const auto solver = chatter::make_transfer_function_solver(common.method, cfg.model, cfg.process, opt);
+  const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
+  const auto rows = chatter::lobe_envelope(*solver, speeds);
+
+  std::ostringstream csv;
+  chatter::write_lobe_csv(csv, rows);
+  std::string json_text;
+  if (!json_path.empty()) {
+    chatter::TableProvenance p;
+    p.method = solver->method();
+    p.config = &cfg;
+    p.rpm_min = s.rpm_min;
+    p.rpm_max = s.rpm_max;
+    p.rpm_points = s.rpm_points;
+    p.depth_max_mm = s.depth_max_mm;
+    p.absolute_limit = solver->absolute_limit();
+    p.options_json = options_json(*solver);
+    std::ostringstream js;
+    chatter::write_lobe_json(js, rows, p);
+    json_text = js.str();
+  }
+
+  // Summary for the person at the terminal.
+  const chatter::StabilityLimit* best = nullptr;  // deepest stable cut in the sweep
+  std::size_t bounded = 0;
+  for (const auto& r : rows) {
+    if (r.bounded()) ++bounded;
+    if (!best || r.depth_limit_m > best->depth_limit_m) best = &r;
+  }
+  const auto abs_lim = solver->absolute_limit();
+  std::ostringstream summary;
+  summary << cfg.name << " (" << solver->method() << "): " << rows.size() << " speeds "
+          << fmt(s.rpm_min) << "-" << fmt(s.rpm_max) << " rev/min";
+  if (abs_lim.depth_m < INFINITY)
+    summary << "; stable at any speed below " << fmt(abs_lim.depth_m * 1e3, 5) << " mm";
+  if (best) {
+    summary << "; deepest limit in the sweep: ";
+    if (best->bounded()) summary << fmt(best->depth_limit_m * 1e3, 5) << " mm";
+    else summary << "none below " << fmt(s.depth_max_mm) << " mm";
+    summary << " at " << fmt(best->spindle_rpm) << " rev/min";
+  }
+  if (bounded == 0) summary << "; no chatter below " << fmt(s.depth_max_mm) << " mm at any speed";
+
+  if (table_path.empty()) {
+    std::cout << csv.str();
+  } else {
+    chatter::write_text_file(table_path, csv.str());
+  }
+  if (!json_path.empty()) chatter::write_text_file(json_path, json_text);
+  std::ostream& info = table_path.empty() ? std::cerr : std::cout;
+  info << summary.str() << "\n";
+  if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
+  if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
+  return 0;
+}
+
+int cmd_point(const std::vector<std::string>& args) {
+  Common common;
+  double rpm = 0.0, depth_mm = 0.0;
+  po::options_description d("Options");
+  add_common(d, common);
+  d.add_options()
+      ("rpm", po::value<double>(&rpm)->required(), "spindle speed, rev/min (required)")
+      ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
+      ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)");
+  po::variables_map vm;
+  if (!parse(args, "Usage: chatter point CONFIG --rpm R --depth-mm D [options]\n\n"
+                   "Says whether cutting D mm deep at R rev/min is stable, and prints one JSON object:\n"
+                   "stable, depth_limit_mm (null = no limit below the searched depth),\n"
+                   "chatter_frequency_hz, lobe and margin = depth_limit / depth (> 1 is stable).\n",
+             d, common, vm))
+    return 0;
+  const chatter::Config cfg = chatter::load_config(common.config_path);
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
+  if (!(std::isfinite(depth_mm) && depth_mm >= 0.0))
+    throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be >= 0 mm");
+  double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);
+  if (vm.count("depth-max-mm")) {
+    depth_max_mm = vm["depth-max-mm"].as<double>();
+    if (!(std::isfinite(depth_max_mm) && depth_max_mm > depth_mm))
+      throw InputError("--depth-max-mm = " + fmt(depth_max_mm) + ": must be > --depth-mm (" + fmt(depth_mm) + ")");
+  }
+  chatter::TransferFunctionOptions opt;
+  opt.depth_max_m = depth_max_mm * 1e-3;
+  const auto solver = chatter::make_transfer_function_solver(common.method, cfg.model, cfg.process, opt);
+  const chatter::StabilityLimit lim = solver->limit_at(rpm);
+  const double depth_m = depth_mm * 1e-3;
+  nlohmann::json j;
+  j["method"] = solver->method();
+  j["spindle_rpm"] = rpm;
+  j["depth_mm"] = depth_mm;
+  j["stable"] = depth_m < lim.depth_limit_m;
+  j["depth_limit_mm"] = lim.bounded() ? nlohmann::json(lim.depth_limit_m * 1e3) : nlohmann::json(nullptr);
+  j["chatter_frequency_hz"] = lim.bounded() ? nlohmann::json(lim.chatter_frequency_hz) : nlohmann::json(nullptr);
+  j["lobe"] = lim.bounded() ? nlohmann::json(lim.lobe) : nlohmann::json(nullptr);
+  j["margin"] = (lim.bounded() && depth_m > 0.0) ? nlohmann::json(lim.depth_limit_m / depth_m) : nlohmann::json(nullptr);
+  j["depth_max_mm"] = depth_max_mm;
+  std::cout << j.dump(2) << "\n";
+  return 0;
+}
+
+int cmd_frf(const std::vector<std::string>& args) {
+  Common common;
+  std::string out_path;
+  int points = 1000;
+  po::options_description d("Options");
+  d.add_options()
+      ("fmin", po::value<double>(), "lowest frequency, Hz (default: half the lowest natural frequency)")
+      ("fmax", po::value<double>(), "highest frequency, Hz (default: twice the highest natural frequency)")
+      ("points", po::value<int>(&points)->default_value(1000), "number of frequencies (>= 2)")
+      ("log", "space the frequencies logarithmically (default: evenly)")
+      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)");
+  po::variables_map vm;
+  if (!parse(args, "Usage: chatter frf CONFIG [options]\n\n"
+                   "Tabulates the receptance (m/N) of the tool, the workpiece and the relative motion\n"
+                   "tool - workpiece (their sum): real and imaginary parts of the xx, xy and yy terms.\n"
+                   "The lobes come from the relative receptance: compare it with a tap test.\n",
+             d, common, vm))
+    return 0;
+  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const double f_lo_default = 0.5 * cfg.model.min_omega() / (2 * std::numbers::pi);
+  const double f_hi_default = 2.0 * cfg.model.max_omega() / (2 * std::numbers::pi);
+  const double fmin = vm.count("fmin") ? vm["fmin"].as<double>() : f_lo_default;
+  const double fmax = vm.count("fmax") ? vm["fmax"].as<double>() : f_hi_default;
+  const bool log_spacing = vm.count("log") > 0;
+  if (!(std::isfinite(fmin) && (log_spacing ? fmin > 0.0 : fmin >= 0.0)))
+    throw InputError("--fmin = " + fmt(fmin) + (log_spacing ? ": must be > 0 Hz with --log" : ": must be >= 0 Hz"));
+  if (!(std::isfinite(fmax) && fmax > fmin))
+    throw InputError("--fmax = " + fmt(fmax) + ": must be > --fmin (" + fmt(fmin) + ")");
+  if (points < 2) throw InputError("--points = " + std::to_string(points) + ": must be >= 2");
+
+  std::ostringstream os;
+  os << "frequency_hz";
+  for (const char* body : {"tool", "workpiece", "relative"})
+    for (const char* term : {"xx", "xy", "yy"})
+      os << ',' << body << '_' << term << "_real_m_per_n," << body << '_' << term << "_imag_m_per_n";
+  os << '\n';
+  char buf[40];
+  auto put = [&](double x) {
+    std::snprintf(buf, sizeof buf, ",%.10g", x);
+    os << buf;
+  };
+  for (int i = 0; i < points; ++i) {
+    const double t = static_cast<double>(i) / (points - 1);
+    const double f = log_spacing ? fmin * std::pow(fmax / fmin, t) : fmin + (fmax - fmin) * t;
+    const double w = 2 * std::numbers::pi * f;
+    std::snprintf(buf, sizeof buf, "%.10g", f);
+    os << buf;
+    const chatter::Matrix2c gt = cfg.model.tool.receptance(w), gw = cfg.model.workpiece.receptance(w);
+    const chatter::Matrix2c gr = gt + gw;
+    for (const chatter::Matrix2c* g : {&gt, &gw, &gr})
+      for (auto [r, c] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 1}}) {
+        put((*g)(r, c).real());
+        put((*g)(r, c).imag());
+      }
+    os << '\n';
+  }
+  if (out_path.empty()) {
+    std::cout << os.str();
+  } else {
+    chatter::write_text_file(out_path, os.str());
+    std::cout << "wrote receptance table (" << points << " frequencies, " << fmt(fmin) << "-" << fmt(fmax)
+              << " Hz): " << out_path << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    if (args.empty()) {
+      std::cerr << kMainHelp;
+      return 2;
+    }
+    const std::string cmd = args.front();
+    if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+      std::cout << kMainHelp;
+      return 0;
+    }
+    if (cmd == "--version") {
+      std::cout << "chatter " << chatter::version() << "\n";
+      return 0;
+    }
+    args.erase(args.begin());
+    if (cmd == "lobes") return cmd_lobes(args);
+    if (cmd == "point") return cmd_point(args);
+    if (cmd == "frf") return cmd_frf(args);
+    std::cerr << "chatter: unknown command '" << cmd << "' (commands: lobes, point, frf; see chatter --help)\n";
+    return 2;
+  } catch (const po::error& e) {
+    std::cerr << "chatter: " << e.what() << " (see chatter " << (args.empty() ? "" : "<command> ") << "--help)\n";
+    return 2;
+  } catch (const InputError& e) {
+    std::cerr << "chatter: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "chatter: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,550 @@
+// TOML configuration reader. The key reference (units, defaults, rules) is
+// docs/config.md; keep the two in step.
+//
+// Every bad input becomes a chatter::InputError whose message names the
+// origin, the full key path (0-based array indices) and the rule:
+//   <origin>: <key.path> = <value as written>: <rule>
+//   <origin>: <key.path>: missing (required, <unit>, <rule>)
+//   <origin>: <key.path>: unknown key (did you mean <key>?)
+//   <origin>:<line>:<col>: <TOML syntax error>
+//   <path>: cannot read file (<reason>)
+// No toml++ exception and no std::invalid_argument from the model
+// constructors escapes this file.
+#include "chatter/io/config.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "chatter/error.hpp"
+
+namespace chatter {
+namespace {
+
+using Path = std::string;
+
+// ---------------------------------------------------------------- key paths
+
+bool is_bare_key(std::string_view key) {
+  return !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+}
+
+std::string quote_string(std::string_view s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default: out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string key_text(std::string_view key) { return is_bare_key(key) ? std::string(key) : quote_string(key); }
+
+Path child(const Path& parent, std::string_view key) {
+  return parent.empty() ? key_text(key) : parent + "." + key_text(key);
+}
+
+Path element(const Path& parent, std::size_t index) { return parent + "[" + std::to_string(index) + "]"; }
+
+// ------------------------------------------------------ unknown-key advice
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// "did you mean" for a near miss (a typo, or a key written without its unit
+// suffix such as `stiffness` for `stiffness_n_per_m`), else the allowed list.
+std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {
+  std::string_view best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (const std::string_view candidate : allowed) {
+    const bool unit_missing = candidate.size() > key.size() && candidate.starts_with(key) &&
+                              candidate[key.size()] == '_' && !key.empty();
+    const std::size_t d = unit_missing ? 1 : edit_distance(key, candidate);
+    if (d < best_distance) {
+      best_distance = d;
+      best = candidate;
+    }
+  }
+  const std::size_t tolerance = std::max<std::size_t>(2, key.size() / 4);
+  if (!best.empty() && best_distance <= tolerance) return "unknown key (did you mean " + std::string(best) + "?)";
+  std::string list;
+  for (const std::string_view candidate : allowed) {
+    if (!list.empty()) list += ", ";
+    list += candidate;
+  }
+  return "unknown key (expected one of: " + list + ")";
+}
+
+// ------------------------------------------------------------ value ranges
+
+/// An interval a number must lie in, with the words used in messages.
+struct Range {
+  std::string_view text;  ///< "> 0", "in (0, 1)", ...
+  double lo = -std::numeric_limits<double>::infinity();
+  bool lo_open = true;
+  double hi = std::numeric_limits<double>::infinity();
+  bool hi_open = true;
+
+  bool contains(double v) const {
+    const bool above = lo_open ? v > lo : v >= lo;
+    const bool below = hi_open ? v < hi : v <= hi;
+    return above && below;
+  }
+};
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+const Range kPositive{"> 0", 0.0, true, kInf, true};
+const Range kNonNegative{">= 0", 0.0, false, kInf, true};
+const Range kOpenUnit{"in (0, 1)", 0.0, true, 1.0, true};
+const Range kUnitInterval{"in (0, 1]", 0.0, true, 1.0, false};
+
+// ----------------------------------------------------------------- document
+
+/// The TOML text and its origin: turns nodes back into the text the user
+/// wrote and builds the messages.
+class Document {
+ public:
+  Document(std::string_view text, std::string origin) : text_(text), origin_(std::move(origin)) {
+    line_starts_.push_back(0);
+    for (std::size_t i = 0; i < text_.size(); ++i)
+      if (text_[i] == '\n') line_starts_.push_back(i + 1);
+  }
+
+  const std::string& origin() const { return origin_; }
+
+  /// "<origin>: <path> = <value>: <rule>"
+  [[noreturn]] void fail(const Path& path, const toml::node& value, std::string_view rule) const {
+    throw InputError(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
+  }
+  /// "<origin>: <path>: <rule>" (missing or unknown keys, whole-model rules).
+  [[noreturn]] void fail_key(const Path& path, std::string_view rule) const {
+    throw InputError(origin_ + ": " + path + ": " + std::string(rule));
+  }
+
+  /// The value as it appears in the text when it sits on one line (so
+  /// `45e6` stays `45e6`), else a compact rendering.
+  std::string as_written(const toml::node& n) const {
+    constexpr std::size_t kMaxLength = 80;
+    std::string s = written_text(n).value_or(render(n));
+    if (s.size() > kMaxLength) s = s.substr(0, kMaxLength - 3) + "...";
+    return s;
+  }
+
+ private:
+  // Byte offset of a toml++ position (1-based line, 1-based column counted in
+  // code points).
+  std::optional<std::size_t> offset(const toml::source_position& p) const {
+    if (p.line < 1 || p.line > line_starts_.size() || p.column < 1) return std::nullopt;
+    std::size_t i = line_starts_[p.line - 1];
+    for (toml::source_index col = 1; col < p.column; ++col) {
+      if (i >= text_.size() || text_[i] == '\n') return std::nullopt;
+      ++i;
+      while (i < text_.size() && (static_cast<unsigned char>(text_[i]) & 0xC0u) == 0x80u) ++i;
+    }
+    return i;
+  }
+
+  std::optional<std::string> written_text(const toml::node& n) const {
+    if (const toml::table* t = n.as_table(); t && !t->is_inline()) return std::nullopt;  // [header]
+    if (const toml::array* a = n.as_array(); a && a->is_array_of_tables()) return std::nullopt;
+    const toml::source_region& r = n.source();
+    if (r.begin.line != r.end.line) return std::nullopt;
+    const auto b = offset(r.begin);
+    const auto e = offset(r.end);
+    if (!b || !e || *e <= *b || *e > text_.size()) return std::nullopt;
+    std::string s(text_.substr(*b, *e - *b));
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.pop_back();
+    if (s.empty()) return std::nullopt;
+    return s;
+  }
+
+  static std::string render(const toml::node& n) {
+    if (const toml::array* a = n.as_array()) {
+      std::string s = "[";
+      for (std::size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + render(*a->get(i));
+      return s + "]";
+    }
+    if (const toml::table* t = n.as_table()) {
+      std::string s = "{";
+      bool first = true;
+      for (auto&& [k, v] : *t) {
+        s += (first ? " " : ", ") + key_text(k.str()) + " = " + render(v);
+        first = false;
+      }
+      return s + (first ? "}" : " }");
+    }
+    if (const auto* str = n.as_string()) return quote_string(str->get());
+    std::ostringstream os;
+    n.visit([&os](auto&& v) {
+      if constexpr (toml::is_value<std::remove_cvref_t<decltype(v)>>) os << v;
+    });
+    return os.str();
+  }
+
+  std::string_view text_;
+  std::string origin_;
+  std::vector<std::size_t> line_starts_;
+};
+
+// -------------------------------------------------------------------- table
+
+/// A TOML table at a known key path, with typed, validated getters.
+class Table {
+ public:
+  Table(const Document& doc, const toml::table& table, Path path)
+      : doc_(doc), table_(table), path_(std::move(path)) {}
+
+  const Path& path() const { return path_; }
+  Path path_of(std::string_view key) const { return child(path_, key); }
+  const toml::node* find(std::string_view key) const { return table_.get(key); }
+  bool has(std::string_view key) const { return find(key) != nullptr; }
+
+  /// Rejects any key not in `allowed` (checked first, in key order).
+  void reject_unknown(std::span<const std::string_view> allowed) const {
+    for (auto&& [key, value] : table_) {
+      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
+        doc_.fail_key(path_of(key.str()), unknown_key_rule(key.str(), allowed));
+    }
+  }
+
+  /// A number (float, or integer converted) in `range`; nullopt if absent.
+  std::optional<double> number(std::string_view key, const Range& range) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    double v = 0.0;
+    if (const auto* i = n->as_integer())
+      v = static_cast<double>(i->get());
+    else if (const auto* f = n->as_floating_point())
+      v = f->get();
+    else
+      doc_.fail(path_of(key), *n, "must be a number");
+    if (!std::isfinite(v)) doc_.fail(path_of(key), *n, "must be a finite number");
+    if (!range.contains(v)) doc_.fail(path_of(key), *n, "must be " + std::string(range.text));
+    return v;
+  }
+
+  /// A required number; `unit` ("Hz", "" for a ratio) goes into the
+  /// missing-key message.
+  double required_number(std::string_view key, const Range& range, std::string_view unit) const {
+    if (const auto v = number(key, range)) return *v;
+    doc_.fail_key(path_of(key), "missing (required, " + (unit.empty() ? std::string() : std::string(unit) + ", ") +
+                                    std::string(range.text) + ")");
+  }
+
+  /// An integer >= `min` that fits an int; nullopt if absent. Floats are
+  /// rejected, even 2.0.
+  std::optional<int> integer(std::string_view key, int min) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const auto* i = n->as_integer();
+    if (!i) doc_.fail(path_of(key), *n, "must be an integer");
+    const std::int64_t v = i->get();
+    if (v < min) doc_.fail(path_of(key), *n, "must be an integer >= " + std::to_string(min));
+    if (v > std::numeric_limits<int>::max())
+      doc_.fail(path_of(key), *n, "must be an integer <= " + std::to_string(std::numeric_limits<int>::max()));
+    return static_cast<int>(v);
+  }
+
+  std::optional<std::string> string(std::string_view key, std::string_view rule = "must be a string") const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const auto* s = n->as_string();
+    if (!s) doc_.fail(path_of(key), *n, rule);
+    return s->get();
+  }
+
+  /// A sub-table (a [header] or an inline table); nullopt if absent.
+  std::optional<Table> table(std::string_view key) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const toml::table* t = n->as_table();
+    if (!t) doc_.fail(path_of(key), *n, "must be a table");
+    return Table(doc_, *t, path_of(key));
+  }
+
+  const Document& doc() const { return doc_; }
+
+ private:
+  const Document& doc_;
+  const toml::table& table_;
+  Path path_;
+};
+
+// -------------------------------------------------------------------- modes
+
+constexpr std::string_view kModeKeys[] = {"frequency_hz", "damping_ratio", "stiffness_n_per_m",
+                                          "mass_kg",      "direction",     "cantilever"};
+constexpr std::string_view kCantileverKeys[] = {"youngs_modulus_pa", "density_kg_per_m3", "length_m",
+                                                "diameter_m"};
+
+constexpr std::string_view kDirectionRule = R"(must be "x", "y" or two numbers [x, y])";
+
+Eigen::Vector2d read_direction(const Table& mode) {
+  const toml::node* n = mode.find("direction");
+  if (!n) return {1.0, 0.0};
+  const Document& doc = mode.doc();
+  const Path path = mode.path_of("direction");
+  if (const auto* s = n->as_string()) {
+    if (s->get() == "x") return {1.0, 0.0};
+    if (s->get() == "y") return {0.0, 1.0};
+    doc.fail(path, *n, kDirectionRule);
+  }
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 2) doc.fail(path, *n, kDirectionRule);
+  Eigen::Vector2d d;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const toml::node& c = *a->get(i);
+    if (const auto* iv = c.as_integer())
+      d[static_cast<Eigen::Index>(i)] = static_cast<double>(iv->get());
+    else if (const auto* fv = c.as_floating_point())
+      d[static_cast<Eigen::Index>(i)] = fv->get();
+    else
+      doc.fail(element(path, i), c, "must be a number");
+    if (!std::isfinite(d[static_cast<Eigen::Index>(i)])) doc.fail(element(path, i), c, "must be a finite number");
+  }
+  if (d.isZero(0.0)) doc.fail(path, *n, "must not be the zero vector (not both components zero)");
+  return d;
+}
+
+Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
+  for (const std::string_view key : {"frequency_hz", "stiffness_n_per_m", "mass_kg"}) {
+    if (const toml::node* n = mode.find(key))
+      mode.doc().fail(mode.path_of(key), *n, "not with cantilever (the bar gives frequency and stiffness)");
+  }
+  bar_table.reject_unknown(kCantileverKeys);
+  CantileverBar bar;
+  bar.youngs_modulus_pa = bar_table.required_number("youngs_modulus_pa", kPositive, "Pa");
+  bar.density_kg_per_m3 = bar_table.required_number("density_kg_per_m3", kPositive, "kg/m^3");
+  bar.length_m = bar_table.required_number("length_m", kPositive, "m");
+  bar.diameter_m = bar_table.required_number("diameter_m", kPositive, "m");
+  const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
+  return first_bending_mode(bar, zeta, read_direction(mode));
+}
+
+Mode read_mode(const Table& mode) {
+  mode.reject_unknown(kModeKeys);
+  if (const auto bar = mode.table("cantilever")) return read_cantilever_mode(mode, *bar);
+
+  const double f = mode.required_number("frequency_hz", kPositive, "Hz");
+  const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
+  const auto k = mode.number("stiffness_n_per_m", kPositive);
+  const auto m = mode.number("mass_kg", kPositive);
+  if (k && m)
+    mode.doc().fail(mode.path_of("mass_kg"), *mode.find("mass_kg"),
+                    "not with stiffness_n_per_m (give exactly one of stiffness_n_per_m, mass_kg)");
+  if (!k && !m)
+    mode.doc().fail_key(mode.path_of("stiffness_n_per_m"),
+                        "missing (give exactly one of stiffness_n_per_m (N/m, > 0) or mass_kg (kg, > 0))");
+  const Eigen::Vector2d u = read_direction(mode);
+  return k ? Mode::from_stiffness(f, zeta, *k, u) : Mode::from_mass(f, zeta, *m, u);
+}
+
+/// `[tool]` / `[workpiece]`: absent, or without `modes`, means rigid.
+Body read_body(const Table& root, std::string_view name) {
+  Body body;
+  const auto table = root.table(name);
+  if (!table) return body;
+  constexpr std::string_view kBodyKeys[] = {"modes"};
+  table->reject_unknown(kBodyKeys);
+  const toml::node* n = table->find("modes");
+  if (!n) return body;
+  const Path path = table->path_of("modes");
+  const toml::array* modes = n->as_array();
+  if (!modes) root.doc().fail(path, *n, "must be an array of tables ([[" + path + "]])");
+  for (std::size_t i = 0; i < modes->size(); ++i) {
+    const toml::node& m = *modes->get(i);
+    const toml::table* t = m.as_table();
+    if (!t) root.doc().fail(element(path, i), m, "must be a table");
+    body.modes.push_back(read_mode(Table(root.doc(), *t, element(path, i))));
+  }
+  return body;
+}
+
+// ------------------------------------------------------------------ process
+
+constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2"};
+constexpr std::string_view kMillingKeys[] = {"teeth", "tangential_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_m2", "radial_immersion",
+                                             "milling_direction"};
+constexpr std::string_view kProcessKeys[] = {"operation",
+                                             "feed_force_coefficient_n_per_m2",
+                                             "teeth",
+                                             "tangential_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_m2",
+                                             "radial_immersion",
+                                             "milling_direction"};
+
+void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
+  for (const std::string_view key : keys) {
+    if (const toml::node* n = process.find(key))
+      process.doc().fail(process.path_of(key), *n, "only for operation = \"" + std::string(operation) + "\"");
+  }
+}
+
+Process read_process(const Table& root) {
+  const auto process = root.table("process");
+  if (!process) root.doc().fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
+  process->reject_unknown(kProcessKeys);
+
+  constexpr std::string_view kOperationRule = R"(must be "turning" or "milling")";
+  const auto operation = process->string("operation", kOperationRule);
+  if (!operation) process->doc().fail_key(process->path_of("operation"), R"(missing (required, "turning" or "milling"))");
+
+  if (*operation == "turning") {
+    reject_keys_of(*process, kMillingKeys, "milling");
+    TurningParameters p;
+    p.feed_force_coefficient_n_per_m2 = process->required_number("feed_force_coefficient_n_per_m2", kPositive, "N/m^2");
+    return Process::turning(p);
+  }
+  if (*operation == "milling") {
+    reject_keys_of(*process, kTurningKeys, "turning");
+    MillingParameters p;
+    const auto teeth = process->integer("teeth", 1);
+    if (!teeth) process->doc().fail_key(process->path_of("teeth"), "missing (required, integer >= 1)");
+    p.teeth = *teeth;
+    p.tangential_coefficient_n_per_m2 = process->required_number("tangential_coefficient_n_per_m2", kPositive, "N/m^2");
+    p.radial_coefficient_n_per_m2 = process->required_number("radial_coefficient_n_per_m2", kNonNegative, "N/m^2");
+    p.radial_immersion = process->required_number("radial_immersion", kUnitInterval, "a_e/D");
+    constexpr std::string_view kDirectionRuleMilling = R"(must be "down" or "up")";
+    const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
+    if (direction == "down")
+      p.direction = MillingDirection::kDown;
+    else if (direction == "up")
+      p.direction = MillingDirection::kUp;
+    else
+      process->doc().fail(process->path_of("milling_direction"), *process->find("milling_direction"),
+                          kDirectionRuleMilling);
+    return Process::milling(p);
+  }
+  process->doc().fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
+}
+
+// -------------------------------------------------------------------- sweep
+
+SweepDefaults read_sweep(const Table& root) {
+  SweepDefaults s;
+  const auto sweep = root.table("sweep");
+  if (!sweep) return s;
+  constexpr std::string_view kSweepKeys[] = {"rpm_min", "rpm_max", "rpm_points", "depth_max_mm"};
+  sweep->reject_unknown(kSweepKeys);
+  s.rpm_min = sweep->number("rpm_min", kPositive);
+  s.rpm_max = sweep->number("rpm_max", kPositive);
+  if (s.rpm_min && s.rpm_max && !(*s.rpm_max > *s.rpm_min))
+    sweep->doc().fail(sweep->path_of("rpm_max"), *sweep->find("rpm_max"),
+                      "must be > rpm_min (" + sweep->doc().as_written(*sweep->find("rpm_min")) + ")");
+  s.rpm_points = sweep->integer("rpm_points", 2);
+  s.depth_max_mm = sweep->number("depth_max_mm", kPositive);
+  return s;
+}
+
+// --------------------------------------------------------------------- root
+
+Config read_config(const toml::table& root_table, const Document& doc) {
+  const Table root(doc, root_table, "");
+  constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep"};
+  root.reject_unknown(kTopKeys);
+
+  Config config;
+  if (const auto name = root.string("name")) {
+    if (name->empty()) doc.fail("name", *root.find("name"), "must not be empty");
+    config.name = *name;
+  } else {
+    const std::string stem = std::filesystem::path(doc.origin()).stem().string();
+    config.name = stem.empty() ? doc.origin() : stem;
+  }
+  config.process = read_process(root);
+  config.model.tool = read_body(root, "tool");
+  config.model.workpiece = read_body(root, "workpiece");
+  if (config.model.mode_count() == 0)
+    doc.fail_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode");
+  config.sweep = read_sweep(root);
+  return config;
+}
+
+}  // namespace
+
+Config parse_config(const std::string& toml_text, const std::string& origin) {
+  const Document doc(toml_text, origin);
+  try {
+#if TOML_EXCEPTIONS
+    const toml::table root = toml::parse(std::string_view(toml_text), std::string_view(origin));
+#else
+    toml::parse_result result = toml::parse(std::string_view(toml_text), std::string_view(origin));
+    if (!result) {
+      const toml::parse_error& e = result.error();
+      throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
+                       std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
+    }
+    const toml::table root = std::move(result).table();
+#endif
+    return read_config(root, doc);
+  } catch (const InputError&) {
+    throw;
+#if TOML_EXCEPTIONS
+  } catch (const toml::parse_error& e) {
+    throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
+                     std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
+#endif
+  } catch (const std::invalid_argument& e) {
+    // The model constructors re-check what was validated above; reaching
+    // here means a rule above is missing, but the user still gets an
+    // InputError naming the file.
+    throw InputError(origin + ": " + e.what());
+  }
+}
+
+Config load_config(const std::filesystem::path& file) {
+  const std::string origin = file.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(origin + ": cannot read file (is a directory)");
+  errno = 0;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw InputError(origin + ": cannot read file (" +
+                     (err != 0 ? std::generic_category().message(err) : std::string("cannot open")) + ")");
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw InputError(origin + ": cannot read file (read error)");
+  Config config = parse_config(buffer.str(), origin);
+  config.source = file;
+  return config;
+}
+
+}  // namespace chatter

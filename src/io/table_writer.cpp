@@ -1,0 +1,104 @@
+#include "chatter/io/table_writer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/error.hpp"
+
+namespace chatter {
+namespace {
+
+std::string num(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
+nlohmann::json json_num(double x) {
+  if (!std::isfinite(x)) return nullptr;
+  return std::stod(num(x));  // same rounding as the CSV
+}
+
+nlohmann::json body_json(const Body& b) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const Mode& m : b.modes)
+    modes.push_back({{"frequency_hz", m.natural_frequency_hz},
+                     {"damping_ratio", m.damping_ratio},
+                     {"stiffness_n_per_m", m.stiffness_n_per_m},
+                     {"mass_kg", m.mass_kg()},
+                     {"direction", {m.direction.x(), m.direction.y()}}});
+  return {{"modes", modes}};
+}
+
+nlohmann::json process_json(const Process& p) {
+  if (p.operation() == Operation::kTurning)
+    return {{"operation", "turning"},
+            {"feed_force_coefficient_n_per_m2", p.turning_parameters().feed_force_coefficient_n_per_m2}};
+  const MillingParameters& m = p.milling_parameters();
+  return {{"operation", "milling"},
+          {"teeth", m.teeth},
+          {"tangential_coefficient_n_per_m2", m.tangential_coefficient_n_per_m2},
+          {"radial_coefficient_n_per_m2", m.radial_coefficient_n_per_m2},
+          {"radial_immersion", m.radial_immersion},
+          {"milling_direction", m.direction == MillingDirection::kDown ? "down" : "up"}};
+}
+
+}  // namespace
+
+std::string version() { return CHATTER_VERSION; }
+
+void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows) {
+  os << "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe\n";
+  for (const StabilityLimit& r : rows) {
+    os << num(r.spindle_rpm) << ',' << num(r.depth_limit_m * 1e3) << ',';
+    if (r.bounded()) os << num(r.chatter_frequency_hz) << ',' << r.lobe;
+    else os << ',';
+    os << '\n';
+  }
+}
+
+void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p) {
+  nlohmann::json j;
+  j["format"] = "chatter-lobe-table";
+  j["version"] = version();
+  j["method"] = p.method;
+  if (p.config) {
+    j["config"] = {{"file", p.config->source.string()},
+                   {"name", p.config->name},
+                   {"process", process_json(p.config->process)},
+                   {"tool", body_json(p.config->model.tool)},
+                   {"workpiece", body_json(p.config->model.workpiece)}};
+  }
+  j["sweep"] = {{"rpm_min", p.rpm_min}, {"rpm_max", p.rpm_max}, {"rpm_points", p.rpm_points},
+                {"depth_max_mm", p.depth_max_mm}};
+  j["options"] = nlohmann::json::parse(p.options_json);
+  if (p.absolute_limit) {
+    j["absolute_limit"] = {{"depth_mm", json_num(p.absolute_limit->depth_m * 1e3)},
+                           {"chatter_frequency_hz", json_num(p.absolute_limit->chatter_frequency_hz)}};
+  }
+  j["units"] = {{"spindle_rpm", "rev/min"}, {"depth_limit_mm", "mm"}, {"chatter_frequency_hz", "Hz"}};
+  j["null_means"] = "no instability below depth_max_mm at this speed";
+  nlohmann::json arr = nlohmann::json::array();
+  for (const StabilityLimit& r : rows) {
+    arr.push_back({{"spindle_rpm", json_num(r.spindle_rpm)},
+                   {"depth_limit_mm", json_num(r.depth_limit_m * 1e3)},
+                   {"chatter_frequency_hz", json_num(r.chatter_frequency_hz)},
+                   {"lobe", r.bounded() ? nlohmann::json(r.lobe) : nlohmann::json(nullptr)}});
+  }
+  j["rows"] = std::move(arr);
+  os << j.dump(2) << '\n';
+}
+
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) throw InputError(path.string() + ": cannot open for writing");
+  f << text;
+  f.close();
+  if (!f) throw InputError(path.string() + ": write failed");
+}
+
+}  // namespace chatter

@@ -1,0 +1,153 @@
+// Transfer-function lobes from the eigenvalues of H₀G(jω) (PHYSICS.md §4),
+// and the behaviour shared with the coupled solver.
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/LU>
+
+#include "chatter/error.hpp"
+#include "chatter/transfer_function.hpp"
+#include "phase_search.hpp"
+
+namespace chatter {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+double wrap_2pi(double x) {  // into [0, 2π)
+  x = std::fmod(x, kTwoPi);
+  return x < 0.0 ? x + kTwoPi : x;
+}
+
+detail::BranchValue from_eigenvalue(Complex lambda) {
+  // 1 + a(1 − e^{−jωτ})λ = 0 with a real: a = −1/(2 Re λ), ωτ = 3π + 2ψ + 2πk.
+  return {lambda, -2.0 * lambda.real(), wrap_2pi(3.0 * kPi + 2.0 * std::arg(lambda))};
+}
+
+}  // namespace
+
+std::string TransferFunctionOptions::validate() const {
+  std::ostringstream os;
+  if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
+    os << "depth_max_m = " << depth_max_m << ": must be > 0 and finite";
+  else if (!(std::isfinite(max_phase_step_rad) && max_phase_step_rad > 0.0 && max_phase_step_rad <= 0.5))
+    os << "max_phase_step_rad = " << max_phase_step_rad << ": must be in (0, 0.5]";
+  return os.str();
+}
+
+TransferFunctionSolver::TransferFunctionSolver(StructuralModel model, Process process,
+                                               TransferFunctionOptions options)
+    : model_(std::move(model)), process_(std::move(process)), options_(options) {
+  if (const std::string e = options_.validate(); !e.empty())
+    throw InputError("transfer-function options: " + e);
+  if (model_.mode_count() == 0)
+    throw InputError("structural model: both bodies are rigid: give at least one mode");
+  H0_ = process_.average_directional_matrix();
+}
+
+TransferFunctionSolver::~TransferFunctionSolver() = default;
+
+void TransferFunctionSolver::build_search(int branches) {
+  const auto [lo, hi] = detail::search_band(model_, H0_, options_.depth_max_m);
+  detail::PhaseSearchOptions po;
+  po.max_phase_step_rad = options_.max_phase_step_rad;
+  search_ = std::make_unique<detail::PhaseSearch>(
+      [this](double w, std::array<detail::BranchValue, 2>& out) { evaluate(w, out); }, branches, lo, hi,
+      options_.depth_max_m, po);
+}
+
+StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
+  if (!(std::isfinite(rpm) && rpm > 0.0)) {
+    std::ostringstream os;
+    os << "spindle speed " << rpm << " rev/min: must be > 0";
+    throw InputError(os.str());
+  }
+  const detail::PhaseRoot r = search_->lowest_root(process_.delay_s(rpm));
+  StabilityLimit lim;
+  lim.spindle_rpm = rpm;
+  if (std::isfinite(r.depth_m)) {
+    lim.depth_limit_m = r.depth_m;
+    lim.chatter_frequency_hz = r.omega / kTwoPi;
+    lim.lobe = r.lobe;
+    lim.branch = r.branch;
+  }
+  return lim;
+}
+
+std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, double rpm_max) const {
+  if (!(rpm_min > 0.0 && rpm_max >= rpm_min)) throw InputError("lobe curves: need 0 < rpm_min <= rpm_max");
+  std::vector<LobeCurve> out;
+  for (const auto& c : search_->curves(process_.delay_s(rpm_max), process_.delay_s(rpm_min))) {
+    LobeCurve lc{c.lobe, c.branch, {}};
+    lc.points.reserve(c.points.size());
+    for (const auto& p : c.points) lc.points.push_back({process_.rpm_from_delay(p.tau_s), p.depth_m, p.omega / kTwoPi});
+    out.push_back(std::move(lc));
+  }
+  return out;
+}
+
+AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
+  const detail::PhaseRoot r = search_->minimum_depth();
+  AbsoluteLimit a;
+  if (std::isfinite(r.depth_m)) {
+    a.depth_m = r.depth_m;
+    a.chatter_frequency_hz = r.omega / kTwoPi;
+    a.branch = r.branch;
+  }
+  return a;
+}
+
+SearchBand TransferFunctionSolver::band() const {
+  return {search_->omega_lo(), search_->omega_hi(), search_->grid_size()};
+}
+
+AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferFunctionOptions options)
+    : TransferFunctionSolver(std::move(model), std::move(process), options) {
+  // H₀G has rank one when H₀ does (turning) or when every mode acts along one
+  // line; then its only non-zero eigenvalue is its trace.
+  const double h2 = H0_.squaredNorm();
+  bool parallel = true;
+  Eigen::Vector2d u0 = Eigen::Vector2d::Zero();
+  for (const Body* b : {&model_.tool, &model_.workpiece})
+    for (const Mode& m : b->modes) {
+      if (u0.isZero()) u0 = m.direction;
+      if (std::abs(u0.x() * m.direction.y() - u0.y() * m.direction.x()) > 1e-12) parallel = false;
+    }
+  rank_one_ = std::abs(H0_.determinant()) <= 1e-12 * h2 || parallel;
+  build_search(rank_one_ ? 1 : 2);
+}
+
+std::array<Complex, 2> AnalyticSolver::eigenvalues(double omega) const {
+  const Matrix2c M = H0_.cast<Complex>() * model_.receptance(omega);
+  const Complex tr = M.trace();
+  const Complex det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+  const Complex q = std::sqrt(0.25 * tr * tr - det);
+  // Larger root first without cancellation, the other from the product.
+  const Complex big = (std::real(std::conj(tr) * q) >= 0.0) ? 0.5 * tr + q : 0.5 * tr - q;
+  const Complex small = (big == Complex(0.0)) ? Complex(0.0) : det / big;
+  return {big, small};
+}
+
+void AnalyticSolver::evaluate(double omega, std::array<detail::BranchValue, 2>& out) const {
+  if (rank_one_) {
+    const Matrix2c M = H0_.cast<Complex>() * model_.receptance(omega);
+    out[0] = from_eigenvalue(M.trace());
+    return;
+  }
+  const auto l = eigenvalues(omega);
+  out[0] = from_eigenvalue(l[0]);
+  out[1] = from_eigenvalue(l[1]);
+}
+
+std::unique_ptr<TransferFunctionSolver> make_transfer_function_solver(const std::string& method,
+                                                                      const StructuralModel& model,
+                                                                      const Process& process,
+                                                                      const TransferFunctionOptions& options) {
+  if (method == "analytic") return std::make_unique<AnalyticSolver>(model, process, options);
+  if (method == "coupled") return std::make_unique<CoupledSolver>(model, process, options);
+  throw InputError("--method " + method + ": unknown method (use analytic or coupled)");
+}
+
+}  // namespace chatter

@@ -1,0 +1,687 @@
+// Tests for the TOML config reader (src/io/config.cpp, docs/config.md):
+// every shipped config loads with the values of PHYSICS.md §7, and every
+// bad-input rule throws chatter::InputError whose message names the origin,
+// the exact key path and the rule.
+#include "chatter/io/config.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "chatter/error.hpp"
+
+namespace chatter {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kConfigDir = fs::path(CHATTER_SOURCE_DIR) / "configs";
+const std::string kOrigin = "mem/case.toml";  // origin used for parse_config
+
+// Input values are copied, not computed: exact up to the last bit.
+constexpr double kExact = 1e-12;
+// Table IV.1 prints the derived cantilever values to 5 significant digits.
+constexpr double kStiffnessRelTol = 1e-4;  // 0.01 %
+constexpr double kFrequencyRelTol = 5e-4;  // 0.05 %
+
+::testing::AssertionResult RelNear(double actual, double expected, double rel_tol) {
+  const double err = std::abs(actual - expected) / std::abs(expected);
+  if (err <= rel_tol) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "actual " << actual << ", expected " << expected << ", relative error "
+                                       << err << " > " << rel_tol;
+}
+
+/// Parses `text`; succeeds when an InputError is thrown whose message
+/// contains every one of `parts`.
+::testing::AssertionResult ThrowsInputError(const std::string& text, std::initializer_list<std::string> parts) {
+  try {
+    (void)parse_config(text, kOrigin);
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    for (const std::string& p : parts) {
+      if (msg.find(p) == std::string::npos)
+        return ::testing::AssertionFailure() << "message \"" << msg << "\" lacks \"" << p << "\"";
+    }
+    return ::testing::AssertionSuccess() << msg;
+  } catch (const std::exception& e) {
+    return ::testing::AssertionFailure() << "threw a non-InputError: " << e.what();
+  }
+  return ::testing::AssertionFailure() << "no exception";
+}
+
+/// The InputError message for `text` ("" if none is thrown).
+std::string MessageOf(const std::string& text) {
+  try {
+    (void)parse_config(text, kOrigin);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A valid turning process and mode to build cases from.
+const std::string kTurning = R"(
+[process]
+operation = "turning"
+feed_force_coefficient_n_per_m2 = 2.4e9
+)";
+const std::string kMillingHead = R"(
+[process]
+operation = "milling"
+)";
+const std::string kMillingKeys = R"(teeth = 2
+tangential_coefficient_n_per_m2 = 6e8
+radial_coefficient_n_per_m2 = 2e8
+radial_immersion = 0.05
+)";
+const std::string kGoodMode = R"(frequency_hz = 100.0
+damping_ratio = 0.03
+stiffness_n_per_m = 1e7
+)";
+const std::string kOneToolMode = "[[tool.modes]]\n" + kGoodMode;
+
+std::string Turning(const std::string& rest) { return kTurning + rest; }
+std::string TurningWithToolMode(const std::string& rest) { return kTurning + kOneToolMode + rest; }
+std::string Milling(const std::string& process_keys) { return kMillingHead + process_keys + kOneToolMode; }
+
+// ============================================================ shipped configs
+
+TEST(ShippedConfig, SeedTurning1Dof) {
+  const fs::path file = kConfigDir / "seed_turning_1dof.toml";
+  const Config c = load_config(file);
+  EXPECT_EQ(c.name, "Seed 1-DOF turning, flexible workpiece (case A)");
+  EXPECT_EQ(c.source, file);
+  ASSERT_EQ(c.process.operation(), Operation::kTurning);
+  EXPECT_NEAR(c.process.turning_parameters().feed_force_coefficient_n_per_m2, 2.4e9, 2.4e9 * kExact);
+  EXPECT_TRUE(c.model.tool.rigid());
+  ASSERT_EQ(c.model.workpiece.modes.size(), 1u);
+  const Mode& m = c.model.workpiece.modes[0];
+  EXPECT_NEAR(m.natural_frequency_hz, 94.22, 94.22 * kExact);
+  EXPECT_NEAR(m.damping_ratio, 0.033, kExact);
+  EXPECT_NEAR(m.stiffness_n_per_m, 45e6, 45e6 * kExact);
+  EXPECT_EQ(m.direction, Eigen::Vector2d(1.0, 0.0));
+  EXPECT_EQ(c.sweep.rpm_min, 50.0);
+  EXPECT_EQ(c.sweep.rpm_max, 2000.0);
+  EXPECT_EQ(c.sweep.rpm_points, 400);
+  EXPECT_EQ(c.sweep.depth_max_mm, 20.0);
+}
+
+TEST(ShippedConfig, CoupledTool1Workpiece1) {
+  const Config c = load_config(kConfigDir / "coupled_tool1_workpiece1.toml");
+  ASSERT_EQ(c.process.operation(), Operation::kTurning);
+  EXPECT_NEAR(c.process.turning_parameters().feed_force_coefficient_n_per_m2, 684e6, 684e6 * kExact);
+  ASSERT_EQ(c.model.tool.modes.size(), 1u);
+  const Mode& t = c.model.tool.modes[0];
+  EXPECT_NEAR(t.stiffness_n_per_m, 20e6, 20e6 * kExact);
+  EXPECT_NEAR(t.natural_frequency_hz, 100.66, 100.66 * kExact);
+  EXPECT_NEAR(t.damping_ratio, 0.032, kExact);
+  EXPECT_EQ(t.direction, Eigen::Vector2d(1.0, 0.0));
+  ASSERT_EQ(c.model.workpiece.modes.size(), 1u);
+  const Mode& w = c.model.workpiece.modes[0];
+  EXPECT_TRUE(RelNear(w.stiffness_n_per_m, 43.972e6, kStiffnessRelTol));
+  EXPECT_TRUE(RelNear(w.natural_frequency_hz, 326.71, kFrequencyRelTol));
+  EXPECT_NEAR(w.damping_ratio, 0.025, kExact);
+  EXPECT_EQ(w.direction, Eigen::Vector2d(1.0, 0.0));
+  ASSERT_TRUE(c.sweep.rpm_min && c.sweep.rpm_max && c.sweep.rpm_points && c.sweep.depth_max_mm);
+  EXPECT_LT(*c.sweep.rpm_min, 60.0 * t.natural_frequency_hz);  // the tool's lobe k = 0 edge is in range
+  EXPECT_GT(*c.sweep.rpm_max, 60.0 * t.natural_frequency_hz);
+}
+
+TEST(ShippedConfig, CoupledTool2Workpiece2) {
+  const Config c = load_config(kConfigDir / "coupled_tool2_workpiece2.toml");
+  ASSERT_EQ(c.model.tool.modes.size(), 1u);
+  const Mode& t = c.model.tool.modes[0];
+  EXPECT_NEAR(t.stiffness_n_per_m, 7.465e6, 7.465e6 * kExact);
+  EXPECT_NEAR(t.natural_frequency_hz, 185.0, 185.0 * kExact);
+  EXPECT_NEAR(t.damping_ratio, 0.032, kExact);
+  ASSERT_EQ(c.model.workpiece.modes.size(), 1u);
+  const Mode& w = c.model.workpiece.modes[0];
+  EXPECT_TRUE(RelNear(w.stiffness_n_per_m, 5.092e6, kStiffnessRelTol));
+  EXPECT_TRUE(RelNear(w.natural_frequency_hz, 190.58, kFrequencyRelTol));
+  EXPECT_NEAR(w.damping_ratio, 0.025, kExact);
+  ASSERT_TRUE(c.sweep.rpm_min && c.sweep.rpm_max);
+  EXPECT_LT(*c.sweep.rpm_min, 60.0 * t.natural_frequency_hz);
+  EXPECT_GT(*c.sweep.rpm_max, 60.0 * t.natural_frequency_hz);
+}
+
+TEST(ShippedConfig, MillingBenchmark) {
+  const Config c = load_config(kConfigDir / "milling_benchmark_ae005_down.toml");
+  ASSERT_EQ(c.process.operation(), Operation::kMilling);
+  const MillingParameters& p = c.process.milling_parameters();
+  EXPECT_EQ(p.teeth, 2);
+  EXPECT_NEAR(p.tangential_coefficient_n_per_m2, 6e8, 6e8 * kExact);
+  EXPECT_NEAR(p.radial_coefficient_n_per_m2, 2e8, 2e8 * kExact);
+  EXPECT_NEAR(p.radial_immersion, 0.05, kExact);
+  EXPECT_EQ(p.direction, MillingDirection::kDown);
+  EXPECT_TRUE(c.model.workpiece.rigid());
+  ASSERT_EQ(c.model.tool.modes.size(), 1u);
+  const Mode& m = c.model.tool.modes[0];
+  EXPECT_NEAR(m.natural_frequency_hz, 922.0, 922.0 * kExact);
+  EXPECT_NEAR(m.damping_ratio, 0.011, kExact);
+  EXPECT_TRUE(RelNear(m.mass_kg(), 0.03993, 1e-12));
+  EXPECT_EQ(c.sweep.rpm_min, 5000.0);
+  EXPECT_EQ(c.sweep.rpm_max, 25000.0);
+  EXPECT_EQ(c.sweep.rpm_points, 400);
+  EXPECT_EQ(c.sweep.depth_max_mm, 10.0);
+}
+
+// Any config added to configs/ later is at least valid.
+TEST(ShippedConfig, EveryFileInConfigsLoads) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kConfigDir)) {
+    if (entry.path().extension() != ".toml") continue;
+    ++count;
+    EXPECT_NO_THROW((void)load_config(entry.path())) << entry.path();
+  }
+  EXPECT_GE(count, 4);
+}
+
+// ============================================================ valid features
+
+TEST(ConfigValid, IntegersAcceptedWhereFloatsExpected) {
+  const Config c = parse_config(Turning(R"(
+[[tool.modes]]
+frequency_hz = 100
+damping_ratio = 0.03
+stiffness_n_per_m = 10000000
+[sweep]
+rpm_min = 50
+rpm_max = 2000
+depth_max_mm = 5
+)"),
+                                kOrigin);
+  EXPECT_EQ(c.model.tool.modes[0].natural_frequency_hz, 100.0);
+  EXPECT_EQ(c.model.tool.modes[0].stiffness_n_per_m, 1e7);
+  EXPECT_EQ(c.sweep.rpm_min, 50.0);
+  EXPECT_EQ(c.sweep.depth_max_mm, 5.0);
+  EXPECT_FALSE(c.sweep.rpm_points.has_value());
+}
+
+TEST(ConfigValid, DefaultsNameFromOriginStemAndLeavesSourceEmpty) {
+  const Config c = parse_config(TurningWithToolMode(""), kOrigin);
+  EXPECT_EQ(c.name, "case");
+  EXPECT_TRUE(c.source.empty());
+  EXPECT_TRUE(c.model.workpiece.rigid());
+  EXPECT_FALSE(c.sweep.rpm_min || c.sweep.rpm_max || c.sweep.rpm_points || c.sweep.depth_max_mm);
+}
+
+TEST(ConfigValid, ExplicitName) {
+  EXPECT_EQ(parse_config("name = \"lathe 3\"\n" + TurningWithToolMode(""), kOrigin).name, "lathe 3");
+}
+
+TEST(ConfigValid, DirectionDefaultsToXAndAcceptsYAndVectors) {
+  const Config c = parse_config(Turning(R"(
+[[tool.modes]]
+frequency_hz = 100.0
+damping_ratio = 0.03
+stiffness_n_per_m = 1e7
+[[tool.modes]]
+frequency_hz = 200.0
+damping_ratio = 0.03
+stiffness_n_per_m = 1e7
+direction = "y"
+[[workpiece.modes]]
+frequency_hz = 300.0
+damping_ratio = 0.03
+mass_kg = 2
+direction = [3, -4.0]
+)"),
+                                kOrigin);
+  ASSERT_EQ(c.model.tool.modes.size(), 2u);
+  EXPECT_EQ(c.model.tool.modes[0].direction, Eigen::Vector2d(1.0, 0.0));
+  EXPECT_EQ(c.model.tool.modes[1].direction, Eigen::Vector2d(0.0, 1.0));
+  ASSERT_EQ(c.model.workpiece.modes.size(), 1u);
+  EXPECT_NEAR(c.model.workpiece.modes[0].direction.x(), 0.6, kExact);
+  EXPECT_NEAR(c.model.workpiece.modes[0].direction.y(), -0.8, kExact);
+  EXPECT_TRUE(RelNear(c.model.workpiece.modes[0].mass_kg(), 2.0, kExact));
+}
+
+TEST(ConfigValid, CantileverAsSubTable) {
+  const Config c = parse_config(Turning(R"(
+[[workpiece.modes]]
+damping_ratio = 0.025
+[workpiece.modes.cantilever]
+youngs_modulus_pa = 180e9
+density_kg_per_m3 = 7600
+length_m = 0.5
+diameter_m = 0.12
+)"),
+                                kOrigin);
+  ASSERT_EQ(c.model.workpiece.modes.size(), 1u);
+  EXPECT_TRUE(RelNear(c.model.workpiece.modes[0].stiffness_n_per_m, 43.972e6, kStiffnessRelTol));
+}
+
+TEST(ConfigValid, MillingDirectionDefaultsToDownAndAcceptsUp) {
+  EXPECT_EQ(parse_config(Milling(kMillingKeys), kOrigin).process.milling_parameters().direction,
+            MillingDirection::kDown);
+  EXPECT_EQ(parse_config(Milling(kMillingKeys + "milling_direction = \"up\"\n"), kOrigin)
+                .process.milling_parameters()
+                .direction,
+            MillingDirection::kUp);
+}
+
+TEST(ConfigValid, FullImmersionAndZeroRadialCoefficientAccepted) {
+  const Config c = parse_config(Milling(R"(teeth = 4
+tangential_coefficient_n_per_m2 = 6e8
+radial_coefficient_n_per_m2 = 0
+radial_immersion = 1
+)"),
+                                kOrigin);
+  EXPECT_EQ(c.process.milling_parameters().radial_immersion, 1.0);
+  EXPECT_EQ(c.process.milling_parameters().radial_coefficient_n_per_m2, 0.0);
+}
+
+TEST(ConfigValid, EmptyModesArrayIsRigid) {
+  const Config c = parse_config(TurningWithToolMode("[workpiece]\nmodes = []\n"), kOrigin);
+  EXPECT_TRUE(c.model.workpiece.rigid());
+}
+
+// ============================================================ message format
+
+TEST(ConfigError, FormatIsOriginKeyPathValueRule) {
+  const std::string msg = MessageOf(Turning(R"(
+[[tool.modes]]
+frequency_hz = 100.0
+damping_ratio = 0.03
+stiffness_n_per_m = 1e7
+[[tool.modes]]
+frequency_hz = 200.0
+damping_ratio = -0.01
+stiffness_n_per_m = 1e7
+)"));
+  EXPECT_EQ(msg, "mem/case.toml: tool.modes[1].damping_ratio = -0.01: must be in (0, 1)");
+}
+
+TEST(ConfigError, ValueIsQuotedAsWritten) {
+  EXPECT_EQ(MessageOf(Turning("[[tool.modes]]\nfrequency_hz = 1e2\ndamping_ratio = 0.03\nstiffness_n_per_m = -45e6  "
+                              "# comment\n")),
+            "mem/case.toml: tool.modes[0].stiffness_n_per_m = -45e6: must be > 0");
+}
+
+// ============================================================ unknown keys
+
+TEST(ConfigError, UnknownTopLevelKey) {
+  EXPECT_EQ(MessageOf("nmae = \"x\"\n" + TurningWithToolMode("")),
+            "mem/case.toml: nmae: unknown key (did you mean name?)");
+}
+
+TEST(ConfigError, UnknownTopLevelTable) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[machine]\nx = 1\n"),
+                               {"mem/case.toml: machine: unknown key", "process", "sweep"}));
+}
+
+TEST(ConfigError, UnknownProcessKey) {
+  EXPECT_EQ(MessageOf(R"(
+[process]
+operation = "turning"
+feed_forse_coefficient_n_per_m2 = 2.4e9
+)" + kOneToolMode),
+            "mem/case.toml: process.feed_forse_coefficient_n_per_m2: unknown key "
+            "(did you mean feed_force_coefficient_n_per_m2?)");
+}
+
+TEST(ConfigError, UnknownModeKeySuggestsUnitSuffix) {
+  EXPECT_TRUE(ThrowsInputError(
+      TurningWithToolMode("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nstiffness = 1e7\n"),
+      {"mem/case.toml: tool.modes[1].stiffness: unknown key", "did you mean stiffness_n_per_m?"}));
+}
+
+TEST(ConfigError, UnknownBodyKey) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[workpiece]\nmode = []\n"),
+                               {"mem/case.toml: workpiece.mode: unknown key", "did you mean modes?"}));
+}
+
+TEST(ConfigError, UnknownCantileverKey) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\ncantilever = { youngs_modulus_pa = 1e11, "
+              "density_kg_per_m3 = 7600, length_m = 0.5, diameter_m = 0.1, poisson = 0.3 }\n"),
+      {"mem/case.toml: workpiece.modes[0].cantilever.poisson: unknown key"}));
+}
+
+TEST(ConfigError, UnknownSweepKey) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\ndepth_max = 5\n"),
+                               {"mem/case.toml: sweep.depth_max: unknown key", "did you mean depth_max_mm?"}));
+}
+
+// ============================================================ missing keys
+
+TEST(ConfigError, MissingModeFrequency) {
+  EXPECT_EQ(MessageOf(Turning("[[workpiece.modes]]\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n")),
+            "mem/case.toml: workpiece.modes[0].frequency_hz: missing (required, Hz, > 0)");
+}
+
+TEST(ConfigError, MissingDampingRatio) {
+  EXPECT_TRUE(ThrowsInputError(Turning("[[tool.modes]]\nfrequency_hz = 100.0\nstiffness_n_per_m = 1e7\n"),
+                               {"mem/case.toml: tool.modes[0].damping_ratio: missing (required", "in (0, 1)"}));
+}
+
+TEST(ConfigError, MissingProcessTable) {
+  EXPECT_TRUE(ThrowsInputError(kOneToolMode, {"mem/case.toml: process: missing"}));
+}
+
+TEST(ConfigError, MissingOperation) {
+  EXPECT_TRUE(ThrowsInputError("[process]\nfeed_force_coefficient_n_per_m2 = 1e9\n" + kOneToolMode,
+                               {"mem/case.toml: process.operation: missing (required", "turning", "milling"}));
+}
+
+TEST(ConfigError, MissingFeedForceCoefficient) {
+  EXPECT_TRUE(ThrowsInputError("[process]\noperation = \"turning\"\n" + kOneToolMode,
+                               {"mem/case.toml: process.feed_force_coefficient_n_per_m2: missing (required",
+                                "N/m^2", "> 0"}));
+}
+
+TEST(ConfigError, MissingMillingTeeth) {
+  EXPECT_TRUE(ThrowsInputError(Milling("tangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_n_per_m2 = 2e8\n"
+                                       "radial_immersion = 0.5\n"),
+                               {"mem/case.toml: process.teeth: missing (required", "integer >= 1"}));
+}
+
+TEST(ConfigError, MissingCantileverKey) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\ncantilever = { youngs_modulus_pa = 1e11, "
+              "density_kg_per_m3 = 7600, length_m = 0.5 }\n"),
+      {"mem/case.toml: workpiece.modes[0].cantilever.diameter_m: missing (required, m, > 0)"}));
+}
+
+// ============================================================ wrong types
+
+TEST(ConfigError, WrongTypeTeethString) {
+  EXPECT_EQ(MessageOf(Milling("teeth = \"two\"\n")), "mem/case.toml: process.teeth = \"two\": must be an integer");
+}
+
+TEST(ConfigError, WrongTypeNumberAsString) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = \"100\"\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].frequency_hz = \"100\": must be a number"}));
+}
+
+TEST(ConfigError, WrongTypeProcessNotTable) {
+  EXPECT_TRUE(ThrowsInputError("process = \"turning\"\n" + kOneToolMode,
+                               {"mem/case.toml: process = \"turning\": must be a table"}));
+}
+
+TEST(ConfigError, WrongTypeModesNotArray) {
+  EXPECT_TRUE(ThrowsInputError(Turning("[tool.modes]\nfrequency_hz = 100.0\n"),
+                               {"mem/case.toml: tool.modes = ", "must be an array of tables ([[tool.modes]])"}));
+}
+
+TEST(ConfigError, WrongTypeName) {
+  EXPECT_TRUE(ThrowsInputError("name = 3\n" + TurningWithToolMode(""), {"mem/case.toml: name = 3: must be a string"}));
+}
+
+TEST(ConfigError, EmptyName) {
+  EXPECT_TRUE(ThrowsInputError("name = \"\"\n" + TurningWithToolMode(""),
+                               {"mem/case.toml: name = \"\": must not be empty"}));
+}
+
+// ============================================================ mode values
+
+TEST(ConfigError, NonPositiveFrequency) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 0\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].frequency_hz = 0: must be > 0"}));
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = -5.0\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].frequency_hz = -5.0: must be > 0"}));
+}
+
+TEST(ConfigError, NonPositiveStiffness) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nstiffness_n_per_m = 0.0\n"),
+      {"mem/case.toml: tool.modes[0].stiffness_n_per_m = 0.0: must be > 0"}));
+}
+
+TEST(ConfigError, NonPositiveMass) {
+  EXPECT_TRUE(ThrowsInputError(Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nmass_kg = -1\n"),
+                               {"mem/case.toml: tool.modes[0].mass_kg = -1: must be > 0"}));
+}
+
+TEST(ConfigError, DampingZero) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].damping_ratio = 0: must be in (0, 1)"}));
+}
+
+TEST(ConfigError, DampingOne) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 1.0\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].damping_ratio = 1.0: must be in (0, 1)"}));
+}
+
+TEST(ConfigError, DampingNegative) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\nfrequency_hz = 100.0\ndamping_ratio = -0.02\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: workpiece.modes[0].damping_ratio = -0.02: must be in (0, 1)"}));
+}
+
+TEST(ConfigError, BothStiffnessAndMass) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\nmass_kg = 2.0\n"),
+      {"mem/case.toml: tool.modes[0].mass_kg = 2.0: not with stiffness_n_per_m", "exactly one"}));
+}
+
+TEST(ConfigError, NeitherStiffnessNorMass) {
+  EXPECT_TRUE(ThrowsInputError(Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\n"),
+                               {"mem/case.toml: tool.modes[0].stiffness_n_per_m: missing", "exactly one",
+                                "mass_kg"}));
+}
+
+TEST(ConfigError, ZeroDirection) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("direction = [0, 0.0]\n"),
+                               {"mem/case.toml: tool.modes[0].direction = [0, 0.0]: must not be the zero vector"}));
+}
+
+TEST(ConfigError, BadDirectionString) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("direction = \"z\"\n"),
+                               {"mem/case.toml: tool.modes[0].direction = \"z\": must be \"x\", \"y\" or two "
+                                "numbers [x, y]"}));
+}
+
+TEST(ConfigError, DirectionWrongLength) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("direction = [1, 0, 0]\n"),
+                               {"mem/case.toml: tool.modes[0].direction = [1, 0, 0]: must be \"x\", \"y\" or two "
+                                "numbers [x, y]"}));
+}
+
+TEST(ConfigError, DirectionComponentNotNumber) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("direction = [1, \"a\"]\n"),
+                               {"mem/case.toml: tool.modes[0].direction[1] = \"a\": must be a number"}));
+}
+
+TEST(ConfigError, NotANumber) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = nan\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].frequency_hz = nan: must be a finite number"}));
+}
+
+TEST(ConfigError, Infinity) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nstiffness_n_per_m = +inf\n"),
+      {"mem/case.toml: tool.modes[0].stiffness_n_per_m = +inf: must be a finite number"}));
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("direction = [inf, 0]\n"),
+                               {"mem/case.toml: tool.modes[0].direction[0] = inf: must be a finite number"}));
+}
+
+TEST(ConfigError, BothBodiesRigid) {
+  EXPECT_EQ(MessageOf(kTurning), "mem/case.toml: tool.modes, workpiece.modes: both bodies are rigid: give at least "
+                                 "one mode");
+  EXPECT_TRUE(ThrowsInputError(Turning("[tool]\nmodes = []\n[workpiece]\n"),
+                               {"mem/case.toml: tool.modes, workpiece.modes: both bodies are rigid"}));
+}
+
+// ============================================================ cantilever
+
+TEST(ConfigError, FrequencyWithCantilever) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\nfrequency_hz = 300.0\ncantilever = { youngs_modulus_pa = "
+              "1e11, density_kg_per_m3 = 7600, length_m = 0.5, diameter_m = 0.1 }\n"),
+      {"mem/case.toml: workpiece.modes[0].frequency_hz = 300.0: not with cantilever"}));
+}
+
+TEST(ConfigError, StiffnessWithCantilever) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\nstiffness_n_per_m = 1e7\ncantilever = { youngs_modulus_pa "
+              "= 1e11, density_kg_per_m3 = 7600, length_m = 0.5, diameter_m = 0.1 }\n"),
+      {"mem/case.toml: workpiece.modes[0].stiffness_n_per_m = 1e7: not with cantilever"}));
+}
+
+TEST(ConfigError, NonPositiveCantileverLength) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\ncantilever = { youngs_modulus_pa = 1e11, "
+              "density_kg_per_m3 = 7600, length_m = -0.5, diameter_m = 0.1 }\n"),
+      {"mem/case.toml: workpiece.modes[0].cantilever.length_m = -0.5: must be > 0"}));
+}
+
+TEST(ConfigError, CantileverNotTable) {
+  EXPECT_TRUE(ThrowsInputError(Turning("[[workpiece.modes]]\ndamping_ratio = 0.02\ncantilever = 0.5\n"),
+                               {"mem/case.toml: workpiece.modes[0].cantilever = 0.5: must be a table"}));
+}
+
+// ============================================================ process values
+
+TEST(ConfigError, UnknownOperation) {
+  EXPECT_TRUE(ThrowsInputError("[process]\noperation = \"drilling\"\n" + kOneToolMode,
+                               {"mem/case.toml: process.operation = \"drilling\": must be \"turning\" or "
+                                "\"milling\""}));
+}
+
+TEST(ConfigError, TurningKeyInMilling) {
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "feed_force_coefficient_n_per_m2 = 1e9\n"),
+                               {"mem/case.toml: process.feed_force_coefficient_n_per_m2 = 1e9: only for "
+                                "operation = \"turning\""}));
+}
+
+TEST(ConfigError, MillingKeyInTurning) {
+  EXPECT_TRUE(ThrowsInputError("[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = 1e9\n"
+                               "teeth = 2\n" +
+                                   kOneToolMode,
+                               {"mem/case.toml: process.teeth = 2: only for operation = \"milling\""}));
+}
+
+TEST(ConfigError, NonPositiveFeedForceCoefficient) {
+  EXPECT_TRUE(ThrowsInputError(
+      "[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = -2.4e9\n" + kOneToolMode,
+      {"mem/case.toml: process.feed_force_coefficient_n_per_m2 = -2.4e9: must be > 0"}));
+}
+
+TEST(ConfigError, ImmersionZero) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\n"
+                                       "radial_coefficient_n_per_m2 = 2e8\nradial_immersion = 0\n"),
+                               {"mem/case.toml: process.radial_immersion = 0: must be in (0, 1]"}));
+}
+
+TEST(ConfigError, ImmersionAboveOne) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\n"
+                                       "radial_coefficient_n_per_m2 = 2e8\nradial_immersion = 1.5\n"),
+                               {"mem/case.toml: process.radial_immersion = 1.5: must be in (0, 1]"}));
+}
+
+TEST(ConfigError, TeethZero) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 0\n"), {"mem/case.toml: process.teeth = 0: must be an integer >= 1"}));
+}
+
+TEST(ConfigError, TeethNotInteger) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2.5\n"), {"mem/case.toml: process.teeth = 2.5: must be an integer"}));
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2.0\n"), {"mem/case.toml: process.teeth = 2.0: must be an integer"}));
+}
+
+TEST(ConfigError, NegativeRadialCoefficient) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\n"
+                                       "radial_coefficient_n_per_m2 = -1\nradial_immersion = 0.5\n"),
+                               {"mem/case.toml: process.radial_coefficient_n_per_m2 = -1: must be >= 0"}));
+}
+
+TEST(ConfigError, BadMillingDirection) {
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "milling_direction = \"climb\"\n"),
+                               {"mem/case.toml: process.milling_direction = \"climb\": must be \"down\" or \"up\""}));
+}
+
+// ============================================================ sweep values
+
+TEST(ConfigError, RpmMinNegative) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\nrpm_min = -50\n"),
+                               {"mem/case.toml: sweep.rpm_min = -50: must be > 0"}));
+}
+
+TEST(ConfigError, RpmMaxNotAboveRpmMin) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\nrpm_min = 500\nrpm_max = 400\n"),
+                               {"mem/case.toml: sweep.rpm_max = 400: must be > rpm_min (500)"}));
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\nrpm_min = 500\nrpm_max = 500.0\n"),
+                               {"mem/case.toml: sweep.rpm_max = 500.0: must be > rpm_min (500)"}));
+}
+
+TEST(ConfigError, RpmPointsBelowTwo) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\nrpm_points = 1\n"),
+                               {"mem/case.toml: sweep.rpm_points = 1: must be an integer >= 2"}));
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\nrpm_points = 400.0\n"),
+                               {"mem/case.toml: sweep.rpm_points = 400.0: must be an integer"}));
+}
+
+TEST(ConfigError, DepthMaxNotPositive) {
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\ndepth_max_mm = 0\n"),
+                               {"mem/case.toml: sweep.depth_max_mm = 0: must be > 0"}));
+  EXPECT_TRUE(ThrowsInputError(TurningWithToolMode("[sweep]\ndepth_max_mm = -3.5\n"),
+                               {"mem/case.toml: sweep.depth_max_mm = -3.5: must be > 0"}));
+}
+
+// ============================================================ TOML and files
+
+TEST(ConfigError, TomlSyntaxErrorHasLineAndColumn) {
+  const std::string msg = MessageOf("[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = = 2\n");
+  EXPECT_EQ(msg.rfind("mem/case.toml:3:", 0), 0u) << msg;
+}
+
+TEST(ConfigError, TomlDuplicateKeyIsSyntaxError) {
+  const std::string msg = MessageOf(TurningWithToolMode("frequency_hz = 120.0\n"));
+  EXPECT_EQ(msg.rfind("mem/case.toml:", 0), 0u) << msg;
+  EXPECT_NE(msg.find("frequency_hz"), std::string::npos) << msg;
+}
+
+TEST(ConfigError, UnreadableFile) {
+  const fs::path missing = fs::path(::testing::TempDir()) / "chatter_no_such_config.toml";
+  fs::remove(missing);
+  try {
+    (void)load_config(missing);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), missing.string() + ": cannot read file (No such file or directory)");
+  }
+}
+
+TEST(ConfigError, DirectoryIsUnreadable) {
+  try {
+    (void)load_config(kConfigDir);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), kConfigDir.string() + ": cannot read file (is a directory)");
+  }
+}
+
+TEST(ConfigError, LoadConfigNamesThePathAndStem) {
+  const fs::path file = fs::path(::testing::TempDir()) / "chatter_bad_config.toml";
+  {
+    std::ofstream out(file);
+    out << Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nmass_kg = 0\n");
+  }
+  try {
+    (void)load_config(file);
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() + ": tool.modes[0].mass_kg = 0: must be > 0");
+  }
+  {
+    std::ofstream out(file);
+    out << TurningWithToolMode("");
+  }
+  const Config c = load_config(file);
+  EXPECT_EQ(c.name, "chatter_bad_config");
+  EXPECT_EQ(c.source, file);
+  fs::remove(file);
+}
+
+}  // namespace
+}  // namespace chatter
