@@ -1,0 +1,75 @@
+/* chatter C API: stability lobes for post-processors written in C, C#,
+ * Python (ctypes) or anything else with a C FFI.
+ *
+ * Handles are opaque. Every function returns a chatter_status; on anything
+ * other than CHATTER_OK, chatter_last_error() returns a message naming the
+ * file, key or argument and the rule that was broken. The message is kept
+ * per thread (thread-local), so two threads never see each other's errors.
+ *
+ * Units: spindle speed rev/min, depth mm, frequency Hz (shop units).
+ *
+ * Thread safety: a chatter_model and a chatter_solver are immutable once
+ * created; any number of threads may call chatter_limit_at /
+ * chatter_lobe_table on the same solver at once. Creating and freeing are
+ * not synchronised: do not free a handle another thread is using.
+ */
+#ifndef CHATTER_CHATTER_H
+#define CHATTER_CHATTER_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum chatter_status {
+  CHATTER_OK = 0,
+  CHATTER_INTERNAL_ERROR = 1, /* a numerical or system failure: report it */
+  CHATTER_INPUT_ERROR = 2,    /* bad config, option or argument: see chatter_last_error() */
+  CHATTER_NULL_ARGUMENT = 3   /* a required pointer argument was NULL */
+} chatter_status;
+
+typedef struct chatter_model chatter_model;   /* structure + process, from a TOML config */
+typedef struct chatter_solver chatter_solver; /* a lobe solver built on a model */
+
+/* The stability limit at one spindle speed. */
+typedef struct chatter_limit {
+  double spindle_rpm;          /* rev/min */
+  double depth_limit_mm;       /* largest stable depth, mm; HUGE_VAL (+inf) when bounded == 0 */
+  double chatter_frequency_hz; /* Hz; 0 when bounded == 0 */
+  int lobe;                    /* lobe number k >= 0; -1 when bounded == 0 */
+  int bounded;                 /* 1: a limit exists below the searched depth; 0: stable up to it */
+} chatter_limit;
+
+/* Library version, "MAJOR.MINOR.PATCH". Never NULL. */
+const char* chatter_version(void);
+
+/* Message of the last failed call on this thread ("" if none). Valid until
+ * the next chatter_* call on the same thread. Never NULL. */
+const char* chatter_last_error(void);
+
+/* Reads and validates a TOML config (docs/config.md). *out is set only on
+ * success; free it with chatter_model_free. */
+chatter_status chatter_model_load(const char* config_path, chatter_model** out);
+/* Same from TOML text; `origin` names it in messages (may be NULL). */
+chatter_status chatter_model_parse(const char* toml_text, const char* origin, chatter_model** out);
+void chatter_model_free(chatter_model* model);
+
+/* Builds a solver. method: "analytic" or "coupled" (NULL = "analytic").
+ * depth_max_mm: deepest cut searched (> 0); limits above it are unbounded. */
+chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
+                                     chatter_solver** out);
+void chatter_solver_free(chatter_solver* solver);
+
+/* Stability limit at one spindle speed (rev/min > 0). */
+chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm, chatter_limit* out);
+
+/* Limits at `points` speeds evenly spaced from rpm_min to rpm_max, both
+ * included (points >= 2, 0 < rpm_min < rpm_max). `rows` must hold `points`
+ * entries. */
+chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, double rpm_max, int points,
+                                  chatter_limit* rows);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CHATTER_CHATTER_H */

@@ -1,0 +1,117 @@
+// The C API (include/chatter/chatter.h): a thin, exception-safe layer over the
+// C++ library. Every entry point catches everything; nothing propagates into C.
+#include "chatter/chatter.h"
+
+#include <cmath>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/io/table_writer.hpp"
+#include "chatter/transfer_function.hpp"
+
+struct chatter_model {
+  chatter::Config config;
+};
+
+struct chatter_solver {
+  std::unique_ptr<chatter::TransferFunctionSolver> solver;
+};
+
+namespace {
+
+thread_local std::string g_last_error;
+
+chatter_status fail(chatter_status s, std::string message) {
+  g_last_error = std::move(message);
+  return s;
+}
+
+// Runs `body`, mapping exceptions to status codes and the thread's message.
+template <class F>
+chatter_status guarded(F&& body) {
+  g_last_error.clear();
+  try {
+    body();
+    return CHATTER_OK;
+  } catch (const chatter::InputError& e) {
+    return fail(CHATTER_INPUT_ERROR, e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(CHATTER_INTERNAL_ERROR, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(CHATTER_INTERNAL_ERROR, e.what());
+  } catch (...) {
+    return fail(CHATTER_INTERNAL_ERROR, "unknown internal error");
+  }
+}
+
+chatter_limit to_c(const chatter::StabilityLimit& l) {
+  chatter_limit c;
+  c.spindle_rpm = l.spindle_rpm;
+  c.bounded = l.bounded() ? 1 : 0;
+  c.depth_limit_mm = l.bounded() ? l.depth_limit_m * 1e3 : HUGE_VAL;
+  c.chatter_frequency_hz = l.bounded() ? l.chatter_frequency_hz : 0.0;
+  c.lobe = l.bounded() ? l.lobe : -1;
+  return c;
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* chatter_version(void) {
+  static const std::string v = chatter::version();
+  return v.c_str();
+}
+
+const char* chatter_last_error(void) { return g_last_error.c_str(); }
+
+chatter_status chatter_model_load(const char* config_path, chatter_model** out) {
+  if (!config_path || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_model_load: config_path and out must not be NULL");
+  return guarded([&] { *out = new chatter_model{chatter::load_config(config_path)}; });
+}
+
+chatter_status chatter_model_parse(const char* toml_text, const char* origin, chatter_model** out) {
+  if (!toml_text || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_model_parse: toml_text and out must not be NULL");
+  return guarded([&] { *out = new chatter_model{chatter::parse_config(toml_text, origin ? origin : "<text>")}; });
+}
+
+void chatter_model_free(chatter_model* model) { delete model; }
+
+chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
+                                     chatter_solver** out) {
+  if (!model || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_solver_create: model and out must not be NULL");
+  return guarded([&] {
+    if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
+      throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
+                                ": must be > 0");
+    chatter::TransferFunctionOptions opt;
+    opt.depth_max_m = depth_max_mm * 1e-3;
+    auto s = chatter::make_transfer_function_solver(method ? method : "analytic", model->config.model,
+                                                    model->config.process, opt);
+    *out = new chatter_solver{std::move(s)};
+  });
+}
+
+void chatter_solver_free(chatter_solver* solver) { delete solver; }
+
+chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm, chatter_limit* out) {
+  if (!solver || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_limit_at: solver and out must not be NULL");
+  return guarded([&] { *out = to_c(solver->solver->limit_at(spindle_rpm)); });
+}
+
+chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, double rpm_max, int points,
+                                  chatter_limit* rows) {
+  if (!solver || !rows) return fail(CHATTER_NULL_ARGUMENT, "chatter_lobe_table: solver and rows must not be NULL");
+  return guarded([&] {
+    if (points < 2) throw chatter::InputError("chatter_lobe_table: points = " + std::to_string(points) + ": must be >= 2");
+    if (!(rpm_max > rpm_min)) throw chatter::InputError("chatter_lobe_table: rpm_max must be > rpm_min");
+    const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, points);
+    for (std::size_t i = 0; i < speeds.size(); ++i) rows[i] = to_c(solver->solver->limit_at(speeds[i]));
+  });
+}
+
+}  // extern "C"

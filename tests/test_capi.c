@@ -1,0 +1,67 @@
+/* Drives the C API from C: success paths against the C++ results' known
+ * values (PHYSICS case A) and every error path. Prints "N passed, M failed". */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "chatter/chatter.h"
+
+static int passed = 0, failed = 0;
+#define CHECK(cond)                                                   \
+  do {                                                                \
+    if (cond) {                                                       \
+      ++passed;                                                       \
+    } else {                                                          \
+      ++failed;                                                       \
+      fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
+    }                                                                 \
+  } while (0)
+
+int main(void) {
+  chatter_model* model = NULL;
+  chatter_solver* solver = NULL;
+  chatter_limit lim, rows[5];
+  const double closed = 2 * 45e6 * 0.033 * 1.033 / 2.4e9 * 1e3; /* mm, case A absolute limit */
+  int i;
+
+  CHECK(strlen(chatter_version()) > 0);
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
+  CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 1800.0, &lim) == CHATTER_OK);
+  CHECK(lim.bounded == 1 && fabs(lim.depth_limit_mm - 2.974523725) < 1e-6 && lim.lobe == 3);
+  CHECK(chatter_lobe_table(solver, 50.0, 2000.0, 5, rows) == CHATTER_OK);
+  for (i = 0; i < 5; ++i) CHECK(rows[i].bounded && rows[i].depth_limit_mm >= closed * (1 - 1e-9));
+  CHECK(rows[0].spindle_rpm == 50.0 && rows[4].spindle_rpm == 2000.0);
+  chatter_solver_free(solver);
+
+  /* Shallow search: unbounded everywhere. */
+  CHECK(chatter_solver_create(model, "coupled", 0.5, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 1000.0, &lim) == CHATTER_OK);
+  CHECK(lim.bounded == 0 && isinf(lim.depth_limit_mm) && lim.lobe == -1);
+  chatter_solver_free(solver);
+
+  /* Error paths: status, message, no crash. */
+  CHECK(chatter_solver_create(model, "nonsense", 20.0, &solver) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "nonsense") != NULL);
+  CHECK(chatter_solver_create(model, NULL, -1.0, &solver) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "depth_max_mm") != NULL);
+  CHECK(chatter_solver_create(NULL, NULL, 1.0, &solver) == CHATTER_NULL_ARGUMENT);
+  CHECK(chatter_solver_create(model, NULL, 20.0, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, -5.0, &lim) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_lobe_table(solver, 100.0, 50.0, 5, rows) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_lobe_table(solver, 50.0, 100.0, 1, rows) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_limit_at(solver, 1000.0, NULL) == CHATTER_NULL_ARGUMENT);
+  CHECK(chatter_limit_at(solver, 1000.0, &lim) == CHATTER_OK && strlen(chatter_last_error()) == 0);
+  chatter_solver_free(solver);
+  chatter_model_free(model);
+
+  model = NULL;
+  CHECK(chatter_model_load("/nonexistent/config.toml", &model) == CHATTER_INPUT_ERROR && model == NULL);
+  CHECK(strstr(chatter_last_error(), "/nonexistent/config.toml") != NULL);
+  CHECK(chatter_model_parse("[process]\noperation = \"turning\"\n", "inline.toml", &model) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "inline.toml") != NULL);
+  CHECK(chatter_model_load(NULL, &model) == CHATTER_NULL_ARGUMENT);
+
+  printf("%d passed, %d failed\n", passed, failed);
+  return failed == 0 ? 0 : 1;
+}
