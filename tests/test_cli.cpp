@@ -1,1 +1,808 @@
+// End-to-end tests of the `chatter` command line (src/cli/main.cpp), run as a
+// separate process. The lobe tables are checked against the transfer-function
+// formulas of PHYSICS.md §4 re-implemented here from the mode parameters
+// (receptance, H₀ by numerical quadrature, eigenvalues of H₀G): nothing below
+// calls a library solver. The library is used only to read configs.
 #include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/io/config.hpp"
+#include "chatter/io/table_writer.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using cplx = std::complex<double>;
+constexpr double kPi = std::numbers::pi;
+
+// ---------------------------------------------------------------- tolerances
+
+// The tables print 10 significant digits (5e-10 relative). Recomputing depth
+// and speed from a printed frequency amplifies that by at most ~1/ζ near a
+// resonance (ζ >= 0.011 in the shipped configs): still < 1e-7, so 1e-6 leaves
+// margin without hiding a wrong formula (a wrong lobe number or phase shifts
+// the speed by percents).
+constexpr double kFormulaRelTol = 1e-6;
+// `analytic` and `coupled` both solve the same phase equation to round-off and
+// print 10 digits; 1e-7 only allows for the printing and the refinement stop.
+constexpr double kMethodAgreementRelTol = 1e-7;
+// Values written with 10 significant digits, read back.
+constexpr double kPrintedRelTol = 1e-9;
+// Case A: no row may be below the closed-form absolute minimum (printing slack
+// only), and with ~5 rpm spacing among the dense low-speed lobes the sweep
+// minimum lands within 5 % of it.
+constexpr double kAbsMinSlack = 1e-9;
+constexpr double kAbsMinCloseness = 0.05;
+// Simpson intervals for H₀ = (N_t/2π)∫ tooth matrix dφ: the integrand is a
+// trigonometric polynomial, error ~h⁴ ≈ 1e-13 relative.
+constexpr int kSimpsonIntervals = 2000;
+
+// --------------------------------------------------------------- process I/O
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') out += "'\\''";
+    else out += c;
+  }
+  return out + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream os;
+  os << f.rdbuf();
+  return os.str();
+}
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string source_dir() { return CHATTER_SOURCE_DIR; }
+fs::path config_path(const std::string& file) { return fs::path(source_dir()) / "configs" / file; }
+
+std::vector<std::string> split_lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::istringstream is(s);
+  for (std::string line; std::getline(is, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    out.push_back(line);
+  }
+  return out;
+}
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : line) {
+    if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+// A fresh directory per test, removed afterwards.
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = make_dir(); }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  static fs::path make_dir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string("chatter_test_cli_") + info->test_suite_name() + "_" + info->name() + "_" +
+                       std::to_string(::getpid());
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+    const fs::path d = fs::temp_directory_path() / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+  }
+
+  // Runs `chatter ARGS...`, capturing stdout and stderr into files in dir_.
+  RunResult run(const std::vector<std::string>& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    std::string cmd = shell_quote(CHATTER_CLI);
+    // Appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive.
+    for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+    cmd.append(" >").append(shell_quote(out.string()));
+    cmd.append(" 2>").append(shell_quote(err.string()));
+    cmd.append(" </dev/null");
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  fs::path dir_;
+};
+
+// ------------------------------------------------------------- the physics (§4)
+// Written from PHYSICS.md only; uses the config's mode parameters, not the
+// library's receptance, H₀ or eigenvalue code.
+
+struct Physics {
+  struct M {
+    double omega, zeta, k, ux, uy;
+  };
+  std::vector<M> modes;  // tool and workpiece together: G = G_tool + G_workpiece
+  std::array<double, 4> h0{};  // row-major 2x2, N/m²
+  int delays_per_rev = 1;       // d: 1 turning, N_t milling
+  double depth_max_mm = 0.0;
+
+  explicit Physics(const chatter::Config& cfg) {
+    for (const auto* body : {&cfg.model.tool, &cfg.model.workpiece})
+      for (const auto& m : body->modes) {
+        const double n = std::hypot(m.direction.x(), m.direction.y());
+        modes.push_back({2 * kPi * m.natural_frequency_hz, m.damping_ratio, m.stiffness_n_per_m,
+                         m.direction.x() / n, m.direction.y() / n});
+      }
+    const chatter::Process& p = cfg.process;
+    if (p.operation() == chatter::Operation::kTurning) {
+      h0 = {p.turning_parameters().feed_force_coefficient_n_per_m2, 0.0, 0.0, 0.0};
+      delays_per_rev = 1;
+    } else {
+      const auto& mp = p.milling_parameters();
+      const double kt = mp.tangential_coefficient_n_per_m2, kr = mp.radial_coefficient_n_per_m2;
+      const double ae = mp.radial_immersion;
+      double en, ex;
+      if (mp.direction == chatter::MillingDirection::kDown) {
+        en = std::acos(2 * ae - 1);
+        ex = kPi;
+      } else {
+        en = 0.0;
+        ex = std::acos(1 - 2 * ae);
+      }
+      auto tooth = [&](double phi) {
+        const double s = std::sin(phi), c = std::cos(phi);
+        return std::array<double, 4>{(kt * c + kr * s) * s, (kt * c + kr * s) * c, -(kt * s - kr * c) * s,
+                                     -(kt * s - kr * c) * c};
+      };
+      // Composite Simpson.
+      const int n = kSimpsonIntervals;
+      const double h = (ex - en) / n;
+      std::array<double, 4> sum{};
+      for (int i = 0; i <= n; ++i) {
+        const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        const auto t = tooth(en + i * h);
+        for (int e = 0; e < 4; ++e) sum[e] += w * t[e];
+      }
+      for (int e = 0; e < 4; ++e) h0[e] = mp.teeth / (2 * kPi) * sum[e] * h / 3.0;
+      delays_per_rev = mp.teeth;
+    }
+    depth_max_mm = cfg.sweep.depth_max_mm.value_or(50.0);
+  }
+
+  // G(ω) = Σ u uᵀ / (k (1 − r² + 2jζr)), row-major.
+  std::array<cplx, 4> receptance(double w) const {
+    std::array<cplx, 4> g{};
+    for (const auto& m : modes) {
+      const double r = w / m.omega;
+      const cplx s = 1.0 / (m.k * cplx(1 - r * r, 2 * m.zeta * r));
+      g[0] += m.ux * m.ux * s;
+      g[1] += m.ux * m.uy * s;
+      g[2] += m.uy * m.ux * s;
+      g[3] += m.uy * m.uy * s;
+    }
+    return g;
+  }
+
+  // Eigenvalues of H₀G(ω), the larger in modulus first.
+  std::array<cplx, 2> eigenvalues(double w) const {
+    const auto g = receptance(w);
+    const cplx a = h0[0] * g[0] + h0[1] * g[2], b = h0[0] * g[1] + h0[1] * g[3];
+    const cplx c = h0[2] * g[0] + h0[3] * g[2], d = h0[2] * g[1] + h0[3] * g[3];
+    const cplx half_tr = 0.5 * (a + d), det = a * d - b * c;
+    const cplx disc = std::sqrt(half_tr * half_tr - det);
+    const cplx l1 = std::abs(half_tr + disc) >= std::abs(half_tr - disc) ? half_tr + disc : half_tr - disc;
+    const cplx l2 = l1 == cplx(0.0) ? cplx(0.0) : det / l1;
+    return {l1, l2};
+  }
+
+  // ε = (3π + 2 atan2(Im λ, Re λ)) mod 2π, in [0, 2π).
+  static double epsilon(cplx lambda) {
+    double e = std::fmod(3 * kPi + 2 * std::atan2(lambda.imag(), lambda.real()), 2 * kPi);
+    if (e < 0) e += 2 * kPi;
+    return e;
+  }
+  double depth_mm(cplx lambda) const { return -1.0 / (2.0 * lambda.real()) * 1e3; }
+  double rpm(double w, double eps, int lobe) const {
+    const double tau = (eps + 2 * kPi * lobe) / w;
+    return 60.0 / (delays_per_rev * tau);
+  }
+  double delay(double rpm) const { return 60.0 / (rpm * delays_per_rev); }
+
+  // One eigenvalue branch carries all the dynamics: turning (H₀ has rank one)
+  // or every mode along X.
+  bool scalar() const {
+    if (h0[1] == 0.0 && h0[2] == 0.0 && h0[3] == 0.0) return true;
+    return std::all_of(modes.begin(), modes.end(), [](const M& m) { return m.uy == 0.0; });
+  }
+  double min_omega() const {
+    double w = std::numeric_limits<double>::infinity();
+    for (const auto& m : modes) w = std::min(w, m.omega);
+    return w;
+  }
+  double max_omega() const {
+    double w = 0.0;
+    for (const auto& m : modes) w = std::max(w, m.omega);
+    return w;
+  }
+  double min_zeta() const {
+    double z = 1.0;
+    for (const auto& m : modes) z = std::min(z, m.zeta);
+    return z;
+  }
+};
+
+// ------------------------------------------------------------------ tables
+
+struct Row {
+  double rpm = 0.0;
+  double depth_mm = 0.0;  // +inf when unbounded
+  std::optional<double> freq_hz;
+  std::optional<int> lobe;
+  bool bounded() const { return std::isfinite(depth_mm); }
+};
+
+const char* const kLobeHeader = "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe";
+
+// Parses a lobe CSV, checking its shape as it goes.
+std::vector<Row> parse_lobe_csv(const std::string& text) {
+  std::vector<Row> rows;
+  const auto lines = split_lines(text);
+  EXPECT_FALSE(lines.empty());
+  if (lines.empty()) return rows;
+  EXPECT_EQ(lines[0], kLobeHeader);
+  EXPECT_FALSE(contains(text, "nan")) << "a lobe table never prints nan";
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto f = split_fields(lines[i]);
+    EXPECT_EQ(f.size(), 4u) << "line " << i << ": " << lines[i];
+    if (f.size() != 4u) continue;
+    Row r;
+    r.rpm = std::stod(f[0]);
+    if (f[1] == "inf") {
+      r.depth_mm = std::numeric_limits<double>::infinity();
+      EXPECT_TRUE(f[2].empty()) << lines[i];
+      EXPECT_TRUE(f[3].empty()) << lines[i];
+    } else {
+      r.depth_mm = std::stod(f[1]);
+      EXPECT_FALSE(f[2].empty()) << lines[i];
+      EXPECT_FALSE(f[3].empty()) << lines[i];
+      if (!f[2].empty()) r.freq_hz = std::stod(f[2]);
+      if (!f[3].empty()) r.lobe = std::stoi(f[3]);
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+bool rel_close(double expected, double actual, double rel) {
+  return std::abs(actual - expected) <= rel * std::abs(expected);
+}
+
+// Independent lobe envelope at one speed for a scalar problem: every root of
+// ωτ = ε(ω) + 2πk (k >= 0, Re λ < 0) on a frequency grid fine enough that
+// s = (ωτ − ε)/2π moves < 0.25 per cell, refined by bisection; the smallest
+// depth wins. Returns +inf if none is below depth_max.
+struct EnvelopeScan {
+  const Physics& ph;
+  double dw = 0.0;
+  std::vector<cplx> lambda;  // λ(ω_i), ω_i = (i + 1) dw
+  double max_step_s = 0.0;   // largest |Δs| met between valid neighbours (self-check)
+
+  EnvelopeScan(const Physics& p, double tau_max) : ph(p) {
+    // Resolve both the delay term (Δωτ <= 0.1 rad) and the resonance phase
+    // swing (width ~ζω_n).
+    dw = std::min(0.1 / tau_max, 0.1 * ph.min_zeta() * ph.min_omega());
+    // High-frequency end: |λ| falls like 1/ω², so depth grows beyond it; the
+    // caller checks the end is above depth_max.
+    const double w_hi = 10.0 * ph.max_omega();
+    const std::size_t n = static_cast<std::size_t>(std::ceil(w_hi / dw));
+    lambda.resize(n);
+    for (std::size_t i = 0; i < n; ++i) lambda[i] = ph.eigenvalues(omega(i))[0];
+  }
+  double omega(std::size_t i) const { return static_cast<double>(i + 1) * dw; }
+
+  double end_depth_mm() const {
+    const cplx l = lambda.back();
+    return l.real() < 0 ? ph.depth_mm(l) : std::numeric_limits<double>::infinity();
+  }
+
+  double envelope_mm(double tau) {
+    double best = std::numeric_limits<double>::infinity();
+    auto s_of = [&](double w, cplx l) { return (w * tau - Physics::epsilon(l)) / (2 * kPi); };
+    for (std::size_t i = 0; i + 1 < lambda.size(); ++i) {
+      const cplx la = lambda[i], lb = lambda[i + 1];
+      if (!(la.real() < 0 && lb.real() < 0)) continue;
+      const double sa = s_of(omega(i), la), sb = s_of(omega(i + 1), lb);
+      max_step_s = std::max(max_step_s, std::abs(sb - sa));
+      const double lo = std::min(sa, sb), hi = std::max(sa, sb);
+      for (double k = std::max(0.0, std::ceil(lo)); k <= hi; k += 1.0) {
+        // Bisection on s(ω) − k in [ω_i, ω_{i+1}].
+        double wa = omega(i), wb = omega(i + 1), fa = sa - k;
+        for (int it = 0; it < 80; ++it) {
+          const double wm = 0.5 * (wa + wb);
+          const cplx lm = ph.eigenvalues(wm)[0];
+          const double fm = s_of(wm, lm) - k;
+          if ((fm < 0) == (fa < 0)) {
+            wa = wm;
+            fa = fm;
+          } else {
+            wb = wm;
+          }
+        }
+        const cplx l = ph.eigenvalues(0.5 * (wa + wb))[0];
+        if (l.real() < 0) best = std::min(best, ph.depth_mm(l));
+      }
+    }
+    return best;
+  }
+};
+
+// ---------------------------------------------------------------- the configs
+
+std::vector<std::string> shipped_configs() {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(fs::path(CHATTER_SOURCE_DIR) / "configs"))
+    if (e.is_regular_file() && e.path().extension() == ".toml") out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string param_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string s = fs::path(info.param).stem().string();
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+bool is_case_b(const std::string& file) { return file.rfind("coupled_tool", 0) == 0; }
+
+// ========================================================================= help
+
+TEST_F(CliTest, Version) {
+  const auto r = run({"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, chatter::version())) << r.out;
+}
+
+TEST_F(CliTest, MainHelp) {
+  for (const char* flag : {"--help", "-h"}) {
+    const auto r = run({flag});
+    EXPECT_EQ(r.exit_code, 0) << flag << ": " << r.err;
+    for (const char* word : {"lobes", "point", "frf", "--version"})
+      EXPECT_TRUE(contains(r.out, word)) << flag << " lacks " << word << ":\n" << r.out;
+  }
+}
+
+TEST_F(CliTest, NoArgumentsIsUsageError) {
+  const auto r = run({});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "lobes")) << r.err;
+}
+
+TEST_F(CliTest, SubcommandHelp) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"lobes", {"--rpm-min", "--rpm-max", "--rpm-points", "--depth-max-mm", "--table", "--json", "--method"}},
+      {"point", {"--rpm", "--depth-mm", "--depth-max-mm", "--method"}},
+      {"frf", {"--points", "--out", "--fmin", "--fmax"}},
+  };
+  for (const auto& [cmd, options] : cases) {
+    const auto r = run({cmd, "--help"});
+    EXPECT_EQ(r.exit_code, 0) << cmd << ": " << r.err;
+    for (const auto& o : options) EXPECT_TRUE(contains(r.out, o)) << cmd << " --help lacks " << o << ":\n" << r.out;
+  }
+}
+
+// ================================================================ lobes, per config
+
+class CliConfigTest : public CliTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
+  const fs::path cfg_file = config_path(GetParam());
+  const chatter::Config cfg = chatter::load_config(cfg_file);
+  ASSERT_TRUE(cfg.sweep.rpm_min && cfg.sweep.rpm_max && cfg.sweep.rpm_points)
+      << "shipped configs carry a full [sweep]";
+  const int n_points = *cfg.sweep.rpm_points;
+
+  const fs::path table = path("lobes.csv"), json = path("lobes.json");
+  const auto r = run({"lobes", cfg_file.string(), "--table", table.string(), "--json", json.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(table));
+  ASSERT_TRUE(fs::exists(json));
+
+  const std::string text = slurp(table);
+  ASSERT_EQ(split_lines(text).at(0), kLobeHeader);
+  const auto rows = parse_lobe_csv(text);
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(n_points));
+
+  // Speeds: evenly spaced over the config's sweep, ends included.
+  const double lo = *cfg.sweep.rpm_min, hi = *cfg.sweep.rpm_max;
+  for (int i = 0; i < n_points; ++i) {
+    const double expected = lo + (hi - lo) * i / (n_points - 1);
+    EXPECT_TRUE(rel_close(expected, rows[static_cast<std::size_t>(i)].rpm, kPrintedRelTol))
+        << "row " << i << ": " << rows[static_cast<std::size_t>(i)].rpm << " vs " << expected;
+  }
+
+  // JSON parses and carries the same rows.
+  nlohmann::json j;
+  ASSERT_NO_THROW(j = nlohmann::json::parse(slurp(json)));
+  EXPECT_EQ(j.at("method"), "analytic");
+  EXPECT_EQ(j.at("version"), chatter::version());
+  EXPECT_EQ(j.at("config").at("name"), cfg.name);
+  ASSERT_EQ(j.at("rows").size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& jr = j["rows"][i];
+    EXPECT_EQ(jr.at("spindle_rpm").get<double>(), rows[i].rpm) << "row " << i;
+    if (rows[i].bounded()) {
+      EXPECT_EQ(jr.at("depth_limit_mm").get<double>(), rows[i].depth_mm) << "row " << i;
+      EXPECT_EQ(jr.at("chatter_frequency_hz").get<double>(), *rows[i].freq_hz) << "row " << i;
+      EXPECT_EQ(jr.at("lobe").get<int>(), *rows[i].lobe) << "row " << i;
+    } else {
+      EXPECT_TRUE(jr.at("depth_limit_mm").is_null()) << "row " << i;
+      EXPECT_TRUE(jr.at("chatter_frequency_hz").is_null()) << "row " << i;
+      EXPECT_TRUE(jr.at("lobe").is_null()) << "row " << i;
+    }
+  }
+
+  // Every bounded row solves the §4 equations for one eigenvalue of H₀G.
+  const Physics ph(cfg);
+  std::size_t bounded = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    if (!row.bounded()) continue;
+    ++bounded;
+    EXPECT_GT(row.depth_mm, 0.0) << "row " << i;
+    EXPECT_LE(row.depth_mm, ph.depth_max_mm * (1 + kPrintedRelTol)) << "row " << i;
+    ASSERT_TRUE(row.freq_hz && row.lobe) << "row " << i;
+    ASSERT_GE(*row.lobe, 0) << "row " << i;
+    const double w = 2 * kPi * *row.freq_hz;
+    bool matched = false;
+    std::ostringstream why;
+    for (const cplx lambda : ph.eigenvalues(w)) {
+      if (!(lambda.real() < 0)) continue;
+      const double depth = ph.depth_mm(lambda);
+      const double rpm = ph.rpm(w, Physics::epsilon(lambda), *row.lobe);
+      why << " [λ = " << lambda << ": depth " << depth << " mm, speed " << rpm << " rpm]";
+      if (rel_close(depth, row.depth_mm, kFormulaRelTol) && rel_close(rpm, row.rpm, kFormulaRelTol)) matched = true;
+    }
+    EXPECT_TRUE(matched) << GetParam() << " row " << i << ": " << row.rpm << " rpm, " << row.depth_mm << " mm, "
+                         << *row.freq_hz << " Hz, lobe " << *row.lobe << "; formulas give" << why.str();
+  }
+  EXPECT_GT(bounded, 0u) << "every shipped config shows some lobes";
+
+  // Case A: Tlusty's absolute minimum 2kζ(1+ζ)/K_f.
+  if (GetParam() == "seed_turning_1dof.toml") {
+    ASSERT_EQ(ph.modes.size(), 1u);
+    const auto& m = ph.modes[0];
+    const double bmin_mm = 2 * m.k * m.zeta * (1 + m.zeta) / ph.h0[0] * 1e3;
+    EXPECT_NEAR(bmin_mm, 1.2783, 1e-4);  // PHYSICS §7 A
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Row& row : rows) lowest = std::min(lowest, row.depth_mm);
+    EXPECT_GE(lowest, bmin_mm * (1 - kAbsMinSlack));
+    EXPECT_LE(lowest, bmin_mm * (1 + kAbsMinCloseness));
+    ASSERT_TRUE(j.contains("absolute_limit"));
+    EXPECT_TRUE(rel_close(bmin_mm, j["absolute_limit"]["depth_mm"].get<double>(), kFormulaRelTol))
+        << j["absolute_limit"].dump();
+  }
+}
+
+// The envelope is the minimum over every lobe and frequency landing on the
+// speed (PHYSICS §4), recomputed here by scanning the phase equation.
+TEST_P(CliConfigTest, LobesTableIsTheEnvelope) {
+  const fs::path cfg_file = config_path(GetParam());
+  const chatter::Config cfg = chatter::load_config(cfg_file);
+  const Physics ph(cfg);
+  if (!ph.scalar()) GTEST_SKIP() << "independent envelope scan implemented for one eigenvalue branch only";
+
+  const fs::path table = path("lobes.csv");
+  const auto r = run({"lobes", cfg_file.string(), "--table", table.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = parse_lobe_csv(slurp(table));
+  ASSERT_FALSE(rows.empty());
+
+  double tau_max = 0.0;
+  for (const Row& row : rows) tau_max = std::max(tau_max, ph.delay(row.rpm));
+  EnvelopeScan scan(ph, tau_max);
+  ASSERT_GT(scan.end_depth_mm(), ph.depth_max_mm) << "scan band too narrow for this config";
+
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double expected = scan.envelope_mm(ph.delay(rows[i].rpm));
+    if (expected > ph.depth_max_mm) {
+      EXPECT_FALSE(rows[i].bounded()) << "row " << i << " (" << rows[i].rpm << " rpm): table " << rows[i].depth_mm
+                                      << " mm, no root below depth_max";
+    } else {
+      EXPECT_TRUE(rel_close(expected, rows[i].depth_mm, kFormulaRelTol))
+          << "row " << i << " (" << rows[i].rpm << " rpm): table " << rows[i].depth_mm << " mm, scan " << expected
+          << " mm";
+    }
+  }
+  EXPECT_LT(scan.max_step_s, 0.25) << "scan grid too coarse to trust";
+}
+
+TEST_P(CliConfigTest, FrfColumnsAreConsistent) {
+  const fs::path cfg_file = config_path(GetParam());
+  const chatter::Config cfg = chatter::load_config(cfg_file);
+  const Physics ph(cfg);
+  const fs::path out = path("frf.csv");
+  const auto r = run({"frf", cfg_file.string(), "--points", "50", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(slurp(out));
+  ASSERT_EQ(lines.size(), 51u);
+  ASSERT_EQ(lines[0].rfind("frequency_hz", 0), 0u) << lines[0];
+  const auto header = split_fields(lines[0]);
+  auto col = [&](const std::string& name) -> std::size_t {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << "no column " << name << " in " << lines[0];
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::array<std::string, 3> terms = {"xx", "xy", "yy"};
+  const std::array<std::pair<int, int>, 3> index = {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 1}};
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto f = split_fields(lines[i]);
+    ASSERT_EQ(f.size(), header.size()) << lines[i];
+    const double hz = std::stod(f[0]);
+    const auto g = ph.receptance(2 * kPi * hz);
+    for (std::size_t t = 0; t < terms.size(); ++t)
+      for (const char* part : {"real", "imag"}) {
+        const std::string suffix = "_" + terms[t] + "_" + part + "_m_per_n";
+        const double tool = std::stod(f[col("tool" + suffix)]);
+        const double work = std::stod(f[col("workpiece" + suffix)]);
+        const double rel = std::stod(f[col("relative" + suffix)]);
+        const double scale = std::abs(tool) + std::abs(work) + 1e-300;
+        EXPECT_LE(std::abs(rel - (tool + work)), 2 * kPrintedRelTol * scale) << "line " << i << " " << suffix;
+        // And the relative receptance is G of PHYSICS §2.
+        const cplx gij = g[static_cast<std::size_t>(2 * index[t].first + index[t].second)];
+        const double expected = std::string(part) == "real" ? gij.real() : gij.imag();
+        EXPECT_LE(std::abs(rel - expected), kFormulaRelTol * std::abs(gij) + 1e-300)
+            << "line " << i << " " << suffix << ": " << rel << " vs " << expected;
+      }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ShippedConfigs, CliConfigTest, ::testing::ValuesIn(shipped_configs()), param_name);
+
+TEST(CliConfigs, EveryPublicCaseIsShipped) {
+  const auto files = shipped_configs();
+  for (const char* f : {"seed_turning_1dof.toml", "coupled_tool1_workpiece1.toml", "coupled_tool2_workpiece2.toml",
+                        "milling_benchmark_ae005_down.toml"})
+    EXPECT_NE(std::find(files.begin(), files.end(), f), files.end()) << f;
+}
+
+// ======================================================== analytic vs coupled (B)
+
+TEST_F(CliTest, CoupledMethodAgreesWithAnalyticOnCaseB) {
+  std::size_t checked = 0;
+  for (const auto& file : shipped_configs()) {
+    if (!is_case_b(file)) continue;
+    SCOPED_TRACE(file);
+    const fs::path cfg_file = config_path(file);
+    const fs::path ta = path("analytic.csv"), tc = path("coupled.csv"), jc = path("coupled.json");
+    auto ra = run({"lobes", cfg_file.string(), "--table", ta.string()});
+    auto rc = run({"lobes", cfg_file.string(), "--method", "coupled", "--table", tc.string(), "--json", jc.string()});
+    ASSERT_EQ(ra.exit_code, 0) << ra.err;
+    ASSERT_EQ(rc.exit_code, 0) << rc.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(jc)).at("method"), "coupled");
+    const auto a = parse_lobe_csv(slurp(ta)), c = parse_lobe_csv(slurp(tc));
+    ASSERT_EQ(a.size(), c.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].rpm, c[i].rpm) << "row " << i;
+      ASSERT_EQ(a[i].bounded(), c[i].bounded()) << "row " << i << " (" << a[i].rpm << " rpm)";
+      if (!a[i].bounded()) continue;
+      EXPECT_TRUE(rel_close(a[i].depth_mm, c[i].depth_mm, kMethodAgreementRelTol))
+          << "row " << i << ": " << a[i].depth_mm << " vs " << c[i].depth_mm;
+      EXPECT_TRUE(rel_close(*a[i].freq_hz, *c[i].freq_hz, kMethodAgreementRelTol))
+          << "row " << i << ": " << *a[i].freq_hz << " vs " << *c[i].freq_hz;
+      EXPECT_EQ(*a[i].lobe, *c[i].lobe) << "row " << i;
+    }
+    ++checked;
+    fs::remove(ta);
+    fs::remove(tc);
+    fs::remove(jc);
+  }
+  EXPECT_EQ(checked, 2u);
+}
+
+TEST_F(CliTest, LobesToStdoutWithoutTable) {
+  const auto r = run({"lobes", config_path("seed_turning_1dof.toml").string(), "--rpm-min", "500", "--rpm-max",
+                      "600", "--rpm-points", "11"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = parse_lobe_csv(r.out);
+  ASSERT_EQ(rows.size(), 11u);
+  EXPECT_EQ(rows.front().rpm, 500.0);
+  EXPECT_EQ(rows.back().rpm, 600.0);
+}
+
+// ========================================================================= point
+
+TEST_F(CliTest, PointStableAndUnstableOnCaseA) {
+  const fs::path cfg = config_path("seed_turning_1dof.toml");
+  const chatter::Config c = chatter::load_config(cfg);
+  const Physics ph(c);
+  const double bmin_mm = 2 * ph.modes[0].k * ph.modes[0].zeta * (1 + ph.modes[0].zeta) / ph.h0[0] * 1e3;
+
+  struct Case {
+    double rpm, depth_mm;
+    bool stable;
+  };
+  // 1.0 mm is below the absolute limit 1.278 mm: stable at every speed.
+  // 5 mm at 1000 rpm is far above the lobe there (~1.32 mm).
+  const std::vector<Case> cases = {{100, 1.0, true}, {500, 1.0, true},   {1000, 1.0, true},
+                                   {1900, 1.0, true}, {1000, 5.0, false}, {300, 5.0, false}};
+  for (const auto& cs : cases) {
+    std::ostringstream rpm, depth;
+    rpm << cs.rpm;
+    depth << cs.depth_mm;
+    const auto r = run({"point", cfg.string(), "--rpm", rpm.str(), "--depth-mm", depth.str()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    nlohmann::json j;
+    ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << r.out;
+    ASSERT_TRUE(j.contains("stable") && j.contains("depth_limit_mm") && j.contains("chatter_frequency_hz")) << r.out;
+    EXPECT_EQ(j["stable"].get<bool>(), cs.stable) << cs.rpm << " rpm, " << cs.depth_mm << " mm: " << r.out;
+    ASSERT_TRUE(j["depth_limit_mm"].is_number()) << r.out;
+    const double lim = j["depth_limit_mm"].get<double>();
+    EXPECT_EQ(j["stable"].get<bool>(), cs.depth_mm < lim) << r.out;
+    EXPECT_GE(lim, bmin_mm * (1 - kAbsMinSlack)) << r.out;
+    ASSERT_TRUE(j["chatter_frequency_hz"].is_number()) << r.out;
+    // The point limit obeys the same §4 equations as a table row.
+    const double w = 2 * kPi * j["chatter_frequency_hz"].get<double>();
+    const cplx lambda = ph.eigenvalues(w)[0];
+    EXPECT_TRUE(rel_close(ph.depth_mm(lambda), lim, kFormulaRelTol)) << r.out;
+    if (j.contains("lobe") && j["lobe"].is_number_integer()) {
+      EXPECT_TRUE(rel_close(ph.rpm(w, Physics::epsilon(lambda), j["lobe"].get<int>()), cs.rpm, kFormulaRelTol))
+          << r.out;
+    }
+  }
+}
+
+TEST_F(CliTest, PointAgreesWithLobeTableRow) {
+  const fs::path cfg = config_path("coupled_tool1_workpiece1.toml");
+  const fs::path table = path("t.csv");
+  ASSERT_EQ(run({"lobes", cfg.string(), "--rpm-min", "7000", "--rpm-max", "9000", "--rpm-points", "3", "--table",
+                 table.string()})
+                .exit_code,
+            0);
+  const auto rows = parse_lobe_csv(slurp(table));
+  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_TRUE(rows[1].bounded());
+  const auto r = run({"point", cfg.string(), "--rpm", "8000", "--depth-mm", "0.5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(rel_close(rows[1].depth_mm, j["depth_limit_mm"].get<double>(), kPrintedRelTol)) << r.out;
+}
+
+// ==================================================================== bad input
+
+// Expects exit code 2, a message on stderr containing every `needles`, and
+// none of `outputs` created.
+void expect_rejected(const RunResult& r, const std::vector<std::string>& needles, const std::vector<fs::path>& outputs,
+                     const std::string& what) {
+  EXPECT_EQ(r.exit_code, 2) << what << "\nstderr: " << r.err;
+  EXPECT_FALSE(r.err.empty()) << what;
+  for (const auto& n : needles) EXPECT_TRUE(contains(r.err, n)) << what << ": stderr lacks '" << n << "': " << r.err;
+  for (const auto& p : outputs) EXPECT_FALSE(fs::exists(p)) << what << ": created " << p;
+}
+
+TEST_F(CliTest, RejectsNonexistentConfig) {
+  const fs::path t = path("t.csv"), missing = path("no_such_config.toml");
+  expect_rejected(run({"lobes", missing.string(), "--table", t.string()}), {"no_such_config.toml"}, {t},
+                  "missing config");
+  const fs::path f = path("f.csv");
+  expect_rejected(run({"frf", missing.string(), "--out", f.string()}), {"no_such_config.toml"}, {f},
+                  "missing config (frf)");
+  const auto r = run({"point", missing.string(), "--rpm", "1000", "--depth-mm", "1"});
+  expect_rejected(r, {"no_such_config.toml"}, {}, "missing config (point)");
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST_F(CliTest, RejectsConfigWithBadValue) {
+  const std::string original = slurp(config_path("seed_turning_1dof.toml"));
+  const std::regex key(R"(damping_ratio\s*=\s*[0-9.eE+-]+)");
+  ASSERT_TRUE(std::regex_search(original, key)) << "case A config has no damping_ratio: update this test";
+  const std::string text = std::regex_replace(original, key, "damping_ratio = 1.5");
+  const fs::path bad = path("bad_damping.toml");
+  std::ofstream(bad) << text;
+  const fs::path t = path("t.csv"), js = path("t.json");
+  expect_rejected(run({"lobes", bad.string(), "--table", t.string(), "--json", js.string()}),
+                  {"damping_ratio", "bad_damping.toml"}, {t, js}, "damping_ratio = 1.5");
+}
+
+TEST_F(CliTest, RejectsBadSweepOptions) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  const fs::path t = path("t.csv"), js = path("t.json");
+  const std::string T = t.string(), J = js.string();
+  expect_rejected(run({"lobes", cfg, "--rpm-min", "-5", "--table", T, "--json", J}), {"rpm-min"}, {t, js},
+                  "--rpm-min -5");
+  expect_rejected(run({"lobes", cfg, "--rpm-min=-5", "--table", T, "--json", J}), {"rpm-min"}, {t, js},
+                  "--rpm-min=-5");
+  expect_rejected(run({"lobes", cfg, "--rpm-min", "3000", "--rpm-max", "100", "--table", T, "--json", J}),
+                  {"rpm-max"}, {t, js}, "--rpm-max below --rpm-min");
+  expect_rejected(run({"lobes", cfg, "--rpm-points", "1", "--table", T, "--json", J}), {"rpm-points"}, {t, js},
+                  "--rpm-points 1");
+  expect_rejected(run({"lobes", cfg, "--depth-max-mm", "0", "--table", T, "--json", J}), {"depth-max-mm"}, {t, js},
+                  "--depth-max-mm 0");
+  expect_rejected(run({"lobes", cfg, "--method", "nonsense", "--table", T, "--json", J}), {"nonsense"}, {t, js},
+                  "--method nonsense");
+  expect_rejected(run({"lobes", cfg, "--frobnicate", "--table", T, "--json", J}), {"frobnicate"}, {t, js},
+                  "--frobnicate");
+  expect_rejected(run({"lobes", cfg, "--rpm-points", "abc", "--table", T}), {"rpm-points"}, {t},
+                  "--rpm-points abc");
+}
+
+TEST_F(CliTest, RejectsUnknownSubcommand) {
+  const auto r = run({"frobnicate", config_path("seed_turning_1dof.toml").string()});
+  expect_rejected(r, {"frobnicate"}, {}, "unknown subcommand");
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST_F(CliTest, RejectsPointWithoutRpm) {
+  const auto r = run({"point", config_path("seed_turning_1dof.toml").string(), "--depth-mm", "1"});
+  expect_rejected(r, {"rpm"}, {}, "point without --rpm");
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const auto r2 = run({"point", config_path("seed_turning_1dof.toml").string(), "--rpm", "0", "--depth-mm", "1"});
+  expect_rejected(r2, {"rpm"}, {}, "point --rpm 0");
+}
+
+TEST_F(CliTest, RejectsFrfWithOnePoint) {
+  const fs::path f = path("f.csv");
+  expect_rejected(run({"frf", config_path("seed_turning_1dof.toml").string(), "--points", "1", "--out", f.string()}),
+                  {"points"}, {f}, "frf --points 1");
+}
+
+TEST_F(CliTest, RejectsTableInNonexistentDirectory) {
+  const fs::path t = path("no_such_dir") / "t.csv";
+  expect_rejected(run({"lobes", config_path("seed_turning_1dof.toml").string(), "--table", t.string()}),
+                  {"no_such_dir"}, {t, path("no_such_dir")}, "table in a nonexistent directory");
+  const fs::path f = path("no_such_dir") / "f.csv";
+  expect_rejected(run({"frf", config_path("seed_turning_1dof.toml").string(), "--out", f.string()}), {"no_such_dir"},
+                  {f}, "frf output in a nonexistent directory");
+}
+
+// A bad --json path is bad input like a bad --table path: nothing is written.
+TEST_F(CliTest, RejectsJsonInNonexistentDirectoryWithoutWritingTable) {
+  const fs::path t = path("t.csv"), js = path("no_such_dir") / "t.json";
+  expect_rejected(run({"lobes", config_path("seed_turning_1dof.toml").string(), "--table", t.string(), "--json",
+                       js.string()}),
+                  {"no_such_dir"}, {t, js}, "json in a nonexistent directory");
+}
+
+}  // namespace

@@ -201,12 +201,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
   }
   if (bounded == 0) summary << "; no chatter below " << fmt(s.depth_max_mm) << " mm at any speed";
 
-  if (table_path.empty()) {
-    std::cout << csv.str();
-  } else {
-    chatter::write_text_file(table_path, csv.str());
-  }
-  if (!json_path.empty()) chatter::write_text_file(json_path, json_text);
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  if (!table_path.empty()) files.emplace_back(table_path, csv.str());
+  if (!json_path.empty()) files.emplace_back(json_path, json_text);
+  chatter::write_text_files(files);  // all or nothing
+  if (table_path.empty()) std::cout << csv.str();
   std::ostream& info = table_path.empty() ? std::cerr : std::cout;
   info << summary.str() << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
@@ -329,6 +328,7 @@ int cmd_frf(const std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  std::string command;  // the subcommand, once recognised
   try {
     if (args.empty()) {
       std::cerr << kMainHelp;
@@ -344,13 +344,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     args.erase(args.begin());
+    if (cmd == "lobes" || cmd == "point" || cmd == "frf") command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
     std::cerr << "chatter: unknown command '" << cmd << "' (commands: lobes, point, frf; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
-    std::cerr << "chatter: " << e.what() << " (see chatter " << (args.empty() ? "" : "<command> ") << "--help)\n";
+    std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";
     return 2;
   } catch (const InputError& e) {
     std::cerr << "chatter: " << e.what() << "\n";

@@ -93,12 +93,40 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
   os << j.dump(2) << '\n';
 }
 
+void write_text_files(const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::vector<std::filesystem::path> temps;
+  auto discard = [&] {
+    std::error_code ec;
+    for (const auto& t : temps) std::filesystem::remove(t, ec);
+  };
+  for (const auto& [path, text] : files) {
+    std::filesystem::path tmp = path;
+    tmp += ".partial";
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) {
+      discard();
+      throw InputError(path.string() + ": cannot open for writing (does the directory exist?)");
+    }
+    temps.push_back(tmp);
+    f << text;
+    f.close();
+    if (!f) {
+      discard();
+      throw InputError(path.string() + ": write failed (disk full?)");
+    }
+  }
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    std::error_code ec;
+    std::filesystem::rename(temps[i], files[i].first, ec);
+    if (ec) {
+      discard();
+      throw InputError(files[i].first.string() + ": cannot replace (" + ec.message() + ")");
+    }
+  }
+}
+
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) throw InputError(path.string() + ": cannot open for writing");
-  f << text;
-  f.close();
-  if (!f) throw InputError(path.string() + ": write failed");
+  write_text_files({{path, text}});
 }
 
 }  // namespace chatter

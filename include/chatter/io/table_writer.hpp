@@ -14,6 +14,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "chatter/io/config.hpp"
@@ -35,8 +36,13 @@ struct TableProvenance {
 void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows);
 void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p);
 
-/// Writes to a file, creating nothing on failure.
-/// @throws InputError naming the path when it cannot be written.
+/// Writes several files all-or-nothing: each text goes first to a temporary
+/// file beside its target, and the targets are replaced only once every
+/// temporary is complete. On failure no target is created or changed.
+/// @throws InputError naming the path that cannot be written.
+void write_text_files(const std::vector<std::pair<std::filesystem::path, std::string>>& files);
+
+/// write_text_files with one file.
 void write_text_file(const std::filesystem::path& path, const std::string& text);
 
 /// Library version, "MAJOR.MINOR.PATCH".
