@@ -2,7 +2,14 @@
 // writers, the contract CAM integrators parse (include/chatter/io/table_writer.hpp).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <thread>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -288,6 +295,60 @@ TEST(WriteLobeJson, UnboundedAbsoluteLimitIsNull) {
   const auto j = nlohmann::json::parse(os.str());
   EXPECT_TRUE(j.at("absolute_limit").at("depth_mm").is_null());
   EXPECT_TRUE(j.at("absolute_limit").at("chatter_frequency_hz").is_null());
+}
+
+// ---- write_text_files: all-or-nothing, and never replaces a special file ----
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("chatter_write_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+TEST(WriteTextFiles, NothingIsCreatedWhenOneTargetFails) {
+  const auto d = fresh_dir("allornothing");
+  EXPECT_THROW(chatter::write_text_files({{d / "table.csv", "a\n"}, {d / "missing" / "t.json", "{}"}}), chatter::InputError);
+  EXPECT_TRUE(std::filesystem::is_empty(d)) << "no target and no temporary may remain";
+  std::filesystem::remove_all(d);
+}
+
+TEST(WriteTextFiles, ReplacesARegularFileWhole) {
+  const auto d = fresh_dir("replace");
+  chatter::write_text_file(d / "t.csv", "a much longer first version\n");
+  chatter::write_text_file(d / "t.csv", "short\n");
+  std::ifstream in(d / "t.csv");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "short\n");
+  std::filesystem::remove_all(d);
+}
+
+TEST(WriteTextFiles, SpecialFileIsWrittenInPlaceNotReplaced) {
+  // A FIFO stands for /dev/null or /dev/stdout: renaming over it would turn
+  // it into a regular file.
+  const auto d = fresh_dir("fifo");
+  const auto fifo = d / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] {
+    std::ifstream in(fifo);
+    got.assign(std::istreambuf_iterator<char>(in), {});
+  });
+  chatter::write_text_file(fifo, "hello\n");
+  reader.join();
+  EXPECT_EQ(got, "hello\n");
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  std::filesystem::remove_all(d);
+}
+
+TEST(WriteTextFiles, SymbolicLinkIsWrittenThroughNotReplaced) {
+  const auto d = fresh_dir("symlink");
+  chatter::write_text_file(d / "real.csv", "old contents, longer\n");
+  std::filesystem::create_symlink(d / "real.csv", d / "link.csv");
+  chatter::write_text_file(d / "link.csv", "new\n");
+  EXPECT_TRUE(std::filesystem::is_symlink(d / "link.csv"));
+  std::ifstream in(d / "real.csv");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "new\n");
+  std::filesystem::remove_all(d);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/transfer_function.hpp"
@@ -47,7 +48,8 @@ CONFIG is a TOML file describing the tool and workpiece modes and the cut
 Examples:
   chatter lobes configs/seed_turning_1dof.toml --table lobes.csv
   chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
-  chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv
+  chatter lobes configs/seed_turning_1dof.toml --table lobes.csv --plot lobes.png
+  chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv --plot frf.png
 
 Run 'chatter <command> --help' for the options of a command.
 Options: --help, --version.
@@ -135,7 +137,7 @@ std::string options_json(const chatter::TransferFunctionSolver& solver) {
 
 int cmd_lobes(const std::vector<std::string>& args) {
   Common common;
-  std::string table_path, json_path;
+  std::string table_path, json_path, plot_path;
   po::options_description d("Options");
   add_common(d, common);
   d.add_options()
@@ -144,7 +146,9 @@ int cmd_lobes(const std::vector<std::string>& args) {
       ("rpm-points", po::value<int>(), "number of evenly spaced speeds, both ends included (default: sweep.rpm_points or 400)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm; deeper limits print as inf (default: sweep.depth_max_mm or 50)")
       ("table", po::value<std::string>(&table_path), "write the CSV table here (default: standard output)")
-      ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON");
+      ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON")
+      ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
+      ("plot-frequency", "with --plot: add a panel with the chatter frequency");
   po::variables_map vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
                    "Computes the stability-lobe envelope: for each spindle speed, the largest depth of\n"
@@ -154,6 +158,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
                    "at every depth up to --depth-max-mm).\n",
              d, common, vm))
     return 0;
+  if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
   const chatter::Config cfg = chatter::load_config(common.config_path);
   const Sweep s = resolve_sweep(vm, cfg);
   chatter::TransferFunctionOptions opt;
@@ -210,6 +215,15 @@ int cmd_lobes(const std::vector<std::string>& args) {
   info << summary.str() << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
   if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
+  if (!plot_path.empty()) {
+    chatter::PlotOptions po_;
+    po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
+    const auto plot_files = chatter::plot_lobes(plot_path, cfg.name + " (" + solver->method() + ")", rows,
+                                           solver->lobe_curves(s.rpm_min, s.rpm_max), abs_lim,
+                                           solver->depth_max_m(), po_);
+    info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
+         << plot_files.data.string() << ")\n";
+  }
   return 0;
 }
 
@@ -260,7 +274,7 @@ int cmd_point(const std::vector<std::string>& args) {
 
 int cmd_frf(const std::vector<std::string>& args) {
   Common common;
-  std::string out_path;
+  std::string out_path, plot_path;
   int points = 1000;
   po::options_description d("Options");
   d.add_options()
@@ -268,7 +282,9 @@ int cmd_frf(const std::vector<std::string>& args) {
       ("fmax", po::value<double>(), "highest frequency, Hz (default: twice the highest natural frequency)")
       ("points", po::value<int>(&points)->default_value(1000), "number of frequencies (>= 2)")
       ("log", "space the frequencies logarithmically (default: evenly)")
-      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)");
+      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)")
+      ("plot", po::value<std::string>(&plot_path), "draw magnitude and phase to this .png, .svg or .pdf (script and data beside it)")
+      ("re-im", "with --plot: draw real and imaginary parts instead of magnitude and phase");
   po::variables_map vm;
   if (!parse(args, "Usage: chatter frf CONFIG [options]\n\n"
                    "Tabulates the receptance (m/N) of the tool, the workpiece and the relative motion\n"
@@ -276,6 +292,7 @@ int cmd_frf(const std::vector<std::string>& args) {
                    "The lobes come from the relative receptance: compare it with a tap test.\n",
              d, common, vm))
     return 0;
+  if (!plot_path.empty()) chatter::check_plot_path(plot_path);
   const chatter::Config cfg = chatter::load_config(common.config_path);
   const double f_lo_default = 0.5 * cfg.model.min_omega() / (2 * std::numbers::pi);
   const double f_hi_default = 2.0 * cfg.model.max_omega() / (2 * std::numbers::pi);
@@ -320,6 +337,13 @@ int cmd_frf(const std::vector<std::string>& args) {
     chatter::write_text_file(out_path, os.str());
     std::cout << "wrote receptance table (" << points << " frequencies, " << fmt(fmin) << "-" << fmt(fmax)
               << " Hz): " << out_path << "\n";
+  }
+  if (!plot_path.empty()) {
+    chatter::PlotOptions po_;
+    if (vm.count("re-im")) po_.frf_parts = chatter::FrfParts::real_imaginary;
+    const auto files = chatter::plot_frf(plot_path, cfg.name, cfg.model, fmin, fmax, points, log_spacing, po_);
+    (out_path.empty() ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
+                                               << files.script.string() << ")\n";
   }
   return 0;
 }

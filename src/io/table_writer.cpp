@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 
 #include <nlohmann/json.hpp>
 
@@ -97,9 +98,22 @@ void write_text_files(const std::vector<std::pair<std::filesystem::path, std::st
   std::vector<std::filesystem::path> temps;
   auto discard = [&] {
     std::error_code ec;
-    for (const auto& t : temps) std::filesystem::remove(t, ec);
+    for (const auto& t : temps)
+      if (!t.empty()) std::filesystem::remove(t, ec);
+  };
+  // Special files (/dev/stdout, a pipe) are written in place, after every
+  // regular file has been prepared: they cannot be replaced by a rename.
+  // A symbolic link is written through, never replaced.
+  auto special = [](const std::filesystem::path& p) {
+    std::error_code ec;
+    const auto st = std::filesystem::symlink_status(p, ec);
+    return p == "/dev/stdout" || (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st));
   };
   for (const auto& [path, text] : files) {
+    if (special(path)) {
+      temps.emplace_back();
+      continue;
+    }
     std::filesystem::path tmp = path;
     tmp += ".partial";
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
@@ -116,6 +130,22 @@ void write_text_files(const std::vector<std::pair<std::filesystem::path, std::st
     }
   }
   for (std::size_t i = 0; i < files.size(); ++i) {
+    if (temps[i].empty()) {
+      if (files[i].first == "/dev/stdout") {  // share std::cout's buffer and file offset
+        std::cout << files[i].second << std::flush;
+        continue;
+      }
+      std::error_code ec;
+      const bool regular_target = std::filesystem::is_regular_file(files[i].first, ec);
+      std::ofstream f(files[i].first, std::ios::binary | (regular_target ? std::ios::trunc : std::ios::app));
+      f << files[i].second;
+      f.close();
+      if (!f) {
+        discard();
+        throw InputError(files[i].first.string() + ": write failed");
+      }
+      continue;
+    }
     std::error_code ec;
     std::filesystem::rename(temps[i], files[i].first, ec);
     if (ec) {

@@ -1,0 +1,129 @@
+// Plots through gnuplot: stability lobes and receptance (FRF) charts.
+//
+// Every plot writes three files side by side, named after the image:
+//   <stem>.dat  the plotted data, whitespace-separated columns under a `#`
+//               header naming each column and its unit; several data sets
+//               are separated by two blank lines (gnuplot `index`). Missing
+//               values are `?` (gnuplot's `set datafile missing "?"`), never
+//               nan or inf.
+//   <stem>.gp   a self-contained gnuplot script that reads <stem>.dat and
+//               writes <stem>.<ext>, both by relative name, so
+//               `cd DIR && gnuplot <stem>.gp` reproduces the image and a user
+//               can restyle it without the engine.
+//   <stem>.<ext> the image, rendered by running gnuplot on that script.
+// The terminal follows the image extension (case-insensitive): .png
+// (pngcairo), .svg (svg), .pdf (pdfcairo). Units are the shop units of the
+// tables: spindle speed rev/min, depth mm, frequency Hz; receptance m/N.
+// Full description: docs/plots.md.
+//
+// Error channels:
+//  - unknown image extension -> InputError, before anything is written
+//    (call check_plot_path() first to fail before any computation);
+//  - unwritable directory -> InputError naming the path (nothing rendered);
+//  - gnuplot not on PATH -> GnuplotNotFound (an InputError), thrown AFTER the
+//    .dat and .gp files were written; its message says how to install gnuplot;
+//  - gnuplot failing on the script -> PlotError (internal failure).
+//
+// Thread safety: the functions share no state; concurrent calls must write
+// different files.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/lobes.hpp"
+#include "chatter/structural_model.hpp"
+
+namespace chatter {
+
+/// gnuplot is not installed (not found on PATH). The data and script files
+/// were written before this is thrown; the message names them.
+class GnuplotNotFound : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+/// gnuplot ran but failed (non-zero exit status); the message carries its
+/// standard error. Not the user's fault: an internal failure.
+class PlotError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ImageFormat { png, svg, pdf };
+
+/// The format chosen by the image extension (.png, .svg, .pdf; any case).
+/// @throws InputError "<path>: unknown image type '<ext>' (use .png, .svg or .pdf)".
+ImageFormat check_plot_path(const std::filesystem::path& image);
+
+/// What a FRF chart shows in its two panels.
+enum class FrfParts {
+  magnitude_phase,  ///< |G| (m/N, log axis) over phase (deg).
+  real_imaginary,   ///< Re G over Im G (m/N, linear axes).
+};
+
+/// Size and style shared by all plots.
+struct PlotOptions {
+  /// Image size in pixels (.png, .svg); .pdf uses width/100 × height/100 inches.
+  int width_px = 1200;
+  int height_px = 800;
+  /// Base font size, points (scaled with the image as gnuplot does).
+  int font_size = 14;
+  /// plot_frf only: which parts of the receptance are drawn.
+  FrfParts frf_parts = FrfParts::magnitude_phase;
+  /// plot_lobes only: a lower panel with the chatter frequency (Hz) at the
+  /// limit against spindle speed.
+  bool chatter_frequency_panel = false;
+
+  /// Empty when valid, else the violated rule.
+  std::string validate() const;
+};
+
+/// The files a plot wrote.
+struct PlotFiles {
+  std::filesystem::path image;
+  std::filesystem::path script;  ///< <stem>.gp
+  std::filesystem::path data;    ///< <stem>.dat
+};
+
+/// Stability-lobe diagram: x = spindle speed (rev/min), y = depth of cut (mm).
+/// The envelope as a thick line with the stable region below it filled (rows
+/// with no limit below the searched depth fill up to depth_max_m, the line
+/// has a gap there); the region above shaded as chatter; each lobe curve as a
+/// thin line, numbered k near its minimum when that minimum lies inside the
+/// plot; the absolute limit as a dashed line labelled with its value (omitted
+/// when infinite). The y range is 0 to a rounded value around 4× the absolute
+/// limit and 1.5× the median envelope depth, capped at depth_max_m.
+/// @param envelope  rows of lobe_envelope() in increasing speed (>= 1 row).
+/// @param curves    lobe_curves() over the same speed range (may be empty).
+/// @param depth_max_m  deepest cut searched (the solver's depth_max_m()).
+/// @throws InputError (bad path, extension, options or empty envelope),
+///         GnuplotNotFound, PlotError; see the file comment.
+PlotFiles plot_lobes(const std::filesystem::path& image, const std::string& title,
+                     const std::vector<StabilityLimit>& envelope, const std::vector<LobeCurve>& curves,
+                     const AbsoluteLimit& absolute_limit, double depth_max_m, const PlotOptions& options = {});
+
+/// Receptance chart, two stacked panels against frequency (Hz): magnitude
+/// (m/N, log axis) and phase (deg), or real and imaginary parts (see
+/// PlotOptions::frf_parts), of the xx term of the tool, the workpiece and the
+/// relative receptance G = G_tool + G_workpiece — and of the yy term when any
+/// mode has a Y component. Rigid bodies are listed in the key as rigid, not
+/// drawn. `points` frequencies from f_min_hz to f_max_hz, evenly or (with
+/// log_frequency) logarithmically spaced; log_frequency also makes the
+/// frequency axis logarithmic.
+/// @throws InputError on f_min_hz < 0 (<= 0 with log_frequency),
+///         f_max_hz <= f_min_hz, points < 2, a model with no mode, or as
+///         plot_lobes.
+PlotFiles plot_frf(const std::filesystem::path& image, const std::string& title, const StructuralModel& model,
+                   double f_min_hz, double f_max_hz, int points, bool log_frequency,
+                   const PlotOptions& options = {});
+
+/// Runs `gnuplot <script filename>` with the script's directory as working
+/// directory (what plot_lobes/plot_frf do after writing the files).
+/// @throws GnuplotNotFound, PlotError.
+void run_gnuplot(const std::filesystem::path& script);
+
+}  // namespace chatter

@@ -1,0 +1,352 @@
+// Plots through gnuplot (include/chatter/io/plot.hpp): real images, scripts
+// that reproduce them, clean data files, and the error paths.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/io/plot.hpp"
+#include "chatter/transfer_function.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_file(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+bool gnuplot_available() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+
+std::string quote_shell(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Re-runs the emitted script the way a user would: cd DIR && gnuplot STEM.gp.
+int rerun(const fs::path& script) {
+  const std::string cmd = "cd " + quote_shell(script.parent_path().string()) + " && gnuplot " +
+                          quote_shell(script.filename().string()) + " > /dev/null 2>&1";
+  return std::system(cmd.c_str());
+}
+
+// PNG width and height from the IHDR chunk (the first chunk, right after the
+// 8-byte signature: length(4) "IHDR"(4) width(4) height(4), big-endian).
+std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
+  auto be32 = [&](std::size_t at) {
+    return (unsigned(static_cast<unsigned char>(bytes[at])) << 24) |
+           (unsigned(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+           (unsigned(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+           unsigned(static_cast<unsigned char>(bytes[at + 3]));
+  };
+  return {be32(16), be32(20)};
+}
+
+bool is_png(const std::string& bytes) {
+  return bytes.size() > 24 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 && bytes.compare(12, 4, "IHDR") == 0;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The seed case A: model, envelope, lobes and absolute limit.
+struct LobeData {
+  chatter::Config cfg;
+  std::vector<chatter::StabilityLimit> envelope;
+  std::vector<chatter::LobeCurve> curves;
+  chatter::AbsoluteLimit absolute;
+  double depth_max_m = 0.0;
+};
+
+LobeData seed_lobes(double depth_max_mm, int rpm_points = 200) {
+  LobeData d;
+  d.cfg = chatter::load_config(fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml");
+  chatter::TransferFunctionOptions opt;
+  opt.depth_max_m = depth_max_mm * 1e-3;
+  const chatter::AnalyticSolver solver(d.cfg.model, d.cfg.process, opt);
+  const double lo = d.cfg.sweep.rpm_min.value(), hi = d.cfg.sweep.rpm_max.value();
+  d.envelope = chatter::lobe_envelope(solver, chatter::evenly_spaced_speeds(lo, hi, rpm_points));
+  d.curves = solver.lobe_curves(lo, hi);
+  d.absolute = solver.absolute_limit();
+  d.depth_max_m = solver.depth_max_m();
+  return d;
+}
+
+class PlotTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("chatter_test_plot_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST(PlotPath, FormatFromExtension) {
+  EXPECT_EQ(chatter::check_plot_path("a/lobes.png"), chatter::ImageFormat::png);
+  EXPECT_EQ(chatter::check_plot_path("lobes.SVG"), chatter::ImageFormat::svg);
+  EXPECT_EQ(chatter::check_plot_path("lobes.pdf"), chatter::ImageFormat::pdf);
+  try {
+    chatter::check_plot_path("plot.xyz");
+    FAIL() << "no exception";
+  } catch (const chatter::InputError& e) {
+    EXPECT_STREQ(e.what(), "plot.xyz: unknown image type '.xyz' (use .png, .svg or .pdf)");
+  }
+  EXPECT_THROW(chatter::check_plot_path("plot"), chatter::InputError);
+}
+
+TEST_F(PlotTest, UnknownExtensionThrowsAndWritesNothing) {
+  const LobeData d = seed_lobes(20.0, 50);
+  EXPECT_THROW(chatter::plot_lobes(dir_ / "plot.xyz", "x", d.envelope, d.curves, d.absolute, d.depth_max_m),
+               chatter::InputError);
+  EXPECT_THROW(chatter::plot_frf(dir_ / "frf.jpg", "x", d.cfg.model, 10, 200, 100, false), chatter::InputError);
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(PlotTest, LobesPngHasRequestedSizeAndScriptReproducesIt) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const LobeData d = seed_lobes(20.0);
+  chatter::PlotOptions opt;
+  opt.width_px = 1000;
+  opt.height_px = 700;
+  const auto files = chatter::plot_lobes(dir_ / "lobes.png", d.cfg.name, d.envelope, d.curves, d.absolute,
+                                         d.depth_max_m, opt);
+  EXPECT_EQ(files.image, dir_ / "lobes.png");
+  EXPECT_EQ(files.script, dir_ / "lobes.gp");
+  EXPECT_EQ(files.data, dir_ / "lobes.dat");
+  const std::string png = read_file(files.image);
+  ASSERT_TRUE(is_png(png));
+  EXPECT_EQ(png_size(png), std::make_pair(1000u, 700u));
+
+  // The script names its files relatively and renders the same image again.
+  const std::string gp = read_file(files.script);
+  EXPECT_NE(gp.find("set output 'lobes.png'"), std::string::npos);
+  EXPECT_NE(gp.find("data = 'lobes.dat'"), std::string::npos);
+  EXPECT_EQ(gp.find(dir_.string()), std::string::npos) << "script must not hold absolute paths";
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  const std::string again = read_file(files.image);
+  ASSERT_TRUE(is_png(again));
+  EXPECT_EQ(png_size(again), png_size(png));
+  EXPECT_EQ(again, png) << "re-running the script should give the same bytes";
+}
+
+TEST_F(PlotTest, LobesSvgIsXmlWithPathsAndReproducible) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const LobeData d = seed_lobes(20.0);
+  const auto files =
+      chatter::plot_lobes(dir_ / "lobes.svg", d.cfg.name, d.envelope, d.curves, d.absolute, d.depth_max_m);
+  const std::string svg = read_file(files.image);
+  ASSERT_FALSE(svg.empty());
+  EXPECT_TRUE(svg.rfind("<?xml", 0) == 0 || svg.rfind("<svg", 0) == 0);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("<path"), std::string::npos);
+  EXPECT_NE(svg.find("width=\"1200\""), std::string::npos);
+  EXPECT_NE(svg.find("height=\"800\""), std::string::npos);
+  // The title and the axis labels are in the image.
+  EXPECT_NE(svg.find("Seed 1-DOF turning"), std::string::npos);
+  EXPECT_NE(svg.find("spindle speed (rev/min)"), std::string::npos);
+  EXPECT_NE(svg.find("depth of cut (mm)"), std::string::npos);
+
+  // Tags balance (a cheap well-formedness check): every element opened is closed.
+  std::size_t open = 0, close = 0, self = 0;
+  for (std::size_t i = svg.find('<'); i != std::string::npos; i = svg.find('<', i + 1)) {
+    if (svg.compare(i, 2, "<?") == 0 || svg.compare(i, 2, "<!") == 0) continue;
+    const std::size_t end = svg.find('>', i);
+    ASSERT_NE(end, std::string::npos);
+    if (svg[i + 1] == '/') ++close;
+    else if (svg[end - 1] == '/') ++self;
+    else ++open;
+  }
+  EXPECT_EQ(open, close);
+  EXPECT_GT(self + open, 10u);
+
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), svg);
+}
+
+TEST_F(PlotTest, DataFileHasHeaderAndNoNanOrInf) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  // A 3 mm search depth leaves speeds with no limit (inf rows in the envelope).
+  const LobeData d = seed_lobes(3.0);
+  std::size_t unbounded = 0;
+  for (const auto& r : d.envelope) unbounded += r.bounded() ? 0 : 1;
+  ASSERT_GT(unbounded, 0u) << "the test needs rows with no limit";
+  const auto files =
+      chatter::plot_lobes(dir_ / "lobes.png", d.cfg.name, d.envelope, d.curves, d.absolute, d.depth_max_m);
+  const std::string dat = read_file(files.data);
+  const std::string l = lower(dat);
+  EXPECT_EQ(l.find("nan"), std::string::npos);
+  EXPECT_EQ(l.find("inf"), std::string::npos);
+  EXPECT_NE(dat.find("# spindle_rpm depth_limit_mm depth_filled_mm chatter_frequency_hz lobe bounded"),
+            std::string::npos);
+  EXPECT_NE(dat.find("# spindle_rpm depth_mm chatter_frequency_hz lobe branch"), std::string::npos);
+  EXPECT_NE(dat.find(" ? "), std::string::npos) << "unbounded rows use the '?' missing marker";
+  EXPECT_NE(read_file(files.script).find("set datafile missing '?'"), std::string::npos);
+  // Every data row of the envelope block has 6 fields.
+  std::istringstream in(dat);
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(in, line)) {
+    if (line.find("# index 1") == 0) break;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::vector<std::string> f{std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>()};
+    EXPECT_EQ(f.size(), 6u) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, d.envelope.size());
+  EXPECT_TRUE(is_png(read_file(files.image)));
+}
+
+TEST_F(PlotTest, LobesWithFrequencyPanelAndPdf) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const LobeData d = seed_lobes(20.0, 100);
+  chatter::PlotOptions opt;
+  opt.chatter_frequency_panel = true;
+  auto files = chatter::plot_lobes(dir_ / "lobes_f.png", "panel", d.envelope, d.curves, d.absolute, d.depth_max_m, opt);
+  EXPECT_EQ(png_size(read_file(files.image)), std::make_pair(1200u, 800u));
+  files = chatter::plot_lobes(dir_ / "lobes.pdf", "pdf", d.envelope, d.curves, d.absolute, d.depth_max_m);
+  EXPECT_EQ(read_file(files.image).rfind("%PDF", 0), 0u);
+}
+
+TEST_F(PlotTest, FrfPngHasRequestedSize) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const auto cfg = chatter::load_config(fs::path(CHATTER_SOURCE_DIR) / "configs" / "coupled_tool1_workpiece1.toml");
+  chatter::PlotOptions opt;
+  opt.width_px = 900;
+  opt.height_px = 650;
+  const auto files = chatter::plot_frf(dir_ / "frf.png", cfg.name, cfg.model, 20.0, 1000.0, 400, true, opt);
+  const std::string png = read_file(files.image);
+  ASSERT_TRUE(is_png(png));
+  EXPECT_EQ(png_size(png), std::make_pair(900u, 650u));
+  const std::string dat = read_file(files.data);
+  EXPECT_NE(dat.find("frequency_hz tool_xx_abs_m_per_n tool_xx_phase_deg"), std::string::npos);
+  EXPECT_EQ(dat.find("yy"), std::string::npos) << "all modes along X: no yy columns";
+  EXPECT_EQ(lower(dat).find("nan"), std::string::npos);
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), png);
+}
+
+TEST_F(PlotTest, FrfWithRigidToolAndYModeRealImaginarySvg) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  chatter::StructuralModel model;  // rigid tool, a workpiece mode at 45 degrees
+  model.workpiece.modes.push_back(chatter::Mode::from_stiffness(200.0, 0.03, 2e7, {1.0, 1.0}));
+  chatter::PlotOptions opt;
+  opt.frf_parts = chatter::FrfParts::real_imaginary;
+  const auto files = chatter::plot_frf(dir_ / "frf.svg", "rigid tool", model, 0.0, 400.0, 300, false, opt);
+  const std::string svg = read_file(files.image);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("<path"), std::string::npos);
+  EXPECT_NE(svg.find("tool: rigid"), std::string::npos);
+  const std::string dat = read_file(files.data);
+  EXPECT_NE(dat.find("relative_yy_imag_m_per_n"), std::string::npos);
+  EXPECT_EQ(lower(dat).find("nan"), std::string::npos);
+  EXPECT_EQ(lower(dat).find("inf"), std::string::npos);
+}
+
+TEST_F(PlotTest, FrfRejectsBadRanges) {
+  const auto cfg = chatter::load_config(fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml");
+  EXPECT_THROW(chatter::plot_frf(dir_ / "f.png", "t", cfg.model, 0.0, 100.0, 100, true), chatter::InputError);
+  EXPECT_THROW(chatter::plot_frf(dir_ / "f.png", "t", cfg.model, 100.0, 50.0, 100, false), chatter::InputError);
+  EXPECT_THROW(chatter::plot_frf(dir_ / "f.png", "t", cfg.model, 10.0, 50.0, 1, false), chatter::InputError);
+  EXPECT_THROW(chatter::plot_frf(dir_ / "f.png", "t", chatter::StructuralModel{}, 10.0, 50.0, 10, false),
+               chatter::InputError);
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(PlotTest, MissingGnuplotWritesDataAndScriptThenSaysHowToInstall) {
+  const LobeData d = seed_lobes(20.0, 50);
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  const fs::path empty_bin = dir_ / "empty_bin";
+  fs::create_directories(empty_bin);
+  ::setenv("PATH", empty_bin.c_str(), 1);
+  bool thrown = false;
+  try {
+    chatter::plot_lobes(dir_ / "lobes.png", "x", d.envelope, d.curves, d.absolute, d.depth_max_m);
+  } catch (const chatter::GnuplotNotFound& e) {
+    thrown = true;
+    const chatter::InputError& as_input = e;  // exit status 2 in the CLI
+    EXPECT_NE(std::string(as_input.what()).find("apt-get install gnuplot-nox"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gnuplot lobes.gp"), std::string::npos) << e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_TRUE(thrown);
+  EXPECT_TRUE(fs::exists(dir_ / "lobes.dat"));
+  EXPECT_TRUE(fs::exists(dir_ / "lobes.gp"));
+  EXPECT_FALSE(fs::exists(dir_ / "lobes.png"));
+}
+
+TEST_F(PlotTest, UnwritableDirectoryIsInputError) {
+  const LobeData d = seed_lobes(20.0, 50);
+  EXPECT_THROW(chatter::plot_lobes(dir_ / "no_such_dir" / "lobes.png", "x", d.envelope, d.curves, d.absolute,
+                                   d.depth_max_m),
+               chatter::InputError);
+}
+
+TEST_F(PlotTest, QuotesAndSpacesInTitleAndPathPassThrough) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const LobeData d = seed_lobes(20.0, 50);
+  const fs::path sub = dir_ / "it's a dir";
+  fs::create_directories(sub);
+  const std::string title = "Bob's \"case\" a_e^2 {x} @ 50%\\n";
+  const auto files = chatter::plot_lobes(sub / "my lobes.svg", title, d.envelope, d.curves, d.absolute, d.depth_max_m);
+  const std::string svg = read_file(files.image);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("Bob's \"case\" a_e^2 {x} @ 50%\\n"), std::string::npos) << "title not shown verbatim";
+  EXPECT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), svg);
+}
+
+TEST_F(PlotTest, GnuplotFailureIsPlotErrorWithItsMessage) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  std::ofstream(dir_ / "bad.gp") << "set terminal svg\nset output 'bad.svg'\nplot 'no_such_file.dat'\n";
+  try {
+    chatter::run_gnuplot(dir_ / "bad.gp");
+    FAIL() << "no exception";
+  } catch (const chatter::PlotError& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_file.dat"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(PlotTest, NoInstabilityBelowSearchedDepthStillPlots) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const LobeData d = seed_lobes(0.5, 50);  // case A's absolute limit is 1.28 mm
+  for (const auto& r : d.envelope) ASSERT_FALSE(r.bounded());
+  ASSERT_FALSE(std::isfinite(d.absolute.depth_m));
+  const auto files = chatter::plot_lobes(dir_ / "none.png", "stable everywhere", d.envelope, d.curves, d.absolute,
+                                         d.depth_max_m);
+  EXPECT_TRUE(is_png(read_file(files.image)));
+  EXPECT_EQ(lower(read_file(files.data)).find("inf"), std::string::npos);
+  // And with no lobe curves at all, plus the frequency panel.
+  chatter::PlotOptions opt;
+  opt.chatter_frequency_panel = true;
+  const auto f2 = chatter::plot_lobes(dir_ / "none2.svg", "t", d.envelope, {}, d.absolute, d.depth_max_m, opt);
+  EXPECT_NE(read_file(f2.image).find("</svg>"), std::string::npos);
+}
