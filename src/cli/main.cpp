@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "cli_common.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
@@ -24,11 +25,9 @@
 
 namespace po = boost::program_options;
 using chatter::InputError;
+using namespace chatter::cli;
 
 namespace {
-
-constexpr double kDefaultDepthMaxMm = 50.0;
-constexpr int kDefaultRpmPoints = 400;
 
 const char* const kMainHelp = R"(chatter - predict regenerative chatter and draw stability lobes
 
@@ -55,75 +54,6 @@ Run 'chatter <command> --help' for the options of a command.
 Options: --help, --version.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure.
 )";
-
-// A number for messages and summaries.
-std::string fmt(double x, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
-
-struct Common {
-  std::string config_path;
-  std::string method = "analytic";
-};
-
-void add_common(po::options_description& d, Common& c) {
-  d.add_options()
-      ("method", po::value<std::string>(&c.method)->default_value("analytic"),
-       "solver: 'analytic' (transfer function, eigenvalues of H0*G) or 'coupled' "
-       "(tool-workpiece characteristic determinant); both are exact and must agree");
-}
-
-// Parses a subcommand's arguments; returns false if --help was printed.
-bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
-           Common& common, po::variables_map& vm) {
-  po::options_description hidden;
-  hidden.add_options()("config", po::value<std::string>(&common.config_path), "config file");
-  po::options_description all;
-  all.add(visible).add(hidden);
-  all.add_options()("help,h", "show this help");
-  po::positional_options_description pos;
-  pos.add("config", 1);
-  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << usage << "\n" << visible << "  -h [ --help ]            show this help\n";
-    return false;
-  }
-  po::notify(vm);
-  if (common.config_path.empty()) throw po::error("missing CONFIG (a .toml file, see configs/)");
-  return true;
-}
-
-// Speeds and depth from the flags, falling back on the config's [sweep].
-struct Sweep {
-  double rpm_min = 0.0, rpm_max = 0.0, depth_max_mm = kDefaultDepthMaxMm;
-  int rpm_points = kDefaultRpmPoints;
-};
-
-Sweep resolve_sweep(const po::variables_map& vm, const chatter::Config& cfg) {
-  Sweep s;
-  auto pick = [&](const char* flag, const std::optional<double>& from_cfg, const char* key) -> double {
-    if (vm.count(flag)) return vm[flag].as<double>();
-    if (from_cfg) return *from_cfg;
-    throw InputError(cfg.source.string() + ": missing --" + flag + " (or " + key + " in the config)");
-  };
-  s.rpm_min = pick("rpm-min", cfg.sweep.rpm_min, "sweep.rpm_min");
-  s.rpm_max = pick("rpm-max", cfg.sweep.rpm_max, "sweep.rpm_max");
-  if (vm.count("rpm-points")) s.rpm_points = vm["rpm-points"].as<int>();
-  else if (cfg.sweep.rpm_points) s.rpm_points = *cfg.sweep.rpm_points;
-  if (vm.count("depth-max-mm")) s.depth_max_mm = vm["depth-max-mm"].as<double>();
-  else if (cfg.sweep.depth_max_mm) s.depth_max_mm = *cfg.sweep.depth_max_mm;
-  if (!(std::isfinite(s.rpm_min) && s.rpm_min > 0.0))
-    throw InputError("--rpm-min = " + fmt(s.rpm_min) + ": must be > 0 rev/min");
-  if (!(std::isfinite(s.rpm_max) && s.rpm_max > s.rpm_min))
-    throw InputError("--rpm-max = " + fmt(s.rpm_max) + ": must be > --rpm-min (" + fmt(s.rpm_min) + ")");
-  if (s.rpm_points < 2) throw InputError("--rpm-points = " + std::to_string(s.rpm_points) + ": must be >= 2");
-  if (!(std::isfinite(s.depth_max_mm) && s.depth_max_mm > 0.0))
-    throw InputError("--depth-max-mm = " + fmt(s.depth_max_mm) + ": must be > 0 mm");
-  return s;
-}
 
 std::string options_json(const chatter::TransferFunctionSolver& solver) {
   const auto band = solver.band();
@@ -368,7 +298,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     args.erase(args.begin());
-    if (cmd == "lobes" || cmd == "point" || cmd == "frf") command = cmd;
+    if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "check" || cmd == "recommend") command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
