@@ -12,3 +12,10 @@ for cfg in configs/*.toml; do
   ./build/chatter frf "$cfg" --out /dev/null --plot "plots/${stem}_frf.png" > /dev/null
   echo "plots/${stem}_lobes.png plots/${stem}_frf.png"
 done
+# Milling: the semi-discretisation lobes too (flip lobes), with the chatter frequency.
+for cfg in configs/milling_*.toml; do
+  stem=$(basename "$cfg" .toml)
+  ./build/chatter lobes "$cfg" --method sdm --quiet --table "plots/${stem}_sdm_lobes.csv" \
+    --plot "plots/${stem}_sdm_lobes.png" --plot-frequency > /dev/null
+  echo "plots/${stem}_sdm_lobes.png"
+done

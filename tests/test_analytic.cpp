@@ -257,6 +257,19 @@ TEST(AnalyticInput, RefusesBadOptionsAndRigidModels) {
   EXPECT_THROW(s.limit_at(NAN), InputError);
 }
 
+TEST(AnalyticInput, AbsurdlyLowSpeedIsRefusedNotLooped) {
+  // 0.001 rev/min: one revolution holds ~14 million vibration cycles.
+  const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
+  try {
+    s.limit_at(0.001);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("spindle speed 0.001 rev/min"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("raise the spindle speed"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(s.lobe_curves(0.001, 1.0), InputError);
+}
+
 TEST(AnalyticCurves, LobePointsLieOnTheEnvelopeOrAbove) {
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
   const auto curves = s.lobe_curves(500, 3000);

@@ -805,4 +805,86 @@ TEST_F(CliTest, RejectsJsonInNonexistentDirectoryWithoutWritingTable) {
                   {"no_such_dir"}, {t, js}, "json in a nonexistent directory");
 }
 
+// ==================================================================== sdm
+
+// Case C (a_e/D = 0.05 down): at 17 500 rev/min the limit is a flip lobe
+// (docs/sdm.md: the flip lobe spans ~14 500–18 200 rev/min); elsewhere Hopf.
+TEST_F(CliTest, SdmLobesAddMultiplierTypeAndRadiusColumns) {
+  const fs::path cfg = config_path("milling_benchmark_ae005_down.toml");
+  const auto r = run({"lobes", cfg.string(), "--method", "sdm", "--rpm-min", "12500", "--rpm-max", "17500",
+                      "--rpm-points", "3", "--threads", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(r.out);
+  ASSERT_EQ(lines.size(), 4u) << r.out;
+  EXPECT_EQ(lines[0], "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe,multiplier_type,spectral_radius_check");
+  const auto hopf = split_fields(lines[1]), flip = split_fields(lines[3]);
+  EXPECT_EQ(hopf[4], "hopf") << lines[1];
+  EXPECT_EQ(flip[4], "flip") << lines[3];
+  for (const auto* f : {&hopf, &flip}) EXPECT_NEAR(std::stod((*f)[5]), 1.0, 1e-3);  // ρ at the limit ≈ 1
+  // A flip chatters at an odd multiple of half the tooth-passing frequency.
+  const double tooth_hz = 17500.0 * 2 / 60;
+  const double half_multiple = std::stod(flip[2]) / (0.5 * tooth_hz);
+  EXPECT_NEAR(half_multiple, std::round(half_multiple), 1e-6);
+  EXPECT_EQ(static_cast<long>(std::round(half_multiple)) % 2, 1);
+}
+
+TEST_F(CliTest, SdmTableDoesNotDependOnThreadCount) {
+  const fs::path cfg = config_path("milling_benchmark_ae005_down.toml");
+  const auto one = run({"lobes", cfg.string(), "--method", "sdm", "--rpm-points", "12", "--threads", "1"});
+  const auto two = run({"lobes", cfg.string(), "--method", "sdm", "--rpm-points", "12", "--threads", "2"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(one.out, two.out);
+}
+
+TEST_F(CliTest, SdmPointGivesFloquetVerdict) {
+  const fs::path cfg = config_path("milling_benchmark_ae005_down.toml");
+  const auto bad = run({"point", cfg.string(), "--method", "sdm", "--rpm", "18000", "--depth-mm", "1.5"});
+  ASSERT_EQ(bad.exit_code, 0) << bad.err;
+  const auto jb = nlohmann::json::parse(bad.out);
+  EXPECT_FALSE(jb["stable"].get<bool>());
+  EXPECT_EQ(jb["multiplier_type"], "flip");
+  EXPECT_GT(jb["spectral_radius"].get<double>(), 1.0);
+  EXPECT_LT(jb["dominant_multiplier"][0].get<double>(), -1.0);
+  // The transfer-function method misses this flip lobe: 1.5 mm looks stable to it.
+  const auto tf = run({"point", cfg.string(), "--rpm", "18000", "--depth-mm", "1.5"});
+  ASSERT_EQ(tf.exit_code, 0) << tf.err;
+  EXPECT_TRUE(nlohmann::json::parse(tf.out)["stable"].get<bool>()) << tf.out;
+  const auto good = run({"point", cfg.string(), "--method", "sdm", "--rpm", "18000", "--depth-mm", "1.0"});
+  ASSERT_EQ(good.exit_code, 0) << good.err;
+  const auto jg = nlohmann::json::parse(good.out);
+  EXPECT_TRUE(jg["stable"].get<bool>());
+  EXPECT_LT(jg["spectral_radius"].get<double>(), 1.0);
+  EXPECT_GT(jg["margin"].get<double>(), 1.0);
+}
+
+TEST_F(CliTest, SdmMapGrid) {
+  const fs::path cfg = config_path("milling_benchmark_ae005_down.toml");
+  const fs::path out = path("map.csv");
+  const auto r = run({"map", cfg.string(), "--rpm-points", "4", "--depth-points", "5", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(slurp(out));
+  ASSERT_EQ(lines.size(), 1u + 4u * 5u);
+  EXPECT_EQ(lines[0], "spindle_rpm,depth_mm,spectral_radius");
+  // Depth 0: free vibration decays, ρ = e^{−ζωτ} < 1.
+  const auto first = split_fields(lines[1]);
+  EXPECT_EQ(std::stod(first[1]), 0.0);
+  EXPECT_LT(std::stod(first[2]), 1.0);
+  // The deepest point (10 mm) chatters at every speed of case C's sweep ends.
+  EXPECT_GT(std::stod(split_fields(lines[5])[2]), 1.0);
+}
+
+TEST_F(CliTest, RejectsBadSolverOptions) {
+  const std::string cfg = config_path("milling_benchmark_ae005_down.toml").string();
+  const fs::path m = path("m.csv");
+  expect_rejected(run({"map", cfg, "--method", "analytic", "--out", m.string()}), {"sdm"}, {m}, "map needs sdm");
+  expect_rejected(run({"map", cfg, "--depth-points", "1", "--out", m.string()}), {"depth-points"}, {m},
+                  "map --depth-points 1");
+  const fs::path t = path("t.csv");
+  expect_rejected(run({"lobes", cfg, "--method", "sdm", "--steps", "0", "--table", t.string()}), {"steps"}, {t},
+                  "--steps 0");
+  expect_rejected(run({"lobes", cfg, "--steps", "40", "--table", t.string()}), {"steps"}, {t},
+                  "--steps without sdm");
+  expect_rejected(run({"lobes", cfg, "--threads", "-1", "--table", t.string()}), {"threads"}, {t}, "--threads -1");
+}
+
 }  // namespace

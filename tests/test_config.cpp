@@ -429,6 +429,30 @@ TEST(ConfigError, NonPositiveFrequency) {
       {"mem/case.toml: tool.modes[0].frequency_hz = -5.0: must be > 0"}));
 }
 
+TEST(ConfigError, ImplausibleValuesAreRefused) {
+  // Beyond these bounds a value is not machining dynamics and the solvers
+  // could not resolve it (found by fuzzing: a 1e300 Hz mode hung the search).
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 2e6\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].frequency_hz = 2e6: must be in [0.1, 1e6] Hz"}));
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 1e-9\nstiffness_n_per_m = 1e7\n"),
+      {"mem/case.toml: tool.modes[0].damping_ratio = 1e-9: must be >= 1e-6"}));
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nstiffness_n_per_m = 1e20\n"),
+      {"tool.modes[0].stiffness_n_per_m = 1e20: must be in [1, 1e15] N/m"}));
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nmass_kg = 1e9\n"),
+      {"tool.modes[0].mass_kg = 1e9: must be in [1e-6, 1e6] kg"}));
+  // Found by fuzzing: a 1e-23 kg mode overflowed the receptance.
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nmass_kg = 1e-23\n"),
+      {"tool.modes[0].mass_kg = 1e-23: must be in [1e-6, 1e6] kg"}));
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 0.2\ndamping_ratio = 0.03\nmass_kg = 1e-3\n"),
+      {"tool.modes[0].mass_kg = 1e-3: gives a modal stiffness", "must be >= 1 N/m"}));
+}
+
 TEST(ConfigError, NonPositiveStiffness) {
   EXPECT_TRUE(ThrowsInputError(
       Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 0.03\nstiffness_n_per_m = 0.0\n"),

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -67,7 +68,18 @@ class LobeSolver {
 /// @throws InputError on an empty, negative or non-finite range.
 std::vector<double> evenly_spaced_speeds(double rpm_min, double rpm_max, int count);
 
-/// limit_at() at each speed, in order.
-std::vector<StabilityLimit> lobe_envelope(const LobeSolver& solver, const std::vector<double>& speeds_rpm);
+/// limit_at() at each speed, in order. With threads > 1 the speeds are shared
+/// among that many threads (each speed is independent, so the result is
+/// bitwise the same whatever the thread count); threads = 0 uses the
+/// hardware concurrency. `per_speed`, if given, is called after each speed
+/// with the number done so far (from the worker threads; keep it cheap and
+/// thread-safe).
+std::vector<StabilityLimit> lobe_envelope(const LobeSolver& solver, const std::vector<double>& speeds_rpm,
+                                          unsigned threads = 1,
+                                          const std::function<void(std::size_t done)>& per_speed = {});
+
+/// The same loop for any per-speed computation: out[i] = f(i) for i < n.
+void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& f,
+                  const std::function<void(std::size_t done)>& per_item = {});
 
 }  // namespace chatter

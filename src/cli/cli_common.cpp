@@ -19,8 +19,9 @@ std::string fmt(double x, int digits) {
 void add_common(po::options_description& d, Common& c) {
   d.add_options()
       ("method", po::value<std::string>(&c.method)->default_value("analytic"),
-       "solver: 'analytic' (transfer function, eigenvalues of H0*G) or 'coupled' "
-       "(tool-workpiece characteristic determinant); both are exact and must agree");
+       "solver: 'analytic' (transfer function, eigenvalues of H0*G), 'coupled' "
+       "(tool-workpiece characteristic determinant; must agree with analytic) or 'sdm' "
+       "(semi-discretisation / Floquet: sees the flip lobes of low-immersion milling; slower)");
 }
 
 // Parses a subcommand's arguments; returns false if --help was printed.
@@ -64,6 +65,96 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   if (!(std::isfinite(s.depth_max_mm) && s.depth_max_mm > 0.0))
     throw InputError("--depth-max-mm = " + fmt(s.depth_max_mm) + ": must be > 0 mm");
   return s;
+}
+
+}  // namespace chatter::cli
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <thread>
+
+namespace chatter::cli {
+
+void add_solver_options(po::options_description& d) {
+  d.add_options()
+      ("steps", po::value<int>(), "sdm: steps per delay period (default 64; the step is also at most 1/64 of the "
+                                  "shortest natural period); more steps: more accurate, slower")
+      ("threads", po::value<int>()->default_value(0), "threads for the sweep (0 = every core); the result does not "
+                                                      "depend on it")
+      ("quiet,q", "no progress bar");
+}
+
+unsigned thread_count(const po::variables_map& vm) {
+  const int t = vm.count("threads") ? vm["threads"].as<int>() : 0;
+  if (t < 0 || t > 1024) throw InputError("--threads = " + std::to_string(t) + ": must be in [0, 1024] (0 = every core)");
+  return static_cast<unsigned>(t);
+}
+
+BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
+                         const po::variables_map& vm) {
+  BuiltSolver b;
+  if (method == "sdm") {
+    SemiDiscretizationOptions o;
+    o.depth_max_m = depth_max_m;
+    if (vm.count("steps")) {
+      o.steps_per_period = vm["steps"].as<int>();
+      if (o.steps_per_period < 1)
+        throw InputError("--steps = " + std::to_string(o.steps_per_period) + ": must be >= 1");
+      o.steps_per_vibration_cycle = o.steps_per_period;
+    }
+    auto s = std::make_unique<SemiDiscretizationSolver>(cfg.model, cfg.process, o);
+    b.sdm = s.get();
+    b.solver = std::move(s);
+    b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
+                                    {"steps_per_period", o.steps_per_period},
+                                    {"steps_per_vibration_cycle", o.steps_per_vibration_cycle},
+                                    {"depth_tolerance", o.depth_tolerance}}
+                         .dump();
+    return b;
+  }
+  if (vm.count("steps")) throw InputError("--steps: only with --method sdm");
+  TransferFunctionOptions o;
+  o.depth_max_m = depth_max_m;
+  auto s = make_transfer_function_solver(method, cfg.model, cfg.process, o);
+  const auto band = s->band();
+  b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
+                                  {"max_phase_step_rad", o.max_phase_step_rad},
+                                  {"search_band_hz",
+                                   {band.omega_min_rad_s / (2 * std::numbers::pi),
+                                    band.omega_max_rad_s / (2 * std::numbers::pi)}},
+                                  {"frequency_grid_points", band.grid_points}}
+                       .dump();
+  b.tf = s.get();
+  b.solver = std::move(s);
+  return b;
+}
+
+Progress::Progress(const po::variables_map& vm, std::size_t total, std::string label)
+    : enabled_(vm.count("quiet") == 0 && ::isatty(STDERR_FILENO) == 1 && total > 1),
+      total_(total),
+      label_(std::move(label)),
+      start_(std::chrono::steady_clock::now()),
+      last_(start_) {}
+
+Progress::~Progress() {
+  if (enabled_) std::cerr << "\r\033[K" << std::flush;  // clear the line
+}
+
+void Progress::tick(std::size_t done) {
+  if (!enabled_) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto now = std::chrono::steady_clock::now();
+  if (done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double frac = static_cast<double>(done) / static_cast<double>(total_);
+  const double left = frac > 0 ? elapsed * (1 - frac) / frac : 0.0;
+  const int width = 30, filled = static_cast<int>(frac * width);
+  std::cerr << "\r" << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
+            << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << static_cast<int>(frac * 100)
+            << "%  " << fmt(left, 2) << " s left   " << std::flush;
 }
 
 }  // namespace chatter::cli

@@ -42,3 +42,50 @@ struct Sweep {
 Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg);
 
 }  // namespace chatter::cli
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+
+#include "chatter/lobes.hpp"
+#include "chatter/semi_discretization.hpp"
+#include "chatter/transfer_function.hpp"
+
+namespace chatter::cli {
+
+/// Adds the solver-tuning options: --threads, --quiet and, for sdm, --steps.
+void add_solver_options(po::options_description& d);
+
+/// The solver chosen by --method, built with the sweep depth; exactly one of
+/// `tf` / `sdm` points into `solver`.
+struct BuiltSolver {
+  std::unique_ptr<LobeSolver> solver;
+  const TransferFunctionSolver* tf = nullptr;
+  const SemiDiscretizationSolver* sdm = nullptr;
+  std::string options_json;  ///< the solver's options, for the JSON provenance
+};
+/// @throws InputError on an unknown method or bad option.
+BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
+                         const po::variables_map& vm);
+
+/// Threads from --threads (0 = every core).
+unsigned thread_count(const po::variables_map& vm);
+
+/// A progress bar with the time left, on stderr, only when stderr is a
+/// terminal and --quiet is not given. Safe to tick from worker threads.
+class Progress {
+ public:
+  Progress(const po::variables_map& vm, std::size_t total, std::string label);
+  ~Progress();
+  void tick(std::size_t done);
+
+ private:
+  bool enabled_;
+  std::size_t total_;
+  std::string label_;
+  std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_;
+};
+
+}  // namespace chatter::cli

@@ -55,16 +55,6 @@ Options: --help, --version.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure.
 )";
 
-std::string options_json(const chatter::TransferFunctionSolver& solver) {
-  const auto band = solver.band();
-  nlohmann::json j = {{"depth_max_m", solver.options().depth_max_m},
-                      {"max_phase_step_rad", solver.options().max_phase_step_rad},
-                      {"search_band_hz",
-                       {band.omega_min_rad_s / (2 * std::numbers::pi), band.omega_max_rad_s / (2 * std::numbers::pi)}},
-                      {"frequency_grid_points", band.grid_points}};
-  return j.dump();
-}
-
 int cmd_lobes(const std::vector<std::string>& args) {
   Common common;
   std::string table_path, json_path, plot_path;
@@ -79,39 +69,64 @@ int cmd_lobes(const std::vector<std::string>& args) {
       ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-frequency", "with --plot: add a panel with the chatter frequency");
+  add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
                    "Computes the stability-lobe envelope: for each spindle speed, the largest depth of\n"
                    "cut (mm) that does not chatter, the chatter frequency (Hz) you would hear just above\n"
                    "it and the lobe number. Pick a speed at a peak between lobes to cut deeper.\n"
                    "CSV columns: spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe ('inf' = stable\n"
-                   "at every depth up to --depth-max-mm).\n",
+                   "at every depth up to --depth-max-mm); --method sdm adds multiplier_type (hopf, flip,\n"
+                   "fold) and spectral_radius_check. Use sdm for milling at low radial immersion: the\n"
+                   "transfer-function methods miss its flip lobes.\n",
              d, common, vm))
     return 0;
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
   const chatter::Config cfg = chatter::load_config(common.config_path);
   const Sweep s = resolve_sweep(vm, cfg);
-  chatter::TransferFunctionOptions opt;
-  opt.depth_max_m = s.depth_max_mm * 1e-3;
-  const auto solver = chatter::make_transfer_function_solver(common.method, cfg.model, cfg.process, opt);
+  const unsigned threads = thread_count(vm);
+  const BuiltSolver built = build_solver(common.method, cfg, s.depth_max_mm * 1e-3, vm);
+  const chatter::LobeSolver& solver = *built.solver;
   const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
-  const auto rows = chatter::lobe_envelope(*solver, speeds);
+  std::vector<chatter::StabilityLimit> rows(speeds.size());
+  std::vector<chatter::ExtraColumn> extra;
+  {
+    Progress progress(vm, speeds.size(), "lobes (" + solver.method() + ")");
+    const auto tick = [&](std::size_t done) { progress.tick(done); };
+    if (built.sdm) {
+      // sdm: also the type of the dominant multiplier and the spectral radius
+      // at the reported limit (1 to within the depth tolerance).
+      std::vector<chatter::FloquetResult> fl(speeds.size());
+      chatter::parallel_for(
+          speeds.size(), threads, [&](std::size_t i) { rows[i] = built.sdm->limit_at(speeds[i], &fl[i]); }, tick);
+      chatter::ExtraColumn type{"multiplier_type", {}, false}, rho{"spectral_radius_check", {}, true};
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        type.values.push_back(rows[i].bounded() ? chatter::to_string(fl[i].type) : "");
+        rho.values.push_back(rows[i].bounded() ? chatter::table_number(fl[i].spectral_radius) : "");
+      }
+      extra = {type, rho};
+    } else {
+      rows = chatter::lobe_envelope(solver, speeds, threads, tick);
+    }
+  }
+  const std::optional<chatter::AbsoluteLimit> abs_lim =
+      built.tf ? std::optional<chatter::AbsoluteLimit>(built.tf->absolute_limit()) : std::nullopt;
 
   std::ostringstream csv;
-  chatter::write_lobe_csv(csv, rows);
+  chatter::write_lobe_csv(csv, rows, extra);
   std::string json_text;
   if (!json_path.empty()) {
     chatter::TableProvenance p;
-    p.method = solver->method();
+    p.method = solver.method();
     p.config = &cfg;
     p.rpm_min = s.rpm_min;
     p.rpm_max = s.rpm_max;
     p.rpm_points = s.rpm_points;
     p.depth_max_mm = s.depth_max_mm;
-    p.absolute_limit = solver->absolute_limit();
-    p.options_json = options_json(*solver);
+    p.absolute_limit = abs_lim;
+    p.options_json = built.options_json;
     std::ostringstream js;
-    chatter::write_lobe_json(js, rows, p);
+    chatter::write_lobe_json(js, rows, p, extra);
     json_text = js.str();
   }
 
@@ -122,12 +137,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
     if (r.bounded()) ++bounded;
     if (!best || r.depth_limit_m > best->depth_limit_m) best = &r;
   }
-  const auto abs_lim = solver->absolute_limit();
   std::ostringstream summary;
-  summary << cfg.name << " (" << solver->method() << "): " << rows.size() << " speeds "
+  summary << cfg.name << " (" << solver.method() << "): " << rows.size() << " speeds "
           << fmt(s.rpm_min) << "-" << fmt(s.rpm_max) << " rev/min";
-  if (abs_lim.depth_m < INFINITY)
-    summary << "; stable at any speed below " << fmt(abs_lim.depth_m * 1e3, 5) << " mm";
+  if (abs_lim && abs_lim->depth_m < INFINITY)
+    summary << "; stable at any speed below " << fmt(abs_lim->depth_m * 1e3, 5) << " mm";
   if (best) {
     summary << "; deepest limit in the sweep: ";
     if (best->bounded()) summary << fmt(best->depth_limit_m * 1e3, 5) << " mm";
@@ -148,9 +162,10 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (!plot_path.empty()) {
     chatter::PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
-    const auto plot_files = chatter::plot_lobes(plot_path, cfg.name + " (" + solver->method() + ")", rows,
-                                           solver->lobe_curves(s.rpm_min, s.rpm_max), abs_lim,
-                                           solver->depth_max_m(), po_);
+    const auto plot_files = chatter::plot_lobes(
+        plot_path, cfg.name + " (" + solver.method() + ")", rows,
+        built.tf ? built.tf->lobe_curves(s.rpm_min, s.rpm_max) : std::vector<chatter::LobeCurve>{},
+        abs_lim.value_or(chatter::AbsoluteLimit{}), solver.depth_max_m(), po_);
     info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
          << plot_files.data.string() << ")\n";
   }
@@ -166,11 +181,14 @@ int cmd_point(const std::vector<std::string>& args) {
       ("rpm", po::value<double>(&rpm)->required(), "spindle speed, rev/min (required)")
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)");
+  add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter point CONFIG --rpm R --depth-mm D [options]\n\n"
                    "Says whether cutting D mm deep at R rev/min is stable, and prints one JSON object:\n"
                    "stable, depth_limit_mm (null = no limit below the searched depth),\n"
-                   "chatter_frequency_hz, lobe and margin = depth_limit / depth (> 1 is stable).\n",
+                   "chatter_frequency_hz, lobe and margin = depth_limit / depth (> 1 is stable).\n"
+                   "With --method sdm also the Floquet verdict at the point: spectral_radius (< 1 is\n"
+                   "stable), multiplier_type (hopf, flip, fold) and the dominant multiplier.\n",
              d, common, vm))
     return 0;
   const chatter::Config cfg = chatter::load_config(common.config_path);
@@ -183,13 +201,11 @@ int cmd_point(const std::vector<std::string>& args) {
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > depth_mm))
       throw InputError("--depth-max-mm = " + fmt(depth_max_mm) + ": must be > --depth-mm (" + fmt(depth_mm) + ")");
   }
-  chatter::TransferFunctionOptions opt;
-  opt.depth_max_m = depth_max_mm * 1e-3;
-  const auto solver = chatter::make_transfer_function_solver(common.method, cfg.model, cfg.process, opt);
-  const chatter::StabilityLimit lim = solver->limit_at(rpm);
+  const BuiltSolver built = build_solver(common.method, cfg, depth_max_mm * 1e-3, vm);
+  const chatter::StabilityLimit lim = built.solver->limit_at(rpm);
   const double depth_m = depth_mm * 1e-3;
   nlohmann::json j;
-  j["method"] = solver->method();
+  j["method"] = built.solver->method();
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
@@ -198,6 +214,16 @@ int cmd_point(const std::vector<std::string>& args) {
   j["lobe"] = lim.bounded() ? nlohmann::json(lim.lobe) : nlohmann::json(nullptr);
   j["margin"] = (lim.bounded() && depth_m > 0.0) ? nlohmann::json(lim.depth_limit_m / depth_m) : nlohmann::json(nullptr);
   j["depth_max_mm"] = depth_max_mm;
+  if (built.sdm) {
+    // The Floquet verdict at the point itself.
+    const chatter::FloquetResult f = built.sdm->analyse(rpm, depth_m);
+    j["stable"] = f.stable();
+    j["spectral_radius"] = f.spectral_radius;
+    j["multiplier_type"] = chatter::to_string(f.type);
+    j["chatter_frequency_hz"] = f.chatter_frequency_hz;
+    j["dominant_multiplier"] = {f.dominant_multiplier.real(), f.dominant_multiplier.imag()};
+    j["steps_per_period"] = f.steps;
+  }
   std::cout << j.dump(2) << "\n";
   return 0;
 }
@@ -278,6 +304,67 @@ int cmd_frf(const std::vector<std::string>& args) {
   return 0;
 }
 
+int cmd_map(const std::vector<std::string>& args) {
+  Common common;
+  common.method = "sdm";
+  std::string out_path;
+  int depth_points = 100;
+  po::options_description d("Options");
+  d.add_options()
+      ("method", po::value<std::string>(&common.method)->default_value("sdm"), "only 'sdm' draws maps")
+      ("rpm-min", po::value<double>(), "lowest spindle speed, rev/min (default: sweep.rpm_min)")
+      ("rpm-max", po::value<double>(), "highest spindle speed, rev/min (default: sweep.rpm_max)")
+      ("rpm-points", po::value<int>(), "number of speeds (default: sweep.rpm_points or 400)")
+      ("depth-max-mm", po::value<double>(), "deepest cut, mm (default: sweep.depth_max_mm or 50)")
+      ("depth-points", po::value<int>(&depth_points)->default_value(100), "number of depths from 0 to --depth-max-mm (>= 2)")
+      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)");
+  add_solver_options(d);
+  po::variables_map vm;
+  if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv]\n\n"
+                   "Spectral radius of the Floquet map on a speed x depth grid (the stability chart of\n"
+                   "the papers): below 1 stable, above 1 chatter. CSV columns:\n"
+                   "spindle_rpm,depth_mm,spectral_radius, one row per grid point, speeds outermost.\n",
+             d, common, vm))
+    return 0;
+  if (common.method != "sdm") throw InputError("--method " + common.method + ": map needs --method sdm");
+  if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");
+  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const Sweep s = resolve_sweep(vm, cfg);
+  const unsigned threads = thread_count(vm);
+  const BuiltSolver built = build_solver("sdm", cfg, s.depth_max_mm * 1e-3, vm);
+  const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
+  std::vector<double> depths(static_cast<std::size_t>(depth_points));
+  for (int k = 0; k < depth_points; ++k)
+    depths[static_cast<std::size_t>(k)] = s.depth_max_mm * 1e-3 * k / (depth_points - 1);
+  std::vector<double> rho(speeds.size() * depths.size());
+  {
+    Progress progress(vm, speeds.size(), "map (sdm)");
+    chatter::parallel_for(
+        speeds.size(), threads,
+        [&](std::size_t i) {
+          const auto row = built.sdm->spectral_radius_map({speeds[i]}, depths);
+          std::copy(row.begin(), row.end(), rho.begin() + static_cast<std::ptrdiff_t>(i * depths.size()));
+        },
+        [&](std::size_t done) { progress.tick(done); });
+  }
+  std::ostringstream os;
+  os << "spindle_rpm,depth_mm,spectral_radius\n";
+  for (std::size_t i = 0; i < speeds.size(); ++i)
+    for (std::size_t k = 0; k < depths.size(); ++k)
+      os << chatter::table_number(speeds[i]) << ',' << chatter::table_number(depths[k] * 1e3) << ','
+         << chatter::table_number(rho[i * depths.size() + k]) << '\n';
+  if (out_path.empty()) {
+    std::cout << os.str();
+  } else {
+    chatter::write_text_file(out_path, os.str());
+    std::size_t unstable = 0;
+    for (double r : rho) unstable += r >= 1.0;
+    std::cout << cfg.name << " (sdm): " << speeds.size() << " x " << depths.size() << " points, " << unstable
+              << " unstable; wrote map: " << out_path << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -298,10 +385,12 @@ int main(int argc, char** argv) {
       return 0;
     }
     args.erase(args.begin());
-    if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "check" || cmd == "recommend") command = cmd;
+    if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend")
+      command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
+    if (cmd == "map") return cmd_map(args);
     std::cerr << "chatter: unknown command '" << cmd << "' (commands: lobes, point, frf; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {

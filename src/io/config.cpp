@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -28,6 +29,13 @@
 #include <utility>
 #include <vector>
 
+// toml++ 3.3 asserts (debug builds) that a table-header key starts with a key
+// character before checking it, so inputs such as "[`x]" abort instead of
+// reporting an error (found by fuzzing; fuzz/corpus/config/crash_*). With the
+// assertion compiled out the parser reports the error as it should.
+#ifndef TOML_ASSERT
+#define TOML_ASSERT(expr) static_cast<void>(0)
+#endif
 #include <toml++/toml.h>
 
 #include "chatter/error.hpp"
@@ -132,6 +140,18 @@ const Range kPositive{"> 0", 0.0, true, kInf, true};
 const Range kNonNegative{">= 0", 0.0, false, kInf, true};
 const Range kOpenUnit{"in (0, 1)", 0.0, true, 1.0, true};
 const Range kUnitInterval{"in (0, 1]", 0.0, true, 1.0, false};
+// Plausibility bounds, checked after the basic rule: beyond them a value is
+// not machining dynamics, and the solvers could not resolve it to their
+// stated accuracy (docs/config.md).
+struct Plausible {
+  double lo, hi;
+  const char* rule;
+};
+constexpr Plausible kFrequencyBound{0.1, 1e6, "must be in [0.1, 1e6] Hz (outside it is not machining dynamics)"};
+constexpr Plausible kStiffnessBound{1.0, 1e15, "must be in [1, 1e15] N/m"};
+constexpr Plausible kMassBound{1e-6, 1e6, "must be in [1e-6, 1e6] kg"};
+constexpr Plausible kDampingBound{1e-6, 1.0, "must be >= 1e-6 (lighter damping is not physical and cannot be resolved)"};
+constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
 
 // ----------------------------------------------------------------- document
 
@@ -299,6 +319,11 @@ class Table {
 
   const Document& doc() const { return doc_; }
 
+  /// Fails naming `key` when `value` lies outside the plausible bound.
+  void plausible(std::string_view key, double value, const Plausible& b) const {
+    if (value < b.lo || value > b.hi) doc_.fail(path_of(key), *find(key), b.rule);
+  }
+
  private:
   const Document& doc_;
   const toml::table& table_;
@@ -353,6 +378,7 @@ Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
   bar.length_m = bar_table.required_number("length_m", kPositive, "m");
   bar.diameter_m = bar_table.required_number("diameter_m", kPositive, "m");
   const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
+  mode.plausible("damping_ratio", zeta, kDampingBound);
   return first_bending_mode(bar, zeta, read_direction(mode));
 }
 
@@ -364,6 +390,10 @@ Mode read_mode(const Table& mode) {
   const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
   const auto k = mode.number("stiffness_n_per_m", kPositive);
   const auto m = mode.number("mass_kg", kPositive);
+  mode.plausible("frequency_hz", f, kFrequencyBound);
+  mode.plausible("damping_ratio", zeta, kDampingBound);
+  if (k) mode.plausible("stiffness_n_per_m", *k, kStiffnessBound);
+  if (m) mode.plausible("mass_kg", *m, kMassBound);
   if (k && m)
     mode.doc().fail(mode.path_of("mass_kg"), *mode.find("mass_kg"),
                     "not with stiffness_n_per_m (give exactly one of stiffness_n_per_m, mass_kg)");
@@ -371,7 +401,13 @@ Mode read_mode(const Table& mode) {
     mode.doc().fail_key(mode.path_of("stiffness_n_per_m"),
                         "missing (give exactly one of stiffness_n_per_m (N/m, > 0) or mass_kg (kg, > 0))");
   const Eigen::Vector2d u = read_direction(mode);
-  return k ? Mode::from_stiffness(f, zeta, *k, u) : Mode::from_mass(f, zeta, *m, u);
+  const Mode md = k ? Mode::from_stiffness(f, zeta, *k, u) : Mode::from_mass(f, zeta, *m, u);
+  if (m && md.stiffness_n_per_m < kStiffnessBound.lo) {
+    std::ostringstream rule;
+    rule << "gives a modal stiffness m(2 pi f)^2 = " << md.stiffness_n_per_m << " N/m: must be >= 1 N/m";
+    mode.doc().fail(mode.path_of("mass_kg"), *mode.find("mass_kg"), rule.str());
+  }
+  return md;
 }
 
 /// `[tool]` / `[workpiece]`: absent, or without `modes`, means rigid.
@@ -429,6 +465,7 @@ Process read_process(const Table& root) {
     reject_keys_of(*process, kMillingKeys, "milling");
     TurningParameters p;
     p.feed_force_coefficient_n_per_m2 = process->required_number("feed_force_coefficient_n_per_m2", kPositive, "N/m^2");
+    process->plausible("feed_force_coefficient_n_per_m2", p.feed_force_coefficient_n_per_m2, kCoefficientBound);
     return Process::turning(p);
   }
   if (*operation == "milling") {
@@ -439,6 +476,8 @@ Process read_process(const Table& root) {
     p.teeth = *teeth;
     p.tangential_coefficient_n_per_m2 = process->required_number("tangential_coefficient_n_per_m2", kPositive, "N/m^2");
     p.radial_coefficient_n_per_m2 = process->required_number("radial_coefficient_n_per_m2", kNonNegative, "N/m^2");
+    process->plausible("tangential_coefficient_n_per_m2", p.tangential_coefficient_n_per_m2, kCoefficientBound);
+    process->plausible("radial_coefficient_n_per_m2", p.radial_coefficient_n_per_m2, kCoefficientBound);
     p.radial_immersion = process->required_number("radial_immersion", kUnitInterval, "a_e/D");
     constexpr std::string_view kDirectionRuleMilling = R"(must be "down" or "up")";
     const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
@@ -498,7 +537,75 @@ Config read_config(const toml::table& root_table, const Document& doc) {
 
 }  // namespace
 
-Config parse_config(const std::string& toml_text, const std::string& origin) {
+namespace {
+
+// TOML allows non-ASCII characters only inside strings and comments. toml++
+// 3.3 reaches __builtin_unreachable (undefined behaviour) when it tests some
+// non-ASCII code points for whitespace (is_non_ascii_horizontal_whitespace,
+// e.g. U+00B0 or U+0490; found by fuzzing, fuzz/corpus/config/crash_*), in
+// values, strings and keys alike. So the parser is only ever handed ASCII:
+// in the copy it gets, non-ASCII bytes of comments become spaces (byte for
+// byte, positions kept) and every other non-ASCII code point becomes a
+// \uXXXX escape, which a basic string decodes back to the same character and
+// which anywhere else is the same syntax error the character would be.
+// Invalid UTF-8 is refused with its line number.
+std::string sanitize_for_parser(const std::string& t, const std::string& origin) {
+  std::string out;
+  out.reserve(t.size());
+  bool comment = false, basic = false, literal = false;
+  std::size_t line = 1;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const auto c = static_cast<unsigned char>(t[i]);
+    if (c < 0x80) {
+      if (c == '\n') {
+        ++line;
+        comment = false;
+      } else if (!basic && !literal && c == '#') {
+        comment = true;
+      } else if (!comment && !literal && c == '"') {
+        basic = !basic;
+      } else if (!comment && !basic && c == '\'') {
+        literal = !literal;
+      } else if (basic && c == '\\' && i + 1 < t.size() && t[i + 1] != '\n') {
+        out += t[i++];  // the escaped character cannot end the string
+      }
+      out += t[i];
+      continue;
+    }
+    // Decode one UTF-8 sequence.
+    const int n = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 0;
+    char32_t cp = n == 4 ? (c & 0x07u) : n == 3 ? (c & 0x0Fu) : (c & 0x1Fu);
+    bool ok = n > 0 && c < 0xF5 && i + static_cast<std::size_t>(n) <= t.size();
+    for (int k = 1; ok && k < n; ++k) {
+      const auto cc = static_cast<unsigned char>(t[i + static_cast<std::size_t>(k)]);
+      ok = (cc & 0xC0u) == 0x80u;
+      cp = (cp << 6) | (cc & 0x3Fu);
+    }
+    if (!ok || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF) || (n == 2 && cp < 0x80) ||
+        (n == 3 && cp < 0x800) || (n == 4 && cp < 0x10000))
+      throw InputError(origin + ":" + std::to_string(line) + ": not valid UTF-8 text");
+    if (comment) {
+      out.append(static_cast<std::size_t>(n), ' ');
+    } else {
+      char buf[16];
+      std::snprintf(buf, sizeof buf, cp > 0xFFFF ? "\\U%08X" : "\\u%04X", static_cast<unsigned>(cp));
+      out += buf;
+    }
+    i += static_cast<std::size_t>(n) - 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+Config parse_config(const std::string& original_text, const std::string& origin) {
+  const std::string toml_text = sanitize_for_parser(original_text, origin);
+  // A NUL byte is never valid TOML; toml++ 3.3 asserts on some (found by
+  // fuzzing, fuzz/corpus/config/crash_nul_in_key.toml), so refuse it first.
+  if (const auto nul = toml_text.find('\0'); nul != std::string::npos) {
+    const auto line = 1 + std::count(toml_text.begin(), toml_text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    throw InputError(origin + ":" + std::to_string(line) + ": contains a NUL byte: a config must be UTF-8 text");
+  }
   const Document doc(toml_text, origin);
   try {
 #if TOML_EXCEPTIONS

@@ -52,17 +52,24 @@ nlohmann::json process_json(const Process& p) {
 
 std::string version() { return CHATTER_VERSION; }
 
-void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows) {
-  os << "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe\n";
-  for (const StabilityLimit& r : rows) {
+std::string table_number(double x) { return num(x); }
+
+void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows, const std::vector<ExtraColumn>& extra) {
+  os << "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe";
+  for (const ExtraColumn& c : extra) os << ',' << c.name;
+  os << '\n';
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const StabilityLimit& r = rows[i];
     os << num(r.spindle_rpm) << ',' << num(r.depth_limit_m * 1e3) << ',';
     if (r.bounded()) os << num(r.chatter_frequency_hz) << ',' << r.lobe;
     else os << ',';
+    for (const ExtraColumn& c : extra) os << ',' << c.values.at(i);
     os << '\n';
   }
 }
 
-void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p) {
+void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p,
+                     const std::vector<ExtraColumn>& extra) {
   nlohmann::json j;
   j["format"] = "chatter-lobe-table";
   j["version"] = version();
@@ -84,11 +91,19 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
   j["units"] = {{"spindle_rpm", "rev/min"}, {"depth_limit_mm", "mm"}, {"chatter_frequency_hz", "Hz"}};
   j["null_means"] = "no instability below depth_max_mm at this speed";
   nlohmann::json arr = nlohmann::json::array();
-  for (const StabilityLimit& r : rows) {
-    arr.push_back({{"spindle_rpm", json_num(r.spindle_rpm)},
-                   {"depth_limit_mm", json_num(r.depth_limit_m * 1e3)},
-                   {"chatter_frequency_hz", json_num(r.chatter_frequency_hz)},
-                   {"lobe", r.bounded() ? nlohmann::json(r.lobe) : nlohmann::json(nullptr)}});
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const StabilityLimit& r = rows[i];
+    nlohmann::json row = {{"spindle_rpm", json_num(r.spindle_rpm)},
+                          {"depth_limit_mm", json_num(r.depth_limit_m * 1e3)},
+                          {"chatter_frequency_hz", json_num(r.chatter_frequency_hz)},
+                          {"lobe", r.bounded() ? nlohmann::json(r.lobe) : nlohmann::json(nullptr)}};
+    for (const ExtraColumn& c : extra) {
+      const std::string& v = c.values.at(i);
+      if (!c.numeric) row[c.name] = v;
+      else if (v.empty() || v == "inf") row[c.name] = nullptr;
+      else row[c.name] = std::stod(v);
+    }
+    arr.push_back(std::move(row));
   }
   j["rows"] = std::move(arr);
   os << j.dump(2) << '\n';

@@ -64,7 +64,14 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
     os << "spindle speed " << rpm << " rev/min: must be > 0";
     throw InputError(os.str());
   }
-  const detail::PhaseRoot r = search_->lowest_root(process_.delay_s(rpm));
+  detail::PhaseRoot r;
+  try {
+    r = search_->lowest_root(process_.delay_s(rpm));
+  } catch (const InputError& e) {
+    std::ostringstream os;
+    os << "spindle speed " << rpm << " rev/min: " << e.what();
+    throw InputError(os.str());
+  }
   StabilityLimit lim;
   lim.spindle_rpm = rpm;
   if (std::isfinite(r.depth_m)) {

@@ -2,11 +2,12 @@
 
 #include "chatter/error.hpp"
 #include "chatter/solvers.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace chatter {
 
-std::vector<std::string> lobe_methods() { return {"analytic", "coupled"}; }
+std::vector<std::string> lobe_methods() { return {"analytic", "coupled", "sdm"}; }
 
 bool has_lobe_method(const std::string& method) {
   const auto m = lobe_methods();
@@ -19,6 +20,11 @@ std::unique_ptr<LobeSolver> make_lobe_solver(const std::string& method, const St
     TransferFunctionOptions o;
     o.depth_max_m = depth_max_m;
     return make_transfer_function_solver(method, model, process, o);
+  }
+  if (method == "sdm") {
+    SemiDiscretizationOptions o;
+    o.depth_max_m = depth_max_m;
+    return std::make_unique<SemiDiscretizationSolver>(model, process, o);
   }
   std::string known;
   for (const auto& m : lobe_methods()) known += (known.empty() ? "" : ", ") + m;

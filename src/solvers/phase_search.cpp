@@ -1,6 +1,8 @@
 #include "phase_search.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <string>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -19,6 +21,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Intervals whose sampled depth is more than this factor above depth_max are
 // skipped; the grid criteria bound the variation inside an interval to a few %.
 constexpr double kActiveFactor = 2.0;
+// Guards against delays holding absurd numbers of vibration cycles (a mode at
+// MHz, or a spindle at a fraction of a rev/min): refuse rather than loop.
+constexpr double kMaxLobeIndex = 1e12;
+constexpr std::size_t kMaxCandidates = 5'000'000;
+constexpr double kMaxCurveLobes = 20000;
 // Smallest interval the grid refines to, relative to ω.
 constexpr double kMinRelativeWidth = 1e-12;
 // Branch values below this fraction of the largest one are treated as zero
@@ -222,10 +229,16 @@ PhaseRoot PhaseSearch::lowest_root(double tau) const {
       const double tr = omega_[i + 1] * tau - unwrapped_[i + 1][bi];
       const double nl = std::floor(tl / kTwoPi), nr = std::floor(tr / kTwoPi);
       if (nl == nr) continue;
-      const double lo = std::min(nl, nr) + 1.0, hi = std::max(nl, nr);
+      if (!(std::abs(nl) < kMaxLobeIndex && std::abs(nr) < kMaxLobeIndex) ||
+          cands.size() + static_cast<std::size_t>(std::abs(nr - nl)) > kMaxCandidates)
+        throw InputError("one delay holds about " + std::to_string(std::llround(omega_.back() * tau / kTwoPi)) +
+                         " vibration cycles of the highest mode searched: too many lobes to resolve; raise the "
+                         "spindle speed");
+      const auto lo = static_cast<std::int64_t>(std::min(nl, nr)) + 1;
+      const auto hi = static_cast<std::int64_t>(std::max(nl, nr));
       const double sl = values_[i][bi].s, sr = values_[i + 1][bi].s;
-      for (double m = lo; m <= hi; m += 1.0) {
-        const double target = kTwoPi * m;
+      for (std::int64_t m = lo; m <= hi; ++m) {
+        const double target = kTwoPi * static_cast<double>(m);
         const double t = (target - tl) / (tr - tl);
         const double s_est = sl + t * (sr - sl);
         if (s_est > s_min) cands.push_back({s_est, b, i, target});
@@ -271,9 +284,13 @@ std::vector<PhaseSearch::Curve> PhaseSearch::curves(double tau_min, double tau_m
   for (int b = 0; b < branches_; ++b) {
     const auto bi = static_cast<std::size_t>(b);
     int k_max = -1;
+    double k_top = -1.0;
     for (std::size_t i = 0; i < n; ++i)
-      if (values_[i][bi].s > s_min)
-        k_max = std::max(k_max, static_cast<int>(std::floor(omega_[i] * tau_max / kTwoPi)));
+      if (values_[i][bi].s > s_min) k_top = std::max(k_top, std::floor(omega_[i] * tau_max / kTwoPi));
+    if (k_top > kMaxCurveLobes)
+      throw InputError("lobe curves: " + std::to_string(k_top) + " lobes in the speed range (more than " +
+                       std::to_string(static_cast<int>(kMaxCurveLobes)) + "); raise the lowest spindle speed");
+    k_max = static_cast<int>(k_top);
     for (int k = 0; k <= k_max; ++k) {
       Curve cur{k, b, {}};
       auto flush = [&] {

@@ -22,6 +22,15 @@
 
 namespace chatter {
 
+/// A method-specific column after the four standard ones (e.g. sdm's
+/// multiplier_type). One entry per row; numeric columns are written as
+/// numbers in the JSON (an empty entry: null), others as strings.
+struct ExtraColumn {
+  std::string name;
+  std::vector<std::string> values;
+  bool numeric = false;
+};
+
 /// What produced a table, recorded in the JSON.
 struct TableProvenance {
   std::string method;                 ///< "analytic", "coupled", ...
@@ -33,8 +42,14 @@ struct TableProvenance {
   std::string options_json = "{}";    ///< solver options as a JSON object text
 };
 
-void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows);
-void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p);
+/// @pre every extra column has rows.size() values.
+void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows,
+                    const std::vector<ExtraColumn>& extra = {});
+void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p,
+                     const std::vector<ExtraColumn>& extra = {});
+
+/// A number as the tables print it (up to 10 significant digits; "inf").
+std::string table_number(double x);
 
 /// Writes several files all-or-nothing: each text goes first to a temporary
 /// file beside its target, and the targets are replaced only once every
