@@ -17,6 +17,7 @@
 
 #include "chatter/error.hpp"
 #include "cli_common.hpp"
+#include "commands.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
@@ -34,25 +35,37 @@ const char* const kMainHelp = R"(chatter - predict regenerative chatter and draw
 Usage: chatter <command> CONFIG [options]
 
 Commands:
-  lobes   Stability-lobe table: the deepest stable cut (mm) at each spindle
-          speed (rev/min). Run below the curve: stable; above it: chatter.
-  point   Is one operating point (spindle speed, depth of cut) stable?
-          Prints one JSON object with the depth limit and the margin.
-  frf     Receptance (m/N) of the tool, the workpiece and the relative motion,
-          the frequency response the lobes are computed from.
+  lobes      Stability-lobe table: the deepest stable cut (mm) at each spindle
+             speed (rev/min). Below the curve: stable; above it: chatter.
+  point      Is one operating point (spindle speed, depth of cut) stable?
+             Prints one JSON object with the depth limit and the margin.
+  check      Check every operation of a part program (CSV) and suggest a
+             spindle speed where each one is stable with the largest margin.
+  recommend  The speed and depth that remove the most material while stable
+             (with a safety factor) and within spindle power and torque.
+  map        Floquet spectral radius on a speed x depth grid (--method sdm).
+  frf        Receptance (m/N) of the tool, the workpiece and the relative motion,
+             the frequency response the lobes are computed from.
 
-CONFIG is a TOML file describing the tool and workpiece modes and the cut
-(see configs/ and docs/config.md).
+On the shop floor:
+  1. Describe the tool and workpiece modes (from a tap test) and the cut in a
+     TOML config; start from one in configs/ (keys: docs/config.md).
+  2. chatter lobes CONFIG --plot lobes.png: pick a spindle speed at a peak
+     between two lobes; cut below the curve there, with margin.
+  3. chatter check CONFIG --operations ops.csv before running a program.
+  Milling with a small radial immersion: add --method sdm (flip lobes).
 
 Examples:
-  chatter lobes configs/seed_turning_1dof.toml --table lobes.csv
-  chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
   chatter lobes configs/seed_turning_1dof.toml --table lobes.csv --plot lobes.png
+  chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
+  chatter lobes configs/milling_benchmark_ae005_down.toml --method sdm --plot sdm.png
+  chatter check configs/seed_turning_1dof.toml --operations examples/operations/case_a_ops.csv
   chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv --plot frf.png
 
 Run 'chatter <command> --help' for the options of a command.
 Options: --help, --version.
-Exit status: 0 success, 2 bad input or usage, 1 internal failure.
+Exit status: 0 success, 2 bad input or usage, 1 internal failure
+(check: 3 when some operations are unstable).
 )";
 
 int cmd_lobes(const std::vector<std::string>& args) {
@@ -391,7 +404,10 @@ int main(int argc, char** argv) {
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
     if (cmd == "map") return cmd_map(args);
-    std::cerr << "chatter: unknown command '" << cmd << "' (commands: lobes, point, frf; see chatter --help)\n";
+    if (cmd == "check") return cmd_check(args);
+    if (cmd == "recommend") return cmd_recommend(args);
+    std::cerr << "chatter: unknown command '" << cmd
+              << "' (commands: lobes, point, check, recommend, map, frf; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";

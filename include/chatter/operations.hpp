@@ -1,0 +1,365 @@
+// Operations for CAM post-processing (issue 6): read a list of planned
+// operations, check each against the stability lobes, recommend the spindle
+// speed and depth that remove the most material, and answer "is (rpm, depth)
+// stable?" fast from a precomputed, adaptively refined lobe table.
+//
+// Units: SI inside (m, W, N·m, N/m²); spindle speeds in rev/min where a name
+// says `rpm`. The operations file itself is in shop units (mm), converted on
+// reading. The user guide is docs/operations.md.
+//
+// Solvers come only from make_lobe_solver() (chatter/solvers.hpp). Method
+// "auto" means: turning → "analytic" (exact for turning); milling → "sdm"
+// when this build has it (sees the flip lobes of low radial immersion), else
+// "analytic" with a warning (the zeroth-order average misses flip lobes).
+//
+// Thread safety: every function here is re-entrant; LobeTableQuery is
+// immutable after construction, so any number of threads may query one table.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "chatter/lobes.hpp"
+#include "chatter/process.hpp"
+#include "chatter/structural_model.hpp"
+
+namespace chatter {
+
+// ============================================================== machine
+
+/// What the machine allows. The speed range bounds every suggestion and every
+/// row of an operations file; power and torque bound the recommendation.
+struct MachineLimits {
+  double rpm_min = 0.0;  ///< lowest spindle speed, rev/min (> 0).
+  double rpm_max = 0.0;  ///< highest spindle speed, rev/min (> rpm_min).
+  /// Largest mean cutting power at the spindle, W (> 0; +inf = no limit).
+  double max_power_w = std::numeric_limits<double>::infinity();
+  /// Largest mean cutting torque at the spindle, N·m (> 0; +inf = no limit).
+  double max_torque_n_m = std::numeric_limits<double>::infinity();
+
+  /// Empty string when valid, else the violated rule, e.g.
+  /// "MachineLimits::rpm_max = 100: must be > rpm_min (200)".
+  std::string validate() const;
+};
+
+/// Resolves the solver method for a process. `requested` is "auto" or a name
+/// of lobe_methods(). For "auto": turning → "analytic"; milling → "sdm" if
+/// has_lobe_method("sdm"), else "analytic". Whenever milling ends up with
+/// "analytic" (auto or asked for), `*warning` (if not null) is set to
+/// kFlipLobeWarning. @throws InputError on an unknown method name.
+std::string resolve_lobe_method(const Process& process, const std::string& requested, std::string* warning);
+
+/// The warning printed when milling is checked with the analytic method.
+inline constexpr std::string_view kFlipLobeWarning =
+    "milling checked with the zeroth-order analytic method, which misses flip lobes at low radial immersion";
+
+// ======================================================= fast lobe queries
+
+struct LobeTableQueryOptions {
+  /// Exact solves on a base grid evenly spaced in the delay τ ∝ 1/rpm (>= 2):
+  /// lobes are evenly spaced in τ, so every lobe gets about the same number
+  /// of points whatever the speed.
+  int base_points = 400;
+  /// Target interpolation error, m (>= 0). 0: relative_tolerance × the
+  /// smallest finite depth limit of the base grid (the scale of the lobes).
+  double tolerance_m = 0.0;
+  /// Used when tolerance_m == 0 (in (0, 1)).
+  double relative_tolerance = 1e-3;
+  /// Stop refining at this many table points (>= base_points); intervals left
+  /// unresolved are counted and widen the stated error bound.
+  int max_points = 200000;
+  /// Threads solving the table points (0 = every core). The table is the
+  /// same whatever the count: points are solved a round of midpoints at a
+  /// time and stored in a fixed order.
+  unsigned threads = 1;
+
+  /// Empty string when valid, else the violated rule (Ceres-style).
+  std::string validate() const;
+};
+
+/// What a query says about a (speed, depth) point.
+enum class QueryVerdict {
+  kStable,     ///< depth below the interpolated limit by more than the error bound
+  kUnstable,   ///< depth above the interpolated limit by more than the error bound
+  kUncertain,  ///< within the error bound of the limit (or at/above depth_max): solve exactly
+};
+
+/// A lobe table over [rpm_min, rpm_max] built from exact solves, answering
+/// depth-limit and stability queries by interpolation, O(log n) per query.
+///
+/// Construction (cost: one limit_at per table point, shared among
+/// options.threads threads):
+///  1. exact limit_at() on `base_points` speeds evenly spaced in 1/rpm;
+///  2. every interval [a, b] (in 1/rpm) is checked at its midpoint m: it is
+///     split while |g(m) − (g(a) + g(b))/2| > tolerance/2 (steep flanks,
+///     curvature, cusps where two lobes meet) or while the lobe numbers at a
+///     and b differ by more than one (a whole lobe could hide between them),
+///     with g = min(depth limit, depth_max). The midpoint is kept as a table
+///     point either way. An interval whose ends lie on different lobes (a cusp
+///     inside, where the convex lobe bottom and the cusp can cancel at the
+///     midpoint) must pass twice: its two halves are checked again. Splitting
+///     stops at a width of 1e-9 of the range; such an interval is
+///     "unresolved".
+/// Interpolation is linear in 1/rpm between the two neighbouring points.
+///
+/// Error bound (error_bound_m()): the tolerance when every interval was
+/// resolved, else the largest midpoint error of an unresolved interval (×2).
+/// It is an estimate, not a proof: on an interval holding one cusp between
+/// two nearly straight lobe flanks the interpolation error is at most twice
+/// the midpoint error (hence the split threshold tolerance/2), and on a
+/// smooth piece about a quarter of it once the midpoint is inserted.
+/// Measured against exact solves at 200 000 random speeds on the four shipped
+/// configs with 50–1 000 base points and relative tolerances 1e-2–1e-4: worst
+/// error 0.95 × the bound (docs/operations.md); tests/test_operations.cpp
+/// checks it at random speeds.
+/// Limits above the solver's depth_max are stored as depth_max, so the bound
+/// holds for min(limit, depth_max).
+class LobeTableQuery {
+ public:
+  /// @pre 0 < rpm_min < rpm_max.
+  /// @throws InputError on an invalid range or options.
+  LobeTableQuery(const LobeSolver& solver, double rpm_min, double rpm_max, LobeTableQueryOptions options = {});
+
+  /// Interpolated depth limit at `rpm` (m), within error_bound_m() of
+  /// min(exact limit, depth_max_m()); +inf when both neighbouring table points
+  /// have no limit below depth_max_m().
+  /// @throws InputError if rpm is outside [rpm_min(), rpm_max()].
+  double depth_limit(double rpm) const;
+  /// depth_m < depth_limit(rpm). Agrees with the exact solver except when
+  /// depth_m is within error_bound_m() of the limit (or >= depth_max_m()).
+  bool is_stable(double rpm, double depth_m) const;
+  /// Stable / unstable with the error bound as a guard band, else uncertain.
+  QueryVerdict classify(double rpm, double depth_m) const;
+
+  /// The stated interpolation error bound, m.
+  double error_bound_m() const { return error_bound_m_; }
+  /// Target tolerance used for refinement, m.
+  double tolerance_m() const { return tolerance_m_; }
+  /// Intervals that reached the minimum width (or the point budget) with an
+  /// error estimate above the tolerance; 0 in a healthy table.
+  std::size_t unresolved_intervals() const { return unresolved_; }
+  double rpm_min() const { return rpm_.front(); }
+  double rpm_max() const { return rpm_.back(); }
+  double depth_max_m() const { return depth_max_m_; }
+  std::string method() const { return method_; }
+  /// The exact table points (ascending speed), as limit_at() returned them.
+  const std::vector<StabilityLimit>& points() const { return points_; }
+  std::size_t size() const { return rpm_.size(); }
+
+ private:
+  std::size_t interval(double rpm) const;  // i with rpm_[i] <= rpm <= rpm_[i+1]
+  std::vector<double> rpm_;                // ascending
+  std::vector<double> inv_rpm_;            // 1/rpm_
+  std::vector<double> g_;                  // min(limit, depth_max), m
+  std::vector<unsigned char> bounded_;     // limit below depth_max
+  std::vector<StabilityLimit> points_;
+  double depth_max_m_ = 0.0;
+  double tolerance_m_ = 0.0;
+  double error_bound_m_ = 0.0;
+  std::size_t unresolved_ = 0;
+  std::string method_;
+};
+
+/// The speed in [table range] with the largest exact depth limit: the best
+/// table point, refined by golden-section search on solver.limit_at() between
+/// its two neighbours (the maximum of the envelope is a cusp between two
+/// lobes or a smooth peak; the search stops when the bracket is narrower than
+/// 1e-8 of the speed, ≈ 20–40 solves). The best of every evaluated point is
+/// returned. When no table
+/// point has a limit below depth_max, returns the table point nearest to
+/// (rpm_min + rpm_max)/2 with depth_limit_m = +inf.
+StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table);
+
+/// Table options for locating optima (check suggestions, recommendation):
+/// relative_tolerance 1e-2, the rest default.
+inline LobeTableQueryOptions coarse_table() {
+  LobeTableQueryOptions o;
+  o.relative_tolerance = 1e-2;
+  return o;
+}
+
+// ===================================================== operations file
+
+/// One operation as read from an operations file.
+struct OperationRow {
+  int line = 0;                                  ///< 1-based line in the file.
+  std::string id;                                ///< unique, non-empty
+  double spindle_rpm = 0.0;                      ///< rev/min, in the machine range
+  double depth_m = 0.0;                          ///< depth of cut (axial in milling), m, > 0
+  std::optional<double> radial_immersion;        ///< a_e/D in (0, 1]; empty = the config's (milling only)
+  std::optional<double> feed_per_tooth_m;        ///< m (per revolution in turning), > 0; empty = not given
+  std::optional<int> teeth;                      ///< override of the config's teeth (milling only)
+  std::optional<MillingDirection> direction;     ///< override of the config's direction (milling only)
+};
+
+/// A row that could not be read; the others are still checked.
+struct RejectedRow {
+  int line = 0;       ///< 1-based line in the file
+  std::string id;     ///< as written (may be empty)
+  std::string reason; ///< e.g. "depth_mm = -1: must be > 0"
+};
+
+struct OperationsFile {
+  std::vector<OperationRow> rows;
+  std::vector<RejectedRow> rejected;
+};
+
+/// Parses an operations CSV (docs/operations.md): a header line naming the
+/// columns `id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm` (any
+/// order; optional `teeth`, `milling_direction`), then one operation per line.
+/// Blank lines and lines starting with '#' are skipped; fields may be quoted
+/// ("a,b"); a UTF-8 byte-order mark and CR line ends are accepted.
+/// A row is rejected (with its line and reason) when it has too few or too
+/// many fields, a non-numeric or non-finite number, depth <= 0, rpm <= 0 or
+/// outside [machine.rpm_min, machine.rpm_max], immersion outside (0, 1],
+/// feed <= 0, teeth < 1, an unknown direction, a milling-only field in a
+/// turning process, an empty or duplicate id.
+/// @throws InputError "<origin>:<line>: ..." on a file-level problem: no
+///         header, an unknown, duplicated or missing column in the header.
+OperationsFile parse_operations(std::string_view text, const std::string& origin, Operation operation,
+                                const MachineLimits& machine);
+/// Same, from a file. @throws InputError also if the file cannot be read.
+OperationsFile read_operations(const std::filesystem::path& file, Operation operation, const MachineLimits& machine);
+
+/// The process of one row: `base` with the row's immersion, teeth and
+/// direction overrides. @throws InputError if the result is invalid.
+Process process_for(const Process& base, const OperationRow& row);
+
+// ============================================================== check
+
+struct CheckOptions {
+  MachineLimits machine;            ///< speed range for suggestions (power/torque unused)
+  std::string method = "auto";      ///< "auto" or a name from lobe_methods()
+  /// Depth searched for each operation: max(search_depth_factor × depth,
+  /// search_depth_min_m). A limit above it is reported as +inf (margin +inf).
+  double search_depth_factor = 4.0;
+  double search_depth_min_m = 0.02;
+  /// Table used to locate the suggested speed (the suggestion itself is then
+  /// refined with exact solves): 1 % is enough to find the highest cusp and
+  /// keeps an `sdm` table to ~1 200 solves (≈ 4 s for case C).
+  LobeTableQueryOptions table = coarse_table();
+  /// Threads for the tables and the per-row solves (0 = every core); the
+  /// report is the same whatever the count. Overrides table.threads.
+  unsigned threads = 1;
+
+  std::string validate() const;
+};
+
+/// The verdict on one operation.
+struct OperationCheck {
+  OperationRow op;
+  std::string method;               ///< solver used
+  double search_depth_m = 0.0;      ///< deepest limit searched for this row
+  StabilityLimit limit;             ///< exact, at op.spindle_rpm; +inf above search_depth_m
+  bool stable = false;              ///< op.depth_m < limit.depth_limit_m
+  double margin = 0.0;              ///< limit / depth; +inf when unbounded
+  /// Suggested speed in the machine range with the largest margin for the
+  /// same depth (exact limit there); empty when no speed in range is stable
+  /// at this depth ("none in range"). When the limit exceeds the searched
+  /// depth at several speeds (margin +inf), the one nearest op.spindle_rpm.
+  std::optional<StabilityLimit> suggestion;
+  double suggestion_margin = 0.0;   ///< suggestion limit / depth (+inf if unbounded)
+};
+
+struct CheckReport {
+  std::vector<OperationCheck> checks;    ///< in file order
+  std::vector<std::string> warnings;     ///< e.g. kFlipLobeWarning, once each
+  std::size_t unstable() const;
+};
+
+/// Checks every row (see OperationCheck). One solver and one lobe table per
+/// distinct (immersion, teeth, direction). Cost: per distinct process one
+/// table (≈ 400–2 000 solves), per row one exact solve.
+/// @throws InputError on invalid options or an unknown method.
+CheckReport check_operations(const StructuralModel& model, const Process& process,
+                             const std::vector<OperationRow>& rows, const CheckOptions& options);
+
+// ====================================================== recommendation
+
+struct RecommendOptions {
+  MachineLimits machine;
+  /// Depth used ≤ safety × depth limit (in (0, 1]).
+  double safety = 0.8;
+  /// Feed per tooth, m (> 0); per revolution in turning.
+  double feed_per_tooth_m = 0.0;
+  /// Milling: tool diameter; turning: workpiece diameter at the cut, m
+  /// (> 0, or 0 = unknown). Needed for power and torque limits and for MRR in
+  /// m³/s; without it MRR is reported per metre of diameter.
+  double diameter_m = 0.0;
+  /// Deepest cut the tool allows, m (> 0); also sets the depth searched
+  /// (2 × depth_max_m / safety).
+  double depth_max_m = 0.05;
+  /// Turning only: specific cutting force K_c (N/m²) in the mean cutting
+  /// force F_c = K_c·b·f. Empty: the config's feed-force coefficient K_f
+  /// (the only coefficient a turning config has; with a force angle θ the
+  /// true K_c = K_f·tanθ is larger, so power and torque are then
+  /// underestimated — a warning says so).
+  std::optional<double> cutting_coefficient_n_per_m2;
+  std::string method = "auto";
+  /// Table whose exact points are the speeds scanned (see CheckOptions::table).
+  LobeTableQueryOptions table = coarse_table();
+  /// Threads for the table (0 = every core); overrides table.threads.
+  unsigned threads = 1;
+
+  std::string validate() const;
+};
+
+/// What limits the recommended cut.
+enum class Binding {
+  kStability,   ///< depth = safety × depth limit
+  kPower,       ///< mean power = max_power
+  kTorque,      ///< mean torque = max_torque
+  kDepthMax,    ///< depth = the tool's depth_max
+  kSpeedRange,  ///< speed at rpm_min or rpm_max and MRR would grow beyond it
+};
+/// "stability", "power", "torque", "depth_max", "speed_range".
+std::string to_string(Binding b);
+
+struct Recommendation {
+  std::string method;
+  double spindle_rpm = 0.0;
+  double depth_m = 0.0;
+  StabilityLimit limit;            ///< exact at spindle_rpm (+inf above the searched depth)
+  double search_depth_m = 0.0;     ///< depth searched (2 × depth_max / safety)
+  double margin = 0.0;             ///< limit / depth (>= 1/safety; +inf if unbounded)
+  /// The four depth caps at spindle_rpm (m; +inf when not limited); depth_m
+  /// is their minimum.
+  double depth_stability_m = 0.0;  ///< safety × limit
+  double depth_power_m = 0.0;
+  double depth_torque_m = 0.0;
+  double depth_cap_m = 0.0;        ///< options.depth_max_m
+  /// Mean cutting force (N), torque (N·m), power (W); NaN without a diameter.
+  double force_n = 0.0, torque_n_m = 0.0, power_w = 0.0;
+  /// Material removal rate, m³/s (NaN without a diameter) and per metre of
+  /// diameter, m²/s (always).
+  double mrr_m3_per_s = 0.0;
+  double mrr_per_diameter_m2_per_s = 0.0;
+  std::vector<Binding> binding;    ///< every constraint that binds (at least one)
+  std::vector<std::string> warnings;
+};
+
+/// The speed in [rpm_min, rpm_max] and depth maximising MRR subject to
+/// depth ≤ safety × limit(rpm), mean power ≤ max_power, mean torque ≤
+/// max_torque and depth ≤ depth_max (PHYSICS §3 force model; see
+/// docs/operations.md):
+///   turning:  F_c = K_c b f,  T = F_c D/2,  P = F_c π D N/60,  MRR = b f π D N/60;
+///   milling:  T = (D/2)(N_t/2π) K_t a f_z (cos φ_en − cos φ_ex),  P = T·2πN/60,
+///             MRR = a (a_e/D·D) f_z N_t N/60   (so P = K_t·MRR).
+/// For each speed the depth is the smallest cap; MRR is maximised over the
+/// exact points of a LobeTableQuery (refined at the lobe cusps where the
+/// optimum lies), then by golden-section search between the best point's
+/// neighbours. Ties in MRR (power-bound: MRR = P_max/K is then the same at
+/// every speed) go to the largest stability margin.
+/// @throws InputError on invalid options, or on a power/torque limit without
+///         a diameter.
+Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options);
+
+/// A few lines for a person: speed, depth, what binds, margin, MRR, power.
+std::string explain(const Recommendation& r, const RecommendOptions& options);
+
+}  // namespace chatter

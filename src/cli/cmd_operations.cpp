@@ -1,0 +1,386 @@
+// `chatter check` and `chatter recommend`: the operation check and the speed
+// recommendation of include/chatter/operations.hpp, for CAM post-processors.
+// User guide: docs/operations.md.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/error.hpp"
+#include "chatter/io/table_writer.hpp"
+#include "chatter/operations.hpp"
+#include "chatter/solvers.hpp"
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+namespace chatter::cli {
+namespace {
+
+using nlohmann::json;
+
+// Exit statuses of `chatter check` (also in its --help and docs/operations.md).
+constexpr int kExitAllStable = 0;
+constexpr int kExitSomeRowsInvalid = 2;
+constexpr int kExitSomeUnstable = 3;
+
+json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+std::string method_help() {
+  std::string known;
+  for (const auto& m : lobe_methods()) known += ", '" + m + "'";
+  return "solver: 'auto' (turning: analytic; milling: sdm when this build has it, else analytic with a "
+         "flip-lobe warning)" + known;
+}
+
+MachineLimits machine_range(const po::variables_map& vm, const Config& cfg) {
+  MachineLimits m;
+  auto pick = [&](const char* flag, const std::optional<double>& from_cfg, const char* key) {
+    if (vm.count(flag)) return vm[flag].as<double>();
+    if (from_cfg) return *from_cfg;
+    throw InputError(cfg.source.string() + ": missing --" + flag + " (or " + key +
+                     " in the config): the machine's spindle speed range");
+  };
+  m.rpm_min = pick("rpm-min", cfg.sweep.rpm_min, "sweep.rpm_min");
+  m.rpm_max = pick("rpm-max", cfg.sweep.rpm_max, "sweep.rpm_max");
+  if (!(std::isfinite(m.rpm_min) && m.rpm_min > 0.0))
+    throw InputError("--rpm-min = " + fmt(m.rpm_min) + ": must be > 0 rev/min");
+  if (!(std::isfinite(m.rpm_max) && m.rpm_max > m.rpm_min))
+    throw InputError("--rpm-max = " + fmt(m.rpm_max) + ": must be > --rpm-min (" + fmt(m.rpm_min) + ")");
+  return m;
+}
+
+std::string fixed(double x, int digits) {
+  if (std::isinf(x)) return "inf";
+  if (std::isnan(x)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+// A plain text table: first column left-aligned, the others right-aligned.
+std::string text_table(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> w;
+  for (const auto& r : rows)
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      if (w.size() <= i) w.push_back(0);
+      w[i] = std::max(w[i], r[i].size());
+    }
+  std::ostringstream os;
+  for (const auto& r : rows) {
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const std::string pad(w[i] - r[i].size(), ' ');
+      if (i) os << "  ";
+      os << (i == 0 ? r[i] + pad : pad + r[i]);
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
+json limit_json(const StabilityLimit& l) {
+  return {{"spindle_rpm", l.spindle_rpm},
+          {"depth_limit_mm", l.bounded() ? json(l.depth_limit_m * 1e3) : json(nullptr)},
+          {"chatter_frequency_hz", l.bounded() ? json(l.chatter_frequency_hz) : json(nullptr)},
+          {"lobe", l.bounded() ? json(l.lobe) : json(nullptr)}};
+}
+
+// Writes `text` to stdout for "-", else to the file (all or nothing).
+void emit_json(const std::string& path, const json& j) {
+  const std::string text = j.dump(2) + "\n";
+  if (path == "-") std::cout << text;
+  else write_text_file(path, text);
+}
+
+const char* const kCheckUsage = R"(Usage: chatter check CONFIG --operations OPS.csv [options]
+
+Checks each planned operation against the stability lobes. OPS.csv has a header
+and one operation per line:
+  id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm[,teeth,milling_direction]
+(radial_immersion = a_e/D, empty = the config's; leave it, teeth and
+milling_direction empty for turning; feed_per_tooth_mm may be empty.)
+For each operation: stable?, margin = depth limit / depth (> 1 is stable; 'inf'
+= no chatter below max(4 x depth, 20 mm)), chatter frequency and lobe, and a
+suggested spindle speed in [rpm-min, rpm-max] where the same depth is stable
+with the largest margin ('none' if no speed in range is stable at that depth).
+Rows that cannot be read are listed with their line number and reason; the
+other rows are still checked.
+
+Exit status: 0 every row read and every operation stable;
+             3 every row read, some operations unstable (chatter predicted);
+             2 some rows invalid (the others are still checked and reported),
+               or the config, the options or the file header is invalid
+               (then nothing is checked);
+             1 internal failure.
+)";
+
+}  // namespace
+
+int cmd_check(const std::vector<std::string>& args) {
+  Common common;
+  std::string ops_path, json_path, method = "auto";
+  po::options_description d("Options");
+  d.add_options()
+      ("operations", po::value<std::string>(&ops_path)->required(), "operations file (CSV, see above; required)")
+      ("json", po::value<std::string>(&json_path), "also write every number as JSON to this file ('-': standard output, the table then goes to standard error)")
+      ("rpm-min", po::value<double>(), "machine's lowest spindle speed, rev/min (default: sweep.rpm_min)")
+      ("rpm-max", po::value<double>(), "machine's highest spindle speed, rev/min (default: sweep.rpm_max)")
+      ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
+      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it");
+  po::variables_map vm;
+  if (!parse(args, kCheckUsage, d, common, vm)) return 0;
+  const Config cfg = load_config(common.config_path);
+  CheckOptions opt;
+  opt.machine = machine_range(vm, cfg);
+  opt.method = method;
+  opt.threads = thread_count(vm);
+  resolve_lobe_method(cfg.process, method, nullptr);  // unknown method: fail before reading the file
+  const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
+  const CheckReport report = check_operations(cfg.model, cfg.process, file.rows, opt);
+
+  const bool milling = cfg.process.operation() == Operation::kMilling;
+  std::vector<std::vector<std::string>> t;
+  t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "chatter_hz", "lobe",
+               "suggest_rpm", "limit_there_mm", "margin_there"});
+  if (milling) t.front().insert(t.front().begin() + 4, "a_e/D");
+  for (const auto& c : report.checks) {
+    std::vector<std::string> r = {c.op.id,
+                                  std::to_string(c.op.line),
+                                  fixed(c.op.spindle_rpm, 1),
+                                  fixed(c.op.depth_m * 1e3, 4),
+                                  c.limit.bounded() ? fixed(c.limit.depth_limit_m * 1e3, 4) : "inf",
+                                  fixed(c.margin, 3),
+                                  c.stable ? "stable" : "UNSTABLE",
+                                  c.limit.bounded() ? fixed(c.limit.chatter_frequency_hz, 1) : "-",
+                                  c.limit.bounded() ? std::to_string(c.limit.lobe) : "-"};
+    if (c.suggestion) {
+      r.push_back(fixed(c.suggestion->spindle_rpm, 1));
+      r.push_back(c.suggestion->bounded() ? fixed(c.suggestion->depth_limit_m * 1e3, 4) : "inf");
+      r.push_back(fixed(c.suggestion_margin, 3));
+    } else {
+      r.insert(r.end(), {"none", "-", "-"});
+    }
+    if (milling) {
+      const double ae = c.op.radial_immersion.value_or(cfg.process.milling_parameters().radial_immersion);
+      r.insert(r.begin() + 4, fixed(ae, 3));
+    }
+    t.push_back(std::move(r));
+  }
+
+  const int status = !file.rejected.empty() ? kExitSomeRowsInvalid
+                     : report.unstable() > 0 ? kExitSomeUnstable
+                                             : kExitAllStable;
+  std::ostringstream out;
+  out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
+      << fmt(opt.machine.rpm_min) << "-" << fmt(opt.machine.rpm_max) << " rev/min";
+  if (!report.checks.empty()) out << ", method " << report.checks.front().method;
+  out << "\n";
+  for (const auto& w : report.warnings) out << "warning: " << w << "\n";
+  if (!report.checks.empty()) out << text_table(t);
+  if (!file.rejected.empty()) {
+    out << "rejected rows (not checked):\n";
+    for (const auto& b : file.rejected)
+      out << "  " << ops_path << ":" << b.line << ": " << (b.id.empty() ? "" : "id '" + b.id + "': ") << b.reason
+          << "\n";
+  }
+  out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
+      << " unstable, " << file.rejected.size() << " rejected; exit status " << status << "\n";
+
+  if (!json_path.empty()) {
+    json j;
+    j["format"] = "chatter-operation-check";
+    j["version"] = version();
+    j["config"] = cfg.source.string();
+    j["operations_file"] = ops_path;
+    j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
+    j["method_requested"] = method;
+    j["warnings"] = report.warnings;
+    j["search_depth_rule"] = "max(4 x depth_mm, 20 mm)";
+    json ops = json::array();
+    for (const auto& c : report.checks) {
+      json o = {{"id", c.op.id},
+                {"line", c.op.line},
+                {"spindle_rpm", c.op.spindle_rpm},
+                {"depth_mm", c.op.depth_m * 1e3},
+                {"feed_per_tooth_mm", c.op.feed_per_tooth_m ? json(*c.op.feed_per_tooth_m * 1e3) : json(nullptr)},
+                {"method", c.method},
+                {"stable", c.stable},
+                {"depth_limit_mm", c.limit.bounded() ? json(c.limit.depth_limit_m * 1e3) : json(nullptr)},
+                {"searched_depth_mm", c.search_depth_m * 1e3},
+                {"margin", finite_or_null(c.margin)},
+                {"chatter_frequency_hz", c.limit.bounded() ? json(c.limit.chatter_frequency_hz) : json(nullptr)},
+                {"lobe", c.limit.bounded() ? json(c.limit.lobe) : json(nullptr)}};
+      if (milling) {
+        const auto& mp = cfg.process.milling_parameters();
+        o["radial_immersion"] = c.op.radial_immersion.value_or(mp.radial_immersion);
+        o["teeth"] = c.op.teeth.value_or(mp.teeth);
+        o["milling_direction"] = c.op.direction.value_or(mp.direction) == MillingDirection::kDown ? "down" : "up";
+      }
+      if (c.suggestion) {
+        json s = limit_json(*c.suggestion);
+        s["margin"] = finite_or_null(c.suggestion_margin);
+        o["suggestion"] = s;
+      } else {
+        o["suggestion"] = nullptr;
+      }
+      ops.push_back(o);
+    }
+    j["operations"] = ops;
+    json rej = json::array();
+    for (const auto& b : file.rejected) rej.push_back({{"line", b.line}, {"id", b.id}, {"reason", b.reason}});
+    j["rejected"] = rej;
+    j["summary"] = {{"checked", report.checks.size()},
+                    {"stable", report.checks.size() - report.unstable()},
+                    {"unstable", report.unstable()},
+                    {"rejected", file.rejected.size()}};
+    j["exit_status"] = status;
+    emit_json(json_path, j);
+  }
+  (json_path == "-" ? std::cerr : std::cout) << out.str();
+  return status;
+}
+
+int cmd_recommend(const std::vector<std::string>& args) {
+  Common common;
+  std::string json_path, method = "auto";
+  double safety = 0.8;
+  po::options_description d("Options");
+  d.add_options()
+      ("feed-per-tooth-mm", po::value<double>()->required(), "feed per tooth, mm (turning: per revolution; required)")
+      ("rpm-min", po::value<double>(), "machine's lowest spindle speed, rev/min (default: sweep.rpm_min)")
+      ("rpm-max", po::value<double>(), "machine's highest spindle speed, rev/min (default: sweep.rpm_max)")
+      ("max-power-kw", po::value<double>(), "spindle power available for cutting, kW (default: no limit)")
+      ("max-torque-nm", po::value<double>(), "spindle torque available for cutting, N*m (default: no limit)")
+      ("safety", po::value<double>(&safety)->default_value(0.8, "0.8"), "use at most this fraction of the depth limit, in (0, 1]")
+      ("depth-max-mm", po::value<double>(), "deepest cut the tool allows, mm (default: sweep.depth_max_mm or 50)")
+      ("tool-diameter-mm", po::value<double>(), "milling: tool diameter, mm (needed for power, torque and MRR)")
+      ("workpiece-diameter-mm", po::value<double>(), "turning: workpiece diameter at the cut, mm (needed for power, torque and MRR)")
+      ("tangential-coefficient-n-per-m2", po::value<double>(), "turning: specific cutting force K_c for power and torque, N/m^2 (default: the config's K_f, which underestimates them)")
+      ("radial-immersion", po::value<double>(), "milling: a_e/D in (0, 1] (default: the config's)")
+      ("teeth", po::value<int>(), "milling: number of teeth (default: the config's)")
+      ("milling-direction", po::value<std::string>(), "milling: 'down' or 'up' (default: the config's)")
+      ("json", po::value<std::string>(&json_path), "also write every number as JSON to this file ('-': standard output, the explanation then goes to standard error)")
+      ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
+      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it");
+  po::variables_map vm;
+  if (!parse(args,
+             "Usage: chatter recommend CONFIG --feed-per-tooth-mm F [options]\n\n"
+             "Finds the spindle speed in [rpm-min, rpm-max] and the depth of cut that remove the most\n"
+             "material (MRR) while the depth stays below safety x the stability limit and the mean\n"
+             "cutting power and torque stay within the spindle's. Explains which limit binds\n"
+             "(stability, power, torque, depth_max, speed_range), the margin and the MRR.\n"
+             "Mean cutting force: turning F_c = K_c b f; milling from K_t a h(phi) averaged over the\n"
+             "engagement (docs/operations.md).\n"
+             "Output: the explanation on standard output; --json adds every number.\n"
+             "Exit status: 0 a recommendation was made, 2 bad input or usage, 1 internal failure.\n",
+             d, common, vm))
+    return 0;
+  const Config cfg = load_config(common.config_path);
+  const bool milling = cfg.process.operation() == Operation::kMilling;
+  RecommendOptions opt;
+  opt.machine = machine_range(vm, cfg);
+  auto positive = [&](const char* flag) {
+    const double x = vm[flag].as<double>();
+    if (!(std::isfinite(x) && x > 0.0)) throw InputError(std::string("--") + flag + " = " + fmt(x) + ": must be > 0");
+    return x;
+  };
+  auto only = [&](const char* flag, bool ok, const char* op) {
+    if (vm.count(flag) && !ok)
+      throw InputError(std::string("--") + flag + ": only for " + op + " (the config's operation is " +
+                       (milling ? "milling" : "turning") + ")");
+  };
+  only("tool-diameter-mm", milling, "milling");
+  only("radial-immersion", milling, "milling");
+  only("teeth", milling, "milling");
+  only("milling-direction", milling, "milling");
+  only("workpiece-diameter-mm", !milling, "turning");
+  only("tangential-coefficient-n-per-m2", !milling, "turning");
+  if (vm.count("max-power-kw")) opt.machine.max_power_w = positive("max-power-kw") * 1e3;
+  if (vm.count("max-torque-nm")) opt.machine.max_torque_n_m = positive("max-torque-nm");
+  opt.feed_per_tooth_m = positive("feed-per-tooth-mm") * 1e-3;
+  if (!(safety > 0.0 && safety <= 1.0)) throw InputError("--safety = " + fmt(safety) + ": must be in (0, 1]");
+  opt.safety = safety;
+  opt.depth_max_m = (vm.count("depth-max-mm") ? positive("depth-max-mm")
+                                              : cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm)) * 1e-3;
+  if (vm.count("tool-diameter-mm")) opt.diameter_m = positive("tool-diameter-mm") * 1e-3;
+  if (vm.count("workpiece-diameter-mm")) opt.diameter_m = positive("workpiece-diameter-mm") * 1e-3;
+  if (vm.count("tangential-coefficient-n-per-m2"))
+    opt.cutting_coefficient_n_per_m2 = positive("tangential-coefficient-n-per-m2");
+  opt.method = method;
+  opt.threads = thread_count(vm);
+
+  Process process = cfg.process;
+  if (milling) {
+    OperationRow row;
+    row.id = "recommend";
+    if (vm.count("radial-immersion")) {
+      const double ae = vm["radial-immersion"].as<double>();
+      if (!(ae > 0.0 && ae <= 1.0)) throw InputError("--radial-immersion = " + fmt(ae) + ": must be in (0, 1]");
+      row.radial_immersion = ae;
+    }
+    if (vm.count("teeth")) {
+      const int nt = vm["teeth"].as<int>();
+      if (nt < 1) throw InputError("--teeth = " + std::to_string(nt) + ": must be >= 1");
+      row.teeth = nt;
+    }
+    if (vm.count("milling-direction")) {
+      const std::string s = vm["milling-direction"].as<std::string>();
+      if (s == "down") row.direction = MillingDirection::kDown;
+      else if (s == "up") row.direction = MillingDirection::kUp;
+      else throw InputError("--milling-direction = " + s + ": must be 'down' or 'up'");
+    }
+    process = process_for(cfg.process, row);
+  }
+  const Recommendation r = recommend(cfg.model, process, opt);
+  const std::string text = explain(r, opt);
+
+  if (!json_path.empty()) {
+    json j;
+    j["format"] = "chatter-recommendation";
+    j["version"] = version();
+    j["config"] = cfg.source.string();
+    j["method"] = r.method;
+    j["inputs"] = {{"rpm_min", opt.machine.rpm_min},
+                   {"rpm_max", opt.machine.rpm_max},
+                   {"max_power_kw", finite_or_null(opt.machine.max_power_w * 1e-3)},
+                   {"max_torque_nm", finite_or_null(opt.machine.max_torque_n_m)},
+                   {"feed_per_tooth_mm", opt.feed_per_tooth_m * 1e3},
+                   {"safety", opt.safety},
+                   {"depth_max_mm", opt.depth_max_m * 1e3},
+                   {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)}};
+    if (milling) {
+      const auto& mp = process.milling_parameters();
+      j["inputs"]["radial_immersion"] = mp.radial_immersion;
+      j["inputs"]["teeth"] = mp.teeth;
+      j["inputs"]["milling_direction"] = mp.direction == MillingDirection::kDown ? "down" : "up";
+    }
+    j["spindle_rpm"] = r.spindle_rpm;
+    j["depth_mm"] = r.depth_m * 1e3;
+    j["limit"] = limit_json(r.limit);
+    j["searched_depth_mm"] = r.search_depth_m * 1e3;
+    j["margin"] = finite_or_null(r.margin);
+    j["depth_caps_mm"] = {{"stability", finite_or_null(r.depth_stability_m * 1e3)},
+                          {"power", finite_or_null(r.depth_power_m * 1e3)},
+                          {"torque", finite_or_null(r.depth_torque_m * 1e3)},
+                          {"depth_max", finite_or_null(r.depth_cap_m * 1e3)}};
+    json b = json::array();
+    for (auto x : r.binding) b.push_back(to_string(x));
+    j["binding"] = b;
+    j["mean_force_n"] = finite_or_null(r.force_n);
+    j["torque_nm"] = finite_or_null(r.torque_n_m);
+    j["power_kw"] = finite_or_null(r.power_w * 1e-3);
+    j["mrr_cm3_per_min"] = finite_or_null(r.mrr_m3_per_s * 6e7);
+    j["mrr_cm3_per_min_per_mm_diameter"] = r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3;
+    j["warnings"] = r.warnings;
+    j["explanation"] = text;
+    emit_json(json_path, j);
+  }
+  (json_path == "-" ? std::cerr : std::cout) << text;
+  return 0;
+}
+
+}  // namespace chatter::cli

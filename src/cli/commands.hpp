@@ -1,0 +1,13 @@
+// Subcommands implemented outside main.cpp. Each takes the arguments after
+// the subcommand name and returns the exit status (0, or throws).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace chatter::cli {
+
+int cmd_check(const std::vector<std::string>& args);      // src/cli/cmd_operations.cpp
+int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operations.cpp
+
+}  // namespace chatter::cli

@@ -1,0 +1,728 @@
+// Operation check, recommendation and fast lobe-table queries
+// (include/chatter/operations.hpp), through the library and the CLI.
+//
+// Answers are built in: verdicts and suggested speeds are re-checked with an
+// independently built solver's exact limit_at(); the recommendation is
+// re-checked constraint by constraint and against a brute-force scan; the
+// milling torque model against a tooth-by-tooth average; the table's error
+// bound against exact solves at random speeds.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/operations.hpp"
+#include "chatter/solvers.hpp"
+
+namespace fs = std::filesystem;
+using namespace chatter;
+
+namespace {
+
+// ---------------------------------------------------------------- tolerances
+
+// Case A reference values (PHYSICS §7, from the closed form / issue brief),
+// printed with 10 significant digits: relative 1e-9 covers the printing.
+constexpr double kCaseALimit1800Mm = 2.974523725;
+constexpr double kCaseALimit1200Mm = 1.376356164;
+constexpr double kPrintedRelTol = 1e-9;
+// Two solvers built with different search depths find the same roots by
+// Brent's method to round-off, but from different frequency grids: 1e-9
+// relative is far below any physical difference and far above round-off.
+constexpr double kSameRootRelTol = 1e-9;
+// "Borderline" operations sit this far (relative) from the exact limit: far
+// beyond kSameRootRelTol, so their verdict is unambiguous, yet close enough
+// that a wrong lobe or an interpolated limit would get it wrong.
+constexpr double kBorderline = 1e-6;
+// The recommendation maximises over table points refined to 1e-3 of the
+// lobe scale, then golden-section: it must reach the brute-force optimum over
+// a dense scan to within this relative amount (the scan may straddle a cusp
+// peak, the optimiser refines it; 1e-3 = the table's relative tolerance).
+constexpr double kOptimumRelTol = 1e-3;
+// Constraint equalities (binding) and inequalities: the library computes
+// the depth as the exact minimum of the caps; only round-off separates them.
+constexpr double kConstraintRelTol = 1e-12;
+constexpr double kBindingRelTol = 1e-9;
+// Milling mean torque: tooth-by-tooth average over 200 000 angle samples of
+// a piecewise-smooth integrand (jump at entry/exit): error ~1/N ≈ 1e-5.
+constexpr double kTorqueAverageRelTol = 1e-4;
+constexpr int kTorqueSamples = 200000;
+// Random speeds at which the table's error bound is checked.
+constexpr int kRandomQueries = 3000;
+
+fs::path config_path(const std::string& file) { return fs::path(CHATTER_SOURCE_DIR) / "configs" / file; }
+
+Config case_a() { return load_config(config_path("seed_turning_1dof.toml")); }
+Config case_c() { return load_config(config_path("milling_benchmark_ae005_down.toml")); }
+
+MachineLimits range(double lo, double hi) {
+  MachineLimits m;
+  m.rpm_min = lo;
+  m.rpm_max = hi;
+  return m;
+}
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+// Exact limit (mm) from a fresh analytic solver searching up to `depth_max_m`.
+double exact_limit_mm(const Config& cfg, const Process& p, double rpm, double depth_max_m = 0.05) {
+  const auto s = make_lobe_solver("analytic", cfg.model, p, depth_max_m);
+  return s->limit_at(rpm).depth_limit_m * 1e3;
+}
+
+// =========================================================== operations file
+
+TEST(OperationsFile, GoodAndBadRowsAreSeparatedWithLineAndReason) {
+  const std::string text =
+      "\xEF\xBB\xBF# planned operations\r\n"
+      "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\r\n"
+      "op1,1800,2.0,,0.2\r\n"
+      "\r\n"
+      "op2,1200\r\n"                   // line 5: missing columns
+      "op3,1200,-1,,0.2\n"             // line 6: negative depth
+      "op4,5000,1.0,,0.2\n"            // line 7: above the machine range
+      "op5,fast,1.0,,0.2\n"            // line 8: non-numeric
+      "op1,600,1.0,,0.2\n"             // line 9: duplicate id
+      "op6,600,1.0,0.5,0.2\n"          // line 10: immersion in turning
+      "\"op,7\", 600 , 1.5 ,, \n"      // line 11: quoted id, spaces, empty feed: good
+      "op8,600,1.0,,0.2,extra\n"       // line 12: too many fields
+      "op9,nan,1.0,,0.2\n";            // line 13: not finite
+  const OperationsFile f = parse_operations(text, "ops.csv", Operation::kTurning, range(50, 2000));
+  ASSERT_EQ(f.rows.size(), 2u);
+  EXPECT_EQ(f.rows[0].id, "op1");
+  EXPECT_EQ(f.rows[0].line, 3);
+  EXPECT_DOUBLE_EQ(f.rows[0].spindle_rpm, 1800.0);
+  EXPECT_DOUBLE_EQ(f.rows[0].depth_m, 2.0e-3);
+  ASSERT_TRUE(f.rows[0].feed_per_tooth_m.has_value());
+  EXPECT_DOUBLE_EQ(*f.rows[0].feed_per_tooth_m, 0.2e-3);
+  EXPECT_FALSE(f.rows[0].radial_immersion.has_value());
+  EXPECT_EQ(f.rows[1].id, "op,7");
+  EXPECT_EQ(f.rows[1].line, 11);
+  EXPECT_DOUBLE_EQ(f.rows[1].depth_m, 1.5e-3);
+  EXPECT_FALSE(f.rows[1].feed_per_tooth_m.has_value());
+
+  struct Expect {
+    int line;
+    std::string id, reason;
+  };
+  const std::vector<Expect> expected = {
+      {5, "op2", "missing columns depth_mm, radial_immersion, feed_per_tooth_mm"},
+      {6, "op3", "depth_mm = -1: must be > 0 mm"},
+      {7, "op4", "spindle_rpm = 5000: outside the machine range [50, 2000] rev/min"},
+      {8, "op5", "spindle_rpm = 'fast': not a number"},
+      {9, "op1", "duplicate (first on line 3)"},
+      {10, "op6", "radial_immersion = '0.5': only for milling"},
+      {12, "op8", "has 6 fields, the header has 5"},
+      {13, "op9", "spindle_rpm = 'nan': must be a finite number"},
+  };
+  ASSERT_EQ(f.rejected.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(f.rejected[i].line, expected[i].line) << f.rejected[i].reason;
+    EXPECT_EQ(f.rejected[i].id, expected[i].id);
+    EXPECT_TRUE(contains(f.rejected[i].reason, expected[i].reason))
+        << "line " << expected[i].line << ": got '" << f.rejected[i].reason << "', want '" << expected[i].reason << "'";
+  }
+}
+
+TEST(OperationsFile, MillingOverridesAndTheirRules) {
+  const std::string text =
+      "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,teeth,milling_direction\n"
+      "a,10000,1.0,,0.05,,\n"
+      "b,10000,1.0,0.5,0.05,4,up\n"
+      "c,10000,1.0,1.5,0.05,,\n"     // immersion > 1
+      "d,10000,1.0,0.1,0.05,0,\n"    // teeth < 1
+      "e,10000,1.0,0.1,0.05,2.5,\n"  // teeth not an integer
+      "f,10000,1.0,0.1,0.05,,side\n" // bad direction
+      "g,10000,1.0,0.1,0,,\n";       // feed <= 0
+  const OperationsFile f = parse_operations(text, "m.csv", Operation::kMilling, range(5000, 25000));
+  ASSERT_EQ(f.rows.size(), 2u);
+  EXPECT_FALSE(f.rows[0].radial_immersion.has_value());
+  EXPECT_DOUBLE_EQ(f.rows[1].radial_immersion.value(), 0.5);
+  EXPECT_EQ(f.rows[1].teeth.value(), 4);
+  EXPECT_EQ(f.rows[1].direction.value(), MillingDirection::kUp);
+  ASSERT_EQ(f.rejected.size(), 5u);
+  EXPECT_TRUE(contains(f.rejected[0].reason, "radial_immersion = 1.5: must be in (0, 1]"));
+  EXPECT_TRUE(contains(f.rejected[1].reason, "teeth = 0: must be >= 1"));
+  EXPECT_TRUE(contains(f.rejected[2].reason, "teeth = '2.5': not an integer"));
+  EXPECT_TRUE(contains(f.rejected[3].reason, "milling_direction = 'side'"));
+  EXPECT_TRUE(contains(f.rejected[4].reason, "feed_per_tooth_mm = 0: must be > 0 mm"));
+
+  const Process p = process_for(case_c().process, f.rows[1]);
+  EXPECT_DOUBLE_EQ(p.milling_parameters().radial_immersion, 0.5);
+  EXPECT_EQ(p.milling_parameters().teeth, 4);
+  EXPECT_EQ(p.milling_parameters().direction, MillingDirection::kUp);
+}
+
+TEST(OperationsFile, HeaderProblemsFailTheWholeFile) {
+  const auto m = range(50, 2000);
+  auto message = [&](const std::string& text) {
+    try {
+      parse_operations(text, "ops.csv", Operation::kTurning, m);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_TRUE(contains(message("id,spindle_rpm,depth_mm,feed_per_tooth_mm\nop1,100,1,0.1\n"),
+                       "ops.csv:1: header lacks column 'radial_immersion'"));
+  EXPECT_TRUE(contains(message("id,spindle_rpm,depth,radial_immersion,feed_per_tooth_mm\n"),
+                       "ops.csv:1: header column 'depth': unknown column"));
+  EXPECT_TRUE(contains(message("id,id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"), "given twice"));
+  EXPECT_TRUE(contains(message("# nothing\n\n"), "ops.csv: no header line"));
+  // A header with no rows is a valid, empty file.
+  const auto f = parse_operations("id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n", "x", Operation::kTurning, m);
+  EXPECT_TRUE(f.rows.empty());
+  EXPECT_TRUE(f.rejected.empty());
+}
+
+// ================================================================== check
+
+TEST(Check, VerdictsMatchExactLimitsOnStableUnstableAndBorderlineOperations) {
+  const Config cfg = case_a();
+  const double b1200 = kCaseALimit1200Mm, b1800 = kCaseALimit1800Mm;
+  // Reference values first: the exact solver reproduces the brief's numbers.
+  EXPECT_NEAR(exact_limit_mm(cfg, cfg.process, 1800.0), b1800, kPrintedRelTol * b1800);
+  EXPECT_NEAR(exact_limit_mm(cfg, cfg.process, 1200.0), b1200, kPrintedRelTol * b1200);
+
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"
+      << "stable_1800,1800,2.0,,0.2\n"
+      << "unstable_1200,1200,2.0,,0.2\n"
+      << "below_abs_min,600,1.0,,0.2\n"
+      << "border_below_1200,1200," << b1200 * (1 - kBorderline) << ",,0.2\n"
+      << "border_above_1200,1200," << b1200 * (1 + kBorderline) << ",,0.2\n"
+      << "border_below_1800,1800," << b1800 * (1 - kBorderline) << ",,0.2\n"
+      << "border_above_1800,1800," << b1800 * (1 + kBorderline) << ",,0.2\n"
+      << "too_deep_anywhere,1000,6.0,,0.2\n";
+  CheckOptions opt;
+  opt.machine = range(50, 2000);
+  const OperationsFile f = parse_operations(csv.str(), "mixed.csv", Operation::kTurning, opt.machine);
+  ASSERT_TRUE(f.rejected.empty());
+  const CheckReport rep = check_operations(cfg.model, cfg.process, f.rows, opt);
+  ASSERT_EQ(rep.checks.size(), 8u);
+  EXPECT_TRUE(rep.warnings.empty());  // turning: analytic is exact
+
+  const std::vector<bool> expected_stable = {true, false, true, true, false, true, false, false};
+  // An independent solver searching deeper than any row (different grid).
+  const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.1);
+  std::vector<double> scan_limits;  // brute-force maximum of the exact limit over the range
+  for (int i = 0; i <= 4000; ++i) scan_limits.push_back(ref->limit_at(50.0 + 1950.0 * i / 4000.0).depth_limit_m);
+  const double scan_best = *std::max_element(scan_limits.begin(), scan_limits.end());
+
+  for (std::size_t i = 0; i < rep.checks.size(); ++i) {
+    const OperationCheck& c = rep.checks[i];
+    SCOPED_TRACE(c.op.id);
+    EXPECT_EQ(c.method, "analytic");
+    EXPECT_EQ(c.stable, expected_stable[i]);
+    const StabilityLimit exact = ref->limit_at(c.op.spindle_rpm);
+    ASSERT_TRUE(exact.bounded());
+    ASSERT_TRUE(c.limit.bounded());
+    EXPECT_NEAR(c.limit.depth_limit_m, exact.depth_limit_m, kSameRootRelTol * exact.depth_limit_m);
+    EXPECT_EQ(c.limit.lobe, exact.lobe);
+    EXPECT_NEAR(c.limit.chatter_frequency_hz, exact.chatter_frequency_hz, kSameRootRelTol * exact.chatter_frequency_hz);
+    EXPECT_EQ(c.stable, c.op.depth_m < exact.depth_limit_m);
+    EXPECT_DOUBLE_EQ(c.margin, c.limit.depth_limit_m / c.op.depth_m);
+    EXPECT_DOUBLE_EQ(c.search_depth_m, std::max(4.0 * c.op.depth_m, 0.02));
+
+    if (c.op.id == "too_deep_anywhere") {  // 6 mm is above every limit in 50–2000 rev/min
+      EXPECT_LT(scan_best, c.op.depth_m);
+      EXPECT_FALSE(c.suggestion.has_value());
+      continue;
+    }
+    ASSERT_TRUE(c.suggestion.has_value());
+    const StabilityLimit& s = *c.suggestion;
+    EXPECT_GE(s.spindle_rpm, opt.machine.rpm_min);
+    EXPECT_LE(s.spindle_rpm, opt.machine.rpm_max);
+    // Re-checked with the exact solver: stable, and the reported limit is right.
+    const StabilityLimit there = ref->limit_at(s.spindle_rpm);
+    EXPECT_LT(c.op.depth_m, there.depth_limit_m);
+    EXPECT_NEAR(s.depth_limit_m, there.depth_limit_m, kSameRootRelTol * there.depth_limit_m);
+    EXPECT_DOUBLE_EQ(c.suggestion_margin, s.depth_limit_m / c.op.depth_m);
+    // The largest margin: no worse than the operation's own speed or a dense scan.
+    EXPECT_GE(s.depth_limit_m, c.limit.depth_limit_m);
+    EXPECT_GE(s.depth_limit_m, scan_best * (1 - kSameRootRelTol)) << "scan found " << scan_best;
+  }
+  EXPECT_EQ(rep.unstable(), 4u);
+}
+
+TEST(Check, UnboundedLimitGivesInfiniteMarginAndStays) {
+  // Case A at 1 mm: below the absolute minimum 1.2783 mm, but the limit exists
+  // (finite) at every speed; with a tiny searched depth it becomes "none".
+  const Config cfg = case_a();
+  CheckOptions opt;
+  opt.machine = range(50, 2000);
+  opt.search_depth_min_m = 1.1e-3;  // below the absolute minimum: no limit below it anywhere
+  opt.search_depth_factor = 1.05;
+  OperationRow r;
+  r.id = "shallow";
+  r.line = 2;
+  r.spindle_rpm = 700.0;
+  r.depth_m = 0.5e-3;
+  const CheckReport rep = check_operations(cfg.model, cfg.process, {r}, opt);
+  ASSERT_EQ(rep.checks.size(), 1u);
+  const auto& c = rep.checks[0];
+  EXPECT_TRUE(c.stable);
+  EXPECT_FALSE(c.limit.bounded());
+  EXPECT_TRUE(std::isinf(c.margin));
+  ASSERT_TRUE(c.suggestion.has_value());
+  EXPECT_EQ(c.suggestion->spindle_rpm, 700.0);
+  EXPECT_TRUE(std::isinf(c.suggestion_margin));
+}
+
+TEST(Check, MillingRowsWithOverridesUseTheirOwnProcess) {
+  const Config cfg = case_c();
+  const std::string text =
+      "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,teeth\n"
+      "low_ae,10000,1.0,,0.05,\n"
+      "half_ae,10000,1.0,0.5,0.05,\n"
+      "half_ae_4t,10000,0.5,0.5,0.05,4\n";
+  CheckOptions opt;
+  opt.machine = range(5000, 25000);
+  opt.method = "analytic";  // fast and build-independent; sdm has its own tests
+  const OperationsFile f = parse_operations(text, "m.csv", Operation::kMilling, opt.machine);
+  ASSERT_EQ(f.rows.size(), 3u);
+  const CheckReport rep = check_operations(cfg.model, cfg.process, f.rows, opt);
+  ASSERT_EQ(rep.warnings.size(), 1u);
+  EXPECT_EQ(rep.warnings[0], kFlipLobeWarning);
+  for (const auto& c : rep.checks) {
+    SCOPED_TRACE(c.op.id);
+    const Process p = process_for(cfg.process, c.op);
+    const double exact = exact_limit_mm(cfg, p, c.op.spindle_rpm) * 1e-3;
+    EXPECT_NEAR(c.limit.depth_limit_m, exact, kSameRootRelTol * exact);
+    EXPECT_EQ(c.stable, c.op.depth_m < exact);
+    if (c.suggestion && c.suggestion->bounded()) {
+      EXPECT_LT(c.op.depth_m, exact_limit_mm(cfg, p, c.suggestion->spindle_rpm) * 1e-3);
+    }
+  }
+  // Different immersions give different limits (the override is used).
+  EXPECT_GT(std::abs(rep.checks[0].limit.depth_limit_m - rep.checks[1].limit.depth_limit_m),
+            1e-3 * rep.checks[1].limit.depth_limit_m);
+}
+
+TEST(Check, MethodResolution) {
+  const Config a = case_a(), c = case_c();
+  std::string w;
+  EXPECT_EQ(resolve_lobe_method(a.process, "auto", &w), "analytic");
+  EXPECT_TRUE(w.empty());
+  const std::string m = resolve_lobe_method(c.process, "auto", &w);
+  if (has_lobe_method("sdm")) {
+    EXPECT_EQ(m, "sdm");
+    EXPECT_TRUE(w.empty());
+  } else {
+    EXPECT_EQ(m, "analytic");
+    EXPECT_EQ(w, kFlipLobeWarning);
+  }
+  EXPECT_THROW(resolve_lobe_method(a.process, "magic", nullptr), InputError);
+}
+
+// ========================================================== recommendation
+
+struct Scenario {
+  RecommendOptions opt;
+  Config cfg;
+};
+
+Scenario turning_scenario(double rpm_min, double rpm_max) {
+  Scenario s{RecommendOptions{}, case_a()};
+  s.opt.machine = range(rpm_min, rpm_max);
+  s.opt.feed_per_tooth_m = 0.2e-3;
+  s.opt.diameter_m = 0.05;
+  s.opt.depth_max_m = 0.02;
+  return s;
+}
+
+// Checks every constraint of `r` with an exact solve and the force model
+// re-derived here (turning, K_c = K_f: F = K_f b f, T = F D/2, P = F πDN/60).
+void expect_feasible_turning(const Recommendation& r, const Scenario& s) {
+  const auto& o = s.opt;
+  const double kf = s.cfg.process.turning_parameters().feed_force_coefficient_n_per_m2;
+  EXPECT_GE(r.spindle_rpm, o.machine.rpm_min);
+  EXPECT_LE(r.spindle_rpm, o.machine.rpm_max);
+  const auto ref = make_lobe_solver("analytic", s.cfg.model, s.cfg.process, 0.1);
+  const StabilityLimit exact = ref->limit_at(r.spindle_rpm);
+  EXPECT_LE(r.depth_m, o.safety * exact.depth_limit_m * (1 + kSameRootRelTol));
+  if (r.limit.bounded())
+    EXPECT_NEAR(r.limit.depth_limit_m, exact.depth_limit_m, kSameRootRelTol * exact.depth_limit_m);
+  else  // none below the searched depth depth_max/safety
+    EXPECT_GT(exact.depth_limit_m, r.search_depth_m);
+  const double force = kf * r.depth_m * o.feed_per_tooth_m;
+  const double torque = force * o.diameter_m / 2;
+  const double power = force * std::numbers::pi * o.diameter_m * r.spindle_rpm / 60;
+  const double mrr = r.depth_m * o.feed_per_tooth_m * std::numbers::pi * o.diameter_m * r.spindle_rpm / 60;
+  EXPECT_NEAR(r.force_n, force, kConstraintRelTol * force);
+  EXPECT_NEAR(r.torque_n_m, torque, kConstraintRelTol * torque);
+  EXPECT_NEAR(r.power_w, power, kConstraintRelTol * power);
+  EXPECT_NEAR(r.mrr_m3_per_s, mrr, kConstraintRelTol * mrr);
+  EXPECT_LE(r.power_w, o.machine.max_power_w * (1 + kConstraintRelTol));
+  EXPECT_LE(r.torque_n_m, o.machine.max_torque_n_m * (1 + kConstraintRelTol));
+  EXPECT_LE(r.depth_m, o.depth_max_m * (1 + kConstraintRelTol));
+}
+
+bool has(const Recommendation& r, Binding b) { return std::find(r.binding.begin(), r.binding.end(), b) != r.binding.end(); }
+
+std::string bindings(const Recommendation& r) {
+  std::string s;
+  for (auto b : r.binding) s += to_string(b) + " ";
+  return s;
+}
+
+TEST(Recommend, StabilityBindsAndTheOptimumBeatsADenseScan) {
+  const Scenario s = turning_scenario(50, 2000);
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);
+  expect_feasible_turning(r, s);
+  ASSERT_EQ(r.binding.size(), 1u) << bindings(r);
+  EXPECT_EQ(r.binding[0], Binding::kStability);
+  EXPECT_NEAR(r.depth_m, s.opt.safety * r.limit.depth_limit_m, kBindingRelTol * r.depth_m);
+  EXPECT_NEAR(r.margin, 1.0 / s.opt.safety, kBindingRelTol);
+  // Brute force: MRR ∝ N · 0.8 · limit(N) over 4 001 speeds.
+  const auto ref = make_lobe_solver("analytic", s.cfg.model, s.cfg.process, 0.1);
+  double best = 0.0;
+  for (int i = 0; i <= 4000; ++i) {
+    const double n = 50.0 + 1950.0 * i / 4000.0;
+    best = std::max(best, n * std::min(0.8 * ref->limit_at(n).depth_limit_m, s.opt.depth_max_m));
+  }
+  EXPECT_GE(r.spindle_rpm * r.depth_m, best * (1 - kOptimumRelTol)) << "scan: " << best;
+}
+
+TEST(Recommend, PowerBinds) {
+  Scenario s = turning_scenario(50, 2000);
+  s.opt.machine.max_power_w = 2000.0;  // 2 kW: ~1/4 of the stability-bound cut's 8.6 kW
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);
+  expect_feasible_turning(r, s);
+  EXPECT_TRUE(has(r, Binding::kPower)) << bindings(r);
+  EXPECT_FALSE(has(r, Binding::kStability)) << bindings(r);
+  EXPECT_FALSE(has(r, Binding::kSpeedRange)) << bindings(r);  // power-bound MRR is flat in speed
+  EXPECT_NEAR(r.power_w, 2000.0, kBindingRelTol * 2000.0);
+  // P = K_c · MRR: the MRR is the power divided by the specific cutting force.
+  const double kf = s.cfg.process.turning_parameters().feed_force_coefficient_n_per_m2;
+  EXPECT_NEAR(r.mrr_m3_per_s, 2000.0 / kf, kBindingRelTol * 2000.0 / kf);
+  EXPECT_GT(r.margin, 1.0 / s.opt.safety);  // stability has slack
+}
+
+TEST(Recommend, TorqueBinds) {
+  Scenario s = turning_scenario(50, 2000);
+  // 5 N·m → depth 5/(K_f f D/2) = 0.417 mm, below 0.8 × the absolute minimum.
+  s.opt.machine.max_torque_n_m = 5.0;
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);
+  expect_feasible_turning(r, s);
+  EXPECT_TRUE(has(r, Binding::kTorque)) << bindings(r);
+  EXPECT_FALSE(has(r, Binding::kStability)) << bindings(r);
+  EXPECT_NEAR(r.torque_n_m, 5.0, kBindingRelTol * 5.0);
+  // With the depth fixed by torque, MRR grows with speed: the range binds too.
+  EXPECT_TRUE(has(r, Binding::kSpeedRange)) << bindings(r);
+  EXPECT_EQ(r.spindle_rpm, 2000.0);
+}
+
+TEST(Recommend, SpeedRangeBinds) {
+  // 1 700–1 800 rev/min lies on a rising lobe flank of case A: the best speed
+  // is the top of the range, where the limit is 2.974523725 mm.
+  const Scenario s = turning_scenario(1700, 1800);
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);
+  expect_feasible_turning(r, s);
+  EXPECT_TRUE(has(r, Binding::kSpeedRange)) << bindings(r);
+  EXPECT_TRUE(has(r, Binding::kStability)) << bindings(r);
+  EXPECT_EQ(r.spindle_rpm, 1800.0);
+  EXPECT_NEAR(r.depth_m, 0.8 * kCaseALimit1800Mm * 1e-3, kPrintedRelTol * r.depth_m);
+}
+
+TEST(Recommend, ToolDepthBinds) {
+  Scenario s = turning_scenario(50, 2000);
+  s.opt.depth_max_m = 1.0e-3;  // below 0.8 × 1.2783 mm: stability never binds
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);
+  expect_feasible_turning(r, s);
+  EXPECT_TRUE(has(r, Binding::kDepthMax)) << bindings(r);
+  EXPECT_TRUE(has(r, Binding::kSpeedRange)) << bindings(r);
+  EXPECT_DOUBLE_EQ(r.depth_m, 1.0e-3);
+  EXPECT_EQ(r.spindle_rpm, 2000.0);
+}
+
+TEST(Recommend, MillingTorqueMatchesToothByToothAverage) {
+  const Config cfg = case_c();
+  RecommendOptions o;
+  o.machine = range(5000, 25000);
+  o.feed_per_tooth_m = 0.1e-3;
+  o.diameter_m = 0.02;
+  o.depth_max_m = 0.01;
+  o.method = "analytic";
+  for (double ae : {0.05, 0.5, 1.0})
+    for (auto dir : {MillingDirection::kDown, MillingDirection::kUp}) {
+      MillingParameters mp = cfg.process.milling_parameters();
+      mp.radial_immersion = ae;
+      mp.direction = dir;
+      const Process p = Process::milling(mp);
+      const Recommendation r = recommend(cfg.model, p, o);
+      SCOPED_TRACE("a_e/D " + std::to_string(ae));
+      // Mean torque: teeth at φ_j = φ + 2πj/N_t, each cutting with
+      // F_t = K_t a f_z sin φ_j when φ_en <= φ_j <= φ_ex, lever D/2.
+      double sum = 0.0;
+      for (int i = 0; i < kTorqueSamples; ++i) {
+        const double phi = 2 * std::numbers::pi * (i + 0.5) / kTorqueSamples;
+        for (int j = 0; j < mp.teeth; ++j) {
+          const double pj = std::fmod(phi + 2 * std::numbers::pi * j / mp.teeth, 2 * std::numbers::pi);
+          if (pj >= p.entry_angle() && pj <= p.exit_angle())
+            sum += mp.tangential_coefficient_n_per_m2 * r.depth_m * o.feed_per_tooth_m * std::sin(pj) * o.diameter_m / 2;
+        }
+      }
+      const double torque = sum / kTorqueSamples;
+      EXPECT_NEAR(r.torque_n_m, torque, kTorqueAverageRelTol * torque);
+      const double omega = 2 * std::numbers::pi * r.spindle_rpm / 60;
+      EXPECT_NEAR(r.power_w, torque * omega, kTorqueAverageRelTol * torque * omega);
+      // MRR = a · a_e · f_z · N_t · N/60, and P = K_t · MRR.
+      const double mrr = r.depth_m * ae * o.diameter_m * o.feed_per_tooth_m * mp.teeth * r.spindle_rpm / 60;
+      EXPECT_NEAR(r.mrr_m3_per_s, mrr, kConstraintRelTol * mrr);
+      EXPECT_NEAR(r.power_w, mp.tangential_coefficient_n_per_m2 * mrr, 1e-9 * r.power_w);
+    }
+}
+
+TEST(Recommend, PowerLimitNeedsADiameter) {
+  Scenario s = turning_scenario(50, 2000);
+  s.opt.diameter_m = 0.0;
+  s.opt.machine.max_power_w = 1000.0;
+  EXPECT_THROW(recommend(s.cfg.model, s.cfg.process, s.opt), InputError);
+  s.opt.machine.max_power_w = std::numeric_limits<double>::infinity();
+  const Recommendation r = recommend(s.cfg.model, s.cfg.process, s.opt);  // fine without limits
+  EXPECT_TRUE(std::isnan(r.mrr_m3_per_s));
+  EXPECT_GT(r.mrr_per_diameter_m2_per_s, 0.0);
+}
+
+// ===================================================== fast lobe queries
+
+void expect_error_bound(const Config& cfg, const Process& p, double lo, double hi, double depth_max_m) {
+  const auto solver = make_lobe_solver("analytic", cfg.model, p, depth_max_m);
+  const LobeTableQuery table(*solver, lo, hi);
+  EXPECT_EQ(table.unresolved_intervals(), 0u);
+  EXPECT_EQ(table.rpm_min(), lo);
+  EXPECT_EQ(table.rpm_max(), hi);
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u(lo, hi);
+  double worst = 0.0;
+  int wrong_sure_verdicts = 0;
+  for (int i = 0; i < kRandomQueries; ++i) {
+    const double rpm = u(rng);
+    const StabilityLimit e = solver->limit_at(rpm);
+    const double g = e.bounded() ? std::min(e.depth_limit_m, depth_max_m) : depth_max_m;
+    double q = table.depth_limit(rpm);
+    if (std::isinf(q)) q = depth_max_m;
+    worst = std::max(worst, std::abs(q - g));
+    // A sure verdict (outside the guard band) is never wrong.
+    for (double f : {0.5, 0.99, 1.01, 2.0}) {
+      const double depth = f * g;
+      const QueryVerdict v = table.classify(rpm, depth);
+      if ((v == QueryVerdict::kStable && !(depth < e.depth_limit_m)) ||
+          (v == QueryVerdict::kUnstable && depth < e.depth_limit_m))
+        ++wrong_sure_verdicts;
+    }
+  }
+  EXPECT_LE(worst, table.error_bound_m()) << "worst error " << worst << " m, bound " << table.error_bound_m()
+                                          << " m, " << table.size() << " points";
+  EXPECT_EQ(wrong_sure_verdicts, 0);
+  EXPECT_THROW(table.depth_limit(lo * 0.99), InputError);
+  EXPECT_THROW(table.depth_limit(hi * 1.01), InputError);
+}
+
+TEST(LobeTableQuery, ErrorBoundHoldsAgainstExactSolvesCaseA) {
+  const Config cfg = case_a();
+  expect_error_bound(cfg, cfg.process, 50, 2000, 0.02);
+}
+
+TEST(LobeTableQuery, ErrorBoundHoldsAgainstExactSolvesCaseC) {
+  const Config cfg = case_c();
+  expect_error_bound(cfg, cfg.process, 5000, 25000, 0.01);  // limits above 10 mm: clipped region
+}
+
+TEST(LobeTableQuery, ErrorBoundHoldsAgainstExactSolvesCoupled) {
+  const Config cfg = load_config(config_path("coupled_tool1_workpiece1.toml"));
+  expect_error_bound(cfg, cfg.process, 500, 10000, 0.02);
+}
+
+TEST(LobeTableQuery, ExplicitToleranceAndValidation) {
+  const Config cfg = case_a();
+  const auto solver = make_lobe_solver("analytic", cfg.model, cfg.process, 0.02);
+  LobeTableQueryOptions o;
+  o.tolerance_m = 1e-5;
+  const LobeTableQuery t(*solver, 500, 2000, o);
+  EXPECT_DOUBLE_EQ(t.tolerance_m(), 1e-5);
+  EXPECT_DOUBLE_EQ(t.error_bound_m(), 1e-5);
+  // Table points are the exact solver values.
+  for (std::size_t i = 0; i < t.size(); i += 97) {
+    const auto& p = t.points()[i];
+    EXPECT_EQ(p.depth_limit_m, solver->limit_at(p.spindle_rpm).depth_limit_m);
+    EXPECT_DOUBLE_EQ(t.depth_limit(p.spindle_rpm), std::min(p.depth_limit_m, 0.02));
+  }
+  o.base_points = 1;
+  EXPECT_THROW(LobeTableQuery(*solver, 500, 2000, o), InputError);
+  EXPECT_THROW(LobeTableQuery(*solver, 2000, 500), InputError);
+}
+
+TEST(LobeTableQuery, SameTableWhateverTheThreadCount) {
+  const Config cfg = case_a();
+  const auto solver = make_lobe_solver("analytic", cfg.model, cfg.process, 0.02);
+  LobeTableQueryOptions o;
+  const LobeTableQuery one(*solver, 50, 2000, o);
+  o.threads = 3;
+  const LobeTableQuery three(*solver, 50, 2000, o);
+  ASSERT_EQ(one.size(), three.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one.points()[i].spindle_rpm, three.points()[i].spindle_rpm);
+    EXPECT_EQ(one.points()[i].depth_limit_m, three.points()[i].depth_limit_m);
+  }
+  EXPECT_EQ(one.error_bound_m(), three.error_bound_m());
+}
+
+// ================================================================== CLI
+
+class OperationsCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           (std::string("chatter_test_ops_") + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  struct Run {
+    int code = -1;
+    std::string out, err;
+  };
+  static std::string q(const std::string& s) {
+    std::string o = "'";
+    for (char c : s) o += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return o + "'";
+  }
+  static std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::ostringstream os;
+    os << f.rdbuf();
+    return os.str();
+  }
+  Run run(const std::vector<std::string>& args) {
+    std::string cmd = q(CHATTER_CLI);
+    for (const auto& a : args) cmd.append(" ").append(q(a));
+    cmd.append(" >").append(q((dir_ / "out").string())).append(" 2>").append(q((dir_ / "err").string()));
+    cmd.append(" </dev/null");
+    const int st = std::system(cmd.c_str());
+    Run r;
+    r.code = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+    r.out = slurp(dir_ / "out");
+    r.err = slurp(dir_ / "err");
+    return r;
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+  fs::path dir_;
+};
+
+TEST_F(OperationsCli, BadRowsAreReportedOthersCheckedExitTwo) {
+  const fs::path ops = write("ops.csv",
+                             "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"
+                             "good,1800,2.0,,0.2\n"
+                             "short,1800,2.0\n"
+                             "neg,1800,-2.0,,0.2\n"
+                             "fast,2500,1.0,,0.2\n"
+                             "word,abc,1.0,,0.2\n"
+                             "bad_again,1200,2.0,,0.2\n");
+  const fs::path js = dir_ / "check.json";
+  const Run r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", ops.string(), "--json",
+                     js.string()});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, ops.string() + ":3: id 'short': has 3 fields")) << r.out;
+  EXPECT_TRUE(contains(r.out, ops.string() + ":4: id 'neg': depth_mm = -2: must be > 0 mm")) << r.out;
+  EXPECT_TRUE(contains(r.out, ops.string() + ":5: id 'fast': spindle_rpm = 2500: outside the machine range [50, 2000]"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, ops.string() + ":6: id 'word': spindle_rpm = 'abc': not a number")) << r.out;
+  EXPECT_TRUE(contains(r.out, "summary: 1 stable, 1 unstable, 4 rejected; exit status 2")) << r.out;
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_EQ(j["format"], "chatter-operation-check");
+  ASSERT_EQ(j["operations"].size(), 2u);
+  EXPECT_EQ(j["operations"][0]["id"], "good");
+  EXPECT_EQ(j["operations"][0]["stable"], true);
+  EXPECT_NEAR(j["operations"][0]["depth_limit_mm"].get<double>(), kCaseALimit1800Mm, kPrintedRelTol * kCaseALimit1800Mm);
+  EXPECT_EQ(j["operations"][1]["stable"], false);
+  ASSERT_EQ(j["rejected"].size(), 4u);
+  EXPECT_EQ(j["rejected"][0]["line"], 3);
+  EXPECT_EQ(j["rejected"][2]["line"], 5);
+  EXPECT_EQ(j["exit_status"], 2);
+}
+
+TEST_F(OperationsCli, ExitStatusZeroWhenAllStableThreeWhenSomeUnstable) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  const fs::path ok = write("ok.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\nb,900,1.0,,\n");
+  Run r = run({"check", cfg, "--operations", ok.string()});
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "summary: 2 stable, 0 unstable, 0 rejected; exit status 0")) << r.out;
+  const fs::path some = write("some.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\nb,1200,2.0,,0.2\n");
+  r = run({"check", cfg, "--operations", some.string(), "--json", "-"});
+  EXPECT_EQ(r.code, 3) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);  // --json -: JSON alone on stdout
+  EXPECT_EQ(j["summary"]["unstable"], 1);
+  EXPECT_TRUE(contains(r.err, "UNSTABLE")) << r.err;
+  // A narrower machine range from the command line rejects the 900 rev/min row.
+  r = run({"check", cfg, "--operations", ok.string(), "--rpm-min", "1000", "--rpm-max", "2000"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, ":3: id 'b': spindle_rpm = 900: outside the machine range [1000, 2000]")) << r.out;
+}
+
+TEST_F(OperationsCli, HeaderErrorIsAnInputError) {
+  const fs::path bad = write("bad.csv", "id,rpm,depth_mm\n");
+  const Run r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", bad.string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "bad.csv:1: header column 'rpm': unknown column")) << r.err;
+}
+
+TEST_F(OperationsCli, ShippedExamplesRun) {
+  // examples/operations: case A through `auto` (analytic), case C with the
+  // analytic method (fast and build-independent) and its flip-lobe warning.
+  const std::string src = CHATTER_SOURCE_DIR;
+  Run r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations",
+               src + "/examples/operations/case_a_ops.csv"});
+  EXPECT_EQ(r.code, 3) << r.out << r.err;  // the example holds an unstable operation on purpose
+  EXPECT_TRUE(contains(r.out, "UNSTABLE")) << r.out;
+  r = run({"check", config_path("milling_benchmark_ae005_down.toml").string(), "--operations",
+           src + "/examples/operations/case_c_ops.csv", "--method", "analytic"});
+  EXPECT_EQ(r.code, 3) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "warning: " + std::string(kFlipLobeWarning))) << r.out;
+}
+
+TEST_F(OperationsCli, RecommendExplainsAndWritesJson) {
+  const fs::path js = dir_ / "rec.json";
+  const Run r = run({"recommend", config_path("seed_turning_1dof.toml").string(), "--feed-per-tooth-mm", "0.2",
+                     "--workpiece-diameter-mm", "50", "--max-power-kw", "2", "--json", js.string()});
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "Binding: spindle power")) << r.out;
+  EXPECT_TRUE(contains(r.out, "MRR: 50.00 cm^3/min")) << r.out;  // P/K_f = 2 kW / 2.4e9 N/m² = 50 cm³/min
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_EQ(j["binding"][0], "power");
+  EXPECT_NEAR(j["power_kw"].get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(j["mrr_cm3_per_min"].get<double>(), 50.0, 1e-7);
+  // A milling-only option on a turning config is a usage error.
+  const Run bad = run({"recommend", config_path("seed_turning_1dof.toml").string(), "--feed-per-tooth-mm", "0.2",
+                       "--tool-diameter-mm", "10"});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(contains(bad.err, "--tool-diameter-mm: only for milling")) << bad.err;
+}
+
+}  // namespace
