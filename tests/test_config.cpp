@@ -532,7 +532,7 @@ TEST(ConfigError, Infinity) {
 
 TEST(ConfigError, BothBodiesRigid) {
   EXPECT_EQ(MessageOf(kTurning), "mem/case.toml: tool.modes, workpiece.modes: both bodies are rigid: give at least "
-                                 "one mode");
+                                 "one mode (or a measured frf)");
   EXPECT_TRUE(ThrowsInputError(Turning("[tool]\nmodes = []\n[workpiece]\n"),
                                {"mem/case.toml: tool.modes, workpiece.modes: both bodies are rigid"}));
 }

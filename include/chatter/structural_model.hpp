@@ -9,6 +9,7 @@
 
 #include <complex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -56,11 +57,29 @@ struct CantileverBar {
 /// @throws std::invalid_argument on a non-positive field or ζ outside (0,1).
 Mode first_bending_mode(const CantileverBar& bar, double damping_ratio, Eigen::Vector2d direction);
 
-/// A body: a list of modes (empty = rigid).
+/// One measured receptance term of a body (e.g. a tap test), m/N, tabulated
+/// at frequency lines (Hz, strictly increasing). Between lines the dynamic
+/// stiffness 1/G is interpolated by a cubic through the four nearest lines:
+/// exact for a single mode (1/G = k(1 − r² + 2jζr) is quadratic in ω), so
+/// resonances are kept rather than flattened as a linear interpolation of G
+/// would. Outside the measured range the term is unknown: solvers restrict
+/// their search to the range (see StructuralModel::measured_band).
+struct MeasuredTerm {
+  int row = 0;  ///< 0 = x, 1 = y (response direction)
+  int col = 0;  ///< 0 = x, 1 = y (force direction); xy also stands for yx (reciprocity)
+  std::vector<double> frequency_hz;
+  std::vector<Complex> receptance;  ///< m/N, one per line
+  std::string source;               ///< file (and record) it came from, for messages
+  /// Interpolated value at ω (rad/s); 0 outside the measured range.
+  Complex at(double omega_rad_s) const;
+};
+
+/// A body: modes and/or measured receptance terms (none of either = rigid).
 struct Body {
   std::vector<Mode> modes;
-  bool rigid() const { return modes.empty(); }
-  /// 2×2 receptance Σ u uᵀ / (k (1 − r² + 2jζr)), m/N.
+  std::vector<MeasuredTerm> measured;
+  bool rigid() const { return modes.empty() && measured.empty(); }
+  /// 2×2 receptance Σ u uᵀ / (k (1 − r² + 2jζr)) plus the measured terms, m/N.
   Matrix2c receptance(double omega_rad_s) const;
 };
 
@@ -74,8 +93,18 @@ struct StructuralModel {
   Matrix2c receptance(double omega_rad_s) const;
 
   std::size_t mode_count() const { return tool.modes.size() + workpiece.modes.size(); }
-  /// Lowest and highest natural frequency over both bodies, rad/s.
-  /// @pre mode_count() > 0.
+  /// True when either body holds measured terms (then only the
+  /// transfer-function solver `analytic` applies; fit modes for the others).
+  bool has_measured() const { return !tool.measured.empty() || !workpiece.measured.empty(); }
+  /// True when both bodies are rigid.
+  bool rigid() const { return tool.rigid() && workpiece.rigid(); }
+  /// Frequency range (rad/s) covered by every measured term (their
+  /// intersection); {0, +inf} without measured terms.
+  std::pair<double, double> measured_band() const;
+  /// Coarsest line spacing (Hz) among the measured terms; 0 without.
+  double frequency_resolution_hz() const;
+  /// Lowest and highest natural frequency over both bodies, rad/s (the
+  /// measured range when there are measured terms). @pre !rigid().
   double min_omega() const;
   double max_omega() const;
 };

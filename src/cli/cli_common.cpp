@@ -124,7 +124,8 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
                                   {"search_band_hz",
                                    {band.omega_min_rad_s / (2 * std::numbers::pi),
                                     band.omega_max_rad_s / (2 * std::numbers::pi)}},
-                                  {"frequency_grid_points", band.grid_points}}
+                                  {"frequency_grid_points", band.grid_points},
+                                  {"frequency_resolution_hz", cfg.model.frequency_resolution_hz()}}
                        .dump();
   b.tf = s.get();
   b.solver = std::move(s);

@@ -398,7 +398,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     args.erase(args.begin());
-    if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend")
+    if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
+        cmd == "fit")
       command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);

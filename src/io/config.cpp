@@ -11,6 +11,7 @@
 // No toml++ exception and no std::invalid_argument from the model
 // constructors escapes this file.
 #include "chatter/io/config.hpp"
+#include "chatter/io/frf.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -410,13 +411,96 @@ Mode read_mode(const Table& mode) {
   return md;
 }
 
+// ---------------------------------------------------------- measured FRFs
+
+constexpr std::string_view kFrfKeys[] = {"file", "direction", "format", "quantity", "scale", "record"};
+
+/// One `[[tool.frf]]` / `[[workpiece.frf]]` entry: a measured receptance
+/// term read from a file (path relative to the config's folder).
+MeasuredTerm read_frf_term(const Table& t) {
+  t.reject_unknown(kFrfKeys);
+  const Document& doc = t.doc();
+  const auto file = t.string("file");
+  if (!file) doc.fail_key(t.path_of("file"), "missing (required: the measurement file, relative to the config)");
+  MeasuredTerm term;
+  const std::string dir = t.string("direction").value_or("xx");
+  if (dir == "xx") {
+    term.row = term.col = 0;
+  } else if (dir == "yy") {
+    term.row = term.col = 1;
+  } else if (dir == "xy" || dir == "yx") {
+    term.row = 0;
+    term.col = 1;
+  } else {
+    doc.fail(t.path_of("direction"), *t.find("direction"), R"(must be "xx", "xy" or "yy")");
+  }
+  FrfReadOptions opt;
+  if (const auto q = t.string("quantity")) {
+    opt.quantity = parse_frf_quantity(*q);
+    if (!opt.quantity)
+      doc.fail(t.path_of("quantity"), *t.find("quantity"), R"(must be "receptance", "mobility" or "accelerance")");
+  }
+  if (const auto sc = t.number("scale", kPositive)) opt.scale = *sc;
+  std::filesystem::path path(*file);
+  if (path.is_relative()) path = std::filesystem::path(doc.origin()).parent_path() / path;
+  std::string format = t.string("format").value_or("");
+  if (format.empty()) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    format = ext == ".csv" ? "csv" : (ext == ".frf" || ext == ".tab" || ext == ".txt") ? "tab"
+             : (ext == ".uff" || ext == ".unv" || ext == ".58") ? "uff" : "";
+    if (format.empty())
+      doc.fail(t.path_of("file"), *t.find("file"),
+               R"(cannot tell the format from the extension: add format = "csv", "tab" or "uff")");
+  }
+  const auto record = t.integer("record", 1);
+  FrfTable table;
+  if (format == "csv") {
+    table = read_frf_csv(path, opt);
+  } else if (format == "tab") {
+    table = read_frf_tab(path, opt);
+  } else if (format == "uff") {
+    const auto tables = read_uff58(path, opt);
+    const int r = record.value_or(1);
+    if (static_cast<std::size_t>(r) > tables.size())
+      doc.fail(t.path_of("record"), *t.find("record"),
+               "must be <= " + std::to_string(tables.size()) + " (the FRF records in " + path.string() + ")");
+    table = tables[static_cast<std::size_t>(r - 1)];
+  } else {
+    doc.fail(t.path_of("format"), *t.find("format"), R"(must be "csv", "tab" or "uff")");
+  }
+  if (record && format != "uff") doc.fail(t.path_of("record"), *t.find("record"), "only for format = \"uff\"");
+  term.frequency_hz = std::move(table.frequency_hz);
+  term.receptance = std::move(table.value);
+  term.source = table.source;
+  return term;
+}
+
 /// `[tool]` / `[workpiece]`: absent, or without `modes`, means rigid.
 Body read_body(const Table& root, std::string_view name) {
   Body body;
   const auto table = root.table(name);
   if (!table) return body;
-  constexpr std::string_view kBodyKeys[] = {"modes"};
+  constexpr std::string_view kBodyKeys[] = {"modes", "frf"};
   table->reject_unknown(kBodyKeys);
+  if (const toml::node* f = table->find("frf")) {
+    const Path fpath = table->path_of("frf");
+    const toml::array* terms = f->as_array();
+    if (!terms) root.doc().fail(fpath, *f, "must be an array of tables ([[" + fpath + "]])");
+    for (std::size_t i = 0; i < terms->size(); ++i) {
+      const toml::node& m = *terms->get(i);
+      const toml::table* t = m.as_table();
+      if (!t) root.doc().fail(element(fpath, i), m, "must be a table");
+      try {
+        body.measured.push_back(read_frf_term(Table(root.doc(), *t, element(fpath, i))));
+      } catch (const InputError& e) {
+        const std::string msg = e.what();
+        if (msg.rfind(root.doc().origin() + ": " + element(fpath, i), 0) == 0) throw;
+        // A reader error names the measurement file; say which entry read it.
+        throw InputError(root.doc().origin() + ": " + element(fpath, i) + ": " + msg);
+      }
+    }
+  }
   const toml::node* n = table->find("modes");
   if (!n) return body;
   const Path path = table->path_of("modes");
@@ -529,8 +613,8 @@ Config read_config(const toml::table& root_table, const Document& doc) {
   config.process = read_process(root);
   config.model.tool = read_body(root, "tool");
   config.model.workpiece = read_body(root, "workpiece");
-  if (config.model.mode_count() == 0)
-    doc.fail_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode");
+  if (config.model.rigid())
+    doc.fail_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode (or a measured frf)");
   config.sweep = read_sweep(root);
   return config;
 }

@@ -478,7 +478,7 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
     throw InputError(image.string() + ": f_max = " + short_num(f_max_hz) + " Hz: must be > f_min (" +
                      short_num(f_min_hz) + " Hz)");
   if (points < 2) throw InputError(image.string() + ": points = " + std::to_string(points) + ": must be >= 2");
-  if (model.mode_count() == 0) throw InputError(image.string() + ": the model has no mode (both bodies rigid)");
+  if (model.rigid()) throw InputError(image.string() + ": the model has no mode (both bodies rigid)");
 
   bool has_y = false;
   for (const Body* b : {&model.tool, &model.workpiece})

@@ -82,13 +82,62 @@ Mode first_bending_mode(const CantileverBar& bar, double damping_ratio, Eigen::V
   return Mode::from_stiffness(omega / kTwoPi, damping_ratio, k, direction);
 }
 
+Complex MeasuredTerm::at(double omega_rad_s) const {
+  const double f = omega_rad_s / kTwoPi;
+  const std::size_t n = frequency_hz.size();
+  if (n < 2 || f < frequency_hz.front() || f > frequency_hz.back()) return Complex(0.0);
+  // The four lines around f (fewer at the ends of the table).
+  const auto it = std::upper_bound(frequency_hz.begin(), frequency_hz.end(), f);
+  std::size_t hi = static_cast<std::size_t>(it - frequency_hz.begin());
+  hi = std::min(std::max<std::size_t>(hi, 1), n - 1);  // interval [hi-1, hi]
+  const std::size_t first = hi >= 2 ? hi - 2 : 0;
+  const std::size_t last = std::min(first + 3, n - 1);
+  // Lagrange interpolation of the dynamic stiffness 1/G; of G itself where a
+  // line is exactly zero (a term that vanishes there has no stiffness).
+  bool inverse = true;
+  for (std::size_t i = first; i <= last; ++i)
+    if (receptance[i] == Complex(0.0)) inverse = false;
+  Complex sum(0.0);
+  for (std::size_t i = first; i <= last; ++i) {
+    double w = 1.0;
+    for (std::size_t j = first; j <= last; ++j)
+      if (j != i) w *= (f - frequency_hz[j]) / (frequency_hz[i] - frequency_hz[j]);
+    sum += w * (inverse ? 1.0 / receptance[i] : receptance[i]);
+  }
+  return inverse ? 1.0 / sum : sum;
+}
+
 Matrix2c Body::receptance(double omega_rad_s) const {
   Matrix2c G = Matrix2c::Zero();
   for (const Mode& m : modes) {
     const Eigen::Matrix2d uu = m.direction * m.direction.transpose();
     G += m.receptance(omega_rad_s) * uu.cast<Complex>();
   }
+  for (const MeasuredTerm& t : measured) {
+    const Complex g = t.at(omega_rad_s);
+    G(t.row, t.col) += g;
+    if (t.row != t.col) G(t.col, t.row) += g;  // reciprocity
+  }
   return G;
+}
+
+std::pair<double, double> StructuralModel::measured_band() const {
+  double lo = 0.0, hi = std::numeric_limits<double>::infinity();
+  for (const Body* b : {&tool, &workpiece})
+    for (const MeasuredTerm& t : b->measured) {
+      lo = std::max(lo, kTwoPi * t.frequency_hz.front());
+      hi = std::min(hi, kTwoPi * t.frequency_hz.back());
+    }
+  return {lo, hi};
+}
+
+double StructuralModel::frequency_resolution_hz() const {
+  double res = 0.0;
+  for (const Body* b : {&tool, &workpiece})
+    for (const MeasuredTerm& t : b->measured)
+      for (std::size_t i = 1; i < t.frequency_hz.size(); ++i)
+        res = std::max(res, t.frequency_hz[i] - t.frequency_hz[i - 1]);
+  return res;
 }
 
 Matrix2c StructuralModel::receptance(double omega_rad_s) const {
@@ -99,6 +148,7 @@ double StructuralModel::min_omega() const {
   double w = std::numeric_limits<double>::infinity();
   for (const Body* b : {&tool, &workpiece})
     for (const Mode& m : b->modes) w = std::min(w, m.omega());
+  if (has_measured()) w = std::min(w, std::max(measured_band().first, 1e-3));
   return w;
 }
 
@@ -106,6 +156,7 @@ double StructuralModel::max_omega() const {
   double w = 0.0;
   for (const Body* b : {&tool, &workpiece})
     for (const Mode& m : b->modes) w = std::max(w, m.omega());
+  if (has_measured()) w = std::max(w, measured_band().second);
   return w;
 }
 

@@ -42,8 +42,8 @@ TransferFunctionSolver::TransferFunctionSolver(StructuralModel model, Process pr
     : model_(std::move(model)), process_(std::move(process)), options_(options) {
   if (const std::string e = options_.validate(); !e.empty())
     throw InputError("transfer-function options: " + e);
-  if (model_.mode_count() == 0)
-    throw InputError("structural model: both bodies are rigid: give at least one mode");
+  if (model_.rigid())
+    throw InputError("structural model: both bodies are rigid: give at least one mode or measured FRF");
   H0_ = process_.average_directional_matrix();
 }
 
@@ -122,6 +122,7 @@ AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferF
       if (u0.isZero()) u0 = m.direction;
       if (std::abs(u0.x() * m.direction.y() - u0.y() * m.direction.x()) > 1e-12) parallel = false;
     }
+  if (model_.has_measured()) parallel = false;  // measured terms may couple x and y
   rank_one_ = std::abs(H0_.determinant()) <= 1e-12 * h2 || parallel;
   build_search(rank_one_ ? 1 : 2);
 }

@@ -38,6 +38,9 @@ detail::BranchValue from_root(Complex c) {
 
 CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFunctionOptions options)
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
+  if (model_.has_measured())
+    throw InputError("coupled needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
+                     "or use --method analytic");
   const ModalMatrices mm = modal_matrices(model_);
   omega_n_ = mm.omega;
   zeta_ = mm.damping_ratio;

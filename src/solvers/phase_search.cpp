@@ -55,6 +55,12 @@ std::pair<double, double> search_band(const StructuralModel& model, const Eigen:
       }
     return 2.0 * h * g;
   };
+  if (model.has_measured()) {
+    // Measured terms are known only on their range: search exactly there.
+    const auto [mlo, mhi] = model.measured_band();
+    if (!(mhi > mlo)) throw InputError("measured FRFs: their frequency ranges do not overlap");
+    return {std::max(mlo, 1e-6 * mhi), mhi};
+  }
   const double w_min = model.min_omega(), w_max = model.max_omega();
   double hi = 2.0 * w_max;
   while (bound(hi, true) >= s_min && hi < 1e4 * w_max) hi *= 1.25;

@@ -509,6 +509,9 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
   if (const std::string e = options_.validate(); !e.empty()) throw InputError("sdm options: " + e);
   if (model_.mode_count() == 0)
     throw InputError("structural model: both bodies are rigid: give at least one mode");
+  if (model_.has_measured())
+    throw InputError("sdm needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
+                     "or use --method analytic");
   const ModalMatrices mm = modal_matrices(model_);
   const Index n = mm.omega.size();
   // Scaled state x = [q; q̇/ω] keeps the exponentials well balanced.
