@@ -270,6 +270,21 @@ TEST(AnalyticInput, AbsurdlyLowSpeedIsRefusedNotLooped) {
   EXPECT_THROW(s.lobe_curves(0.001, 1.0), InputError);
 }
 
+TEST(AnalyticPhysics, ModeOrthogonalToTheChipCannotChatter) {
+  // Turning cuts along X; a structure flexible only along Y is never excited
+  // (found by fuzzing: this used to be an internal error).
+  StructuralModel m;
+  m.workpiece.modes.push_back(Mode::from_stiffness(190.58, 0.025, 5.092e6, {0.0, 1.0}));
+  const AnalyticSolver a(m, Process::turning({684e6}), depth_max(0.02));
+  const CoupledSolver c(m, Process::turning({684e6}), depth_max(0.02));
+  for (double rpm : {500.0, 5000.0}) {
+    EXPECT_FALSE(a.limit_at(rpm).bounded());
+    EXPECT_FALSE(c.limit_at(rpm).bounded());
+  }
+  EXPECT_FALSE(std::isfinite(a.absolute_limit().depth_m));
+  EXPECT_TRUE(a.lobe_curves(500, 5000).empty());
+}
+
 TEST(AnalyticCurves, LobePointsLieOnTheEnvelopeOrAbove) {
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
   const auto curves = s.lobe_curves(500, 3000);

@@ -50,9 +50,10 @@ CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFun
   rank_ = 0;
   for (Eigen::Index i = 0; i < sv.size(); ++i)
     if (sv(i) > 1e-12 * sv(0)) ++rank_;
-  if (rank_ < 1 || rank_ > 2) throw NumericalError("coupled solver: rank of S^T H0 S must be 1 or 2");
+  if (rank_ > 2) throw NumericalError("coupled solver: rank of S^T H0 S must be at most 2");
+  // rank 0: the cutting force cannot excite any mode; nothing is unstable.
   const double d_scale = (mass_.array() * omega_n_.array().square()).maxCoeff();
-  sigma_ = d_scale / P_.cwiseAbs().maxCoeff();
+  sigma_ = rank_ > 0 ? d_scale / P_.cwiseAbs().maxCoeff() : 1.0;
   build_search(rank_);
 }
 

@@ -122,8 +122,15 @@ double brent_root(const std::function<double(double)>& f, double a, double b, do
 PhaseSearch::PhaseSearch(BranchEvaluator eval, int branches, double omega_lo, double omega_hi,
                          double depth_max_m, PhaseSearchOptions options)
     : eval_(std::move(eval)), branches_(branches), depth_max_m_(depth_max_m), opt_(options) {
-  if (branches_ < 1 || branches_ > 2 || !(omega_lo > 0.0) || !(omega_hi > omega_lo) || !(depth_max_m > 0.0))
+  if (branches_ < 0 || branches_ > 2 || !(omega_lo > 0.0) || !(omega_hi > omega_lo) || !(depth_max_m > 0.0))
     throw NumericalError("PhaseSearch: invalid band or depth");
+  if (branches_ == 0) {  // the cutting force cannot excite the structure: nothing to search
+    omega_ = {omega_lo, omega_hi};
+    values_.assign(2, {});
+    unwrapped_.assign(2, {0.0, 0.0});
+    active_.assign(1, {false, false});
+    return;
+  }
   const int n0 = std::max(16, static_cast<int>(std::ceil(std::log(omega_hi / omega_lo) / opt_.max_log_step))) + 1;
   std::vector<double> base(static_cast<std::size_t>(n0));
   std::vector<std::array<BranchValue, 2>> base_values(base.size());
@@ -133,7 +140,17 @@ PhaseSearch::PhaseSearch(BranchEvaluator eval, int branches, double omega_lo, do
     for (int b = 0; b < branches_; ++b)
       z_scale_ = std::max(z_scale_, std::abs(base_values[static_cast<std::size_t>(i)][static_cast<std::size_t>(b)].z));
   }
-  if (!(z_scale_ > 0.0) || !std::isfinite(z_scale_)) throw NumericalError("PhaseSearch: branch values vanish or overflow");
+  if (!std::isfinite(z_scale_)) throw NumericalError("PhaseSearch: branch values overflow");
+  if (!(z_scale_ > 0.0)) {
+    // H₀G vanishes at every frequency (e.g. turning, whose force is along X,
+    // on modes along Y only): no depth can be unstable.
+    branches_ = 0;
+    omega_ = {omega_lo, omega_hi};
+    values_.assign(2, {});
+    unwrapped_.assign(2, {0.0, 0.0});
+    active_.assign(1, {false, false});
+    return;
+  }
 
   // Left-to-right adaptive refinement: each new sample is matched to the last
   // accepted one, and an interval is split while it moves too much.

@@ -54,7 +54,7 @@ struct PhaseRoot {
 
 class PhaseSearch {
  public:
-  /// @param branches 1 or 2.
+  /// @param branches 0 (nothing can be unstable), 1 or 2.
   /// @param omega_lo, omega_hi frequency band searched, rad/s.
   /// @param depth_max_m deepest limit of interest, m.
   PhaseSearch(BranchEvaluator eval, int branches, double omega_lo, double omega_hi, double depth_max_m,
