@@ -1,5 +1,7 @@
 #include "phase_search.hpp"
 
+#include "roots.hpp"
+
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -69,55 +71,6 @@ std::pair<double, double> search_band(const StructuralModel& model, const Eigen:
   return {lo, hi};
 }
 
-double brent_root(const std::function<double(double)>& f, double a, double b, double fa, double fb,
-                  double xtol) {
-  if (fa == 0.0) return a;
-  if (fb == 0.0) return b;
-  if ((fa > 0.0) == (fb > 0.0)) throw NumericalError("brent_root: root not bracketed");
-  double c = a, fc = fa, d = b - a, e = d;
-  for (int iter = 0; iter < 200; ++iter) {
-    if ((fb > 0.0) == (fc > 0.0)) {
-      c = a;
-      fc = fa;
-      d = e = b - a;
-    }
-    if (std::abs(fc) < std::abs(fb)) {
-      a = b; b = c; c = a;
-      fa = fb; fb = fc; fc = fa;
-    }
-    const double tol = 2.0 * std::numeric_limits<double>::epsilon() * std::abs(b) + 0.5 * xtol;
-    const double m = 0.5 * (c - b);
-    if (std::abs(m) <= tol || fb == 0.0) return b;
-    if (std::abs(e) >= tol && std::abs(fa) > std::abs(fb)) {
-      double p, q;
-      const double s = fb / fa;
-      if (a == c) {  // secant
-        p = 2.0 * m * s;
-        q = 1.0 - s;
-      } else {  // inverse quadratic interpolation
-        const double qq = fa / fc, r = fb / fc;
-        p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
-        q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-      }
-      if (p > 0.0) q = -q; else p = -p;
-      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
-        e = d;
-        d = p / q;
-      } else {
-        d = m;
-        e = m;
-      }
-    } else {
-      d = m;
-      e = m;
-    }
-    a = b;
-    fa = fb;
-    b += (std::abs(d) > tol) ? d : (m > 0.0 ? tol : -tol);
-    fb = f(b);
-  }
-  return b;
-}
 
 PhaseSearch::PhaseSearch(BranchEvaluator eval, int branches, double omega_lo, double omega_hi,
                          double depth_max_m, PhaseSearchOptions options)

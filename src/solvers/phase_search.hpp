@@ -105,8 +105,6 @@ class PhaseSearch {
 /// Starts at [0.5 ω_min, 2 ω_max] and widens (down to 1e-3 ω_min).
 std::pair<double, double> search_band(const StructuralModel& model, const Eigen::Matrix2d& H0, double depth_max_m);
 
-/// Brent's root finder on [a, b] with f(a), f(b) of opposite signs (or zero).
-double brent_root(const std::function<double(double)>& f, double a, double b, double fa, double fb,
-                  double xtol);
+
 
 }  // namespace chatter::detail

@@ -4,6 +4,8 @@
 // the convergence study.
 #include "chatter/semi_discretization.hpp"
 
+#include "roots.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -351,54 +353,6 @@ class SdmKernel {
   const SemiDiscretizationOptions& o_;
 };
 
-// Brent's method (zeroin) for f(a) = 0 on [a, b] with f(a) < 0 <= f(b).
-template <class F>
-double brent(F&& f, double a, double b, double fa, double fb, double xtol) {
-  double c = a, fc = fa, d = b - a, e = d;
-  for (int it = 0; it < 200; ++it) {
-    if ((fb > 0 && fc > 0) || (fb < 0 && fc < 0)) {
-      c = a;
-      fc = fa;
-      d = e = b - a;
-    }
-    if (std::abs(fc) < std::abs(fb)) {
-      a = b; b = c; c = a;
-      fa = fb; fb = fc; fc = fa;
-    }
-    const double tol = 2.0 * std::numeric_limits<double>::epsilon() * std::abs(b) + 0.5 * xtol;
-    const double m = 0.5 * (c - b);
-    if (std::abs(m) <= tol || fb == 0.0) return b;
-    if (std::abs(e) >= tol && std::abs(fa) > std::abs(fb)) {
-      double p, q, r;
-      const double s = fb / fa;
-      if (a == c) {
-        p = 2.0 * m * s;
-        q = 1.0 - s;
-      } else {
-        q = fa / fc;
-        r = fb / fc;
-        p = s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0));
-        q = (q - 1.0) * (r - 1.0) * (s - 1.0);
-      }
-      if (p > 0) q = -q; else p = -p;
-      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
-        e = d;
-        d = p / q;
-      } else {
-        d = m;
-        e = m;
-      }
-    } else {
-      d = m;
-      e = m;
-    }
-    a = b;
-    fa = fb;
-    b += (std::abs(d) > tol) ? d : (m > 0 ? tol : -tol);
-    fb = f(b);
-  }
-  return b;
-}
 
 }  // namespace
 
@@ -673,7 +627,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
       flo = fhi;
     }
   }
-  const double root = brent(log_rho, lo, hi, flo, fhi, options_.depth_tolerance * lo);
+  const double root = detail::brent_root(log_rho, lo, hi, flo, fhi, options_.depth_tolerance * lo);
   lim.depth_limit_m = root;
   const FloquetResult fr = analyse(rpm, root);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;
