@@ -1,22 +1,56 @@
 #!/usr/bin/env bash
-# Fuzzes the config loader (and the analytic solver on what it accepts) with
-# libFuzzer for a set time. Usage: scripts/fuzz.sh [seconds=60]
+# Fuzzes one parser with libFuzzer (+ ASan + UBSan) for a set time.
+# Usage: scripts/fuzz.sh [TARGET=config] [seconds=60]
+#   config      the TOML config loader, and the analytic solver on what it accepts (fuzz/fuzz_config.cpp)
+#   frf         the FRF readers: CSV, tab .frf, UFF 58/58b (fuzz/fuzz_frf.cpp)
+#   operations  the operations-file reader (fuzz/fuzz_operations.cpp)
+# `scripts/fuzz.sh 300` (a number first) fuzzes the config loader for 300 s.
 # Needs clang and its runtime (Debian: clang libclang-rt-14-dev); installs them if missing.
-# New inputs that increase coverage go to build-fuzz/corpus/; a crash leaves
-# crash-* files in build-fuzz/: copy each into fuzz/corpus/config/ and fix it.
+# Seeds: fuzz/corpus/TARGET/. New inputs that increase coverage go to
+# build-fuzz/corpus/ (config) or build-fuzz/corpus-TARGET/; a crash leaves
+# crash-* (config) or TARGET-crash-* files in build-fuzz/: copy each into
+# fuzz/corpus/TARGET/ as crash_<what>.<ext> and fix it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+target=config
+if [ $# -gt 0 ] && ! [[ "$1" =~ ^[0-9]+$ ]]; then
+  target=$1
+  shift
+fi
+seconds=${1:-60}
+case "$target" in
+  config)
+    srcs="src/io/config.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
+          src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp"
+    max_len=4096 corpus=corpus prefix="" ;;
+  frf)
+    srcs="src/io/frf_reader.cpp src/model/structural_model.cpp"
+    max_len=8192 corpus=corpus-frf prefix="frf-" ;;
+  operations)
+    srcs="src/ops/operations.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
+          src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp src/solvers/factory.cpp
+          src/solvers/semi_discretization.cpp"
+    max_len=4096 corpus=corpus-operations prefix="operations-" ;;
+  *)
+    echo "fuzz.sh: unknown target '$target' (config, frf or operations)" >&2
+    exit 2 ;;
+esac
+if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
+  echo "fuzz.sh: seconds must be a positive integer, got '$seconds'" >&2
+  exit 2
+fi
+
 bash scripts/setup.sh
 if ! command -v clang++ >/dev/null || ! dpkg-query -W -f='${Status}' libclang-rt-14-dev 2>/dev/null | grep -q "ok installed"; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang libclang-rt-14-dev >/dev/null
 fi
-seconds=${1:-60}
-mkdir -p build-fuzz/corpus
-srcs="src/io/config.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
-      src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp fuzz/fuzz_config.cpp"
+mkdir -p "build-fuzz/$corpus"
 # shellcheck disable=SC2086
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -Iinclude -Isrc/solvers -I/usr/include/eigen3 $srcs -ltomlplusplus -o build-fuzz/fuzz_config
-cp -n fuzz/corpus/config/* build-fuzz/corpus/ 2>/dev/null || true
+  -Iinclude -Isrc/solvers -I/usr/include/eigen3 $srcs "fuzz/fuzz_$target.cpp" -ltomlplusplus \
+  -o "build-fuzz/fuzz_$target"
+cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true
 cd build-fuzz
-./fuzz_config -max_total_time="$seconds" -max_len=4096 -timeout=10 -print_final_stats=1 corpus 2>&1 | tail -n 25
+"./fuzz_$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -print_final_stats=1 \
+  -artifact_prefix="./$prefix" "$corpus" 2>&1 | tail -n 25

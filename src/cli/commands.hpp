@@ -9,5 +9,6 @@ namespace chatter::cli {
 
 int cmd_check(const std::vector<std::string>& args);      // src/cli/cmd_operations.cpp
 int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operations.cpp
+int cmd_fit(const std::vector<std::string>& args);        // src/cli/cmd_fit.cpp
 
 }  // namespace chatter::cli

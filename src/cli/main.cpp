@@ -44,6 +44,8 @@ Commands:
   recommend  The speed and depth that remove the most material while stable
              (with a safety factor) and within spindle power and torque.
   map        Floquet spectral radius on a speed x depth grid (--method sdm).
+  fit        Fit modes (frequency, damping, stiffness) to a measured FRF (tap
+             test: CSV, .frf or UFF 58) and write them as config modes.
   frf        Receptance (m/N) of the tool, the workpiece and the relative motion,
              the frequency response the lobes are computed from.
 
@@ -407,8 +409,9 @@ int main(int argc, char** argv) {
     if (cmd == "map") return cmd_map(args);
     if (cmd == "check") return cmd_check(args);
     if (cmd == "recommend") return cmd_recommend(args);
+    if (cmd == "fit") return cmd_fit(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, frf; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, fit, frf; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";

@@ -310,6 +310,14 @@ struct UffContext {
   [[noreturn]] void fail(int line, const std::string& what) const { throw InputError(at(line) + ": " + what); }
 };
 
+// A header type code read as a number: blank = 0; anything but an integer of
+// modest size (inf, NaN, 1e300, 8.5) = -1, an unknown type (never cast out of
+// range: that is undefined behaviour).
+long long type_code(const std::optional<double>& v) {
+  if (!v) return 0;
+  return (*v == std::floor(*v) && std::abs(*v) < 1e9) ? static_cast<long long>(*v) : -1;
+}
+
 /// Fixed-width integer fields with a whitespace fallback.
 std::vector<std::optional<double>> header_fields(std::string_view l, std::initializer_list<int> widths) {
   std::vector<std::optional<double>> fixed;
@@ -575,7 +583,7 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
       }
       return std::nullopt;
     }
-    auto field = [&](std::size_t b, std::size_t w) -> int {
+    auto field = [l = l](std::size_t b, std::size_t w) -> int {  // by value: clang < 16 cannot capture a structured binding
       if (b >= l.size()) return 0;
       const auto v = parse_integer(l.substr(b, w));
       return v ? static_cast<int>(*v) : 0;
@@ -616,7 +624,7 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
   {
     const auto& [ln9, l9] = hdr[8];
     const auto r9 = header_fields(l9, {10});
-    const long long num = r9[0] ? static_cast<long long>(*r9[0]) : 0;
+    const long long num = type_code(r9[0]);
     std::optional<FrfQuantity> q;
     if (num == 8) q = FrfQuantity::kReceptance;
     else if (num == 11) q = FrfQuantity::kMobility;
@@ -633,7 +641,7 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
     }
     const auto& [ln10, l10] = hdr[9];
     const auto r10 = header_fields(l10, {10});
-    const long long den = r10[0] ? static_cast<long long>(*r10[0]) : 0;
+    const long long den = type_code(r10[0]);
     if (!options.quantity && den != 0 && den != 1 && den != 9 && den != 13)
       ctx.fail(ln10, "header record 10: ordinate denominator is " + std::string(spec_type_name(den)) + " (data type " +
                          std::to_string(den) + "), not force (13)");
