@@ -887,4 +887,30 @@ TEST_F(CliTest, RejectsBadSolverOptions) {
   expect_rejected(run({"lobes", cfg, "--threads", "-1", "--table", t.string()}), {"threads"}, {t}, "--threads -1");
 }
 
+// ================================================================= compare
+
+TEST_F(CliTest, CompareAgreesOnTurningAndExplainsFlipLobesInMilling) {
+  const fs::path js = path("cmp.json"), t = path("cmp.csv");
+  auto r = run({"compare", config_path("seed_turning_1dof.toml").string(), "--rpm-min", "300", "--rpm-max", "2000",
+                "--rpm-points", "15", "--table", t.string(), "--json", js.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(split_lines(slurp(t))[0],
+            "spindle_rpm,depth_limit_mm_analytic,depth_limit_mm_coupled,depth_limit_mm_sdm,multiplier_type_sdm");
+  auto j = nlohmann::json::parse(slurp(js));
+  ASSERT_EQ(j["pairs"].size(), 3u);
+  EXPECT_LT(j["pairs"][0]["largest_relative_difference"].get<double>(), 1e-8);  // analytic vs coupled
+  EXPECT_LT(j["pairs"][1]["largest_relative_difference"].get<double>(), 5e-3);  // analytic vs sdm: sdm's 0.5 %
+  EXPECT_TRUE(contains(r.out, "discretisation error")) << r.out;
+
+  r = run({"compare", config_path("milling_benchmark_ae005_down.toml").string(), "--rpm-min", "14000", "--rpm-max",
+           "18200", "--rpm-points", "8", "--table", t.string(), "--json", js.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(slurp(js));
+  // In the flip lobe sdm finds chatter the averaged method misses or puts far deeper.
+  EXPECT_TRUE(j["pairs"][1]["bounded_only_by_second"].get<int>() > 0 ||
+              j["pairs"][1]["largest_relative_difference"].get<double>() > 0.2)
+      << j.dump();
+  EXPECT_TRUE(contains(r.out, "flip")) << r.out;
+}
+
 }  // namespace

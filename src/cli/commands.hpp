@@ -10,5 +10,6 @@ namespace chatter::cli {
 int cmd_check(const std::vector<std::string>& args);      // src/cli/cmd_operations.cpp
 int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operations.cpp
 int cmd_fit(const std::vector<std::string>& args);        // src/cli/cmd_fit.cpp
+int cmd_compare(const std::vector<std::string>& args);    // src/cli/cmd_compare.cpp
 
 }  // namespace chatter::cli

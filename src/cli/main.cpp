@@ -44,6 +44,7 @@ Commands:
   recommend  The speed and depth that remove the most material while stable
              (with a safety factor) and within spindle power and torque.
   map        Floquet spectral radius on a speed x depth grid (--method sdm).
+  compare    Every method at the same speeds, one table, and how far they differ.
   fit        Fit modes (frequency, damping, stiffness) to a measured FRF (tap
              test: CSV, .frf or UFF 58) and write them as config modes.
   frf        Receptance (m/N) of the tool, the workpiece and the relative motion,
@@ -401,7 +402,7 @@ int main(int argc, char** argv) {
     }
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
-        cmd == "fit")
+        cmd == "fit" || cmd == "compare")
       command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
@@ -410,8 +411,9 @@ int main(int argc, char** argv) {
     if (cmd == "check") return cmd_check(args);
     if (cmd == "recommend") return cmd_recommend(args);
     if (cmd == "fit") return cmd_fit(args);
+    if (cmd == "compare") return cmd_compare(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, fit, frf; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, fit, frf; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";
