@@ -217,15 +217,7 @@ double phase_deg(Complex z) {
   return p;
 }
 
-std::string gp_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "''";
-    else if (c == '\n' || c == '\r') out += ' ';
-    else out += c;
-  }
-  return out + "'";
-}
+std::string gp_quote(const std::string& s) { return gnuplot_quote(s); }
 
 // The plot's data and script (measured points and fitted curve of every
 // record: magnitude over phase), named after the image like plot.hpp does.

@@ -30,6 +30,18 @@ extern char** environ;
 
 namespace chatter {
 
+// A gnuplot single-quoted string: only ' needs escaping (doubled); no
+// backslash processing, so paths and titles pass through unchanged.
+std::string gnuplot_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') out += "''";
+    else if (c == '\n' || c == '\r') out += ' ';
+    else out += c;
+  }
+  return out + "'";
+}
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -66,17 +78,7 @@ std::string short_num(double x, int digits = 4) {
   return buf;
 }
 
-// A gnuplot single-quoted string: only ' needs escaping (doubled); no
-// backslash processing, so paths and titles pass through unchanged.
-std::string quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "''";
-    else if (c == '\n' || c == '\r') out += ' ';
-    else out += c;
-  }
-  return out + "'";
-}
+std::string quote(const std::string& s) { return gnuplot_quote(s); }
 
 // Text for a `#` comment line: line breaks become spaces.
 std::string one_line(std::string s) {

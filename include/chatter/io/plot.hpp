@@ -126,4 +126,8 @@ PlotFiles plot_frf(const std::filesystem::path& image, const std::string& title,
 /// @throws GnuplotNotFound, PlotError.
 void run_gnuplot(const std::filesystem::path& script);
 
+/// `s` as a gnuplot single-quoted string (' doubled, line breaks as spaces),
+/// for scripts written beside an image.
+std::string gnuplot_quote(const std::string& s);
+
 }  // namespace chatter
