@@ -12,7 +12,7 @@
 
 namespace chatter {
 
-/// The method names this build provides, e.g. {"analytic", "coupled", "sdm"}.
+/// The method names this build provides: {"analytic", "coupled", "sdm", "time-domain"}.
 std::vector<std::string> lobe_methods();
 
 /// True when `method` names a solver this build provides.

@@ -81,6 +81,13 @@ void add_solver_options(po::options_description& d) {
   d.add_options()
       ("steps", po::value<int>(), "sdm: steps per delay period (default 64; the step is also at most 1/64 of the "
                                   "shortest natural period); more steps: more accurate, slower")
+      ("periods", po::value<int>(), "time-domain: delay periods simulated per verdict (default 200; the last half is "
+                                    "analysed); more: sharper verdict near the limit, slower")
+      ("feed-per-tooth-mm", po::value<double>(), "time-domain: feed per tooth (milling) or per revolution (turning), "
+                                                 "mm (default 0.1); sets where the tool leaves the cut")
+      ("multiple-regeneration", "time-domain: the chip is cut from the surface left by all earlier passes")
+      ("linear", "time-domain: linear delay equation (no static chip, the tool never leaves the cut); the verdict "
+                 "is the growth factor per period")
       ("threads", po::value<int>()->default_value(0), "threads for the sweep (0 = every core); the result does not "
                                                       "depend on it")
       ("quiet,q", "no progress bar");
@@ -95,6 +102,9 @@ unsigned thread_count(const po::variables_map& vm) {
 BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
                          const po::variables_map& vm) {
   BuiltSolver b;
+  if (method != "time-domain")
+    for (const char* opt : {"periods", "feed-per-tooth-mm", "multiple-regeneration", "linear"})
+      if (vm.count(opt)) throw InputError(std::string("--") + opt + ": only with --method time-domain");
   if (method == "sdm") {
     SemiDiscretizationOptions o;
     o.depth_max_m = depth_max_m;
@@ -115,6 +125,35 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
     return b;
   }
   if (vm.count("steps")) throw InputError("--steps: only with --method sdm");
+  if (method == "time-domain") {
+    TimeDomainOptions o;
+    o.depth_max_m = depth_max_m;
+    if (vm.count("periods")) {
+      o.periods = vm["periods"].as<int>();
+      if (o.periods < 20 || o.periods > 100000)
+        throw InputError("--periods = " + std::to_string(o.periods) + ": must be in [20, 100000]");
+    }
+    if (vm.count("feed-per-tooth-mm")) {
+      const double f = vm["feed-per-tooth-mm"].as<double>();
+      if (!(std::isfinite(f) && f >= 0.0 && f <= 100.0))
+        throw InputError("--feed-per-tooth-mm = " + fmt(f) + ": must be in [0, 100] mm");
+      o.feed_m = f * 1e-3;
+    }
+    o.multiple_regeneration = vm.count("multiple-regeneration") > 0;
+    o.linear = vm.count("linear") > 0;
+    auto s = std::make_unique<TimeDomainSolver>(cfg.model, cfg.process, o);
+    b.td = s.get();
+    b.solver = std::move(s);
+    b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
+                                    {"periods", o.periods},
+                                    {"feed_m", o.feed_m},
+                                    {"linear", o.linear},
+                                    {"multiple_regeneration", o.multiple_regeneration},
+                                    {"relative_tolerance", o.relative_tolerance},
+                                    {"depth_tolerance", o.depth_tolerance}}
+                         .dump();
+    return b;
+  }
   TransferFunctionOptions o;
   o.depth_max_m = depth_max_m;
   auto s = make_transfer_function_solver(method, cfg.model, cfg.process, o);

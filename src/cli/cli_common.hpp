@@ -49,6 +49,7 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg);
 
 #include "chatter/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
+#include "chatter/time_domain.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace chatter::cli {
@@ -62,6 +63,7 @@ struct BuiltSolver {
   std::unique_ptr<LobeSolver> solver;
   const TransferFunctionSolver* tf = nullptr;
   const SemiDiscretizationSolver* sdm = nullptr;
+  const TimeDomainSolver* td = nullptr;
   std::string options_json;  ///< the solver's options, for the JSON provenance
 };
 /// @throws InputError on an unknown method or bad option.

@@ -11,5 +11,6 @@ int cmd_check(const std::vector<std::string>& args);      // src/cli/cmd_operati
 int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operations.cpp
 int cmd_fit(const std::vector<std::string>& args);        // src/cli/cmd_fit.cpp
 int cmd_compare(const std::vector<std::string>& args);    // src/cli/cmd_compare.cpp
+int cmd_simulate(const std::vector<std::string>& args);   // src/cli/cmd_simulate.cpp
 
 }  // namespace chatter::cli

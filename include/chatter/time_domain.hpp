@@ -1,0 +1,213 @@
+// Time-domain simulation of the regenerative delay equation with the real,
+// nonlinear chip: the `time-domain` solver (PHYSICS.md §2, §3, §6).
+//
+// Equations (modal coordinates, PHYSICS §2–3):
+//   q̈_i + 2 ζ_i ω_i q̇_i + ω_i² q_i = (1/m_i) S_iᵀ F(t),   r = S q (relative, m)
+// Force on the tool, N (the workpiece gets −F):
+//   turning: h = f + r_x(t) − r_x(t − τ),                    F = (−a K_f max(0, h), 0)
+//   milling: h_j = f_z sin φ_j + n_j·(r(t) − r(t − τ)),  n_j = (sin φ_j, cos φ_j),
+//            F = Σ_{j cutting} −a max(0, h_j) (K_t cos φ_j + K_r sin φ_j, −(K_t sin φ_j − K_r cos φ_j))
+// f is the feed per revolution (turning) or per tooth (milling); a the depth.
+// With multiple regeneration the chip is measured against the surface left by
+// every earlier pass, not only the last one:
+//   h(t) = h_single(t) − max(0, −h(t − τ))   (the gap the last pass left in air).
+// Linear mode drops the static chip and the max(0, ·): F = −a H(t)(r − r(t − τ)),
+// the equation whose Floquet multipliers `sdm` computes.
+//
+// Integrator: SUNDIALS CVODE, variable-order Adams–Moulton (order <= 5) with
+// fixed-point iteration — the structural modes are lightly damped and not
+// stiff, so no Jacobian or linear solve is needed, and CVODE's root finding
+// stops the integration exactly where a tooth leaves or re-enters the cut
+// (docs/time_domain.md says why CVODE rather than ARKODE). SUNDIALS has no
+// delays: the delayed relative displacement comes from a history ring buffer
+// holding about one delay of samples (r, ṙ, r̈ at a uniform grid plus every
+// event), interpolated by quintic Hermite polynomials (order 6 >= the
+// integrator's order 5). Memory does not grow with simulated time.
+// Discontinuities are stop points, never stepped across: tooth entry and exit
+// (milling), the start of the cut and its delay-propagated images t = kτ
+// (k <= 6, after which the jump is in a derivative above the method's order),
+// and — nonlinear mode — the instants a chip thickness crosses zero. The
+// integrator restarts at each of them.
+//
+// Thread safety: the simulator and the lobe solver are immutable after
+// construction; simulate() allocates its own SUNDIALS context, so several
+// threads may call it at once.
+#pragma once
+
+#include <complex>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "chatter/lobes.hpp"
+#include "chatter/process.hpp"
+#include "chatter/structural_model.hpp"
+
+namespace chatter {
+
+struct TimeDomainOptions {
+  /// CVODE relative tolerance (in [1e-12, 1e-2]). The absolute tolerance is
+  /// relative_tolerance × a displacement scale (the static deflection of the
+  /// static chip force, or the initial perturbation in linear mode), and that
+  /// scale × ω_i for the modal velocities.
+  double relative_tolerance = 1e-7;
+  /// History samples per delay period (>= 8) ...
+  int samples_per_period = 64;
+  /// ... and per period of the highest natural frequency (>= 8): the sample
+  /// spacing is τ / M with M the smallest integer meeting both.
+  int samples_per_vibration_cycle = 32;
+  /// Largest number of history samples per delay (guards memory at very low
+  /// speed; a run needing more is refused with an InputError).
+  int max_samples_per_period = 200000;
+  /// Largest number of integrator steps in one simulation.
+  long max_steps = 20000000;
+
+  // --- lobes by simulation (TimeDomainSolver) ---
+  /// Delay periods simulated per verdict (>= 20). The last half is analysed.
+  int periods = 200;
+  /// Deepest cut searched, m (> 0). Limits above it are reported as +inf.
+  double depth_max_m = 0.05;
+  /// Relative width of the final depth bracket (in (0, 0.5)).
+  double depth_tolerance = 0.01;
+  /// Feed per tooth (milling) or per revolution (turning), m (>= 0), used by
+  /// the lobe search; only sets the amplitude at which the tool leaves the cut.
+  double feed_m = 1e-4;
+  /// Multiple regeneration in the lobe search.
+  bool multiple_regeneration = false;
+  /// Lobe search in linear mode (verdict from the growth factor).
+  bool linear = false;
+
+  /// Empty string when valid, else the violated rule (Ceres-style).
+  std::string validate() const;
+};
+
+/// One simulation run.
+struct SimulationSettings {
+  double spindle_rpm = 0.0;   ///< > 0.
+  double depth_m = 0.0;       ///< >= 0 (axial depth for milling, width of cut for turning).
+  int periods = 200;          ///< delay periods to simulate (>= 4).
+  /// Feed per tooth (milling) or per revolution (turning), m (>= 0).
+  /// Ignored in linear mode.
+  double feed_m = 1e-4;
+  bool linear = false;
+  bool multiple_regeneration = false;
+  /// Initial condition. Default: at rest (nonlinear mode; the static chip
+  /// starts the motion) or, in linear mode, every modal displacement set so
+  /// that the relative displacement is 1 µm along each direction the cut
+  /// sees. When `initial_state` is non-empty it is [q; q̇] (2n, modal
+  /// coordinates in the order of modal_matrices(): tool modes first) and the
+  /// history before t = 0 is held at the initial displacement.
+  std::vector<double> initial_state;
+  /// Record the time series (every history sample). Lobe searches turn it off.
+  bool record_series = true;
+  /// Analyse the last `analysed_fraction` of the periods (in (0, 1]).
+  double analysed_fraction = 0.5;
+};
+
+/// One row of the time series (SI units).
+struct SeriesSample {
+  double t_s = 0.0;
+  double tool_x_m = 0.0, tool_y_m = 0.0;
+  double workpiece_x_m = 0.0, workpiece_y_m = 0.0;
+  double rel_x_m = 0.0, rel_y_m = 0.0;   ///< tool − workpiece.
+  double force_x_n = 0.0, force_y_n = 0.0;  ///< on the tool.
+  /// Largest chip thickness over the teeth inside the cutting arc, m
+  /// (0 when none is or all are in air). Linear mode: the unclipped value.
+  double chip_m = 0.0;
+  /// True when at least one tooth is removing material (h > 0 inside the arc).
+  bool in_cut = false;
+};
+
+/// A peak of the relative-displacement spectrum.
+struct SpectralPeak {
+  double frequency_hz = 0.0;
+  double amplitude_m = 0.0;
+  int harmonic = 0;  ///< k for k × tooth-passing (spindle, turning) frequency; 0 if not a harmonic.
+};
+
+enum class SimulationVerdict { kStable, kChatter };
+/// "stable" or "chatter".
+std::string to_string(SimulationVerdict v);
+
+struct SimulationResult {
+  SimulationVerdict verdict = SimulationVerdict::kStable;
+  /// The measure the verdict rests on, in words with its numbers.
+  std::string verdict_measure;
+  /// Estimate of the dominant Floquet multiplier |μ| per delay period from
+  /// the once-per-period states of the analysed window (exact dynamic mode
+  /// decomposition of the period-to-period map). Linear mode: of the states;
+  /// nonlinear mode: of the increments between consecutive periods, which
+  /// obey the linear map while the tool stays in the cut. NaN when the
+  /// increments had already fallen to the integration noise.
+  double growth_per_period = 0.0;
+  /// The corresponding multiplier (Im >= 0).
+  std::complex<double> dominant_multiplier{0.0, 0.0};
+  /// Chatter frequency (Hz): the largest spectral peak that is not a
+  /// tooth-passing harmonic, when the verdict is chatter; NaN otherwise.
+  double chatter_frequency_hz = 0.0;
+  /// That peak whatever the verdict (the least damped vibration); NaN if none.
+  double dominant_nonharmonic_hz = 0.0;
+  /// Largest |r| (relative displacement, m) over the analysed window.
+  double max_amplitude_m = 0.0;
+  /// Fraction of the analysed window's cutting-arc time in which the teeth in
+  /// the arc were all in air (h <= 0). 0 in linear mode.
+  double out_of_cut_fraction = 0.0;
+  double delay_s = 0.0;
+  double tooth_passing_hz = 0.0;  ///< 1/τ.
+  int periods = 0;
+  int analysed_from_period = 0;
+
+  std::vector<SeriesSample> series;          ///< empty unless record_series.
+  std::vector<SeriesSample> once_per_period; ///< at t = kτ, k = 0..periods.
+  /// Amplitude spectrum (m) of the relative displacement over the analysed
+  /// window (Hann window, |X| combined over x and y), from 0 to Nyquist.
+  std::vector<double> spectrum_hz, spectrum_amplitude_m;
+  std::vector<SpectralPeak> harmonics;  ///< tooth-passing harmonics up to the highest natural frequency × 3.
+
+  // Cost of the run.
+  long steps = 0, rhs_evaluations = 0, restarts = 0, root_stops = 0;
+  /// History ring buffer: capacity and the most entries held at once.
+  std::size_t history_capacity = 0, history_max_entries = 0;
+  int samples_per_period = 0;
+};
+
+class TimeDomainSimulator {
+ public:
+  /// @throws InputError if the options are invalid or both bodies are rigid.
+  TimeDomainSimulator(StructuralModel model, Process process, TimeDomainOptions options = {});
+
+  /// One run. @throws InputError on rpm <= 0, depth < 0, periods < 4, a
+  /// negative feed, a wrong-sized initial state, or a speed needing more than
+  /// max_samples_per_period samples; NumericalError if CVODE fails.
+  SimulationResult simulate(const SimulationSettings& settings) const;
+
+  const StructuralModel& model() const { return model_; }
+  const Process& process() const { return process_; }
+  const TimeDomainOptions& options() const { return options_; }
+
+ private:
+  StructuralModel model_;
+  Process process_;
+  TimeDomainOptions options_;
+};
+
+/// Lobes by simulation: per speed, the depth where the verdict changes from
+/// stable to chatter (scan upward by factors of 2 from 1/16 of the
+/// zeroth-order estimate, then bisection to depth_tolerance). Cost: about
+/// 10–14 simulations of options.periods periods per speed.
+class TimeDomainSolver final : public LobeSolver {
+ public:
+  TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {});
+  std::string method() const override { return "time-domain"; }
+  /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
+  StabilityLimit limit_at(double spindle_rpm) const override;
+  double depth_max_m() const override { return simulator_.options().depth_max_m; }
+  const TimeDomainSimulator& simulator() const { return simulator_; }
+  /// The verdict run used for one (speed, depth) point of the search.
+  SimulationResult verdict_run(double spindle_rpm, double depth_m) const;
+
+ private:
+  TimeDomainSimulator simulator_;
+};
+
+}  // namespace chatter
