@@ -209,7 +209,7 @@ class Model {
     const double pitch = 2.0 * kPi / teeth_;
     for (double phi : {phi_en_, phi_ex_}) {
       const double t0 = std::fmod(phi, pitch) / omega_spindle_;
-      for (double t = t0; t <= t_end; t += tau_) out.push_back(t);
+      for (long k = 0; t0 + static_cast<double>(k) * tau_ <= t_end; ++k) out.push_back(t0 + static_cast<double>(k) * tau_);
     }
     return out;
   }
@@ -513,9 +513,10 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
   {
     std::vector<double> merged;
     for (double t : stops) {
-      if (t <= 1e-12 * tau) continue;
+      if (t <= 1e-9 * tau || t >= t_end - 1e-9 * tau) continue;
       if (merged.empty() || t - merged.back() > 1e-9 * tau) merged.push_back(t);
     }
+    merged.push_back(t_end);  // always the last stop, exactly
     stops.swap(merged);
   }
 

@@ -1,0 +1,272 @@
+// The `time-domain` solver (SUNDIALS CVODE, PHYSICS.md §6) against closed
+// forms (free vibration), against Floquet theory (`sdm`: growth factor per
+// period vs spectral radius, verdicts either side of the sdm limit, in a
+// Hopf and in a flip lobe, chatter frequency), for bounded nonlinear
+// chatter, for a history buffer that does not grow with simulated time, and
+// for bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/semi_discretization.hpp"
+#include "chatter/time_domain.hpp"
+
+namespace chatter {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Tolerances.
+// Growth factor per period (exact DMD of the simulated once-per-period map)
+// vs sdm's spectral radius at 64 steps: measured agreement 1e-4…3e-4; the
+// issue asks for about 1 %.
+constexpr double kGrowthVsSdm = 5e-3;
+// Chatter frequency of a saturated (nonlinear) chatter vs sdm at the limit:
+// the amplitude-dependent nonlinear vibration drifts from the linear one by
+// up to 1.6 % in the runs of docs/time_domain.md.
+constexpr double kChatterFrequency = 0.03;
+
+Config config(const std::string& name) { return load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/" + name); }
+
+// Exact free vibration of one mode from (q0, v0).
+double free_vibration(double t, double f_hz, double zeta, double q0, double v0) {
+  const double w = 2 * kPi * f_hz, wd = w * std::sqrt(1 - zeta * zeta);
+  return std::exp(-zeta * w * t) * (q0 * std::cos(wd * t) + (v0 + zeta * w * q0) / wd * std::sin(wd * t));
+}
+
+// Largest error of the simulated displacement against the exact free
+// vibration of a tool mode along X and a workpiece mode at 30°, depth 0.
+double free_vibration_error(double rtol) {
+  StructuralModel model;
+  model.tool.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1, 0}));
+  model.workpiece.modes.push_back(Mode::from_stiffness(310.0, 0.02, 8e6, {std::cos(kPi / 6), std::sin(kPi / 6)}));
+  TimeDomainOptions o;
+  o.relative_tolerance = rtol;
+  TimeDomainSimulator sim(model, Process::turning({2.4e9}), o);
+  SimulationSettings s;
+  s.spindle_rpm = 3000;
+  s.depth_m = 0.0;
+  s.periods = 40;  // 0.8 s: 75 tool and 250 workpiece cycles
+  s.linear = true;
+  s.initial_state = {2e-6, -1e-6, 1e-3, 4e-3};  // q_tool, q_work, q̇_tool, q̇_work
+  const SimulationResult r = sim.simulate(s);
+  EXPECT_EQ(r.series.size(), static_cast<std::size_t>(40 * r.samples_per_period + 1));
+  double err = 0.0, peak = 0.0;
+  for (const SeriesSample& x : r.series) {
+    const double qt = free_vibration(x.t_s, 94.22, 0.033, 2e-6, 1e-3);
+    const double qw = free_vibration(x.t_s, 310.0, 0.02, -1e-6, 4e-3);
+    err = std::max({err, std::abs(x.tool_x_m - qt), std::abs(x.tool_y_m),
+                    std::abs(x.workpiece_x_m - qw * std::cos(kPi / 6)),
+                    std::abs(x.workpiece_y_m - qw * std::sin(kPi / 6)),
+                    std::abs(x.rel_x_m - (qt - qw * std::cos(kPi / 6)))});
+    peak = std::max(peak, std::abs(qt));
+  }
+  EXPECT_GT(peak, 1e-6);
+  return err / peak;
+}
+
+TEST(TimeDomainFreeVibration, MatchesExactSolutionAndErrorFallsWithTolerance) {
+  const double e6 = free_vibration_error(1e-6);
+  const double e8 = free_vibration_error(1e-8);
+  const double e10 = free_vibration_error(1e-10);
+  // Global error within a small multiple of the tolerance …
+  EXPECT_LT(e6, 300 * 1e-6) << e6;
+  EXPECT_LT(e8, 300 * 1e-8) << e8;
+  // … and falling when it is tightened.
+  EXPECT_LT(e8, e6 / 10) << e6 << " " << e8;
+  EXPECT_LT(e10, e8 / 10) << e8 << " " << e10;
+}
+
+struct GrowthCase {
+  const char* config;
+  double rpm, depth_mm;
+};
+
+TEST(TimeDomainLinear, GrowthPerPeriodMatchesSdmSpectralRadius) {
+  const std::vector<GrowthCase> cases = {
+      {"milling_benchmark_ae005_down.toml", 8000, 1.9},   // Hopf, stable
+      {"milling_benchmark_ae005_down.toml", 12000, 2.0},  // Hopf, unstable
+      {"milling_benchmark_ae005_down.toml", 17000, 3.6},  // flip lobe, unstable
+      {"milling_benchmark_ae005_down.toml", 20000, 1.0},  // stable
+      {"seed_turning_1dof.toml", 1000, 1.5},              // turning, unstable
+      {"seed_turning_1dof.toml", 3000, 2.1},              // turning, stable
+  };
+  for (const GrowthCase& c : cases) {
+    const Config cfg = config(c.config);
+    SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+    const FloquetResult f = sdm.analyse(c.rpm, c.depth_mm * 1e-3);
+    TimeDomainSimulator sim(cfg.model, cfg.process);
+    SimulationSettings s;
+    s.spindle_rpm = c.rpm;
+    s.depth_m = c.depth_mm * 1e-3;
+    s.periods = 120;
+    s.linear = true;
+    s.record_series = false;
+    const SimulationResult r = sim.simulate(s);
+    SCOPED_TRACE(std::string(c.config) + " at " + std::to_string(c.rpm) + " rev/min, " + std::to_string(c.depth_mm) +
+                 " mm");
+    EXPECT_NEAR(r.growth_per_period / f.spectral_radius, 1.0, kGrowthVsSdm)
+        << "td " << r.growth_per_period << " sdm " << f.spectral_radius;
+    // The dominant multipliers themselves agree (same type, same argument).
+    EXPECT_LT(std::abs(r.dominant_multiplier - f.dominant_multiplier), 2 * kGrowthVsSdm * f.spectral_radius)
+        << r.dominant_multiplier << " vs " << f.dominant_multiplier;
+    EXPECT_EQ(r.verdict == SimulationVerdict::kStable, f.stable());
+  }
+}
+
+TEST(TimeDomainNonlinear, VerdictChangesAcrossTheSdmLimitInHopfAndFlipLobes) {
+  const Config cfg = config("milling_benchmark_ae005_down.toml");
+  SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  bool saw_flip = false;
+  for (double rpm : {8000.0, 12000.0, 17000.0, 20000.0}) {
+    FloquetResult at_limit;
+    const StabilityLimit lim = sdm.limit_at(rpm, &at_limit);
+    ASSERT_TRUE(lim.bounded());
+    for (double factor : {0.9, 1.1}) {
+      SimulationSettings s;
+      s.spindle_rpm = rpm;
+      s.depth_m = factor * lim.depth_limit_m;
+      s.periods = 200;
+      s.feed_m = 1e-4;
+      s.record_series = false;
+      const SimulationResult r = sim.simulate(s);
+      SCOPED_TRACE(std::to_string(rpm) + " rev/min, " + std::to_string(factor) + " x sdm limit: " + r.verdict_measure);
+      EXPECT_EQ(r.verdict, factor < 1 ? SimulationVerdict::kStable : SimulationVerdict::kChatter);
+      if (at_limit.type == MultiplierType::kFlip && factor > 1) {
+        saw_flip = true;
+        // Period doubling: the chatter sits at an odd multiple of half the
+        // tooth-passing frequency.
+        const double half_orders = r.chatter_frequency_hz / (0.5 * r.tooth_passing_hz);
+        EXPECT_NEAR(half_orders, std::round(half_orders), 1e-3);
+        EXPECT_EQ(static_cast<long>(std::round(half_orders)) % 2, 1);
+      }
+    }
+  }
+  EXPECT_TRUE(saw_flip) << "17 000 rev/min should be in case C's flip lobe";
+}
+
+TEST(TimeDomainNonlinear, UnstableRunStaysBoundedAndChattersNearSdmFrequency) {
+  const Config cfg = config("milling_benchmark_ae005_down.toml");
+  SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  for (double rpm : {12000.0, 20000.0}) {
+    FloquetResult at_limit;
+    const StabilityLimit lim = sdm.limit_at(rpm, &at_limit);
+    SimulationSettings s;
+    s.spindle_rpm = rpm;
+    s.depth_m = 1.5 * lim.depth_limit_m;
+    s.multiple_regeneration = true;
+    s.record_series = false;
+    s.periods = 200;
+    const SimulationResult a = sim.simulate(s);
+    s.periods = 1000;
+    const SimulationResult b = sim.simulate(s);
+    SCOPED_TRACE(std::to_string(rpm) + " rev/min: " + b.verdict_measure);
+    EXPECT_EQ(a.verdict, SimulationVerdict::kChatter);
+    EXPECT_EQ(b.verdict, SimulationVerdict::kChatter);
+    EXPECT_GT(b.out_of_cut_fraction, 0.05);  // the tool leaves the cut …
+    // … which bounds the vibration: five times longer, same amplitude.
+    EXPECT_TRUE(std::isfinite(b.max_amplitude_m));
+    EXPECT_LT(b.max_amplitude_m, 1e-3);
+    EXPECT_NEAR(b.max_amplitude_m / a.max_amplitude_m, 1.0, 0.1);
+    EXPECT_NEAR(b.chatter_frequency_hz / at_limit.chatter_frequency_hz, 1.0, kChatterFrequency)
+        << b.chatter_frequency_hz << " vs sdm " << at_limit.chatter_frequency_hz;
+  }
+}
+
+TEST(TimeDomainHistory, BufferDoesNotGrowWithSimulatedTime) {
+  const Config cfg = config("milling_benchmark_ae005_down.toml");
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  SimulationSettings s;
+  s.spindle_rpm = 17000;
+  s.depth_m = 3.6e-3;  // chatter with contact loss: root stops add entries
+  s.record_series = false;
+  s.periods = 100;
+  const SimulationResult a = sim.simulate(s);
+  s.periods = 1000;
+  const SimulationResult b = sim.simulate(s);
+  EXPECT_GT(b.root_stops, 5 * a.root_stops / 2);
+  EXPECT_EQ(a.history_capacity, b.history_capacity);
+  EXPECT_LE(b.history_max_entries, b.history_capacity);
+  // About 1.5 delays of samples, whatever the length of the run.
+  EXPECT_LT(b.history_capacity, static_cast<std::size_t>(3 * b.samples_per_period));
+}
+
+TEST(TimeDomainLobes, LimitByBisectionMatchesSdm) {
+  for (const auto& [name, rpm] : {std::pair{"milling_benchmark_ae005_down.toml", 20000.0},
+                                  std::pair{"seed_turning_1dof.toml", 3000.0}}) {
+    const Config cfg = config(name);
+    SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+    TimeDomainOptions o;
+    o.periods = 200;
+    TimeDomainSolver td(cfg.model, cfg.process, o);
+    const StabilityLimit a = td.limit_at(rpm);
+    const StabilityLimit b = sdm.limit_at(rpm);
+    ASSERT_TRUE(a.bounded());
+    // Bracket width 1 %, sdm within 0.5 % of exact.
+    EXPECT_NEAR(a.depth_limit_m / b.depth_limit_m, 1.0, 0.02) << name;
+    EXPECT_NEAR(a.chatter_frequency_hz / b.chatter_frequency_hz, 1.0, kChatterFrequency) << name;
+  }
+}
+
+TEST(TimeDomain, ReproducibleBitForBit) {
+  const Config cfg = config("milling_benchmark_ae005_down.toml");
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  SimulationSettings s;
+  s.spindle_rpm = 15000;
+  s.depth_m = 2e-3;
+  s.periods = 40;
+  const SimulationResult a = sim.simulate(s), b = sim.simulate(s);
+  ASSERT_EQ(a.series.size(), b.series.size());
+  for (std::size_t i = 0; i < a.series.size(); ++i) ASSERT_EQ(a.series[i].rel_x_m, b.series[i].rel_x_m);
+  EXPECT_EQ(a.steps, b.steps);
+}
+
+TEST(TimeDomain, RefusesBadInput) {
+  const Config cfg = config("milling_benchmark_ae005_down.toml");
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  SimulationSettings s;
+  s.spindle_rpm = 10000;
+  s.depth_m = 1e-3;
+  s.periods = 20;
+  auto bad = [&](auto mutate) {
+    SimulationSettings x = s;
+    mutate(x);
+    EXPECT_THROW(sim.simulate(x), InputError);
+  };
+  bad([](SimulationSettings& x) { x.spindle_rpm = 0; });
+  bad([](SimulationSettings& x) { x.spindle_rpm = std::nan(""); });
+  bad([](SimulationSettings& x) { x.depth_m = -1e-3; });
+  bad([](SimulationSettings& x) { x.periods = 3; });
+  bad([](SimulationSettings& x) { x.feed_m = -1e-4; });
+  bad([](SimulationSettings& x) { x.initial_state = {1.0}; });
+  bad([](SimulationSettings& x) { x.spindle_rpm = 1e-3; });  // needs too many samples per delay
+  TimeDomainOptions o;
+  o.relative_tolerance = 0.5;
+  EXPECT_THROW(TimeDomainSimulator(cfg.model, cfg.process, o), InputError);
+  EXPECT_THROW(TimeDomainSimulator(StructuralModel{}, cfg.process), InputError);
+}
+
+TEST(TimeDomain, NoCutNoMotion) {
+  // Nonlinear mode at rest with depth 0: nothing moves, stable, no NaN.
+  const Config cfg = config("seed_turning_1dof.toml");
+  TimeDomainSimulator sim(cfg.model, cfg.process);
+  SimulationSettings s;
+  s.spindle_rpm = 2000;
+  s.depth_m = 0.0;
+  s.periods = 20;
+  const SimulationResult r = sim.simulate(s);
+  EXPECT_EQ(r.verdict, SimulationVerdict::kStable);
+  EXPECT_EQ(r.max_amplitude_m, 0.0);
+  EXPECT_TRUE(std::isnan(r.chatter_frequency_hz));
+}
+
+}  // namespace
+}  // namespace chatter
