@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates plots/: the lobe diagram and the receptance plot of every config
-# in configs/, each with its gnuplot script (.gp) and data (.dat) beside it.
+# in configs/, the semi-discretisation lobes and stability map of the milling
+# configs, and the method comparison of case A and case C, each with its
+# gnuplot script (.gp) and data (.dat) beside it.
 # Usage: bash scripts/render_plots.sh   (after scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,4 +20,19 @@ for cfg in configs/milling_*.toml; do
   ./build/chatter lobes "$cfg" --method sdm --quiet --table "plots/${stem}_sdm_lobes.csv" \
     --plot "plots/${stem}_sdm_lobes.png" --plot-frequency > /dev/null
   echo "plots/${stem}_sdm_lobes.png"
+done
+# Milling: the Floquet stability map (spectral radius, Hopf and flip parts of
+# the boundary), on an 80 rev/min x 0.1 mm grid (a smaller .dat than the default).
+for cfg in configs/milling_*.toml; do
+  stem=$(basename "$cfg" .toml)
+  ./build/chatter map "$cfg" --quiet --rpm-points 251 --depth-points 101 --out /dev/null \
+    --plot "plots/${stem}_map.png" > /dev/null
+  echo "plots/${stem}_map.png"
+done
+# Every method's limit on one chart: the seed turning case (all agree) and the
+# milling benchmark (sdm's flip lobes).
+for stem in seed_turning_1dof milling_benchmark_ae005_down; do
+  ./build/chatter compare "configs/${stem}.toml" --quiet --table "plots/${stem}_compare.csv" \
+    --plot "plots/${stem}_compare.png" > /dev/null
+  echo "plots/${stem}_compare.png"
 done

@@ -913,4 +913,48 @@ TEST_F(CliTest, CompareAgreesOnTurningAndExplainsFlipLobesInMilling) {
   EXPECT_TRUE(contains(r.out, "flip")) << r.out;
 }
 
+// ================================================================= plots
+
+TEST_F(CliTest, MapAndComparePlotsAreWrittenWithScriptAndData) {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot not installed";
+  const std::string cfg = config_path("milling_benchmark_ae005_down.toml").string();
+  const fs::path csv = path("map.csv"), png = path("map.png");
+  auto r = run({"map", cfg, "--rpm-points", "12", "--depth-points", "10", "--out", csv.string(), "--plot",
+                png.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote plot: " + png.string())) << r.out;
+  EXPECT_EQ(split_lines(slurp(csv)).size(), 1u + 12u * 10u) << "the table is unchanged by --plot";
+  const std::string image = slurp(png);
+  ASSERT_GT(image.size(), 24u);
+  EXPECT_EQ(image.compare(0, 8, "\x89PNG\r\n\x1a\n"), 0);
+  EXPECT_TRUE(contains(slurp(path("map.gp")), "set output 'map.png'"));
+  // Case C's grid has flip points: the data marks them, the legend names them.
+  EXPECT_TRUE(contains(slurp(path("map.dat")), " flip"));
+  EXPECT_TRUE(contains(slurp(path("map.gp")), "ρ = 1, flip"));
+
+  const fs::path t = path("cmp.csv"), svg = path("cmp.svg");
+  r = run({"compare", config_path("seed_turning_1dof.toml").string(), "--rpm-min", "300", "--rpm-max", "2000",
+           "--rpm-points", "15", "--table", t.string(), "--plot", svg.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote plot: " + svg.string())) << r.out;
+  const std::string text = slurp(svg);
+  EXPECT_TRUE(contains(text, "</svg>"));
+  for (const char* name : {"analytic", "coupled", "sdm", "depth limit (mm)", "spindle speed (rev/min)"})
+    EXPECT_TRUE(contains(text, name)) << name;
+  EXPECT_TRUE(fs::exists(path("cmp.dat")));
+}
+
+TEST_F(CliTest, PlotImageTypeIsCheckedBeforeAnyComputation) {
+  // The image name is refused before the config is read: with a config that
+  // does not exist, the message is about the image type.
+  const std::string missing = path("no_such_config.toml").string();
+  const fs::path m = path("m.csv"), t = path("t.csv");
+  auto r = run({"map", missing, "--out", m.string(), "--plot", path("map.xyz").string()});
+  expect_rejected(r, {"unknown image type '.xyz'", "map.xyz"}, {m, path("map.gp"), path("map.dat")}, "map --plot .xyz");
+  EXPECT_FALSE(contains(r.err, "no_such_config")) << r.err;
+  r = run({"compare", missing, "--table", t.string(), "--plot", path("cmp.jpg").string()});
+  expect_rejected(r, {"unknown image type '.jpg'"}, {t, path("cmp.gp"), path("cmp.dat")}, "compare --plot .jpg");
+  EXPECT_FALSE(contains(r.err, "no_such_config")) << r.err;
+}
+
 }  // namespace

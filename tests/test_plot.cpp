@@ -17,6 +17,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace fs = std::filesystem;
@@ -62,6 +63,65 @@ bool is_png(const std::string& bytes) {
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
+}
+
+// A cheap well-formedness check of an SVG: it starts as XML and every element
+// opened is closed (tags balance).
+void expect_well_formed_svg(const std::string& svg) {
+  ASSERT_FALSE(svg.empty());
+  EXPECT_TRUE(svg.rfind("<?xml", 0) == 0 || svg.rfind("<svg", 0) == 0);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  std::size_t open = 0, close = 0, self = 0;
+  for (std::size_t i = svg.find('<'); i != std::string::npos; i = svg.find('<', i + 1)) {
+    if (svg.compare(i, 2, "<?") == 0 || svg.compare(i, 2, "<!") == 0) continue;
+    const std::size_t end = svg.find('>', i);
+    ASSERT_NE(end, std::string::npos);
+    if (svg[i + 1] == '/') ++close;
+    else if (svg[end - 1] == '/') ++self;
+    else ++open;
+  }
+  EXPECT_EQ(open, close);
+  EXPECT_GT(self + open, 10u);
+}
+
+// The rows of data set `index` (0-based, separated by two blank lines) of a
+// .dat file, each split into fields; comment and blank lines skipped.
+std::vector<std::vector<std::string>> dat_rows(const std::string& dat, int index) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(dat);
+  std::string line;
+  int current = 0, blanks = 0;
+  while (std::getline(in, line)) {
+    if (line.empty()) {
+      if (++blanks == 2) ++current;
+      continue;
+    }
+    blanks = 0;
+    if (line[0] == '#') continue;
+    if (current != index) continue;
+    std::istringstream fields(line);
+    rows.emplace_back(std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>());
+  }
+  return rows;
+}
+
+// Case C on a coarse grid (12 speeds x 10 depths over its sweep): the map
+// chatter map computes, with the multiplier type at the unstable points.
+chatter::StabilityMapGrid case_c_map(int rpm_points = 12, int depth_points = 10) {
+  const auto cfg = chatter::load_config(fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_benchmark_ae005_down.toml");
+  const chatter::SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+  chatter::StabilityMapGrid g;
+  g.spindle_rpm = chatter::evenly_spaced_speeds(cfg.sweep.rpm_min.value(), cfg.sweep.rpm_max.value(), rpm_points);
+  for (int k = 0; k < depth_points; ++k)
+    g.depth_m.push_back(cfg.sweep.depth_max_mm.value() * 1e-3 * k / (depth_points - 1));
+  g.spectral_radius = sdm.spectral_radius_map(g.spindle_rpm, g.depth_m);
+  g.multiplier_type.assign(g.spectral_radius.size(), chatter::MultiplierType::kHopf);
+  for (std::size_t i = 0; i < g.spindle_rpm.size(); ++i)
+    for (std::size_t j = 0; j < g.depth_m.size(); ++j)
+      if (g.spectral_radius[i * g.depth_m.size() + j] >= 1.0)
+        g.multiplier_type[i * g.depth_m.size() + j] = sdm.analyse(g.spindle_rpm[i], g.depth_m[j]).type;
+  return g;
 }
 
 // The seed case A: model, envelope, lobes and absolute limit.
@@ -349,4 +409,279 @@ TEST_F(PlotTest, NoInstabilityBelowSearchedDepthStillPlots) {
   opt.chatter_frequency_panel = true;
   const auto f2 = chatter::plot_lobes(dir_ / "none2.svg", "t", d.envelope, {}, d.absolute, d.depth_max_m, opt);
   EXPECT_NE(read_file(f2.image).find("</svg>"), std::string::npos);
+}
+
+// ---------------------------------------------------------------- stability map
+
+TEST_F(PlotTest, MapPngFromCaseCHasSizeAndScriptReproducesIt) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const auto map = case_c_map();
+  std::size_t flips = 0;
+  for (std::size_t p = 0; p < map.spectral_radius.size(); ++p)
+    flips += map.spectral_radius[p] >= 1.0 && map.multiplier_type[p] == chatter::MultiplierType::kFlip;
+  ASSERT_GT(flips, 0u) << "case C's grid should hold flip points";
+  chatter::PlotOptions opt;
+  opt.width_px = 1000;
+  opt.height_px = 700;
+  const auto files = chatter::plot_stability_map(dir_ / "map.png", "case C map", map, opt);
+  EXPECT_EQ(files.script, dir_ / "map.gp");
+  EXPECT_EQ(files.data, dir_ / "map.dat");
+  const std::string png = read_file(files.image);
+  ASSERT_TRUE(is_png(png));
+  EXPECT_EQ(png_size(png), std::make_pair(1000u, 700u));
+
+  const std::string gp = read_file(files.script);
+  EXPECT_NE(gp.find("set output 'map.png'"), std::string::npos);
+  EXPECT_NE(gp.find("data = 'map.dat'"), std::string::npos);
+  EXPECT_NE(gp.find("set cblabel 'spectral radius ρ'"), std::string::npos);
+  EXPECT_NE(gp.find("ρ = 1, Hopf"), std::string::npos) << "the legend names the Hopf boundary";
+  EXPECT_NE(gp.find("ρ = 1, flip"), std::string::npos) << "the legend names the flip boundary";
+  EXPECT_NE(gp.find("flip dominates"), std::string::npos) << "the flip points are marked";
+  EXPECT_EQ(gp.find(dir_.string()), std::string::npos) << "script must not hold absolute paths";
+
+  // The data: the whole grid, no nan/inf, the contour with both types.
+  const std::string dat = read_file(files.data);
+  for (int set = 0; set < 3; ++set)
+    for (const auto& row : dat_rows(dat, set))
+      for (const auto& field : row) EXPECT_TRUE(lower(field).find("nan") == std::string::npos &&
+                                                lower(field).find("inf") == std::string::npos) << field;
+  EXPECT_NE(dat.find("# spindle_rpm depth_mm spectral_radius multiplier_type"), std::string::npos);
+  const auto grid = dat_rows(dat, 0);
+  ASSERT_EQ(grid.size(), map.spectral_radius.size());
+  for (std::size_t p = 0; p < grid.size(); ++p) {
+    ASSERT_EQ(grid[p].size(), 4u);
+    EXPECT_NEAR(std::stod(grid[p][2]), map.spectral_radius[p], 1e-6 * map.spectral_radius[p]);
+    EXPECT_EQ(grid[p][3] == "?", map.spectral_radius[p] < 1.0) << p;
+  }
+  const auto contour = dat_rows(dat, 1);
+  ASSERT_FALSE(contour.empty());
+  bool hopf = false, flip = false;
+  for (const auto& r : contour) {
+    ASSERT_EQ(r.size(), 3u);
+    hopf = hopf || r[2] == "hopf";
+    flip = flip || r[2] == "flip";
+  }
+  EXPECT_TRUE(hopf && flip);
+  EXPECT_FALSE(dat_rows(dat, 2).empty()) << "flip marks";
+
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), png) << "re-running the script should give the same bytes";
+}
+
+TEST_F(PlotTest, MapSvgIsXmlWithTheContourPathAndPdfRenders) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const auto map = case_c_map();
+  const auto files = chatter::plot_stability_map(dir_ / "map.svg", "Case C, 12 x 10", map);
+  const std::string svg = read_file(files.image);
+  expect_well_formed_svg(svg);
+  EXPECT_NE(svg.find("width=\"1200\""), std::string::npos);
+  EXPECT_NE(svg.find("Case C, 12 x 10"), std::string::npos);
+  EXPECT_NE(svg.find("spindle speed (rev/min)"), std::string::npos);
+  EXPECT_NE(svg.find("depth of cut (mm)"), std::string::npos);
+  EXPECT_NE(svg.find("spectral radius ρ"), std::string::npos);
+  EXPECT_NE(svg.find("<image"), std::string::npos) << "the heat map";
+  // The flip part of the contour is a dashed path in its own colour
+  // (#7b1fa2 = rgb(123, 31, 162)), the Hopf part a path in near-black.
+  const std::size_t flip_path = svg.find("<path stroke='rgb(123,  31, 162)' stroke-dasharray");
+  ASSERT_NE(flip_path, std::string::npos);
+  EXPECT_NE(svg.find(" L", flip_path), std::string::npos);
+  EXPECT_NE(svg.find("<path stroke='rgb( 16,  16,  16)'"), std::string::npos);
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), svg);
+
+  const auto pdf = chatter::plot_stability_map(dir_ / "map.pdf", "pdf", map);
+  EXPECT_EQ(read_file(pdf.image).rfind("%PDF", 0), 0u);
+}
+
+TEST_F(PlotTest, MapContourFollowsRhoEqualOneBetweenGridPoints) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  // ln ρ = 3 (x - 1100)/100 along the speed: ρ = 1 at 1100 rev/min exactly
+  // (linear interpolation of ln ρ is exact here); flip where ρ >= 1 above 2 mm.
+  chatter::StabilityMapGrid g;
+  g.spindle_rpm = {1000, 1050, 1200, 1300};
+  g.depth_m = {0.0, 1e-3, 2e-3, 3e-3, 4e-3};
+  for (double rpm : g.spindle_rpm)
+    for (double d : g.depth_m) {
+      g.spectral_radius.push_back(std::exp(3.0 * (rpm - 1100.0) / 100.0));
+      g.multiplier_type.push_back(d > 2.5e-3 ? chatter::MultiplierType::kFlip : chatter::MultiplierType::kHopf);
+    }
+  const auto files = chatter::plot_stability_map(dir_ / "m.png", "synthetic", g);
+  const auto contour = dat_rows(read_file(files.data), 1);
+  ASSERT_GE(contour.size(), 5u);
+  bool hopf = false, flip = false;
+  for (const auto& r : contour) {
+    EXPECT_NEAR(std::stod(r[0]), 1100.0, 1e-3) << "the contour is the line rho = 1";
+    const double d = std::stod(r[1]);
+    EXPECT_TRUE(d >= 0.0 && d <= 4.0) << d;
+    if (r[2] == "hopf") {
+      hopf = true;
+      EXPECT_LE(d, 3.0);
+    }
+    if (r[2] == "flip") {
+      flip = true;
+      EXPECT_GE(d, 2.0);
+    }
+  }
+  EXPECT_TRUE(hopf && flip);
+  EXPECT_TRUE(is_png(read_file(files.image)));
+
+  // Without types: one kind of contour, no marks; all stable: no contour.
+  g.multiplier_type.clear();
+  auto f2 = chatter::plot_stability_map(dir_ / "m2.svg", "untyped", g);
+  EXPECT_NE(read_file(f2.script).find("ρ = 1 (stability boundary)"), std::string::npos);
+  EXPECT_TRUE(dat_rows(read_file(f2.data), 2).empty());
+  for (double& r : g.spectral_radius) r = 0.5;
+  f2 = chatter::plot_stability_map(dir_ / "m3.svg", "stable", g);
+  EXPECT_TRUE(dat_rows(read_file(f2.data), 1).empty());
+  EXPECT_NE(read_file(f2.image).find("stable everywhere"), std::string::npos);
+}
+
+TEST_F(PlotTest, MapRejectsBadGridsAndExtensionsAndWritesNothing) {
+  chatter::StabilityMapGrid g;
+  g.spindle_rpm = {1000, 2000};
+  g.depth_m = {0.0, 1e-3, 2e-3};
+  g.spectral_radius = {0.5, 0.9, 1.2, 0.6, 1.1, 1.5};
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.jpg", "t", g), chatter::InputError);
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.xyz", "t", chatter::StabilityMapGrid{}), chatter::InputError);
+  auto bad = g;
+  bad.spectral_radius.pop_back();
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.png", "t", bad), chatter::InputError);
+  bad = g;
+  bad.depth_m = {0.0, 2e-3, 1e-3};
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.png", "t", bad), chatter::InputError);
+  bad = g;
+  bad.spectral_radius[2] = std::nan("");
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.png", "t", bad), chatter::InputError);
+  bad = g;
+  bad.multiplier_type = {chatter::MultiplierType::kFlip};
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.png", "t", bad), chatter::InputError);
+  bad = g;
+  bad.spindle_rpm = {1000};
+  bad.spectral_radius.resize(3);
+  EXPECT_THROW(chatter::plot_stability_map(dir_ / "map.png", "t", bad), chatter::InputError);
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(PlotTest, MapWithoutGnuplotWritesDataAndScriptThenSaysHowToInstall) {
+  chatter::StabilityMapGrid g;
+  g.spindle_rpm = {1000, 2000};
+  g.depth_m = {0.0, 1e-3};
+  g.spectral_radius = {0.5, 1.2, 0.6, 1.1};
+  const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
+  const fs::path empty_bin = dir_ / "empty_bin";
+  fs::create_directories(empty_bin);
+  ::setenv("PATH", empty_bin.c_str(), 1);
+  std::string message;
+  try {
+    chatter::plot_stability_map(dir_ / "map.png", "t", g);
+  } catch (const chatter::GnuplotNotFound& e) {
+    message = e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_NE(message.find("apt-get install gnuplot-nox"), std::string::npos) << message;
+  EXPECT_NE(message.find("gnuplot map.gp"), std::string::npos) << message;
+  EXPECT_TRUE(fs::exists(dir_ / "map.dat"));
+  EXPECT_TRUE(fs::exists(dir_ / "map.gp"));
+  EXPECT_FALSE(fs::exists(dir_ / "map.png"));
+}
+
+// ---------------------------------------------------------------- comparison
+
+namespace {
+
+// Case C between 14 000 and 19 000 rev/min (the flip lobe): analytic and sdm
+// at the same speeds, sdm with its multiplier types.
+std::vector<chatter::MethodLimits> case_c_methods(int points) {
+  const auto cfg = chatter::load_config(fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_benchmark_ae005_down.toml");
+  const auto speeds = chatter::evenly_spaced_speeds(14000.0, 19000.0, points);
+  chatter::TransferFunctionOptions tf;
+  tf.depth_max_m = 10e-3;
+  const chatter::AnalyticSolver analytic(cfg.model, cfg.process, tf);
+  chatter::SemiDiscretizationOptions so;
+  so.depth_max_m = 10e-3;
+  const chatter::SemiDiscretizationSolver sdm(cfg.model, cfg.process, so);
+  std::vector<chatter::MethodLimits> m(2);
+  m[0].method = "analytic";
+  m[0].limits = chatter::lobe_envelope(analytic, speeds);
+  m[1].method = "sdm";
+  for (double rpm : speeds) {
+    chatter::FloquetResult f;
+    m[1].limits.push_back(sdm.limit_at(rpm, &f));
+    m[1].multiplier_type.push_back(f.type);
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_F(PlotTest, ComparePngAndSvgOverlayTheMethods) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const auto methods = case_c_methods(30);
+  chatter::PlotOptions opt;
+  opt.width_px = 900;
+  opt.height_px = 600;
+  const auto files = chatter::plot_compare(dir_ / "cmp.png", "case C compare", methods, 10e-3, opt);
+  const std::string png = read_file(files.image);
+  ASSERT_TRUE(is_png(png));
+  EXPECT_EQ(png_size(png), std::make_pair(900u, 600u));
+  const std::string gp = read_file(files.script);
+  EXPECT_NE(gp.find("title 'analytic'"), std::string::npos);
+  EXPECT_NE(gp.find("title 'sdm'"), std::string::npos);
+  EXPECT_NE(gp.find("sdm: flip (period doubling)"), std::string::npos);
+  EXPECT_NE(gp.find("set ylabel 'depth limit (mm)'"), std::string::npos);
+  const std::string dat = read_file(files.data);
+  EXPECT_NE(dat.find("# spindle_rpm depth_limit_mm_analytic bounded_analytic depth_limit_mm_sdm bounded_sdm"),
+            std::string::npos);
+  EXPECT_EQ(lower(dat).find("nan"), std::string::npos);
+  EXPECT_EQ(lower(dat).find("inf"), std::string::npos);
+  const auto rows = dat_rows(dat, 0);
+  ASSERT_EQ(rows.size(), 30u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 5u);
+    const auto& sdm = methods[1].limits[i];
+    EXPECT_EQ(rows[i][4], sdm.bounded() ? "1" : "0");
+    if (sdm.bounded()) {
+      EXPECT_NEAR(std::stod(rows[i][3]), sdm.depth_limit_m * 1e3, 1e-8);
+    }
+  }
+  EXPECT_FALSE(dat_rows(dat, 1).empty()) << "sdm's flip-limited speeds";
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), png);
+
+  const auto svg_files = chatter::plot_compare(dir_ / "cmp.svg", "case C compare", methods, 10e-3);
+  const std::string svg = read_file(svg_files.image);
+  expect_well_formed_svg(svg);
+  EXPECT_NE(svg.find("case C compare"), std::string::npos);
+  EXPECT_NE(svg.find("spindle speed (rev/min)"), std::string::npos);
+  EXPECT_NE(svg.find("depth limit (mm)"), std::string::npos);
+  // Each method's line is a path in its colour, the same on every chart:
+  // analytic #8fbce6, sdm #d95f02.
+  EXPECT_NE(svg.find("<path stroke='rgb(143, 188, 230)'"), std::string::npos);
+  EXPECT_NE(svg.find("<path stroke='rgb(217,  95,   2)'"), std::string::npos);
+  fs::remove(svg_files.image);
+  ASSERT_EQ(rerun(svg_files.script), 0);
+  EXPECT_EQ(read_file(svg_files.image), svg);
+}
+
+TEST_F(PlotTest, CompareRejectsBadInputAndWritesNothing) {
+  auto methods = case_c_methods(4);
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.bmp", "t", methods, 10e-3), chatter::InputError);
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", {}, 10e-3), chatter::InputError);
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", methods, 0.0), chatter::InputError);
+  auto bad = methods;
+  bad[1].method = "analytic";
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", bad, 10e-3), chatter::InputError);
+  bad = methods;
+  bad[1].limits.pop_back();
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", bad, 10e-3), chatter::InputError);
+  bad = methods;
+  bad[1].limits[2].spindle_rpm += 1.0;
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", bad, 10e-3), chatter::InputError);
+  bad = methods;
+  bad[1].multiplier_type.pop_back();
+  EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", bad, 10e-3), chatter::InputError);
+  EXPECT_TRUE(fs::is_empty(dir_));
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -17,7 +18,7 @@ namespace chatter::cli {
 
 int cmd_compare(const std::vector<std::string>& args) {
   Common common;
-  std::string table_path, json_path;
+  std::string table_path, json_path, plot_path;
   po::options_description d("Options");
   d.add_options()
       ("rpm-min", po::value<double>(), "lowest spindle speed, rev/min (default: sweep.rpm_min)")
@@ -25,7 +26,8 @@ int cmd_compare(const std::vector<std::string>& args) {
       ("rpm-points", po::value<int>(), "number of evenly spaced speeds (default: sweep.rpm_points or 400)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: sweep.depth_max_mm or 50)")
       ("table", po::value<std::string>(&table_path), "write the comparison CSV here (default: standard output)")
-      ("json", po::value<std::string>(&json_path), "also write the pairwise differences as JSON");
+      ("json", po::value<std::string>(&json_path), "also write the pairwise differences as JSON")
+      ("plot", po::value<std::string>(&plot_path), "draw every method's depth limit on one chart to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter compare CONFIG [options]\n\n"
@@ -35,9 +37,11 @@ int cmd_compare(const std::vector<std::string>& args) {
                    "and the largest relative difference of the depth limit between each pair.\n"
                    "analytic and coupled must agree to round-off; sdm agrees with them in turning\n"
                    "(to its discretisation error, ~0.2 %) and differs in milling where the cutting\n"
-                   "force is intermittent (flip lobes at low radial immersion).\n",
+                   "force is intermittent (flip lobes at low radial immersion). --plot overlays the\n"
+                   "methods' limits (mm) against spindle speed, sdm's flip-limited speeds marked.\n",
              d, common, vm))
     return 0;
+  if (!plot_path.empty()) check_plot_path(plot_path);  // fail before computing
   const Config cfg = load_config(common.config_path);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
@@ -137,7 +141,20 @@ int cmd_compare(const std::vector<std::string>& args) {
   }
   write_text_files(files);
   if (table_path.empty()) std::cout << csv.str();
-  (table_path.empty() ? std::cerr : std::cout) << report.str();
+  std::ostream& info = table_path.empty() ? std::cerr : std::cout;
+  info << report.str();
+  if (!plot_path.empty()) {
+    std::vector<MethodLimits> lines(methods.size());
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      lines[m].method = methods[m];
+      lines[m].limits = rows[m];
+      if (methods[m] == "sdm")
+        for (const auto& f : floquet) lines[m].multiplier_type.push_back(f.type);
+    }
+    const auto plot = plot_compare(plot_path, cfg.name + ": depth limit by method", lines, s.depth_max_mm * 1e-3);
+    info << "wrote plot: " << plot.image.string() << " (gnuplot script " << plot.script.string() << ", data "
+         << plot.data.string() << ")\n";
+  }
   return 0;
 }
 

@@ -45,6 +45,8 @@ Commands:
              (with a safety factor) and within spindle power and torque.
   map        Floquet spectral radius on a speed x depth grid (--method sdm).
   compare    Every method at the same speeds, one table, and how far they differ.
+  simulate   Simulate the cut in time (the tool may leave the cut): stable or
+             chatter, vibration amplitude, chatter frequency, time series.
   fit        Fit modes (frequency, damping, stiffness) to a measured FRF (tap
              test: CSV, .frf or UFF 58) and write them as config modes.
   frf        Receptance (m/N) of the tool, the workpiece and the relative motion,
@@ -57,6 +59,7 @@ On the shop floor:
      between two lobes; cut below the curve there, with margin.
   3. chatter check CONFIG --operations ops.csv before running a program.
   Milling with a small radial immersion: add --method sdm (flip lobes).
+  4. To see what a cut does in time: chatter simulate CONFIG --rpm R --depth-mm D.
 
 Examples:
   chatter lobes configs/seed_turning_1dof.toml --table lobes.csv --plot lobes.png
@@ -64,6 +67,7 @@ Examples:
   chatter lobes configs/milling_benchmark_ae005_down.toml --method sdm --plot sdm.png
   chatter check configs/seed_turning_1dof.toml --operations examples/operations/case_a_ops.csv
   chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv --plot frf.png
+  chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 --plot sim.png
 
 Run 'chatter <command> --help' for the options of a command.
 Options: --help, --version.
@@ -240,6 +244,19 @@ int cmd_point(const std::vector<std::string>& args) {
     j["dominant_multiplier"] = {f.dominant_multiplier.real(), f.dominant_multiplier.imag()};
     j["steps_per_period"] = f.steps;
   }
+  if (built.td) {
+    // The simulation verdict at the point itself.
+    const chatter::SimulationResult r = built.td->verdict_run(rpm, depth_m);
+    j["stable"] = r.verdict == chatter::SimulationVerdict::kStable;
+    j["verdict"] = chatter::to_string(r.verdict);
+    j["verdict_measure"] = r.verdict_measure;
+    j["growth_per_period"] =
+        std::isfinite(r.growth_per_period) ? nlohmann::json(r.growth_per_period) : nlohmann::json(nullptr);
+    if (std::isfinite(r.chatter_frequency_hz)) j["chatter_frequency_hz"] = r.chatter_frequency_hz;
+    j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
+    j["out_of_cut_fraction"] = r.out_of_cut_fraction;
+    j["periods"] = r.periods;
+  }
   std::cout << j.dump(2) << "\n";
   return 0;
 }
@@ -323,7 +340,7 @@ int cmd_frf(const std::vector<std::string>& args) {
 int cmd_map(const std::vector<std::string>& args) {
   Common common;
   common.method = "sdm";
-  std::string out_path;
+  std::string out_path, plot_path;
   int depth_points = 100;
   po::options_description d("Options");
   d.add_options()
@@ -333,17 +350,23 @@ int cmd_map(const std::vector<std::string>& args) {
       ("rpm-points", po::value<int>(), "number of speeds (default: sweep.rpm_points or 400)")
       ("depth-max-mm", po::value<double>(), "deepest cut, mm (default: sweep.depth_max_mm or 50)")
       ("depth-points", po::value<int>(&depth_points)->default_value(100), "number of depths from 0 to --depth-max-mm (>= 2)")
-      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)");
+      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)")
+      ("plot", po::value<std::string>(&plot_path), "draw the map to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
   add_solver_options(d);
   po::variables_map vm;
-  if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv]\n\n"
+  if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv] [--plot map.png]\n\n"
                    "Spectral radius of the Floquet map on a speed x depth grid (the stability chart of\n"
                    "the papers): below 1 stable, above 1 chatter. CSV columns:\n"
-                   "spindle_rpm,depth_mm,spectral_radius, one row per grid point, speeds outermost.\n",
+                   "spindle_rpm,depth_mm,spectral_radius, one row per grid point, speeds outermost.\n"
+                   "--plot draws it as a heat map (spindle speed x depth, colour = spectral radius)\n"
+                   "with the boundary rho = 1 as a line, its Hopf and flip (period-doubling) parts in\n"
+                   "different styles and the flip-dominated unstable points marked; this also finds\n"
+                   "the type of the dominant multiplier at every unstable point (slower).\n",
              d, common, vm))
     return 0;
   if (common.method != "sdm") throw InputError("--method " + common.method + ": map needs --method sdm");
   if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");
+  if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
   const chatter::Config cfg = chatter::load_config(common.config_path);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
@@ -378,6 +401,30 @@ int cmd_map(const std::vector<std::string>& args) {
     std::cout << cfg.name << " (sdm): " << speeds.size() << " x " << depths.size() << " points, " << unstable
               << " unstable; wrote map: " << out_path << "\n";
   }
+  if (!plot_path.empty()) {
+    // The plot tells Hopf from flip: the type of the dominant multiplier at
+    // every unstable point (the stable points' types are not drawn).
+    chatter::StabilityMapGrid grid;
+    grid.spindle_rpm = speeds;
+    grid.depth_m = depths;
+    grid.spectral_radius = rho;
+    grid.multiplier_type.assign(rho.size(), chatter::MultiplierType::kHopf);
+    {
+      Progress progress(vm, speeds.size(), "map types (sdm)");
+      chatter::parallel_for(
+          speeds.size(), threads,
+          [&](std::size_t i) {
+            for (std::size_t k = 0; k < depths.size(); ++k)
+              if (rho[i * depths.size() + k] >= 1.0)
+                grid.multiplier_type[i * depths.size() + k] = built.sdm->analyse(speeds[i], depths[k]).type;
+          },
+          [&](std::size_t done) { progress.tick(done); });
+    }
+    const auto files = chatter::plot_stability_map(plot_path, cfg.name + ": spectral radius (sdm)", grid);
+    (out_path.empty() ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
+                                               << files.script.string() << ", data " << files.data.string()
+                                               << ")\n";
+  }
   return 0;
 }
 
@@ -402,12 +449,14 @@ int main(int argc, char** argv) {
     }
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
+        cmd == "simulate" ||
         cmd == "fit" || cmd == "compare")
       command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
     if (cmd == "map") return cmd_map(args);
+    if (cmd == "simulate") return chatter::cli::cmd_simulate(args);
     if (cmd == "check") return cmd_check(args);
     if (cmd == "recommend") return cmd_recommend(args);
     if (cmd == "fit") return cmd_fit(args);

@@ -1,4 +1,5 @@
-// Plots through gnuplot (see include/chatter/io/plot.hpp and docs/plots.md).
+// Plots through gnuplot (see include/chatter/io/plot.hpp and docs/plots.md):
+// stability lobes, receptance, Floquet stability maps, method comparisons.
 //
 // Each plot is built as two texts, the data (<stem>.dat) and a gnuplot script
 // (<stem>.gp) that reads it by relative name; both are written next to the
@@ -20,9 +21,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <system_error>
+#include <utility>
 
 #include "chatter/io/table_writer.hpp"
 
@@ -607,6 +611,554 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
   else
     gp << "set format y '%g'\nset ylabel 'imaginary part Im G (µm/N)'\n" << plot_part(3);
   gp << "unset multiplot\n";
+  write_and_render(t, dat.str(), gp.str());
+  return {t.image, t.script, t.data};
+}
+
+// ---------------------------------------------------------------------------
+// Floquet stability map
+
+namespace {
+
+// Contour colours and the colour scale of the map.
+constexpr const char* kHopfLine = "#101010";
+constexpr const char* kFlipLine = "#7b1fa2";
+constexpr const char* kFoldLine = "#00796b";
+constexpr const char* kStableKey = "#6fa3d2";   // a stable colour of the palette, for the key
+constexpr const char* kChatterKey = "#f0804a";  // an unstable one
+
+// Type code in the .dat files.
+const char* type_word(MultiplierType t) {
+  switch (t) {
+    case MultiplierType::kHopf: return "hopf";
+    case MultiplierType::kFlip: return "flip";
+    case MultiplierType::kFold: return "fold";
+  }
+  return "hopf";
+}
+
+// One piece of the ρ = 1 contour: a polyline along which the dominant
+// multiplier on the unstable side has one type (-1 = not known).
+struct ContourPiece {
+  std::vector<std::pair<double, double>> points;  // (rev/min, mm)
+  int type = -1;
+};
+
+// The ρ = 1 contour of the grid by marching squares on ln ρ (linear
+// interpolation along each cell edge; saddle cells resolved by the mean of
+// the four corners), chained into polylines and split where the type of the
+// dominant multiplier on the unstable side changes.
+std::vector<ContourPiece> unit_contour(const StabilityMapGrid& m) {
+  const std::size_t n = m.spindle_rpm.size(), k = m.depth_m.size();
+  const bool typed = !m.multiplier_type.empty();
+  auto at = [&](std::size_t i, std::size_t j) { return i * k + j; };
+  auto f = [&](std::size_t p) { return std::log(std::max(m.spectral_radius[p], 1e-300)); };
+  auto unstable = [&](std::size_t p) { return m.spectral_radius[p] >= 1.0; };
+
+  // Edge ids: horizontal (i,j)-(i+1,j) first, then vertical (i,j)-(i,j+1).
+  const std::size_t n_h = (n - 1) * k;
+  auto h_edge = [&](std::size_t i, std::size_t j) { return i * k + j; };
+  auto v_edge = [&](std::size_t i, std::size_t j) { return n_h + i * (k - 1) + j; };
+  const std::size_t n_edges = n_h + n * (k - 1);
+  // Crossing point of an edge (between grid points a and b, one unstable).
+  auto crossing = [&](std::size_t a, std::size_t b) {
+    const double fa = f(a), fb = f(b);
+    const double t = std::clamp(fa / (fa - fb), 0.0, 1.0);
+    const double xa = m.spindle_rpm[a / k], xb = m.spindle_rpm[b / k];
+    const double ya = m.depth_m[a % k] * 1e3, yb = m.depth_m[b % k] * 1e3;
+    return std::make_pair(xa + t * (xb - xa), ya + t * (yb - ya));
+  };
+
+  struct Segment {
+    std::size_t e0, e1;
+    int type;
+  };
+  std::vector<Segment> segs;
+  std::vector<std::pair<double, double>> point(n_edges);
+  std::vector<std::array<int, 2>> at_edge(n_edges, {-1, -1});
+  auto add_segment = [&](std::size_t e0, std::size_t e1, int type) {
+    const int id = static_cast<int>(segs.size());
+    segs.push_back({e0, e1, type});
+    for (std::size_t e : {e0, e1}) (at_edge[e][0] < 0 ? at_edge[e][0] : at_edge[e][1]) = id;
+  };
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    for (std::size_t j = 0; j + 1 < k; ++j) {
+      const std::size_t c[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+      // Edge q joins corners q and q+1 (mod 4).
+      const std::size_t e[4] = {h_edge(i, j), v_edge(i + 1, j), h_edge(i, j + 1), v_edge(i, j)};
+      bool u[4];
+      for (int q = 0; q < 4; ++q) u[q] = unstable(c[q]);
+      int crossings = 0;
+      for (int q = 0; q < 4; ++q)
+        if (u[q] != u[(q + 1) % 4]) {
+          point[e[q]] = crossing(c[q], c[(q + 1) % 4]);
+          ++crossings;
+        }
+      if (crossings == 0) continue;
+      // The type on the unstable side: that of the least unstable of the
+      // given corners (the one nearest the crossing).
+      auto type_of = [&](std::initializer_list<int> corners) {
+        if (!typed) return -1;
+        int best = -1;
+        for (int q : corners)
+          if (u[q] && (best < 0 || m.spectral_radius[c[q]] < m.spectral_radius[c[best]])) best = q;
+        return best < 0 ? -1 : static_cast<int>(m.multiplier_type[c[best]]);
+      };
+      if (crossings == 2) {
+        int a = -1, b = -1;
+        for (int q = 0; q < 4; ++q)
+          if (u[q] != u[(q + 1) % 4]) (a < 0 ? a : b) = q;
+        add_segment(e[a], e[b], type_of({0, 1, 2, 3}));
+      } else {  // saddle: the mean of the corners decides which pairs connect
+        const double centre = (f(c[0]) + f(c[1]) + f(c[2]) + f(c[3])) / 4.0;
+        const bool centre_unstable = centre >= 0.0;
+        for (int q = 0; q < 4; ++q) {
+          if (u[q] == centre_unstable) continue;  // cut off the corners unlike the centre
+          const int prev = (q + 3) % 4, next = (q + 1) % 4;
+          add_segment(e[prev], e[q], u[q] ? type_of({q}) : type_of({prev, next}));
+        }
+      }
+    }
+
+  // Chain the segments: open chains from their ends first, then loops.
+  std::vector<char> used(segs.size(), 0);
+  std::vector<ContourPiece> pieces;
+  auto walk = [&](int s, std::size_t start_edge) {
+    ContourPiece piece;
+    piece.type = segs[static_cast<std::size_t>(s)].type;
+    piece.points.push_back(point[start_edge]);
+    std::size_t edge = start_edge;
+    while (s >= 0 && !used[static_cast<std::size_t>(s)]) {
+      const Segment& g = segs[static_cast<std::size_t>(s)];
+      used[static_cast<std::size_t>(s)] = 1;
+      if (g.type != piece.type) {  // a new piece from the shared point
+        const auto last = piece.points.back();
+        pieces.push_back(std::move(piece));
+        piece = ContourPiece{{last}, g.type};
+      }
+      edge = g.e0 == edge ? g.e1 : g.e0;
+      piece.points.push_back(point[edge]);
+      const auto& both = at_edge[edge];
+      s = both[0] == s ? both[1] : both[0];
+    }
+    pieces.push_back(std::move(piece));
+  };
+  for (std::size_t s = 0; s < segs.size(); ++s)
+    for (std::size_t e : {segs[s].e0, segs[s].e1})
+      if (!used[s] && at_edge[e][1] < 0) walk(static_cast<int>(s), e);
+  for (std::size_t s = 0; s < segs.size(); ++s)
+    if (!used[s]) walk(static_cast<int>(s), segs[s].e0);
+  return pieces;
+}
+
+// Colour-box tics for the clip value R (a round list inside (1/R, R)).
+std::vector<double> map_tics(double r) {
+  if (r <= 1.5) return {0.8, 0.9, 1.0, 1.1, 1.25};
+  if (r <= 2.0) return {0.7, 0.8, 1.0, 1.25, 1.5};
+  if (r <= 3.0) return {0.5, 0.7, 1.0, 1.5, 2.0};
+  if (r <= 5.0) return {0.3, 0.5, 1.0, 2.0, 3.0};
+  return {0.2, 0.5, 1.0, 2.0, 5.0};
+}
+
+bool strictly_increasing(const std::vector<double>& v) {
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (!(v[i] > v[i - 1])) return false;
+  return true;
+}
+
+}  // namespace
+
+PlotFiles plot_stability_map(const fs::path& image, const std::string& title, const StabilityMapGrid& map,
+                             const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  const std::size_t n = map.spindle_rpm.size(), k = map.depth_m.size();
+  const std::string where = image.string() + ": stability map: ";
+  if (n < 2 || k < 2)
+    throw InputError(where + "needs >= 2 speeds and >= 2 depths (got " + std::to_string(n) + " x " +
+                     std::to_string(k) + ")");
+  for (double r : map.spindle_rpm)
+    if (!(std::isfinite(r) && r > 0.0)) throw InputError(where + "spindle speeds must be finite and > 0");
+  for (double d : map.depth_m)
+    if (!(std::isfinite(d) && d >= 0.0)) throw InputError(where + "depths must be finite and >= 0");
+  if (!strictly_increasing(map.spindle_rpm) || !strictly_increasing(map.depth_m))
+    throw InputError(where + "speeds and depths must be strictly increasing");
+  if (map.spectral_radius.size() != n * k)
+    throw InputError(where + std::to_string(map.spectral_radius.size()) + " spectral radii for " +
+                     std::to_string(n) + " x " + std::to_string(k) + " grid points");
+  for (double r : map.spectral_radius)
+    if (!(std::isfinite(r) && r >= 0.0)) throw InputError(where + "spectral radii must be finite and >= 0");
+  const bool typed = !map.multiplier_type.empty();
+  if (typed && map.multiplier_type.size() != n * k)
+    throw InputError(where + std::to_string(map.multiplier_type.size()) + " multiplier types for " +
+                     std::to_string(n * k) + " grid points");
+
+  // Colour clip R: the smallest of a few round values covering 90 % of |ln ρ|.
+  std::vector<double> spread;
+  spread.reserve(n * k);
+  for (double r : map.spectral_radius) spread.push_back(std::abs(std::log(std::max(r, 1e-300))));
+  const auto q90 = spread.begin() + static_cast<std::ptrdiff_t>((spread.size() - 1) * 9 / 10);
+  std::nth_element(spread.begin(), q90, spread.end());
+  double rho_clip = 10.0;
+  for (double r : {1.5, 2.0, 3.0, 5.0, 10.0})
+    if (std::log(r) >= *q90) {
+      rho_clip = r;
+      break;
+    }
+
+  std::size_t unstable = 0;
+  for (double r : map.spectral_radius) unstable += r >= 1.0;
+  const std::vector<ContourPiece> contour = unit_contour(map);
+  bool contour_type[4] = {false, false, false, false};  // hopf, flip, fold, unknown
+  for (const auto& c : contour) contour_type[c.type < 0 ? 3 : c.type] = true;
+
+  // --- data ---
+  std::ostringstream dat;
+  dat << "# " << one_line(title) << ": Floquet spectral radius map (chatter " << version() << ")\n"
+      << "# " << n << " spindle speeds x " << k << " depths; rho < 1 stable, rho >= 1 chatter.\n"
+      << "# Missing values are '?' (gnuplot: set datafile missing '?').\n\n"
+      << "# index 0: the grid, one block per spindle speed (blocks separated by one blank line);\n"
+      << "# 7 significant digits.\n"
+      << "# multiplier_type: type of the dominant multiplier (hopf, flip, fold) where rho >= 1, else '?'.\n"
+      << "# spindle_rpm depth_mm spectral_radius multiplier_type\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) dat << '\n';
+    for (std::size_t j = 0; j < k; ++j) {
+      const std::size_t p = i * k + j;
+      const double r = map.spectral_radius[p];
+      dat << num(map.spindle_rpm[i], 7) << ' ' << num(map.depth_m[j] * 1e3, 7) << ' ' << num(r, 7) << ' '
+          << (typed && r >= 1.0 ? type_word(map.multiplier_type[p]) : "?") << '\n';
+    }
+  }
+  dat << "\n\n# index 1: the rho = 1 contour (linear interpolation of ln rho along the grid edges), one block\n"
+      << "# per piece; multiplier_type: the type on the unstable side (hopf, flip, fold; '?' if not given).\n"
+      << "# spindle_rpm depth_mm multiplier_type\n";
+  for (std::size_t c = 0; c < contour.size(); ++c) {
+    if (c > 0) dat << '\n';
+    const char* word = contour[c].type < 0 ? "?" : type_word(static_cast<MultiplierType>(contour[c].type));
+    for (const auto& [x, y] : contour[c].points) dat << num(x, 7) << ' ' << num(y, 7) << ' ' << word << '\n';
+  }
+  // Marks on the unstable points where flip or fold dominates, thinned to a
+  // regular subset so that they read as a hatch.
+  const std::size_t si = std::max<std::size_t>(1, (n + 39) / 40), sj = std::max<std::size_t>(1, (k + 24) / 25);
+  dat << "\n\n# index 2: marks on unstable grid points where the dominant multiplier is flip or fold\n"
+      << "# (every " << si << " speed(s) and " << sj << " depth(s))\n"
+      << "# spindle_rpm depth_mm multiplier_type\n";
+  std::size_t marks[3] = {0, 0, 0};  // per type
+  if (typed)
+    for (std::size_t i = si / 2; i < n; i += si)
+      for (std::size_t j = sj / 2; j < k; j += sj) {
+        const std::size_t p = i * k + j;
+        if (map.spectral_radius[p] < 1.0 || map.multiplier_type[p] == MultiplierType::kHopf) continue;
+        dat << num(map.spindle_rpm[i]) << ' ' << num(map.depth_m[j] * 1e3) << ' '
+            << type_word(map.multiplier_type[p]) << '\n';
+        ++marks[static_cast<int>(map.multiplier_type[p])];
+      }
+
+  // --- script ---
+  std::ostringstream gp;
+  gp << script_preamble(t, options, "Floquet stability map (spectral radius)")
+     << "# Colour scale: spectral radius from 1/rho_clip to rho_clip on a log axis, centred on 1\n"
+     << "# (values beyond are drawn in the end colours).\n"
+     << "rho_clip = " << short_num(rho_clip) << "\n"
+     << "clip(r) = r < 1.0/rho_clip ? 1.0/rho_clip : (r > rho_clip ? rho_clip : r)\n\n"
+     << "# Colours: contour pieces by multiplier type, key swatches\n"
+     << "c_hopf = " << quote(kHopfLine) << "; c_flip = " << quote(kFlipLine) << "; c_fold = " << quote(kFoldLine)
+     << "\n"
+     << "c_stable = " << quote(kStableKey) << "; c_chatter = " << quote(kChatterKey) << "\n"
+     << "# Blues below rho = 1, oranges to reds above, with a step at 1.\n"
+     << "set palette defined (0 '#0b3a6e', 0.25 '#3f7fbf', 0.5 '#bcd7ee', 0.5 '#fdc793', 0.75 '#ee7640', "
+        "1 '#7a0c0c')\n\n"
+     << "set multiplot title " << quote(title) << " noenhanced font ','.(fs+3)\n"
+     << "set lmargin at screen 0.085; set rmargin at screen 0.855\n"
+     << "set tmargin at screen 0.83; set bmargin at screen 0.11\n"
+     << "set key at screen 0.47, screen 0.885 center center horizontal reverse Left samplen 2 width -1 "
+        "font ','.(fs-1)\n"
+     << "set border lw 1 lc rgb '#404040' front\n"
+     << "set tics front\n"
+     << "set mxtics 2; set mytics 2\n"
+     << "set xrange [" << short_num(map.spindle_rpm.front(), 10) << ":" << short_num(map.spindle_rpm.back(), 10)
+     << "]\n"
+     << "set yrange [" << short_num(map.depth_m.front() * 1e3, 10) << ":" << short_num(map.depth_m.back() * 1e3, 10)
+     << "]\n"
+     << "set xlabel 'spindle speed (rev/min)'\n"
+     << "set ylabel 'depth of cut (mm)'\n"
+     << "set logscale cb\n"
+     << "set cbrange [1.0/rho_clip:rho_clip]\n"
+     << "set colorbox user origin screen 0.875, screen 0.11 size screen 0.022, screen 0.72 front border\n"
+     << "set cblabel 'spectral radius ρ' offset 0.5,0\n"
+     << "set cbtics (";
+  gp << "sprintf('≤ %g', 1.0/rho_clip) 1.0/rho_clip";
+  for (double v : map_tics(rho_clip)) gp << ", '" << short_num(v) << "' " << short_num(v);
+  gp << ", sprintf('≥ %g', rho_clip) rho_clip) out nomirror\n"
+     << "set mcbtics 1\n";
+  if (contour.empty())
+    gp << "set label 3 " << quote(unstable == 0 ? "ρ < 1 on the whole grid: stable everywhere"
+                                                : "ρ ≥ 1 on the whole grid: chatter everywhere")
+       << " at graph 0.5, graph 0.5 center front\n";
+  gp << "plot \\\n"
+     << "  data index 0 using 1:2:(clip($3)) with image notitle, \\\n"
+     << "  keyentry with boxes fs solid 1.0 noborder fc rgb c_stable title 'stable (ρ < 1)', \\\n"
+     << "  keyentry with boxes fs solid 1.0 noborder fc rgb c_chatter title 'chatter (ρ > 1)'";
+  // Each contour piece: a white casing under the coloured line, so that it
+  // reads on every colour of the map.
+  struct Kind {
+    int index;
+    const char* word;
+    const char* colour;
+    const char* dash;
+    const char* line_title;
+    const char* mark_title;
+    int point_type;
+  };
+  const Kind kinds[3] = {
+      {0, "hopf", "c_hopf", "", "ρ = 1, Hopf (complex μ)", "", 0},
+      {1, "flip", "c_flip", " dt (5,3)", "ρ = 1, flip (μ = −1)", "flip dominates (μ ≈ −1)", 2},
+      {2, "fold", "c_fold", " dt (2,2)", "ρ = 1, fold (μ = +1)", "fold dominates (μ ≈ +1)", 6},
+  };
+  auto contour_clause = [&](const std::string& filter, const std::string& colour, const std::string& dash,
+                            const std::string& line_title) {
+    gp << ", \\\n  data index 1 using 1:" << filter << " with lines lw 5.5 lc rgb '#50ffffff' notitle"
+       << ", \\\n  data index 1 using 1:" << filter << " with lines lw 2.6" << dash << " lc rgb " << colour
+       << " title " << quote(line_title);
+  };
+  if (contour_type[3]) contour_clause("2", "c_hopf", "", "ρ = 1 (stability boundary)");
+  for (const Kind& kd : kinds)
+    if (contour_type[kd.index])
+      contour_clause("(strcol(3) eq '" + std::string(kd.word) + "' ? $2 : NaN)", kd.colour, kd.dash, kd.line_title);
+  for (const Kind& kd : kinds)
+    if (kd.index > 0 && marks[kd.index] > 0)
+      gp << ", \\\n  data index 2 using 1:(strcol(3) eq '" << kd.word << "' ? $2 : NaN) with points pt "
+         << kd.point_type << " ps 0.7 lw 1.5 lc rgb " << kd.colour << " title " << quote(kd.mark_title);
+  gp << "\nunset multiplot\n";
+  write_and_render(t, dat.str(), gp.str());
+  return {t.image, t.script, t.data};
+}
+
+// ---------------------------------------------------------------------------
+// Method comparison
+
+namespace {
+
+// One line style per method: analytic, coupled, sdm and time-domain always get
+// the first four (so a method looks the same on every chart), other names the
+// next unused one. The lines are drawn widest first,
+// so that methods that agree (analytic and coupled to round-off, sdm in
+// turning) all stay visible: a wide light band, a medium line on it, a thin
+// dashed line on top.
+struct MethodStyle {
+  const char* colour;
+  double width;
+  const char* dash;  // "" = solid
+};
+constexpr MethodStyle kMethodStyles[] = {
+    {"#8fbce6", 7.0, ""},          {"#0b3a6e", 1.6, " dt (6,4)"},      {"#d95f02", 3.0, ""},
+    {"#1b9e77", 2.4, " dt (2,3)"}, {"#7570b3", 2.2, " dt (10,4,2,4)"}, {"#e7298a", 2.0, ""},
+    {"#66a61e", 1.8, " dt (6,3,2,3)"}, {"#7a5a1d", 1.4, " dt (3,3)"},
+};
+
+// A method name as a column name: anything but letters, digits and _ becomes _.
+std::string column_word(const std::string& s) {
+  std::string out = s;
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+  return out;
+}
+
+}  // namespace
+
+PlotFiles plot_compare(const fs::path& image, const std::string& title, const std::vector<MethodLimits>& methods,
+                       double depth_max_m, const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  const std::string where = image.string() + ": comparison: ";
+  constexpr std::size_t kMaxMethods = std::size(kMethodStyles);
+  if (methods.empty() || methods.size() > kMaxMethods)
+    throw InputError(where + std::to_string(methods.size()) + " methods: must be 1 to " +
+                     std::to_string(kMaxMethods));
+  if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
+    throw InputError(where + "depth_max = " + short_num(depth_max_m) + " m: must be > 0");
+  const std::size_t rows = methods.front().limits.size();
+  if (rows == 0) throw InputError(where + "no speeds to plot");
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    const MethodLimits& ml = methods[m];
+    if (ml.method.empty()) throw InputError(where + "method " + std::to_string(m + 1) + " has no name");
+    for (std::size_t o = 0; o < m; ++o)
+      if (methods[o].method == ml.method) throw InputError(where + "method '" + ml.method + "' given twice");
+    if (ml.limits.size() != rows)
+      throw InputError(where + "method '" + ml.method + "' has " + std::to_string(ml.limits.size()) +
+                       " speeds, '" + methods.front().method + "' has " + std::to_string(rows));
+    if (!ml.multiplier_type.empty() && ml.multiplier_type.size() != rows)
+      throw InputError(where + "method '" + ml.method + "': " + std::to_string(ml.multiplier_type.size()) +
+                       " multiplier types for " + std::to_string(rows) + " speeds");
+    for (std::size_t i = 0; i < rows; ++i) {
+      const double a = methods.front().limits[i].spindle_rpm, b = ml.limits[i].spindle_rpm;
+      if (!(std::isfinite(b) && b > 0.0)) throw InputError(where + "spindle speeds must be finite and > 0");
+      if (std::abs(a - b) > 1e-9 * std::abs(a))
+        throw InputError(where + "method '" + ml.method + "' row " + std::to_string(i + 1) + " is at " +
+                         short_num(b, 10) + " rev/min, '" + methods.front().method + "' at " + short_num(a, 10));
+    }
+  }
+
+  // Styles: the known methods keep theirs, the others take the next unused.
+  std::vector<std::size_t> style_of(methods.size(), kMaxMethods);
+  std::array<bool, kMaxMethods> taken{};
+  const char* const known[] = {"analytic", "coupled", "sdm", "time-domain"};
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    for (std::size_t k = 0; k < std::size(known); ++k)
+      if (methods[m].method == known[k]) {
+        style_of[m] = k;
+        taken[k] = true;
+      }
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    if (style_of[m] == kMaxMethods) {
+      std::size_t k = 0;
+      while (taken[k]) ++k;  // methods.size() <= kMaxMethods: there is one
+      style_of[m] = k;
+      taken[k] = true;
+    }
+
+  const double depth_max_mm = depth_max_m * 1e3;
+  double rpm_lo = methods.front().limits.front().spindle_rpm, rpm_hi = rpm_lo;
+  for (const auto& r : methods.front().limits) {
+    rpm_lo = std::min(rpm_lo, r.spindle_rpm);
+    rpm_hi = std::max(rpm_hi, r.spindle_rpm);
+  }
+  if (!(rpm_hi > rpm_lo)) {  // one speed: show ±5 % around it
+    rpm_lo *= 0.95;
+    rpm_hi *= 1.05;
+  }
+  // y range: the pockets between lobes readable, the narrow peaks cut.
+  std::vector<double> bounded;
+  bool gaps = false;
+  for (const auto& ml : methods)
+    for (const auto& r : ml.limits) {
+      if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
+      else gaps = true;
+    }
+  double y_max = depth_max_mm;
+  if (!bounded.empty()) {
+    std::nth_element(bounded.begin(), bounded.begin() + static_cast<std::ptrdiff_t>(bounded.size() / 2),
+                     bounded.end());
+    const double median = bounded[bounded.size() / 2];
+    const double lowest = *std::min_element(bounded.begin(), bounded.end());
+    y_max = std::min(depth_max_mm, nice_ceil(std::max(1.5 * median, 3.0 * lowest)));
+  }
+
+  // --- data ---
+  std::ostringstream dat;
+  dat << "# " << one_line(title) << ": depth limit by method (chatter " << version() << ")\n"
+      << "# depth_max_mm = " << num(depth_max_mm) << " (deepest cut searched)\n"
+      << "# methods:";
+  for (std::size_t m = 0; m < methods.size(); ++m) dat << ' ' << m << '=' << one_line(methods[m].method);
+  dat << "\n# Missing values are '?' (gnuplot: set datafile missing '?').\n\n"
+      << "# index 0: one row per spindle speed; per method the depth limit (mm; '?' where there is no\n"
+      << "# limit below depth_max_mm) and bounded (1 = a limit, 0 = none).\n"
+      << "# spindle_rpm";
+  for (const auto& ml : methods) {
+    const std::string w = column_word(ml.method);
+    dat << " depth_limit_mm_" << w << " bounded_" << w;
+  }
+  dat << '\n';
+  for (std::size_t i = 0; i < rows; ++i) {
+    dat << num(methods.front().limits[i].spindle_rpm);
+    for (const auto& ml : methods) {
+      const auto& r = ml.limits[i];
+      dat << ' ' << (r.bounded() ? num(r.depth_limit_m * 1e3) : "?") << ' ' << (r.bounded() ? 1 : 0);
+    }
+    dat << '\n';
+  }
+  // Runs of consecutive speeds where a method's limit is set by a flip or a
+  // fold multiplier: one block each, drawn over that method's line.
+  dat << "\n\n# index 1: speeds where a method's limit is set by a flip (period doubling) or fold\n"
+      << "# multiplier (methods that report the multiplier type, e.g. sdm); one block per run of\n"
+      << "# consecutive speeds (blocks separated by one blank line); method = its number above\n"
+      << "# spindle_rpm depth_limit_mm method multiplier_type\n";
+  std::vector<std::array<std::size_t, 3>> marks(methods.size(), {0, 0, 0});
+  bool first_run = true;
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    const MethodLimits& ml = methods[m];
+    if (ml.multiplier_type.empty()) continue;
+    int run_type = -1;  // type of the open run, -1 if none
+    for (std::size_t i = 0; i < rows; ++i) {
+      const auto& r = ml.limits[i];
+      const int ty = r.bounded() ? static_cast<int>(ml.multiplier_type[i]) : -1;
+      if (ty <= 0) {  // Hopf or no limit: the run ends
+        run_type = -1;
+        continue;
+      }
+      if (ty != run_type) {
+        if (!first_run) dat << '\n';
+        first_run = false;
+        run_type = ty;
+      }
+      dat << num(r.spindle_rpm) << ' ' << num(r.depth_limit_m * 1e3) << ' ' << m << ' '
+          << type_word(ml.multiplier_type[i]) << '\n';
+      ++marks[m][static_cast<std::size_t>(ty)];
+    }
+  }
+
+  // --- script ---
+  std::ostringstream gp;
+  gp << script_preamble(t, options, "Depth limit by method (chatter compare)")
+     << "# Values from the engine (mm, rev/min)\n"
+     << "y_max = " << short_num(y_max, 6) << "          # top of the depth axis\n"
+     << "depth_max = " << short_num(depth_max_mm, 6) << "      # deepest cut searched\n"
+     << "# Columns of method m (0 = first): depth limit and bounded flag\n"
+     << "col_depth(m) = 2 + 2*m\n"
+     << "col_bounded(m) = 3 + 2*m\n"
+     << "# A gap where a method has no limit (a NaN breaks the line; a '?' row would be joined across).\n"
+     << "limit(m) = column(col_bounded(m)) > 0 ? column(col_depth(m)) : NaN\n\n"
+     << "# Colours, one per method\n";
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    gp << "c_m" << m << " = " << quote(kMethodStyles[style_of[m]].colour) << "   # " << one_line(methods[m].method)
+       << "\n";
+  gp << "c_flip = " << quote(kFlipLine) << "; c_fold = " << quote(kFoldLine)
+     << "   # where a limit is set by a flip / fold multiplier\n"
+     << "\nset multiplot title " << quote(title) << " noenhanced font ','.(fs+3)\n"
+     << "set lmargin at screen 0.085; set rmargin at screen 0.975\n"
+     << "set tmargin at screen 0.85; set bmargin at screen 0.11\n"
+     << "set key at screen 0.53, screen 0.895 center center horizontal reverse Left samplen 3 width 1 "
+        "font ','.(fs-1)\n"
+     << "set border lw 1 lc rgb '#404040'\n"
+     << "set grid xtics ytics mxtics mytics back lw 1 lc rgb " << quote(kGrid) << ", lw 0.5 lc rgb '#e4e4e4'\n"
+     << "set mxtics 2; set mytics 2\n"
+     << "set xrange [" << short_num(rpm_lo, 10) << ":" << short_num(rpm_hi, 10) << "]\n"
+     << "set yrange [0:y_max]\n"
+     << "set xlabel 'spindle speed (rev/min)'\n"
+     << "set ylabel 'depth limit (mm)'\n";
+  if (bounded.empty())
+    gp << "set label 3 sprintf('no method finds chatter below %g mm at any speed in the sweep', depth_max) "
+          "at graph 0.5, graph 0.5 center front\n";
+  gp << "plot";
+  bool first = true;
+  auto add = [&](const std::string& clause) {
+    gp << (first ? " \\\n  " : ", \\\n  ") << clause;
+    first = false;
+  };
+  // Lines widest first (untitled), then the key in the methods' order.
+  std::vector<std::size_t> order(methods.size());
+  for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return kMethodStyles[style_of[a]].width > kMethodStyles[style_of[b]].width;
+  });
+  auto style = [&](std::size_t m) {
+    const MethodStyle& st = kMethodStyles[style_of[m]];
+    return "lw " + short_num(st.width) + st.dash + " lc rgb c_m" + std::to_string(m);
+  };
+  for (std::size_t m : order)
+    add("data index 0 using 1:(limit(" + std::to_string(m) + ")) with lines " + style(m) + " notitle");
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    add("keyentry with lines " + style(m) + " title " + quote(methods[m].method));
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    for (int ty : {1, 2})
+      if (marks[m][static_cast<std::size_t>(ty)] > 0) {
+        const std::string word = type_word(static_cast<MultiplierType>(ty));
+        add("data index 1 using 1:($3 == " + std::to_string(m) + " && strcol(4) eq '" + word +
+            "' ? $2 : NaN) with linespoints lw 3.5 pt 7 ps 0.6 pi 4 lc rgb " + (ty == 1 ? "c_flip" : "c_fold") +
+            " title " + quote(methods[m].method + (ty == 1 ? ": flip (period doubling)" : ": fold")));
+      }
+  if (gaps && !bounded.empty())
+    add("keyentry with lines lt nodraw title sprintf('gap: no limit below %g mm', depth_max)");
+  gp << "\nunset multiplot\n";
   write_and_render(t, dat.str(), gp.str());
   return {t.image, t.script, t.data};
 }

@@ -1,4 +1,5 @@
-// Plots through gnuplot: stability lobes and receptance (FRF) charts.
+// Plots through gnuplot: stability lobes, receptance (FRF) charts, Floquet
+// stability maps and method comparisons.
 //
 // Every plot writes three files side by side, named after the image:
 //   <stem>.dat  the plotted data, whitespace-separated columns under a `#`
@@ -35,6 +36,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -121,8 +123,69 @@ PlotFiles plot_frf(const std::filesystem::path& image, const std::string& title,
                    double f_min_hz, double f_max_hz, int points, bool log_frequency,
                    const PlotOptions& options = {});
 
+/// A Floquet stability map on a regular speed × depth grid: what
+/// SemiDiscretizationSolver::spectral_radius_map() returns, plus (optionally)
+/// the type of the dominant multiplier where the map is unstable.
+struct StabilityMapGrid {
+  /// Spindle speeds, rev/min: >= 2 values, finite, > 0, strictly increasing.
+  std::vector<double> spindle_rpm;
+  /// Depths of cut, m: >= 2 values, finite, >= 0, strictly increasing.
+  std::vector<double> depth_m;
+  /// Spectral radius ρ (dimensionless, finite, >= 0) at
+  /// (spindle_rpm[i], depth_m[j]) as element i * depth_m.size() + j (speeds
+  /// outermost, the layout of spectral_radius_map()).
+  std::vector<double> spectral_radius;
+  /// Empty, or the type of the dominant multiplier at every grid point (same
+  /// layout, e.g. FloquetResult::type from analyse()). Only the entries where
+  /// ρ >= 1 are read, so a caller may fill the stable points with anything.
+  std::vector<MultiplierType> multiplier_type;
+};
+
+/// Stability map (heat map): x = spindle speed (rev/min), y = depth of cut
+/// (mm), colour = spectral radius ρ on a logarithmic scale centred on ρ = 1
+/// (blues below 1, stable; oranges to reds above 1, chatter; clipped at
+/// 1/R and R, R from {1.5, 2, 3, 5, 10} chosen to cover 90 % of the grid's
+/// |ln ρ|). The ρ = 1 contour (linear interpolation of ln ρ along the grid
+/// edges) is drawn as a line; with multiplier types, its Hopf, flip and fold
+/// parts are drawn in different styles and the unstable grid points where the
+/// dominant multiplier is flip (or fold) are marked (thinned to at most about
+/// 40 × 25 marks), each named in the legend.
+/// @throws InputError (bad path, extension or options; a grid that breaks a
+///         rule of StabilityMapGrid), GnuplotNotFound, PlotError.
+PlotFiles plot_stability_map(const std::filesystem::path& image, const std::string& title,
+                             const StabilityMapGrid& map, const PlotOptions& options = {});
+
+/// One method's depth limits for plot_compare().
+struct MethodLimits {
+  /// Name in the legend and the data columns (e.g. "analytic"); not empty.
+  std::string method;
+  /// One row per spindle speed (the same speeds, in the same order, for every
+  /// method); +inf depth = no limit below the searched depth (a gap).
+  std::vector<StabilityLimit> limits;
+  /// Empty, or one entry per row (sdm: FloquetResult::type at the limit);
+  /// the bounded rows of type flip or fold are marked on the line.
+  std::vector<MultiplierType> multiplier_type;
+};
+
+/// Method comparison: every method's depth limit (mm) against spindle speed
+/// (rev/min) on one chart, one line style per method (analytic, coupled, sdm
+/// and time-domain always get the same styles; wider lines are drawn first,
+/// so that curves that coincide all stay visible), the stretches where a
+/// method with multiplier types is limited by a flip (or fold) multiplier
+/// drawn over its line, a legend naming the methods; speeds with no limit
+/// below depth_max_m leave a gap. The y range is 0 to a rounded value around 1.5× the
+/// median and 3× the smallest bounded limit, capped at depth_max_m.
+/// @param methods  1 to 8 methods, each with the same (>= 1) speeds.
+/// @param depth_max_m  deepest cut searched, m (> 0).
+/// @throws InputError (bad path, extension or options; no method, an empty
+///         or duplicate name, different speeds, a multiplier_type list of the
+///         wrong size), GnuplotNotFound, PlotError.
+PlotFiles plot_compare(const std::filesystem::path& image, const std::string& title,
+                       const std::vector<MethodLimits>& methods, double depth_max_m,
+                       const PlotOptions& options = {});
+
 /// Runs `gnuplot <script filename>` with the script's directory as working
-/// directory (what plot_lobes/plot_frf do after writing the files).
+/// directory (what the plot functions do after writing the files).
 /// @throws GnuplotNotFound, PlotError.
 void run_gnuplot(const std::filesystem::path& script);
 
