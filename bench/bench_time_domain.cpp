@@ -1,0 +1,66 @@
+// Speed of the time-domain simulator (issue 4): one simulation of case C
+// (a_e/D = 0.05 down, 2 teeth, 922 Hz), 200 tooth periods, default tolerance
+// (rtol 1e-7): target under 50 ms on one core. Counters: integrator steps,
+// right-hand-side evaluations, restarts (stop points) and root stops per run.
+// Also one depth limit by simulation (lobes --method time-domain, per speed).
+// Run: ./build/bench/bench_time_domain --benchmark_repetitions=5
+// (figures in docs/performance.md).
+#include <benchmark/benchmark.h>
+
+#include "chatter/time_domain.hpp"
+
+namespace {
+
+using namespace chatter;
+
+StructuralModel case_c() {
+  StructuralModel m;
+  m.tool.modes.push_back(Mode::from_mass(922.0, 0.011, 0.03993, {1.0, 0.0}));
+  return m;
+}
+Process case_c_process() { return Process::milling({2, 6e8, 2e8, 0.05, MillingDirection::kDown}); }
+
+void run(benchmark::State& state, double rpm, double depth_m, bool linear, bool multiple) {
+  TimeDomainSimulator sim(case_c(), case_c_process());
+  SimulationSettings s;
+  s.spindle_rpm = rpm;
+  s.depth_m = depth_m;
+  s.periods = 200;
+  s.linear = linear;
+  s.multiple_regeneration = multiple;
+  s.record_series = false;
+  SimulationResult r;
+  for (auto _ : state) {
+    r = sim.simulate(s);
+    benchmark::DoNotOptimize(r.growth_per_period);
+  }
+  state.counters["steps"] = static_cast<double>(r.steps);
+  state.counters["rhs_evals"] = static_cast<double>(r.rhs_evaluations);
+  state.counters["restarts"] = static_cast<double>(r.restarts);
+  state.counters["root_stops"] = static_cast<double>(r.root_stops);
+  state.counters["chatter"] = r.verdict == SimulationVerdict::kChatter ? 1 : 0;
+}
+
+// Stable forced vibration (Hopf region, 0.9 x the sdm limit).
+void BM_CaseC_Stable_20000rpm(benchmark::State& st) { run(st, 20000, 2.07e-3, false, false); }
+// Flip-lobe chatter, the tool leaves the cut (root stops).
+void BM_CaseC_FlipChatter_17000rpm(benchmark::State& st) { run(st, 17000, 3.67e-3, false, false); }
+// Same with multiple regeneration.
+void BM_CaseC_FlipChatter_Multiple_17000rpm(benchmark::State& st) { run(st, 17000, 3.67e-3, false, true); }
+// Linear mode (growth factor vs sdm).
+void BM_CaseC_Linear_10000rpm(benchmark::State& st) { run(st, 10000, 3.7e-3, true, false); }
+
+void BM_CaseC_LimitAt_20000rpm(benchmark::State& state) {
+  TimeDomainSolver td(case_c(), case_c_process());
+  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(20000).depth_limit_m);
+}
+
+BENCHMARK(BM_CaseC_Stable_20000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_FlipChatter_17000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_FlipChatter_Multiple_17000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Linear_10000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_LimitAt_20000rpm)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
