@@ -9,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -214,6 +215,62 @@ TEST(TimeDomainLobes, LimitByBisectionMatchesSdm) {
     EXPECT_NEAR(a.depth_limit_m / b.depth_limit_m, 1.0, 0.02) << name;
     EXPECT_NEAR(a.chatter_frequency_hz / b.chatter_frequency_hz, 1.0, kChatterFrequency) << name;
   }
+}
+
+// Random models (1–3 modes on either body at any angle, turning or milling
+// with 1–4 teeth, up or down, any immersion): the linear growth factor equals
+// sdm's spectral radius, and the nonlinear run gives finite numbers.
+TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
+  std::mt19937_64 g(20261122);
+  auto log_uniform = [&](double lo, double hi) {
+    return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(g));
+  };
+  std::uniform_int_distribution<int> modes(1, 3), coin(0, 1), teeth(1, 4);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int checked = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    StructuralModel model;
+    const int n = modes(g);
+    for (int i = 0; i < n; ++i) {
+      const double a = kPi * unit(g);
+      (coin(g) ? model.tool : model.workpiece)
+          .modes.push_back(Mode::from_stiffness(log_uniform(200, 2000), log_uniform(0.01, 0.08), log_uniform(1e6, 1e8),
+                                                {std::cos(a), std::sin(a)}));
+    }
+    const bool turning = coin(g);
+    const double kt = log_uniform(2e8, 2e9);
+    const Process process =
+        turning ? Process::turning({kt})
+                : Process::milling({teeth(g), kt, 0.3 * kt, std::max(0.05, unit(g)),
+                                    coin(g) ? MillingDirection::kDown : MillingDirection::kUp});
+    const double rpm = turning ? log_uniform(1500, 6000) : log_uniform(4000, 20000);
+    SemiDiscretizationSolver sdm(model, process);
+    const StabilityLimit lim = sdm.limit_at(rpm);
+    if (!lim.bounded()) continue;
+    const double depth = lim.depth_limit_m * (0.7 + 0.6 * unit(g));
+    const FloquetResult f = sdm.analyse(rpm, depth);
+    TimeDomainSimulator sim(model, process);
+    SimulationSettings s;
+    s.spindle_rpm = rpm;
+    s.depth_m = depth;
+    s.periods = 150;
+    s.linear = true;
+    s.record_series = false;
+    const SimulationResult r = sim.simulate(s);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + std::to_string(n) + " modes, " +
+                 (turning ? "turning" : "milling") + " at " + std::to_string(rpm) + " rev/min, " +
+                 std::to_string(depth * 1e3) + " mm");
+    EXPECT_NEAR(r.growth_per_period / f.spectral_radius, 1.0, 2 * kGrowthVsSdm)
+        << r.growth_per_period << " vs " << f.spectral_radius;
+    s.linear = false;
+    s.multiple_regeneration = coin(g);
+    const SimulationResult nl = sim.simulate(s);
+    EXPECT_TRUE(std::isfinite(nl.max_amplitude_m));
+    EXPECT_GE(nl.out_of_cut_fraction, 0.0);
+    EXPECT_LE(nl.out_of_cut_fraction, 1.0);
+    ++checked;
+  }
+  EXPECT_GE(checked, 8);
 }
 
 TEST(TimeDomain, ReproducibleBitForBit) {
