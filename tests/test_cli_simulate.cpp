@@ -1,0 +1,210 @@
+// End-to-end tests of the time-domain solver through the binary:
+// `chatter simulate` (JSON keys, verdicts either side of the sdm limit, the
+// CSV files, linear growth vs sdm), `point` and `lobes` with
+// --method time-domain, and bad input (exit 2, a message naming the option,
+// nothing written).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "chatter/io/config.hpp"
+#include "chatter/semi_discretization.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') out += "'\\''";
+    else out += c;
+  }
+  return out + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream os;
+  os << f.rdbuf();
+  return os.str();
+}
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+const std::string kCaseC = std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml";
+const std::string kCaseA = std::string(CHATTER_SOURCE_DIR) + "/configs/seed_turning_1dof.toml";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+class CliSimulate : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string("chatter_test_cli_sim_") + info->name() + "_" + std::to_string(::getpid());
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+    dir_ = fs::temp_directory_path() / name;
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  RunResult run(const std::vector<std::string>& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    std::string cmd = shell_quote(CHATTER_CLI);
+    for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+    cmd.append(" >").append(shell_quote(out.string()));
+    cmd.append(" 2>").append(shell_quote(err.string()));
+    cmd.append(" </dev/null");
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+  fs::path path(const std::string& name) const { return dir_ / name; }
+  fs::path dir_;
+};
+
+double sdm_limit_mm(const std::string& config, double rpm) {
+  const chatter::Config cfg = chatter::load_config(config);
+  return chatter::SemiDiscretizationSolver(cfg.model, cfg.process).limit_at(rpm).depth_limit_m * 1e3;
+}
+
+TEST_F(CliSimulate, VerdictsEitherSideOfTheSdmLimitWithTheDocumentedKeys) {
+  const double lim = sdm_limit_mm(kCaseC, 20000);
+  for (double factor : {0.9, 1.1}) {
+    const RunResult r = run({"simulate", kCaseC, "--rpm", "20000", "--depth-mm", std::to_string(factor * lim)});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"verdict", "stable", "verdict_measure", "growth_per_period", "chatter_frequency_hz",
+                            "max_amplitude_mm", "out_of_cut_fraction", "harmonics", "integrator", "periods"})
+      EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["verdict"], factor < 1 ? "stable" : "chatter") << j["verdict_measure"];
+    EXPECT_EQ(j["periods"], 200);
+    if (factor > 1) {
+      EXPECT_NEAR(j["chatter_frequency_hz"].get<double>(), 901.6, 15.0);
+    } else {
+      EXPECT_TRUE(j["chatter_frequency_hz"].is_null());
+    }
+    EXPECT_GT(j["max_amplitude_mm"].get<double>(), 0.0);
+  }
+}
+
+TEST_F(CliSimulate, WritesSeriesPeriodicSamplesAndSpectrum) {
+  const RunResult r = run({"simulate", kCaseA, "--rpm", "3000", "--depth-mm", "1", "--revolutions", "30", "--out",
+                           path("series.csv").string(), "--periodic", path("periodic.csv").string(), "--spectrum",
+                           path("spectrum.csv").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["periods"], 30);
+  EXPECT_EQ(j["verdict"], "stable");
+  std::istringstream series(slurp(path("series.csv")));
+  std::string line;
+  std::getline(series, line);
+  EXPECT_EQ(line, "time_s,tool_x_um,tool_y_um,workpiece_x_um,workpiece_y_um,rel_x_um,rel_y_um,force_x_n,force_y_n,"
+                  "chip_um,in_cut");
+  int rows = 0;
+  double last_t = -1;
+  while (std::getline(series, line)) {
+    ++rows;
+    const double t = std::stod(line.substr(0, line.find(',')));
+    EXPECT_GT(t, last_t);
+    last_t = t;
+    EXPECT_FALSE(contains(line, "nan"));
+  }
+  EXPECT_EQ(rows, 30 * j["integrator"]["samples_per_period"].get<int>() + 1);
+  EXPECT_NEAR(last_t, 30 * 60.0 / 3000, 1e-9);
+  // Once per revolution: 31 samples (t = 0 … 30 τ).
+  std::istringstream periodic(slurp(path("periodic.csv")));
+  rows = -1;
+  while (std::getline(periodic, line)) ++rows;
+  EXPECT_EQ(rows, 31);
+  EXPECT_TRUE(contains(slurp(path("spectrum.csv")), "frequency_hz,amplitude_um,harmonic\n"));
+}
+
+TEST_F(CliSimulate, LinearGrowthMatchesSdm) {
+  const RunResult r = run({"simulate", kCaseC, "--rpm", "17000", "--depth-mm", "3.6", "--linear", "--periods", "120"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const chatter::Config cfg = chatter::load_config(kCaseC);
+  const double rho = chatter::SemiDiscretizationSolver(cfg.model, cfg.process).analyse(17000, 3.6e-3).spectral_radius;
+  EXPECT_NEAR(j["growth_per_period"].get<double>() / rho, 1.0, 5e-3);
+  EXPECT_EQ(j["verdict"], "chatter");
+  EXPECT_TRUE(j["feed_per_tooth_mm"].is_null());
+}
+
+TEST_F(CliSimulate, PointAndLobesWithTimeDomain) {
+  RunResult r = run({"point", kCaseC, "--method", "time-domain", "--rpm", "20000", "--depth-mm", "2.5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["method"], "time-domain");
+  EXPECT_EQ(j["stable"], false);
+  EXPECT_NEAR(j["depth_limit_mm"].get<double>(), 2.2987, 0.05);
+  EXPECT_TRUE(j.contains("verdict_measure"));
+
+  r = run({"lobes", kCaseA, "--method", "time-domain", "--rpm-min", "2500", "--rpm-max", "3000", "--rpm-points", "2",
+           "--table", path("lobes.csv").string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream t(slurp(path("lobes.csv")));
+  std::string line;
+  std::getline(t, line);
+  EXPECT_TRUE(contains(line, "spindle_rpm,depth_limit_mm"));
+  int rows = 0;
+  while (std::getline(t, line)) {
+    ++rows;
+    const std::string depth = line.substr(line.find(',') + 1);
+    EXPECT_GT(std::stod(depth), 1.0) << line;  // case A: above the 1.28 mm absolute limit
+  }
+  EXPECT_EQ(rows, 2);
+}
+
+TEST_F(CliSimulate, BadInputExitsTwoNamingTheOption) {
+  struct Bad {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  const std::vector<Bad> cases = {
+      {{"simulate", kCaseC, "--rpm", "0", "--depth-mm", "1"}, "--rpm"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "-1"}, "--depth-mm"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "1", "--revolutions", "5", "--periods", "10"},
+       "--revolutions"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "1", "--periods", "2"}, "--periods"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "1", "--rtol", "1"}, "--rtol"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "1", "--feed-per-tooth-mm", "-0.1"},
+       "--feed-per-tooth-mm"},
+      {{"simulate", kCaseC, "--rpm", "10000", "--depth-mm", "1", "--plot", "x.bmp"}, "x.bmp"},
+      {{"simulate", "/nonexistent/case.toml", "--rpm", "10000", "--depth-mm", "1"}, "/nonexistent/case.toml"},
+      {{"simulate", kCaseC, "--depth-mm", "1"}, "rpm"},
+      {{"lobes", kCaseC, "--method", "analytic", "--periods", "50"}, "--periods"},
+      {{"simulate", kCaseC, "--rpm", "0.001", "--depth-mm", "1"}, "samples per delay"},
+  };
+  for (const Bad& b : cases) {
+    const RunResult r = run(b.args);
+    EXPECT_EQ(r.exit_code, 2) << b.says << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, b.says)) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  EXPECT_FALSE(fs::exists("x.bmp"));
+}
+
+}  // namespace
