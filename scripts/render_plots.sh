@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates plots/: the lobe diagram and the receptance plot of every config
 # in configs/, the semi-discretisation lobes and stability map of the milling
-# configs, and the method comparison of case A and case C, each with its
+# configs, the method comparison of case A and case C, and time-domain
+# simulations of case C (chatter and stable) and case A, each with its
 # gnuplot script (.gp) and data (.dat) beside it.
 # Usage: bash scripts/render_plots.sh   (after scripts/build.sh)
 set -euo pipefail
@@ -36,3 +37,13 @@ for stem in seed_turning_1dof milling_benchmark_ae005_down; do
     --plot "plots/${stem}_compare.png" > /dev/null
   echo "plots/${stem}_compare.png"
 done
+# Time-domain simulations: case C in its flip lobe (chatter, the tool leaves
+# the cut, 1.5 x tooth passing) and just below its limit at 20 000 rev/min
+# (stable forced vibration), case A below its limit (decaying transient).
+./build/chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 3.6 \
+  --multiple-regeneration --plot plots/milling_benchmark_ae005_down_simulate_chatter.png > /dev/null
+./build/chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 20000 --depth-mm 2.0 \
+  --plot plots/milling_benchmark_ae005_down_simulate_stable.png > /dev/null
+./build/chatter simulate configs/seed_turning_1dof.toml --rpm 3000 --depth-mm 2.0 \
+  --plot plots/seed_turning_1dof_simulate.png > /dev/null
+echo "plots/*_simulate*.png"

@@ -142,6 +142,20 @@ TEST_F(CliSimulate, WritesSeriesPeriodicSamplesAndSpectrum) {
   EXPECT_TRUE(contains(slurp(path("spectrum.csv")), "frequency_hz,amplitude_um,harmonic\n"));
 }
 
+TEST_F(CliSimulate, PlotWritesImageScriptAndData) {
+  if (std::system("gnuplot --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot not installed";
+  const RunResult r = run({"simulate", kCaseC, "--rpm", "17000", "--depth-mm", "3.6", "--periods", "40", "--plot",
+                           path("sim.svg").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["plot"], path("sim.svg").string());
+  const std::string svg = slurp(path("sim.svg"));
+  EXPECT_TRUE(contains(svg, "<svg")) << svg.substr(0, 200);
+  EXPECT_TRUE(contains(svg, "17000 rev/min"));
+  EXPECT_TRUE(fs::exists(path("sim.gp")));
+  EXPECT_TRUE(fs::exists(path("sim.dat")));
+}
+
 TEST_F(CliSimulate, LinearGrowthMatchesSdm) {
   const RunResult r = run({"simulate", kCaseC, "--rpm", "17000", "--depth-mm", "3.6", "--linear", "--periods", "120"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -685,3 +685,62 @@ TEST_F(PlotTest, CompareRejectsBadInputAndWritesNothing) {
   EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.png", "t", bad, 10e-3), chatter::InputError);
   EXPECT_TRUE(fs::is_empty(dir_));
 }
+
+namespace {
+
+chatter::SimulationResult case_c_simulation(double rpm, double depth_m, int periods) {
+  const chatter::Config cfg =
+      chatter::load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml");
+  chatter::TimeDomainSimulator sim(cfg.model, cfg.process);
+  chatter::SimulationSettings s;
+  s.spindle_rpm = rpm;
+  s.depth_m = depth_m;
+  s.periods = periods;
+  s.multiple_regeneration = true;
+  return sim.simulate(s);
+}
+
+}  // namespace
+
+TEST_F(PlotTest, SimulationPngAndSvgShowSeriesSamplesAndSpectrum) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  // Flip chatter in case C's flip lobe: 850 Hz = 1.5 x tooth passing.
+  const chatter::SimulationResult r = case_c_simulation(17000, 3.6e-3, 60);
+  ASSERT_EQ(r.verdict, chatter::SimulationVerdict::kChatter);
+  chatter::PlotOptions opt;
+  opt.width_px = 1000;
+  opt.height_px = 800;
+  const auto files = chatter::plot_simulation(dir_ / "sim.png", "case C simulate", r, 922.0, opt);
+  const std::string png = read_file(files.image);
+  ASSERT_TRUE(is_png(png));
+  EXPECT_EQ(png_size(png), std::make_pair(1000u, 800u));
+  const std::string gp = read_file(files.script);
+  EXPECT_NE(gp.find("set ylabel 'relative displacement ({/Symbol m}m)'"), std::string::npos);
+  EXPECT_NE(gp.find("set ylabel 'force on the tool (N)'"), std::string::npos);
+  EXPECT_NE(gp.find("set xlabel 'frequency (Hz)'"), std::string::npos);
+  EXPECT_NE(gp.find("chatter 850 Hz"), std::string::npos) << "the chatter frequency is labelled";
+  EXPECT_NE(gp.find("set arrow from 566.66667, graph 0"), std::string::npos) << "first tooth-passing harmonic marked";
+  const std::string dat = read_file(files.data);
+  EXPECT_EQ(lower(dat).find("nan"), std::string::npos);
+  EXPECT_EQ(lower(dat).find("inf"), std::string::npos);
+  EXPECT_EQ(dat_rows(dat, 0).size(), r.series.size());
+  EXPECT_EQ(dat_rows(dat, 1).size(), r.once_per_period.size());
+  EXPECT_FALSE(dat_rows(dat, 2).empty());
+  EXPECT_FALSE(dat_rows(dat, 3).empty());
+  fs::remove(files.image);
+  ASSERT_EQ(rerun(files.script), 0);
+  EXPECT_EQ(read_file(files.image), png);
+
+  const auto svg_files = chatter::plot_simulation(dir_ / "sim.svg", "case C simulate", r, 922.0);
+  const std::string svg = read_file(svg_files.image);
+  expect_well_formed_svg(svg);
+  EXPECT_NE(svg.find("case C simulate"), std::string::npos);
+  EXPECT_NE(svg.find("<path stroke='rgb( 31, 119, 180)'"), std::string::npos) << "the x displacement line";
+}
+
+TEST_F(PlotTest, SimulationWithoutSeriesIsRefusedBeforeWriting) {
+  chatter::SimulationResult r;
+  EXPECT_THROW(chatter::plot_simulation(dir_ / "sim.png", "x", r, 922.0), chatter::InputError);
+  EXPECT_THROW(chatter::plot_simulation(dir_ / "sim.bmp", "x", r, 922.0), chatter::InputError);
+  EXPECT_TRUE(fs::is_empty(dir_));
+}

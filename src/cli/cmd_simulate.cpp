@@ -1,6 +1,7 @@
 // chatter simulate: one time-domain run (include/chatter/time_domain.hpp),
 // its verdict as JSON on stdout, the series / once-per-period samples /
 // spectrum as CSV files, and a plot.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -168,6 +169,22 @@ int cmd_simulate(const std::vector<std::string>& args) {
     files.emplace_back(spectrum_path, os.str());
   }
   if (!files.empty()) write_text_files(files);
+  if (!plot_path.empty()) {
+    double f_max = 0.0;
+    for (const Body* b : {&cfg.model.tool, &cfg.model.workpiece})
+      for (const Mode& m : b->modes) f_max = std::max(f_max, m.natural_frequency_hz);
+    std::ostringstream title;
+    title << cfg.name << ", " << fmt(rpm) << " rev/min, " << fmt(depth_mm) << " mm"
+          << (st.linear ? " (linear)" : "");
+    try {
+      const PlotFiles pf = plot_simulation(plot_path, title.str(), r, f_max);
+      j["plot"] = pf.image.string();
+    } catch (const GnuplotNotFound& e) {
+      // The numbers are still printed and the tables written.
+      std::cout << j.dump(2) << "\n";
+      throw;
+    }
+  }
   std::cout << j.dump(2) << "\n";
   return 0;
 }

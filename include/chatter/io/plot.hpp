@@ -38,6 +38,7 @@
 #include "chatter/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/structural_model.hpp"
+#include "chatter/time_domain.hpp"
 
 namespace chatter {
 
@@ -183,6 +184,22 @@ struct MethodLimits {
 PlotFiles plot_compare(const std::filesystem::path& image, const std::string& title,
                        const std::vector<MethodLimits>& methods, double depth_max_m,
                        const PlotOptions& options = {});
+
+/// One time-domain run (TimeDomainSimulator::simulate with record_series):
+/// three stacked panels — the relative displacement (µm) along X and, when
+/// it moves, Y against time (ms) with the once-per-period samples drawn over
+/// it as dots (they converge to one point in a stable cut, scatter or
+/// alternate in chatter); the cutting force (N) on the tool; and the
+/// amplitude spectrum (µm, log axis) of the relative displacement over the
+/// analysed window against frequency (Hz), the tooth-passing (spindle, in
+/// turning) harmonics marked by dashed lines and circles, the chatter
+/// frequency labelled. The title carries the verdict.
+/// @param f_max_hz  highest natural frequency of the model (Hz, > 0): the
+///                  spectrum is drawn up to 2.5× it.
+/// @throws InputError (bad path, extension or options; no series — run with
+///         record_series), GnuplotNotFound, PlotError.
+PlotFiles plot_simulation(const std::filesystem::path& image, const std::string& title,
+                          const SimulationResult& result, double f_max_hz, const PlotOptions& options = {});
 
 /// Runs `gnuplot <script filename>` with the script's directory as working
 /// directory (what the plot functions do after writing the files).
