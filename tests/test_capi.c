@@ -40,6 +40,13 @@ int main(void) {
   CHECK(lim.bounded == 0 && isinf(lim.depth_limit_mm) && lim.lobe == -1);
   chatter_solver_free(solver);
 
+  /* The Floquet solver through the same handle: case A's limit at 3000 rev/min
+   * is 2.2048 mm (sdm, within 0.5 % of the exact transfer-function value). */
+  CHECK(chatter_solver_create(model, "sdm", 20.0, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 3000.0, &lim) == CHATTER_OK);
+  CHECK(lim.bounded && fabs(lim.depth_limit_mm - 2.2048) < 0.01);
+  chatter_solver_free(solver);
+
   /* Error paths: status, message, no crash. */
   CHECK(chatter_solver_create(model, "nonsense", 20.0, &solver) == CHATTER_INPUT_ERROR);
   CHECK(strstr(chatter_last_error(), "nonsense") != NULL);

@@ -53,7 +53,9 @@ chatter_status chatter_model_load(const char* config_path, chatter_model** out);
 chatter_status chatter_model_parse(const char* toml_text, const char* origin, chatter_model** out);
 void chatter_model_free(chatter_model* model);
 
-/* Builds a solver. method: "analytic" or "coupled" (NULL = "analytic").
+/* Builds a solver. method: "analytic", "coupled", "sdm" (semi-discretisation:
+ * Floquet, flip lobes; ~2 ms per speed) or "time-domain" (simulation;
+ * ~0.3 s per speed) (NULL = "analytic").
  * depth_max_mm: deepest cut searched (> 0); limits above it are unbounded. */
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out);

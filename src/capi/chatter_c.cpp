@@ -1,6 +1,7 @@
 // The C API (include/chatter/chatter.h): a thin, exception-safe layer over the
 // C++ library. Every entry point catches everything; nothing propagates into C.
 #include "chatter/chatter.h"
+#include "chatter/solvers.hpp"
 
 #include <cmath>
 #include <exception>
@@ -18,7 +19,7 @@ struct chatter_model {
 };
 
 struct chatter_solver {
-  std::unique_ptr<chatter::TransferFunctionSolver> solver;
+  std::unique_ptr<chatter::LobeSolver> solver;
 };
 
 namespace {
@@ -88,10 +89,8 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
       throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
-    chatter::TransferFunctionOptions opt;
-    opt.depth_max_m = depth_max_mm * 1e-3;
-    auto s = chatter::make_transfer_function_solver(method ? method : "analytic", model->config.model,
-                                                    model->config.process, opt);
+    auto s = chatter::make_lobe_solver(method ? method : "analytic", model->config.model, model->config.process,
+                                       depth_max_mm * 1e-3);
     *out = new chatter_solver{std::move(s)};
   });
 }
