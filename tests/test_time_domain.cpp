@@ -273,6 +273,53 @@ TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
   EXPECT_GE(checked, 8);
 }
 
+// Extremes of the edge-case list (docs/reliability.md): every run ends with
+// finite numbers or a clear InputError, never NaN, a hang or a crash.
+TEST(TimeDomainEdgeCases, ExtremeModelsAndSpeedsGiveFiniteResultsOrInputError) {
+  struct Case {
+    const char* what;
+    StructuralModel model;
+    double rpm;
+    bool expect_input_error;
+  };
+  auto one = [](double f, double zeta, double k) {
+    StructuralModel m;
+    m.tool.modes.push_back(Mode::from_stiffness(f, zeta, k, {1, 0}));
+    return m;
+  };
+  StructuralModel stiff_and_soft = one(100.0, 0.03, 1e4);
+  stiff_and_soft.workpiece.modes.push_back(Mode::from_stiffness(5e4, 0.03, 1e12, {0, 1}));
+  const std::vector<Case> cases = {
+      {"damping 0.99", one(922.0, 0.99, 1.34e6), 10000, false},
+      {"damping 1e-6", one(922.0, 1e-6, 1.34e6), 10000, false},
+      {"1e6 rev/min", one(922.0, 0.011, 1.34e6), 1e6, false},
+      {"1e4 beside 1e12 N/m at 20 000 rev/min", stiff_and_soft, 20000, false},
+      {"1e4 beside 1e12 N/m at 10 rev/min (too many samples)", stiff_and_soft, 10, true},
+  };
+  const Process milling = Process::milling({2, 6e8, 2e8, 0.05, MillingDirection::kDown});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    TimeDomainSimulator sim(c.model, milling);
+    for (bool linear : {false, true}) {
+      SimulationSettings s;
+      s.spindle_rpm = c.rpm;
+      s.depth_m = 1e-3;
+      s.periods = 30;
+      s.linear = linear;
+      s.record_series = false;
+      if (c.expect_input_error) {
+        EXPECT_THROW(sim.simulate(s), InputError);
+        continue;
+      }
+      const SimulationResult r = sim.simulate(s);
+      EXPECT_TRUE(std::isfinite(r.max_amplitude_m));
+      EXPECT_TRUE(std::isnan(r.growth_per_period) || std::isfinite(r.growth_per_period));
+      EXPECT_FALSE(r.verdict_measure.empty());
+      for (double a : r.spectrum_amplitude_m) ASSERT_TRUE(std::isfinite(a));
+    }
+  }
+}
+
 TEST(TimeDomain, ReproducibleBitForBit) {
   const Config cfg = config("milling_benchmark_ae005_down.toml");
   TimeDomainSimulator sim(cfg.model, cfg.process);
