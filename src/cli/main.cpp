@@ -98,7 +98,8 @@ int cmd_lobes(const std::vector<std::string>& args) {
                    "CSV columns: spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe ('inf' = stable\n"
                    "at every depth up to --depth-max-mm); --method sdm adds multiplier_type (hopf, flip,\n"
                    "fold) and spectral_radius_check. Use sdm for milling at low radial immersion: the\n"
-                   "transfer-function methods miss its flip lobes.\n",
+                   "transfer-function methods miss its flip lobes. --method time-domain simulates the\n"
+                   "cut at each speed and bisects on depth (slow: about 0.3 s per speed, 1 % bracket).\n",
              d, common, vm))
     return 0;
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
