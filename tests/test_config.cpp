@@ -209,6 +209,35 @@ TEST(ConfigValid, DefaultsNameFromOriginStemAndLeavesSourceEmpty) {
   EXPECT_FALSE(c.sweep.rpm_min || c.sweep.rpm_max || c.sweep.rpm_points || c.sweep.depth_max_mm);
 }
 
+TEST(ConfigValid, FeedForTheTimeDomainSimulation) {
+  // Turning: per revolution; milling: per tooth; absent: no value.
+  const std::string turning_head = R"(
+[process]
+operation = "turning"
+feed_force_coefficient_n_per_m2 = 2.4e9
+feed_per_rev_mm = 0.25
+)";
+  EXPECT_EQ(parse_config(turning_head + R"(
+[[tool.modes]]
+frequency_hz = 100
+damping_ratio = 0.03
+stiffness_n_per_m = 1e7
+)",
+                         kOrigin)
+                .feed_mm,
+            0.25);
+  EXPECT_EQ(parse_config(Milling(kMillingKeys + "feed_per_tooth_mm = 0.05\n"), kOrigin).feed_mm, 0.05);
+  EXPECT_FALSE(parse_config(Milling(kMillingKeys), kOrigin).feed_mm.has_value());
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "feed_per_tooth_mm = 0\n"),
+                               {kOrigin, "process.feed_per_tooth_mm", "in (0, 10] (mm)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "feed_per_tooth_mm = 12\n"),
+                               {"process.feed_per_tooth_mm", "in (0, 10] (mm)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "feed_per_rev_mm = 0.1\n"),
+                               {"process.feed_per_rev_mm", "only for operation = \"turning\""}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "feed_per_tooth_mm = \"fast\"\n"),
+                               {"process.feed_per_tooth_mm", "must be a number"}));
+}
+
 TEST(ConfigValid, ExplicitName) {
   EXPECT_EQ(parse_config("name = \"lathe 3\"\n" + TurningWithToolMode(""), kOrigin).name, "lathe 3");
 }

@@ -46,8 +46,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                     "periods: 200 in turning, 200 / teeth in milling)")
       ("periods", po::value<int>(&periods), "delay periods (tooth periods in milling) to simulate, instead of "
                                             "--revolutions")
-      ("feed-per-tooth-mm", po::value<double>(&feed_mm)->default_value(0.1), "feed per tooth (milling) or per "
-                                                                            "revolution (turning), mm")
+      ("feed-per-tooth-mm", po::value<double>(&feed_mm), "feed per tooth (milling) or per revolution (turning), mm "
+                                                         "(default: [process] feed_per_tooth_mm / feed_per_rev_mm, "
+                                                         "else 0.1)")
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
@@ -73,6 +74,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     return 0;
   if (!plot_path.empty()) check_plot_path(plot_path);
   const Config cfg = load_config(common.config_path);
+  if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
   if (!(std::isfinite(depth_mm) && depth_mm >= 0.0 && depth_mm <= 1000.0))
     throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be in [0, 1000] mm");

@@ -517,12 +517,17 @@ Body read_body(const Table& root, std::string_view name) {
 
 // ------------------------------------------------------------------ process
 
-constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2"};
+constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_per_rev_mm"};
 constexpr std::string_view kMillingKeys[] = {"teeth", "tangential_coefficient_n_per_m2",
                                              "radial_coefficient_n_per_m2", "radial_immersion",
-                                             "milling_direction"};
+                                             "milling_direction", "feed_per_tooth_mm"};
+// The static chip of the time-domain simulation (feed per revolution in
+// turning, per tooth in milling), mm.
+const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
 constexpr std::string_view kProcessKeys[] = {"operation",
                                              "feed_force_coefficient_n_per_m2",
+                                             "feed_per_rev_mm",
+                                             "feed_per_tooth_mm",
                                              "teeth",
                                              "tangential_coefficient_n_per_m2",
                                              "radial_coefficient_n_per_m2",
@@ -536,7 +541,7 @@ void reject_keys_of(const Table& process, std::span<const std::string_view> keys
   }
 }
 
-Process read_process(const Table& root) {
+Process read_process(const Table& root, std::optional<double>* feed_mm) {
   const auto process = root.table("process");
   if (!process) root.doc().fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
   process->reject_unknown(kProcessKeys);
@@ -550,6 +555,7 @@ Process read_process(const Table& root) {
     TurningParameters p;
     p.feed_force_coefficient_n_per_m2 = process->required_number("feed_force_coefficient_n_per_m2", kPositive, "N/m^2");
     process->plausible("feed_force_coefficient_n_per_m2", p.feed_force_coefficient_n_per_m2, kCoefficientBound);
+    *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
     return Process::turning(p);
   }
   if (*operation == "milling") {
@@ -572,6 +578,7 @@ Process read_process(const Table& root) {
     else
       process->doc().fail(process->path_of("milling_direction"), *process->find("milling_direction"),
                           kDirectionRuleMilling);
+    *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
     return Process::milling(p);
   }
   process->doc().fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
@@ -610,7 +617,7 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     const std::string stem = std::filesystem::path(doc.origin()).stem().string();
     config.name = stem.empty() ? doc.origin() : stem;
   }
-  config.process = read_process(root);
+  config.process = read_process(root, &config.feed_mm);
   config.model.tool = read_body(root, "tool");
   config.model.workpiece = read_body(root, "workpiece");
   if (config.model.rigid())

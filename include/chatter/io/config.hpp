@@ -25,6 +25,10 @@ struct Config {
   StructuralModel model;
   Process process = Process::turning({1.0});
   SweepDefaults sweep;
+  /// Feed (mm) for the static chip of the time-domain simulation:
+  /// `[process] feed_per_rev_mm` (turning) or `feed_per_tooth_mm` (milling);
+  /// absent: the command line's default (0.1 mm).
+  std::optional<double> feed_mm;
 };
 
 /// Reads and validates a config file.
