@@ -913,6 +913,112 @@ TEST_F(CliTest, CompareAgreesOnTurningAndExplainsFlipLobesInMilling) {
   EXPECT_TRUE(contains(r.out, "flip")) << r.out;
 }
 
+// Time-domain is opt-in (--methods): on case A (turning, constant
+// coefficients) its limit, the middle of a depth bracket 1 % wide, matches
+// the exact analytic limit. 3 speeds of ~0.3 s each, run in parallel.
+constexpr double kTimeDomainVsAnalyticRelTol = 0.02;
+
+TEST_F(CliTest, CompareRunsTimeDomainOnRequestAndAgreesInTurning) {
+  const fs::path js = path("cmp.json"), t = path("cmp.csv");
+  auto r = run({"compare", config_path("seed_turning_1dof.toml").string(), "--methods", "analytic,time-domain",
+                "--rpm-min", "2500", "--rpm-max", "3000", "--rpm-points", "3", "--table", t.string(), "--json",
+                js.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(slurp(t));
+  ASSERT_EQ(lines.size(), 4u) << slurp(t);
+  EXPECT_EQ(lines[0], "spindle_rpm,depth_limit_mm_analytic,depth_limit_mm_time-domain");
+  double worst = 0.0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto f = split_fields(lines[i]);
+    ASSERT_EQ(f.size(), 3u) << lines[i];
+    const double analytic = std::stod(f[1]), td = std::stod(f[2]);
+    ASSERT_TRUE(std::isfinite(analytic) && std::isfinite(td)) << lines[i];
+    EXPECT_NEAR(td / analytic, 1.0, kTimeDomainVsAnalyticRelTol) << lines[i];
+    worst = std::max(worst, std::abs(td / analytic - 1.0));
+  }
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_EQ(j["methods"], nlohmann::json({"analytic", "time-domain"}));
+  ASSERT_EQ(j["pairs"].size(), 1u);
+  EXPECT_EQ(j["pairs"][0]["methods"], nlohmann::json({"analytic", "time-domain"}));
+  // The printed table has 10 digits; the pair's difference is computed unrounded.
+  EXPECT_NEAR(j["pairs"][0]["largest_relative_difference"].get<double>(), worst, 1e-8);
+  EXPECT_EQ(j["solver_options"]["time-domain"]["periods"], 200);
+  EXPECT_TRUE(contains(r.out, "analytic vs time-domain: largest relative difference")) << r.out;
+  EXPECT_TRUE(contains(r.out, "1 % wide")) << r.out;
+}
+
+TEST_F(CliTest, CompareMethodsInAnyOrderAndSolverOptionsForThem) {
+  // sdm first: the multiplier type still follows sdm's column, and --steps,
+  // refused by build_solver for the other methods, is taken for sdm.
+  const fs::path js = path("cmp.json"), t = path("cmp.csv");
+  auto r = run({"compare", config_path("seed_turning_1dof.toml").string(), "--methods", "sdm,analytic", "--steps",
+                "40", "--rpm-min", "300", "--rpm-max", "2000", "--rpm-points", "5", "--table", t.string(), "--json",
+                js.string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(slurp(t));
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0], "spindle_rpm,depth_limit_mm_sdm,depth_limit_mm_analytic,multiplier_type_sdm");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto f = split_fields(lines[i]);
+    ASSERT_EQ(f.size(), 4u) << lines[i];
+    EXPECT_NEAR(std::stod(f[1]) / std::stod(f[2]), 1.0, 0.01) << lines[i];
+    EXPECT_EQ(f[3], "hopf") << lines[i];
+  }
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_EQ(j["solver_options"]["sdm"]["steps_per_period"], 40);
+  ASSERT_EQ(j["pairs"].size(), 1u);
+  EXPECT_TRUE(contains(r.out, "sdm vs analytic")) << r.out;
+  EXPECT_TRUE(contains(r.out, "discretisation error")) << r.out;
+}
+
+TEST_F(CliTest, CompareRejectsBadMethodsBeforeComputing) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  const fs::path t = path("t.csv");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"analytic,bogus", "unknown method 'bogus'"},
+      {"analytic,sdm,analytic", "'analytic' given twice"},
+      {"", "empty list"},
+      {"analytic,,sdm", "empty name"},
+      {"analytic,", "empty name"},
+      {"all,sdm", "'all' must stand alone"},
+      {"Analytic", "unknown method 'Analytic'"},
+  };
+  for (const auto& [list, why] : bad)
+    expect_rejected(run({"compare", cfg, "--methods", list, "--table", t.string()}), {"--methods", why}, {t},
+                    "--methods '" + list + "'");
+  // The list is checked before the config is read.
+  const auto r = run({"compare", path("no_such_config.toml").string(), "--methods", "sdm,tdm"});
+  expect_rejected(r, {"--methods", "unknown method 'tdm'"}, {}, "--methods before config");
+  EXPECT_FALSE(contains(r.err, "no_such_config")) << r.err;
+
+  // Options of a method that does not run.
+  expect_rejected(run({"compare", cfg, "--periods", "50", "--table", t.string()}),
+                  {"--periods", "time-domain among --methods"}, {t}, "--periods without time-domain");
+  expect_rejected(run({"compare", cfg, "--methods", "analytic,coupled", "--steps", "40", "--table", t.string()}),
+                  {"--steps", "sdm among --methods"}, {t}, "--steps without sdm");
+
+  // A measured-FRF model: only analytic applies, by default, with 'all', and
+  // when asked for by name.
+  fs::copy_file(fs::path(source_dir()) / "tests" / "corpus" / "frf" / "good_receptance.csv", path("tap.csv"));
+  const fs::path measured = path("measured.toml");
+  std::ofstream(measured) << "name = \"measured workpiece\"\n[process]\noperation = \"turning\"\n"
+                             "feed_force_coefficient_n_per_m2 = 2.4e9\n"
+                             "[[workpiece.frf]]\nfile = \"tap.csv\"\ndirection = \"xx\"\n";
+  for (const char* list : {"analytic,coupled", "sdm", "analytic,time-domain"})
+    expect_rejected(run({"compare", measured.string(), "--methods", list, "--rpm-min", "1000", "--rpm-max", "2000",
+                         "--table", t.string()}),
+                    {"--methods", "does not apply", "measured FRFs", "only analytic"}, {t}, list);
+  for (const char* list : {"", "all"}) {
+    std::vector<std::string> a = {"compare", measured.string(), "--rpm-min", "1000", "--rpm-max", "2000",
+                                  "--rpm-points", "3", "--table", t.string(), "--quiet"};
+    if (*list) a.insert(a.end(), {"--methods", list});
+    const auto ok = run(a);
+    ASSERT_EQ(ok.exit_code, 0) << list << ": " << ok.err;
+    EXPECT_EQ(split_lines(slurp(t))[0], "spindle_rpm,depth_limit_mm_analytic") << list;
+    fs::remove(t);
+  }
+}
+
 // ================================================================= plots
 
 TEST_F(CliTest, MapAndComparePlotsAreWrittenWithScriptAndData) {

@@ -73,6 +73,7 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <thread>
@@ -101,12 +102,22 @@ unsigned thread_count(const po::variables_map& vm) {
   return static_cast<unsigned>(t);
 }
 
+void check_solver_options(const std::vector<std::string>& methods, const po::variables_map& vm,
+                          const std::string& chooser) {
+  const auto refuse_without = [&](const char* opt, const std::string& method) {
+    if (vm.count(opt) == 0 || std::find(methods.begin(), methods.end(), method) != methods.end()) return;
+    throw InputError(std::string("--") + opt + ": only with " +
+                     (chooser == "--method" ? "--method " + method : method + " among " + chooser));
+  };
+  for (const char* opt : {"periods", "feed-per-tooth-mm", "multiple-regeneration", "linear"})
+    refuse_without(opt, "time-domain");
+  refuse_without("steps", "sdm");
+}
+
 BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
-                         const po::variables_map& vm) {
+                         const po::variables_map& vm, bool check_options) {
   BuiltSolver b;
-  if (method != "time-domain")
-    for (const char* opt : {"periods", "feed-per-tooth-mm", "multiple-regeneration", "linear"})
-      if (vm.count(opt)) throw InputError(std::string("--") + opt + ": only with --method time-domain");
+  if (check_options) check_solver_options({method}, vm, "--method");
   if (method == "sdm") {
     SemiDiscretizationOptions o;
     o.depth_max_m = depth_max_m;
@@ -126,7 +137,6 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
                          .dump();
     return b;
   }
-  if (vm.count("steps")) throw InputError("--steps: only with --method sdm");
   if (method == "time-domain") {
     TimeDomainOptions o;
     o.depth_max_m = depth_max_m;

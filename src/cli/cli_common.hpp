@@ -66,9 +66,19 @@ struct BuiltSolver {
   const TimeDomainSolver* td = nullptr;
   std::string options_json;  ///< the solver's options, for the JSON provenance
 };
-/// @throws InputError on an unknown method or bad option.
+/// Refuses a solver option that none of `methods` uses: --steps (sdm);
+/// --periods, --feed-per-tooth-mm, --multiple-regeneration, --linear
+/// (time-domain). `chooser` is the option that picked the methods ("--method"
+/// or "--methods"), for the message. @throws InputError.
+void check_solver_options(const std::vector<std::string>& methods, const po::variables_map& vm,
+                          const std::string& chooser);
+
+/// @throws InputError on an unknown method or bad option. Unless
+/// `check_options` is false (the caller already ran check_solver_options over
+/// all the methods it builds, as `compare` does), first refuses the options
+/// `method` does not use.
 BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
-                         const po::variables_map& vm);
+                         const po::variables_map& vm, bool check_options = true);
 
 /// Threads from --threads (0 = every core).
 unsigned thread_count(const po::variables_map& vm);
