@@ -221,4 +221,38 @@ TEST_F(CliSimulate, BadInputExitsTwoNamingTheOption) {
   EXPECT_FALSE(fs::exists("x.bmp"));
 }
 
+// [process] feed_per_tooth_mm in the config is the static chip of every
+// time-domain run (simulate, and lobes/point through build_solver) unless
+// --feed-per-tooth-mm overrides it; the JSON outputs record which one was used.
+TEST_F(CliSimulate, FeedFromTheConfigUnlessTheFlagOverridesIt) {
+  std::string text = slurp(kCaseC);
+  const std::string op = "operation = \"milling\"\n";
+  ASSERT_NE(text.find(op), std::string::npos);
+  text.insert(text.find(op) + op.size(), "feed_per_tooth_mm = 0.05\n");
+  const fs::path cfg = path("feed.toml");
+  std::ofstream(cfg) << text;
+
+  RunResult r = run({"simulate", cfg.string(), "--rpm", "20000", "--depth-mm", "0.5", "--revolutions", "40"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(r.out)["feed_per_tooth_mm"].get<double>(), 0.05);
+  r = run({"simulate", cfg.string(), "--rpm", "20000", "--depth-mm", "0.5", "--revolutions", "40",
+           "--feed-per-tooth-mm", "0.2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(r.out)["feed_per_tooth_mm"].get<double>(), 0.2);
+
+  for (const auto& [extra, feed_m] : std::vector<std::pair<std::vector<std::string>, double>>{
+           {{}, 5e-5}, {{"--feed-per-tooth-mm", "0.2"}, 2e-4}}) {
+    std::vector<std::string> args = {"lobes", cfg.string(), "--method", "time-domain", "--rpm-min", "20000",
+                                     "--rpm-max", "20100", "--rpm-points", "2", "--periods", "40", "-q",
+                                     "--json", path("lobes.json").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string json = slurp(path("lobes.json"));
+    ASSERT_TRUE(contains(json, "\"feed_m\"")) << json.substr(0, 400);
+    const auto pos = json.find("\"feed_m\"");
+    EXPECT_DOUBLE_EQ(std::stod(json.substr(json.find(':', pos) + 1)), feed_m);
+  }
+}
+
 }  // namespace

@@ -87,7 +87,8 @@ void add_solver_options(po::options_description& d) {
       ("periods", po::value<int>(), "time-domain: delay periods simulated per verdict (default 200; the last half is "
                                     "analysed); more: sharper verdict near the limit, slower")
       ("feed-per-tooth-mm", po::value<double>(), "time-domain: feed per tooth (milling) or per revolution (turning), "
-                                                 "mm (default 0.1); sets where the tool leaves the cut")
+                                                 "mm (default: [process] feed_per_tooth_mm / feed_per_rev_mm, else 0.1); "
+                                                 "sets where the tool leaves the cut")
       ("multiple-regeneration", "time-domain: the chip is cut from the surface left by all earlier passes")
       ("linear", "time-domain: linear delay equation (no static chip, the tool never leaves the cut); the verdict "
                  "is the growth factor per period")
@@ -150,6 +151,8 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
       if (!(std::isfinite(f) && f >= 0.0 && f <= 100.0))
         throw InputError("--feed-per-tooth-mm = " + fmt(f) + ": must be in [0, 100] mm");
       o.feed_m = f * 1e-3;
+    } else if (cfg.feed_mm) {
+      o.feed_m = *cfg.feed_mm * 1e-3;  // [process] feed_per_tooth_mm / feed_per_rev_mm, validated by the loader
     }
     o.multiple_regeneration = vm.count("multiple-regeneration") > 0;
     o.linear = vm.count("linear") > 0;

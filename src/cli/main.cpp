@@ -44,7 +44,8 @@ Commands:
   recommend  The speed and depth that remove the most material while stable
              (with a safety factor) and within spindle power and torque.
   map        Floquet spectral radius on a speed x depth grid (--method sdm).
-  compare    Every method at the same speeds, one table, and how far they differ.
+  compare    Every method at the same speeds, one table, and how far they differ
+             (--methods picks them, e.g. analytic,sdm,time-domain).
   simulate   Simulate the cut in time (the tool may leave the cut): stable or
              chatter, vibration amplitude, chatter frequency, time series.
   fit        Fit modes (frequency, damping, stiffness) to a measured FRF (tap
