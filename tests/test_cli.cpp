@@ -5,9 +5,6 @@
 // calls a library solver. The library is used only to read configs.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,9 +25,17 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
 
+#include "cli_harness.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
+
+using chatter::test::CliFixture;
+using chatter::test::contains;
+using chatter::test::RunResult;
+using chatter::test::shell_quote;
+using chatter::test::slurp;
 
 using cplx = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
@@ -58,27 +63,6 @@ constexpr double kAbsMinCloseness = 0.05;
 constexpr int kSimpsonIntervals = 2000;
 
 // --------------------------------------------------------------- process I/O
-
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream os;
-  os << f.rdbuf();
-  return os.str();
-}
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
 
 std::string source_dir() { return CHATTER_SOURCE_DIR; }
 fs::path config_path(const std::string& file) { return fs::path(source_dir()) / "configs" / file; }
@@ -108,52 +92,8 @@ std::vector<std::string> split_fields(const std::string& line) {
   return out;
 }
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
-// A fresh directory per test, removed afterwards.
-class CliTest : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = make_dir(); }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  static fs::path make_dir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("chatter_test_cli_") + info->test_suite_name() + "_" + info->name() + "_" +
-                       std::to_string(::getpid());
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
-    const fs::path d = fs::temp_directory_path() / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }
-
-  // Runs `chatter ARGS...`, capturing stdout and stderr into files in dir_.
-  RunResult run(const std::vector<std::string>& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    std::string cmd = shell_quote(CHATTER_CLI);
-    // Appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive.
-    for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-    cmd.append(" >").append(shell_quote(out.string()));
-    cmd.append(" 2>").append(shell_quote(err.string()));
-    cmd.append(" </dev/null");
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
-
-  fs::path path(const std::string& name) const { return dir_ / name; }
-
-  fs::path dir_;
-};
+// A fresh directory per test, removed afterwards (tests/cli_harness.hpp).
+class CliTest : public CliFixture {};
 
 // ------------------------------------------------------------- the physics (§4)
 // Written from PHYSICS.md only; uses the config's mode parameters, not the

@@ -7,9 +7,6 @@
 // nothing.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <complex>
 #include <cstdlib>
@@ -24,9 +21,17 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/frf.hpp"
 
+#include "cli_harness.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
+
+using chatter::test::CliFixture;
+using chatter::test::contains;
+using chatter::test::RunResult;
+using chatter::test::shell_quote;
+using chatter::test::slurp;
 
 // Issue 7 bounds (relative).
 constexpr double kFrequencyTol = 0.005;
@@ -67,64 +72,14 @@ chatter::FrfTable synth(const std::vector<TrueMode>& modes, double noise = 0.0, 
   return t;
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream os;
-  os << f.rdbuf();
-  return os.str();
-}
-
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-class CliFit : public ::testing::Test {
+class CliFit : public CliFixture {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("chatter_test_cli_fit_") + info->name() + "_" + std::to_string(::getpid());
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
-    dir_ = fs::temp_directory_path() / name;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
+  // `chatter fit ARGS...`.
   RunResult run(const std::vector<std::string>& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    std::string cmd = shell_quote(CHATTER_CLI);
-    cmd.append(" fit");
-    for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-    cmd.append(" >").append(shell_quote(out.string()));
-    cmd.append(" 2>").append(shell_quote(err.string()));
-    cmd.append(" </dev/null");
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
+    std::vector<std::string> all{"fit"};
+    all.insert(all.end(), args.begin(), args.end());
+    return CliFixture::run(all);
   }
-
-  fs::path path(const std::string& name) const { return dir_ / name; }
 
   // The written fragment behind a minimal [process] table, through the loader.
   chatter::Config load_fragment(const fs::path& toml) {

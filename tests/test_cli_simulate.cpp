@@ -5,9 +5,6 @@
 // nothing written).
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -20,70 +17,22 @@
 #include "chatter/io/config.hpp"
 #include "chatter/semi_discretization.hpp"
 
+#include "cli_harness.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream os;
-  os << f.rdbuf();
-  return os.str();
-}
-
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+using chatter::test::CliFixture;
+using chatter::test::contains;
+using chatter::test::RunResult;
+using chatter::test::shell_quote;
+using chatter::test::slurp;
 
 const std::string kCaseC = std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml";
 const std::string kCaseA = std::string(CHATTER_SOURCE_DIR) + "/configs/seed_turning_1dof.toml";
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-class CliSimulate : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("chatter_test_cli_sim_") + info->name() + "_" + std::to_string(::getpid());
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
-    dir_ = fs::temp_directory_path() / name;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  RunResult run(const std::vector<std::string>& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    std::string cmd = shell_quote(CHATTER_CLI);
-    for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-    cmd.append(" >").append(shell_quote(out.string()));
-    cmd.append(" 2>").append(shell_quote(err.string()));
-    cmd.append(" </dev/null");
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-  fs::path dir_;
-};
+class CliSimulate : public CliFixture {};
 
 double sdm_limit_mm(const std::string& config, double rpm) {
   const chatter::Config cfg = chatter::load_config(config);
