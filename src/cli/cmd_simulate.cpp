@@ -52,7 +52,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
-      ("rtol", po::value<double>(&rtol)->default_value(1e-7), "integrator relative tolerance (1e-12 .. 1e-2)")
+      ("rtol", po::value<double>(&rtol)->default_value(1e-7, "1e-7"), "integrator relative tolerance (1e-12 .. 1e-2)")
       ("out", po::value<std::string>(&out_path), "write the time series (CSV: time, tool/workpiece/relative "
                                                  "displacement in um, force in N, chip in um, in-cut flag)")
       ("periodic", po::value<std::string>(&periodic_path), "write the once-per-period samples (CSV, same columns)")
