@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates plots/: the lobe diagram and the receptance plot of every config
 # in configs/, the semi-discretisation lobes and stability map of the milling
-# configs, the method comparison of case A and case C, and time-domain
+# configs, the method comparison of case A and case C (case C also with the
+# time-domain solver), and time-domain
 # simulations of case C (chatter and stable) and case A, each with its
 # gnuplot script (.gp) and data (.dat) beside it.
 # Usage: bash scripts/render_plots.sh   (after scripts/build.sh)
@@ -37,6 +38,13 @@ for stem in seed_turning_1dof milling_benchmark_ae005_down; do
     --plot "plots/${stem}_compare.png" > /dev/null
   echo "plots/${stem}_compare.png"
 done
+# Case C by all four methods, the simulation included (81 speeds: about 20 s
+# on 2 cores): time-domain follows sdm into the flip lobe the transfer-function
+# methods miss.
+./build/chatter compare configs/milling_benchmark_ae005_down.toml --methods all --rpm-points 81 --quiet \
+  --table plots/milling_benchmark_ae005_down_compare_all.csv \
+  --plot plots/milling_benchmark_ae005_down_compare_all.png > /dev/null
+echo "plots/milling_benchmark_ae005_down_compare_all.png"
 # Time-domain simulations: case C in its flip lobe (chatter, the tool leaves
 # the cut, 1.5 x tooth passing) and just below its limit at 20 000 rev/min
 # (stable forced vibration), case A below its limit (decaying transient).

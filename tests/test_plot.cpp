@@ -666,6 +666,32 @@ TEST_F(PlotTest, ComparePngAndSvgOverlayTheMethods) {
   EXPECT_EQ(read_file(svg_files.image), svg);
 }
 
+// time-domain is drawn as open circles on top of the lines and flip marks
+// (it lies on sdm's line where the two agree), thinned to about 100 points.
+TEST_F(PlotTest, CompareDrawsTimeDomainAsPointsOnTop) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  auto methods = case_c_methods(250);
+  chatter::MethodLimits td = methods[1];
+  td.method = "time-domain";
+  td.multiplier_type.clear();
+  methods.push_back(td);
+  const auto files = chatter::plot_compare(dir_ / "cmp_td.png", "case C compare", methods, 10e-3);
+  ASSERT_TRUE(is_png(read_file(files.image)));
+  const std::string gp = read_file(files.script);
+  const auto td_points = gp.find("data index 0 every 3 using 1:(limit(2)) with points pt 6");
+  const auto flip_marks = gp.find("sdm: flip (period doubling)");
+  const auto sdm_line = gp.find("using 1:(limit(1)) with lines");
+  ASSERT_NE(td_points, std::string::npos) << gp;
+  ASSERT_NE(flip_marks, std::string::npos);
+  ASSERT_NE(sdm_line, std::string::npos);
+  EXPECT_LT(sdm_line, td_points);
+  EXPECT_LT(flip_marks, td_points) << "the circles are drawn over the flip marks";
+  EXPECT_NE(gp.find("keyentry with points pt 6"), std::string::npos);
+  EXPECT_NE(gp.find("title 'time-domain'"), std::string::npos);
+  // The data still holds every speed of every method.
+  EXPECT_EQ(dat_rows(read_file(files.data), 0).size(), 250u);
+}
+
 TEST_F(PlotTest, CompareRejectsBadInputAndWritesNothing) {
   auto methods = case_c_methods(4);
   EXPECT_THROW(chatter::plot_compare(dir_ / "cmp.bmp", "t", methods, 10e-3), chatter::InputError);

@@ -939,21 +939,24 @@ PlotFiles plot_stability_map(const fs::path& image, const std::string& title, co
 
 namespace {
 
-// One line style per method: analytic, coupled, sdm and time-domain always get
-// the first four (so a method looks the same on every chart), other names the
-// next unused one. The lines are drawn widest first,
-// so that methods that agree (analytic and coupled to round-off, sdm in
-// turning) all stay visible: a wide light band, a medium line on it, a thin
-// dashed line on top.
+// One style per method: analytic, coupled, sdm and time-domain always get the
+// first four (so a method looks the same on every chart), other names the next
+// unused one. The lines are drawn widest first, so that methods that agree
+// (analytic and coupled to round-off, sdm in turning) all stay visible: a wide
+// light band, a medium line on it, a thin dashed line on top. time-domain is
+// drawn as open circles, one per simulated speed, on top of everything (the
+// flip marks included): it lies on sdm's line where they agree, and a line on
+// a line would hide one of them.
 struct MethodStyle {
   const char* colour;
   double width;
   const char* dash;  // "" = solid
+  int point_type;    // 0 = a line; else gnuplot's point type, drawn as points
 };
 constexpr MethodStyle kMethodStyles[] = {
-    {"#8fbce6", 7.0, ""},          {"#0b3a6e", 1.6, " dt (6,4)"},      {"#d95f02", 3.0, ""},
-    {"#1b9e77", 2.4, " dt (2,3)"}, {"#7570b3", 2.2, " dt (10,4,2,4)"}, {"#e7298a", 2.0, ""},
-    {"#66a61e", 1.8, " dt (6,3,2,3)"}, {"#7a5a1d", 1.4, " dt (3,3)"},
+    {"#8fbce6", 7.0, "", 0},          {"#0b3a6e", 1.6, " dt (6,4)", 0},      {"#d95f02", 3.0, "", 0},
+    {"#0f6b50", 1.6, "", 6},          {"#7570b3", 2.2, " dt (10,4,2,4)", 0}, {"#e7298a", 2.0, "", 0},
+    {"#66a61e", 1.8, " dt (6,3,2,3)", 0}, {"#7a5a1d", 1.4, " dt (3,3)", 0},
 };
 
 // A method name as a column name: anything but letters, digits and _ becomes _.
@@ -1142,12 +1145,22 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
   });
   auto style = [&](std::size_t m) {
     const MethodStyle& st = kMethodStyles[style_of[m]];
-    return "lw " + short_num(st.width) + st.dash + " lc rgb c_m" + std::to_string(m);
+    if (st.point_type != 0)
+      return "points pt " + std::to_string(st.point_type) + " ps 1.1 lw " + short_num(st.width) + " lc rgb c_m" +
+             std::to_string(m);
+    return "lines lw " + short_num(st.width) + st.dash + " lc rgb c_m" + std::to_string(m);
+  };
+  auto drawn_as_points = [&](std::size_t m) { return kMethodStyles[style_of[m]].point_type != 0; };
+  // Points: at most about 100 per method, or they merge into a thick line.
+  const std::size_t point_every = std::max<std::size_t>(1, (rows + 99) / 100);
+  auto draw = [&](std::size_t m) {
+    add("data index 0" + (drawn_as_points(m) ? " every " + std::to_string(point_every) : std::string()) +
+        " using 1:(limit(" + std::to_string(m) + ")) with " + style(m) + " notitle");
   };
   for (std::size_t m : order)
-    add("data index 0 using 1:(limit(" + std::to_string(m) + ")) with lines " + style(m) + " notitle");
+    if (!drawn_as_points(m)) draw(m);
   for (std::size_t m = 0; m < methods.size(); ++m)
-    add("keyentry with lines " + style(m) + " title " + quote(methods[m].method));
+    add("keyentry with " + style(m) + " title " + quote(methods[m].method));
   for (std::size_t m = 0; m < methods.size(); ++m)
     for (int ty : {1, 2})
       if (marks[m][static_cast<std::size_t>(ty)] > 0) {
@@ -1156,6 +1169,8 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
             "' ? $2 : NaN) with linespoints lw 3.5 pt 7 ps 0.6 pi 4 lc rgb " + (ty == 1 ? "c_flip" : "c_fold") +
             " title " + quote(methods[m].method + (ty == 1 ? ": flip (period doubling)" : ": fold")));
       }
+  for (std::size_t m : order)
+    if (drawn_as_points(m)) draw(m);
   if (gaps && !bounded.empty())
     add("keyentry with lines lt nodraw title sprintf('gap: no limit below %g mm', depth_max)");
   gp << "\nunset multiplot\n";
