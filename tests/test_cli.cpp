@@ -704,13 +704,15 @@ TEST_F(CliTest, RejectsBadSweepOptions) {
                   "--method nonsense");
   expect_rejected(run({"lobes", cfg, "--frobnicate", "--table", T, "--json", J}), {"frobnicate"}, {t, js},
                   "--frobnicate");
-  expect_rejected(run({"lobes", cfg, "--rpm-points", "abc", "--table", T}), {"rpm-points"}, {t},
+  expect_rejected(run({"lobes", cfg, "--rpm-points", "abc", "--table", T}), {"rpm-points", "expected a number"}, {t},
                   "--rpm-points abc");
+  expect_rejected(run({"lobes", cfg, "--rpm-points", "40.5", "--table", T}), {"rpm-points", "whole number"}, {t},
+                  "--rpm-points 40.5");
 }
 
 TEST_F(CliTest, RejectsUnknownSubcommand) {
   const auto r = run({"frobnicate", config_path("seed_turning_1dof.toml").string()});
-  expect_rejected(r, {"frobnicate"}, {}, "unknown subcommand");
+  expect_rejected(r, {"frobnicate", "simulate"}, {}, "unknown subcommand (the list names every command)");
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 

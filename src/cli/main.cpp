@@ -451,8 +451,7 @@ int main(int argc, char** argv) {
     }
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
-        cmd == "simulate" ||
-        cmd == "fit" || cmd == "compare")
+        cmd == "simulate" || cmd == "fit" || cmd == "compare")
       command = cmd;
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
@@ -464,7 +463,13 @@ int main(int argc, char** argv) {
     if (cmd == "fit") return cmd_fit(args);
     if (cmd == "compare") return cmd_compare(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, compare, fit, frf; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf; see chatter --help)\n";
+    return 2;
+  } catch (const po::invalid_option_value& e) {
+    // e.g. --revolutions 0.5: say what the value must look like.
+    std::cerr << "chatter: " << e.what() << ": expected a number (a whole number for counts such as "
+              << "--revolutions, --periods, --rpm-points) (see chatter " << command << (command.empty() ? "" : " ")
+              << "--help)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";
