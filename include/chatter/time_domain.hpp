@@ -26,8 +26,9 @@
 // Discontinuities are stop points, never stepped across: tooth entry and exit
 // (milling), the start of the cut and its delay-propagated images t = kτ
 // (k <= 6, after which the jump is in a derivative above the method's order),
-// and — nonlinear mode — the instants a chip thickness crosses zero. The
-// integrator restarts at each of them.
+// and — nonlinear mode — the instants t_r a chip thickness crosses zero and
+// their delay images t_r + kτ (k <= 2; k <= 3 with multiple regeneration,
+// where the surface keeps the kink). The integrator restarts at each of them.
 //
 // Thread safety: the simulator and the lobe solver are immutable after
 // construction; simulate() allocates its own SUNDIALS context, so several

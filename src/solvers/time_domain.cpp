@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -23,6 +24,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Delay-propagated images of the start discontinuity that are stop points:
 // the k-th image is a jump in the k-th derivative, beyond Adams order 5 after 6.
 constexpr int kStartImages = 6;
+// Delay-propagated images t_r + kτ of a chip zero crossing t_r that are stop
+// points. The force has a kink at t_r (max(h, 0)), so d³r/dt³ jumps there and
+// the delayed term jumps in its 3rd derivative at t_r + τ, its 5th at
+// t_r + 2τ. With multiple regeneration the surface itself keeps the kink: the
+// chip jumps in slope at t_r + τ, then in the 3rd and 5th derivatives.
+constexpr int kRootImagesSingle = 2;
+constexpr int kRootImagesMultiple = 3;
 constexpr int kMaxAdamsOrder = 5;
 // Nonlinear verdict: fraction of the cutting-arc time in air that counts as
 // leaving the cut, and the margin below |mu| = 1 that then counts as chatter.
@@ -489,9 +497,12 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
 
   // History: constant at the initial displacement before t = 0.
   // Entries held: about 1.5 delays of grid samples, the arc events and start
-  // images in that span, and at most root_cap + 1 root stops per period.
+  // images in that span, at most root_cap + 1 root stops per period and as
+  // many stops at each of their root_images delay images.
   const int root_cap = 8 * teeth + 8;
-  const std::size_t capacity = static_cast<std::size_t>(M + M / 2 + 2 * (root_cap + 1) + 4 * teeth + 16);
+  const int root_images = s.linear ? 0 : (s.multiple_regeneration ? kRootImagesMultiple : kRootImagesSingle);
+  const std::size_t capacity =
+      static_cast<std::size_t>(M + M / 2 + 2 * (root_cap + 1) * (1 + root_images) + 4 * teeth + 16);
   History history(capacity, teeth);
   m.attach(&history);
   std::vector<double> zero_gaps(teeth, 0.0);
@@ -659,7 +670,43 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
     res.once_per_period.push_back(make_sample(0.0, y.data(), dg));
   }
 
+  // Pending images of the chip zero crossings, sorted; they lie within
+  // root_images delays ahead, so at most about (root_cap + 1) x root_images
+  // are held, whatever the simulated time.
+  std::deque<double> images;
   std::size_t next_stop = 0;
+  // The next stop (skip = 0) or the one after it (skip = 1): the earlier of
+  // the fixed list and the pending images; two within 1e-9 τ are one.
+  auto next_event = [&](int skip) {
+    double a[2] = {t_end, t_end};
+    std::size_t i = next_stop, j = 0;
+    for (int k = 0; k < 2; ++k) {
+      const double si = i < stops.size() ? stops[i] : t_end, ij = j < images.size() ? images[j] : t_end;
+      a[k] = std::min(si, ij);
+      while (i < stops.size() && stops[i] - a[k] <= 1e-9 * tau) ++i;
+      while (j < images.size() && images[j] - a[k] <= 1e-9 * tau) ++j;
+    }
+    return a[skip];
+  };
+  // Passes the event at tt (the fixed stop and / or the images there).
+  auto pass_event = [&](double tt) {
+    if (next_stop < stops.size() && stops[next_stop] - tt <= 1e-9 * tau) ++next_stop;
+    while (!images.empty() && images.front() - tt <= 1e-9 * tau) images.pop_front();
+  };
+  auto add_images = [&](double tr) {
+    for (int k = 1; k <= root_images; ++k) {
+      const double ti = tr + k * tau;
+      if (ti >= t_end - 1e-9 * tau) break;
+      const auto at = std::lower_bound(images.begin(), images.end(), ti - 1e-9 * tau);
+      if (at != images.end() && *at - ti <= 1e-9 * tau) continue;  // already there (e.g. roots at tooth exit)
+      images.insert(at, ti);
+    }
+  };
+  // A time inside the segment that starts at tt and ends at the next event
+  // t_next (the arc test at an event itself would be ambiguous).
+  auto segment_mid = [&](double tt, double t_next) {
+    return 0.5 * (tt + (t_next > tt + 1e-9 * tau ? std::min(t_next, tt + dt) : tt + dt));
+  };
   cv.check(CVodeSetStopTime(mem, stops[0]), "CVodeSetStopTime");
   double t = 0.0;
   long restarts = 0, root_stops = 0;
@@ -674,7 +721,7 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
     steps_done += ns;
     rhs_done += nf;
     cv.check(CVodeReInit(mem, tt, y), "CVodeReInit");
-    if (next_stop < stops.size()) cv.check(CVodeSetStopTime(mem, stops[next_stop]), "CVodeSetStopTime");
+    cv.check(CVodeSetStopTime(mem, next_event(0)), "CVodeSetStopTime");
     ++restarts;
   };
 
@@ -688,20 +735,26 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
         if (flag == CV_ROOT_RETURN) {
           ++root_stops;
           root_at_grid = true;
+          add_images(t);
         }
         break;
       }
-      if (next_stop < stops.size() && stops[next_stop] - t <= 1e-9 * tau) {
+      if (next_event(0) - t <= 1e-9 * tau) {
         // An event before the grid point (reached as a stop, or a root that
         // fell on it): step onto it and change segment.
-        const double t_next = next_stop + 1 < stops.size() ? stops[next_stop + 1] : t_end;
-        store(t, true, 0.5 * (t + std::min(t_next, t + dt)));
-        ++next_stop;
+        const double t_next = next_event(1);
+        store(t, true, segment_mid(t, t_next));
+        pass_event(t);
+        if (flag == CV_ROOT_RETURN) {
+          ++root_stops;
+          add_images(t);
+        }
         restart(t);
         continue;
       }
       if (flag == CV_ROOT_RETURN) {
         ++root_stops;
+        add_images(t);
         store(t, false, 0.0);
         if (++roots_this_period > root_cap && roots_on) {
           cv.check(CVodeRootInit(mem, 0, nullptr), "CVodeRootInit");
@@ -714,10 +767,10 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
                            " s, neither a grid point, a stop nor a root");
     }
     t = target;
-    const bool at_stop = next_stop < stops.size() && std::abs(stops[next_stop] - target) <= 1e-9 * tau;
-    const double t_next = at_stop && next_stop + 1 < stops.size() ? stops[next_stop + 1] : t_end;
-    const Diagnostics left = store(target, at_stop, 0.5 * (target + std::min(t_next, target + dt)));
-    if (at_stop) ++next_stop;
+    const bool at_stop = std::abs(next_event(0) - target) <= 1e-9 * tau;
+    const double t_next = at_stop ? next_event(1) : t_end;
+    const Diagnostics left = store(target, at_stop, segment_mid(target, t_next));
+    if (at_stop) pass_event(target);
     const long period = (i - 1) / M;  // 0-based period this sample ends or lies in
     const long in_period = (i - 1) % M;
     period_r(2 * in_period) = history.newest().r[0];
