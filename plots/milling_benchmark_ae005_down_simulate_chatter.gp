@@ -41,8 +41,8 @@ set arrow from 566.66667, graph 0 to 566.66667, graph 1 nohead dt 3 lw 0.8 lc rg
 set arrow from 1133.3333, graph 0 to 1133.3333, graph 1 nohead dt 3 lw 0.8 lc rgb c_grid
 set arrow from 1700, graph 0 to 1700, graph 1 nohead dt 3 lw 0.8 lc rgb c_grid
 set arrow from 2266.6667, graph 0 to 2266.6667, graph 1 nohead dt 3 lw 0.8 lc rgb c_grid
-set label 'chatter 850 Hz' at 850.00032, graph 0.62 left offset 0.6,0 tc rgb c_sample font ','.(fs-1)
-set arrow from 850.00032, graph 0 to 850.00032, graph 1 nohead lw 1.2 lc rgb c_sample
+set label 'chatter 850 Hz' at 850.00034, graph 0.62 left offset 0.6,0 tc rgb c_sample font ','.(fs-1)
+set arrow from 850.00034, graph 0 to 850.00034, graph 1 nohead lw 1.2 lc rgb c_sample
 plot data index 2 using 1:2 with lines lc rgb c_spec lw 1 title 'relative displacement, last 100 periods', \
      data index 3 using 1:2 with points pt 6 ps 1.1 lw 1.2 lc rgb c_x title 'harmonics of 1/{/Symbol t} = 566.67 Hz (tooth passing; spindle in turning)'
 unset multiplot
