@@ -465,14 +465,14 @@ int main(int argc, char** argv) {
     std::cerr << "chatter: unknown command '" << cmd
               << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf; see chatter --help)\n";
     return 2;
-  } catch (const po::invalid_option_value& e) {
-    // e.g. --revolutions 0.5: say what the value must look like.
-    std::cerr << "chatter: " << e.what() << ": expected a number (a whole number for counts such as "
-              << "--revolutions, --periods, --rpm-points) (see chatter " << command << (command.empty() ? "" : " ")
-              << "--help)\n";
-    return 2;
   } catch (const po::error& e) {
-    std::cerr << "chatter: " << e.what() << " (see chatter " << command << (command.empty() ? "" : " ") << "--help)\n";
+    // A malformed value (e.g. --revolutions 0.5): say what it must look like.
+    const char* hint = dynamic_cast<const po::invalid_option_value*>(&e)
+                           ? ": expected a number (a whole number for counts such as --revolutions, --periods, "
+                             "--rpm-points)"
+                           : "";
+    std::cerr << "chatter: " << e.what() << hint << " (see chatter " << command << (command.empty() ? "" : " ")
+              << "--help)\n";
     return 2;
   } catch (const InputError& e) {
     std::cerr << "chatter: " << e.what() << "\n";

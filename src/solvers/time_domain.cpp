@@ -675,6 +675,7 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
   // are held, whatever the simulated time.
   std::deque<double> images;
   std::size_t next_stop = 0;
+  long restarts = 0, root_stops = 0;
   // The next stop (skip = 0) or the one after it (skip = 1): the earlier of
   // the fixed list and the pending images; two within 1e-9 τ are one.
   auto next_event = [&](int skip) {
@@ -693,7 +694,9 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
     if (next_stop < stops.size() && stops[next_stop] - tt <= 1e-9 * tau) ++next_stop;
     while (!images.empty() && images.front() - tt <= 1e-9 * tau) images.pop_front();
   };
-  auto add_images = [&](double tr) {
+  // A chip zero crossing at tr: count it and queue its delay images.
+  auto on_root = [&](double tr) {
+    ++root_stops;
     for (int k = 1; k <= root_images; ++k) {
       const double ti = tr + k * tau;
       if (ti >= t_end - 1e-9 * tau) break;
@@ -709,7 +712,6 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
   };
   cv.check(CVodeSetStopTime(mem, stops[0]), "CVodeSetStopTime");
   double t = 0.0;
-  long restarts = 0, root_stops = 0;
   int roots_this_period = 0;
   bool roots_on = use_roots;
   const long total = static_cast<long>(s.periods) * M;
@@ -733,9 +735,8 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
       cv.check(flag, "CVode");
       if (t >= target - 1e-12 * tau) {  // at the grid point (possibly also a stop or a root)
         if (flag == CV_ROOT_RETURN) {
-          ++root_stops;
+          on_root(t);
           root_at_grid = true;
-          add_images(t);
         }
         break;
       }
@@ -745,16 +746,12 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
         const double t_next = next_event(1);
         store(t, true, segment_mid(t, t_next));
         pass_event(t);
-        if (flag == CV_ROOT_RETURN) {
-          ++root_stops;
-          add_images(t);
-        }
+        if (flag == CV_ROOT_RETURN) on_root(t);
         restart(t);
         continue;
       }
       if (flag == CV_ROOT_RETURN) {
-        ++root_stops;
-        add_images(t);
+        on_root(t);
         store(t, false, 0.0);
         if (++roots_this_period > root_cap && roots_on) {
           cv.check(CVodeRootInit(mem, 0, nullptr), "CVodeRootInit");
