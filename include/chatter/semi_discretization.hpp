@@ -68,7 +68,7 @@ struct SemiDiscretizationOptions {
   double bracket_min_ratio = 1.05;
   /// Number of bracketing depths below depth_max_m: the search starts at
   /// depth_max_m / bracket_ratio^bracket_steps (>= 1).
-  int bracket_steps = 12;
+  int bracket_steps = 8;
   /// Largest one-period map solved with a dense eigen-decomposition (>= 1);
   /// bigger maps use the restarted Arnoldi iteration.
   int dense_max_dimension = 24;
@@ -159,6 +159,8 @@ class SemiDiscretizationSolver final : public LobeSolver {
   Eigen::MatrixXd U_;       // n_L × n_r
   std::vector<double> natural_hz_;
   double f_max_hz_ = 0.0;
+  double slowest_decay_per_s_ = 0.0;  // min ζ_i ω_i: ln ρ at zero depth is −τ times this
+  std::vector<std::complex<double>> free_poles_;  // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
 };
 
 }  // namespace chatter

@@ -34,11 +34,30 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // eigenvalues come out of the real Schur form with Im exactly 0; the margin
 // only absorbs round-off of nearly coalescing real pairs.
 constexpr double kRealAngle = 1e-6;
+// Augmented step systems up to this size use stack-allocated matrices.
+constexpr int kSmallAugmented = 12;
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmallAugmented, kSmallAugmented>;
 // Relative rank threshold for the delayed quantity (entries of S are O(1)).
 constexpr double kRankTol = 1e-10;
 // Arnoldi: relative residual of the dominant Ritz pair, and restart budget.
 constexpr double kArnoldiTol = 1e-10;
 constexpr int kArnoldiMaxRestarts = 60;
+// Depth search: a climbing step aims this far (relative) beyond the crossing
+// the secant predicts, so that the bracket closes in one step when the
+// prediction is good; and always climbs at least this ratio − 1.
+constexpr double kSecantOvershoot = 0.01;
+constexpr double kMinClimb = 1e-3;
+const double kLogQuarter = std::log(0.25);
+// Continuation step: no followed multiplier may be predicted to move more
+// than this fraction of its distance to the unit circle in one step.
+constexpr double kMoveFraction = 0.5;
+// A local maximum of ln ρ below the crossing is searched with this many
+// golden-section steps (it ends on ρ ≥ 1 as soon as one is found).
+constexpr int kBandSearchSteps = 12;
+// Relative error of ln ρ from an early-stopped (decide-mode) Arnoldi: it stops
+// once | |θ| − 1 | exceeds kDecideFactor residuals, so |θ| is within 1/20 of
+// its distance to the circle; a fall of ln ρ smaller than this is noise.
+constexpr double kDecideError = 0.1;
 // While bracketing, Arnoldi stops once | |θ| − 1 | exceeds this many residuals.
 constexpr double kDecideFactor = 20.0;
 
@@ -57,7 +76,7 @@ Eigen::Matrix2d tooth_antiderivative(double kt, double kr, double phi) {
 // One step of the delay period, independent of the depth.
 struct Step {
   double h = 0.0;     // s
-  MatrixXd Hhat;      // step average of Ĥ(t): 2 × n_L, N/m²
+  MatrixXd BHU;       // B Ĥ U with Ĥ the step average of Ĥ(t): 2n × n_r (per unit depth)
 };
 
 // The step grid of one delay period at one spindle speed.
@@ -67,6 +86,7 @@ struct Grid {
   bool constant = false;       // turning: every step identical (steps.size() == 1, count m)
   int m = 0;                   // number of cutting steps
   double free_time = 0.0;      // free-flight duration (s), 0 if a tooth always cuts
+  MatrixXd E_free;             // exp(A t_free), depth-independent: built once per speed
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
@@ -79,13 +99,17 @@ struct PeriodMap {
   bool constant = false;
   int m = 0;
   bool free_flight = false;
-  MatrixXd E;                  // exp(A t_free)
+  const MatrixXd* E = nullptr;  // exp(A t_free), owned by the Grid
   int n2 = 0, nr = 0, nz = 0, dim = 0;
 };
 
 // Dominant eigenpair of the one-period map.
 struct Dominant {
   Cplx mu{0.0, 0.0};
+  // Largest |μ| among the multipliers (Ritz values for Arnoldi) in the left
+  // (Re μ < 0: where flip bands come from) and the right half-plane.
+  double rho_left = 0.0, rho_right = 0.0;
+  Cplx mu_left{0.0, 0.0}, mu_right{0.0, 0.0};  // those multipliers, Im >= 0
   bool converged = true;
   Eigen::VectorXcd vec;  // empty unless requested
 };
@@ -118,22 +142,35 @@ class SdmKernel {
     pm.free_flight = g.free_time > 0.0;
     pm.nz = pm.free_flight ? g.m + 1 : g.m;
     pm.dim = n2 + pm.nz * nr;
+    pm.E = pm.free_flight ? &g.E_free : nullptr;
     pm.steps.resize(g.steps.size());
-    MatrixXd M = MatrixXd::Zero(n2 + 2 * nr, n2 + 2 * nr);
+    if (n2 + 2 * nr <= kSmallAugmented)
+      build_steps<SmallMatrix>(g, depth, pm);  // no heap traffic: most models
+    else
+      build_steps<MatrixXd>(g, depth, pm);
+  }
+
+  // The step map of one step is read off the exponential of the augmented
+  // matrix [[(A − Bt Wx) h, Bt h, 0], [0, 0, I], [0, 0, 0]], Bt = a B Ĥ U
+  // (the first-order interpolation of the delayed term). M is the matrix
+  // type of the augmented system: a stack-allocated one for small models.
+  template <class M>
+  void build_steps(const Grid& g, double depth, PeriodMap& pm) const {
+    const int n2 = pm.n2, nr = pm.nr, na = n2 + 2 * nr;
+    M aug = M::Zero(na, na);
+    M Bt(n2, nr);
     for (std::size_t i = 0; i < g.steps.size(); ++i) {
       const Step& s = g.steps[i];
-      const MatrixXd Bt = depth * B_ * s.Hhat * U_;  // 2n × n_r
-      M.setZero();
-      M.topLeftCorner(n2, n2) = (A_ - Bt * Wx_) * s.h;
-      M.block(0, n2, n2, nr) = Bt * s.h;
-      M.block(n2, n2 + nr, nr, nr).setIdentity();
-      const MatrixXd E = M.exp();
+      Bt.noalias() = (depth * s.BHU);  // 2n × n_r
+      aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
+      aug.block(0, n2, n2, nr) = Bt * s.h;
+      aug.block(n2, n2 + nr, nr, nr).setIdentity();
+      const M E = aug.exp();
       StepMap& sm = pm.steps[i];
       sm.P = E.topLeftCorner(n2, n2);
       sm.R1 = E.block(0, n2 + nr, n2, nr);
       sm.R0 = E.block(0, n2, n2, nr) - sm.R1;
     }
-    if (pm.free_flight) pm.E = (A_ * g.free_time).exp();
   }
 
   // out = Φ y (both of length pm.dim, distinct). work: >= 2 n2 + nr doubles.
@@ -181,7 +218,7 @@ class SdmKernel {
     }
     if (pm.free_flight) {
       project(x, out + n2 + pm.m * nr);
-      const double* E = pm.E.data();
+      const double* E = pm.E->data();
       for (int row = 0; row < n2; ++row) {
         double acc = 0.0;
         for (int c = 0; c < n2; ++c) acc += E[row + c * n2] * x[c];
@@ -195,7 +232,7 @@ class SdmKernel {
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const {
-    if (pm.dim <= o_.dense_max_dimension && !decide) return dense(pm, want_vector);
+    if (pm.dim <= o_.dense_max_dimension) return dense(pm, want_vector);
     return arnoldi(pm, want_vector, decide);
   }
 
@@ -224,8 +261,21 @@ class SdmKernel {
     for (Index i = 1; i < d; ++i)
       if (better(es.eigenvalues()(i), es.eigenvalues()(best))) best = i;
     out.mu = es.eigenvalues()(best);
+    half_plane_radii(es.eigenvalues(), out);
     if (want_vector) out.vec = es.eigenvectors().col(best);
     return out;
+  }
+
+  static void half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out) {
+    out.rho_left = out.rho_right = 0.0;
+    for (Index i = 0; i < eigs.size(); ++i) {
+      const bool left = eigs(i).real() < 0.0;
+      double& r = left ? out.rho_left : out.rho_right;
+      if (std::abs(eigs(i)) > r) {
+        r = std::abs(eigs(i));
+        (left ? out.mu_left : out.mu_right) = eigs(i).imag() >= 0.0 ? eigs(i) : std::conj(eigs(i));
+      }
+    }
   }
 
   // Dominant eigenvalue of a small Hessenberg matrix and its unit eigenvector.
@@ -251,8 +301,8 @@ class SdmKernel {
       order->clear();
       for (Index i = 0; i < kk; ++i) order->emplace_back(-std::abs(es.eigenvalues()(i)), i);
       std::sort(order->begin(), order->end());
-      *eigs = es.eigenvalues();
     }
+    if (eigs) *eigs = es.eigenvalues();
   }
 
   // Restarted Arnoldi on Φ applied as the sequence of step maps. In `decide`
@@ -306,10 +356,11 @@ class SdmKernel {
           // Early verdict: far from the unit circle a short Krylov space is enough.
           Cplx th;
           Eigen::VectorXcd yy;
-          hessenberg_dominant(H.topLeftCorner(j + 1, j + 1), th, yy, nullptr, nullptr);
+          hessenberg_dominant(H.topLeftCorner(j + 1, j + 1), th, yy, nullptr, &eigs);
           const double res = beta * std::abs(yy(j));
           if (std::abs(std::abs(th) - 1.0) > kDecideFactor * res) {
             out.mu = th;
+            half_plane_radii(eigs, out);
             return out;
           }
         }
@@ -320,6 +371,7 @@ class SdmKernel {
       const double resid = beta * std::abs(y(kk - 1));
       const double mag = std::max(std::abs(theta), 1e-300);
       out.mu = theta;
+      half_plane_radii(eigs, out);
       const bool converged = resid <= kArnoldiTol * mag;
       const bool decided = decide && std::abs(mag - 1.0) > kDecideFactor * resid;
       if (converged || decided || restart == kArnoldiMaxRestarts) {
@@ -395,8 +447,9 @@ std::string SemiDiscretizationOptions::validate() const {
 namespace {
 
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
+// A, B, U: the solver's free dynamics, force input and delayed-quantity basis.
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
-               const MatrixXd& turning_hhat) {
+               const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U) {
   Grid g;
   g.tau = p.delay_s(rpm);
   const double h_target = std::min(g.tau / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
@@ -414,7 +467,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
   if (p.operation() == Operation::kTurning) {
     g.constant = true;
     g.m = count(g.tau);
-    g.steps.push_back({g.tau / g.m, turning_hhat});
+    g.steps.push_back({g.tau / g.m, B * turning_hhat * U});
     return g;
   }
   const MillingParameters& mp = p.milling_parameters();
@@ -448,10 +501,11 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
       for (int j = 0; j < s.teeth; ++j)
         integral += tooth_antiderivative(kt, kr, en + tb + j * theta_p) -
                     tooth_antiderivative(kt, kr, en + ta + j * theta_p);
-      g.steps.push_back({duration / ns, integral / (tb - ta)});
+      g.steps.push_back({duration / ns, B * (integral / (tb - ta)) * U});
     }
   }
   g.m = static_cast<int>(g.steps.size());
+  if (g.free_time > 0.0) g.E_free = (A * g.free_time).exp();
   return g;
 }
 
@@ -478,6 +532,15 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
     A_(n + i, n + i) = -2.0 * mm.damping_ratio(i) * w;
     B_.row(n + i) = mm.S.col(i).transpose() / (mm.mass_kg(i) * w);
     natural_hz_.push_back(w / kTwoPi);
+    const double z = mm.damping_ratio(i);
+    const double decay = z * w;
+    slowest_decay_per_s_ = i == 0 ? decay : std::min(slowest_decay_per_s_, decay);
+    if (z < 1.0) {
+      free_poles_.emplace_back(-decay, w * std::sqrt(1.0 - z * z));
+    } else {  // overdamped: two real poles
+      free_poles_.emplace_back(-w * (z - std::sqrt(z * z - 1.0)), 0.0);
+      free_poles_.emplace_back(-w * (z + std::sqrt(z * z - 1.0)), 0.0);
+    }
   }
   f_max_hz_ = model_.max_omega() / kTwoPi;
   // H(t) = Ĥ(t) L: L = e_xᵀ for turning, I for milling. L S = U W by SVD.
@@ -546,6 +609,36 @@ MultiplierType classify(const Cplx& mu) {
   return MultiplierType::kHopf;
 }
 
+// Dimension of the one-period map on grid g.
+int map_dimension_of(const Grid& g, int n2, int nr) { return n2 + (g.free_time > 0.0 ? g.m + 1 : g.m) * nr; }
+
+// Golden-section search for a point where ln ρ >= 0 inside a local maximum
+// bracketed by a < b < c with f(b) >= f(a) and f(b) > f(c) (fb = f(b)).
+// Returns true with the first such point found, false when the maximum found
+// stays below 0 after kBandSearchSteps evaluations.
+template <class F>
+bool find_band(F&& f, double a, double b, double c, double fb, double& at, double& f_at) {
+  constexpr double kGolden = 0.3819660112501051;
+  for (int i = 0; i < kBandSearchSteps; ++i) {
+    const bool right = (c - b) > (b - a);
+    const double x = right ? b + kGolden * (c - b) : b - kGolden * (b - a);
+    const double fx = f(x);
+    if (fx >= 0.0) {
+      at = x;
+      f_at = fx;
+      return true;
+    }
+    if (fx > fb) {
+      (right ? a : c) = b;
+      b = x;
+      fb = fx;
+    } else {
+      (right ? c : a) = x;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) const {
@@ -556,7 +649,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
     throw InputError(os.str());
   }
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat);
+  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
@@ -582,48 +675,107 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   lim.spindle_rpm = rpm;
   if (Wx_.rows() == 0) return lim;  // the process cannot see any mode: never unstable
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat);
+  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_);
   PeriodMap pm;
   auto log_rho = [&](double a) {
     kernel.build_map(g, a, pm);
     return std::log(std::abs(kernel.dominant(pm, false).mu));
   };
-  auto log_rho_decide = [&](double a) {
+  // The largest multipliers at depth a: overall (ln ρ), and in the left
+  // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
+  struct Radii {
+    double all = 0.0;
+    Cplx left{0.0, 0.0}, right{0.0, 0.0};
+  };
+  auto radii = [&](double a) {
     kernel.build_map(g, a, pm);
-    return std::log(std::abs(kernel.dominant(pm, false, true).mu));
+    const Dominant d = kernel.dominant(pm, false, true);
+    return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
   };
   const double dmax = options_.depth_max_m;
+  // Small maps are solved densely (exact ρ, as cheap as a verdict); large ones
+  // by Arnoldi stopped as soon as the verdict ρ < 1 or >= 1 is sure.
+  const bool accurate = map_dimension_of(g, static_cast<int>(A_.rows()), static_cast<int>(Wx_.rows())) <=
+                        options_.dense_max_dimension;
+  // At zero depth the multipliers are known exactly: e^{λτ} of the free modes.
+  Radii r_zero;
+  r_zero.all = -slowest_decay_per_s_ * g.tau;
+  for (const Cplx& l : free_poles_) {
+    const Cplx mu = std::exp(l * g.tau);
+    Cplx& slot = mu.real() < 0.0 ? r_zero.left : r_zero.right;
+    if (std::abs(mu) > std::abs(slot)) slot = mu;
+  }
   double a = dmax / std::pow(options_.bracket_ratio, options_.bracket_steps);
-  double f = log_rho_decide(a);
-  double lo = 0.0, flo = -kInf, hi = a, fhi = f;
-  if (f >= 0.0) {
+  Radii r = radii(a);
+  double lo = 0.0, flo = r_zero.all, hi = a, fhi = r.all;
+  if (r.all >= 0.0) {
     // Unstable already: go down until stable (ρ(0) < 1 always: damped modes).
     for (int i = 0; i < 200 && fhi >= 0.0; ++i) {
       lo = hi / options_.bracket_ratio;
-      flo = log_rho_decide(lo);
+      flo = radii(lo).all;
       if (flo < 0.0) break;
       hi = lo;
       fhi = flo;
     }
   } else {
+    // Climb from a towards the first crossing of ρ = 1 as a continuation in
+    // depth. The largest multipliers of the left half-plane (where flip bands
+    // start: a pair meets on the negative real axis and one multiplier runs
+    // out through −1, often for a short range of depth) and of the right one
+    // are followed; from the distance each moved over the last step, the next
+    // step is sized so that neither is predicted to cover more than
+    // kMoveFraction of its distance to the unit circle. The secant of ln ρ
+    // shortens the step further to just beyond the predicted crossing, and
+    // the ratio stays within [1 + kMinClimb, bracket_ratio⁴]. Early-stopped
+    // Arnoldi values (large maps) are trusted only with ρ >= 1/4 and then
+    // move at most by bracket_ratio.
+    double a_prev = 0.0;
+    Radii r_prev = r_zero;
     lo = a;
-    flo = f;
+    flo = r.all;
+    Radii r_lo = r;
     while (true) {
       if (lo >= dmax) {
         if (floquet) *floquet = analyse(rpm, dmax);
         return lim;  // stable up to depth_max
       }
-      // The step shrinks as ρ approaches 1, from bracket_ratio (ρ <= 1/4) to
-      // bracket_min_ratio (ρ = 1) as ((1 − ρ)/(3/4))², so that a thin
-      // unstable band near the tip of a lobe is not stepped over.
-      const double closeness = std::pow(std::clamp((1.0 - std::exp(flo)) / 0.75, 0.0, 1.0), 2);
-      const double ratio = options_.bracket_min_ratio +
-                           (options_.bracket_ratio - options_.bracket_min_ratio) * closeness;
-      hi = std::min(lo * ratio, dmax);
-      fhi = log_rho_decide(hi);
+      const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
+      double step = (std::pow(options_.bracket_ratio, trusted ? 4 : 1) - 1.0) * lo;
+      double move = kInf;
+      for (auto [now, before] : {std::pair{r_lo.left, r_prev.left}, std::pair{r_lo.right, r_prev.right}}) {
+        const double moved = std::abs(now - before);
+        if (moved > 0.0) move = std::min(move, kMoveFraction * (1.0 - std::abs(now)) * (lo - a_prev) / moved);
+      }
+      // Never shorter than bracket_min_ratio − 1 of the depth on that account,
+      // or the approach of a multiplier to the circle would never end.
+      step = std::min(step, std::max(move, (options_.bracket_min_ratio - 1.0) * lo));
+      const double slope = (flo - r_prev.all) / (lo - a_prev);
+      if (trusted && slope > 0.0) step = std::min(step, (-flo / slope) * (1.0 + kSecantOvershoot) + kSecantOvershoot * lo);
+      step = std::max(step, kMinClimb * lo);
+      hi = std::min(lo + step, dmax);
+      const Radii r_hi = radii(hi);
+      fhi = r_hi.all;
       if (fhi >= 0.0) break;
+      // ln ρ rose, then fell: a local maximum lies in (a_prev, hi), where a
+      // thin unstable band would sit. Look for it.
+      if (flo >= r_prev.all && fhi < flo - (accurate ? 0.0 : kDecideError * std::abs(flo)) && flo > kLogQuarter) {
+        double band = 0.0, fband = 0.0;
+        if (find_band(log_rho, a_prev, lo, hi, log_rho(lo), band, fband)) {
+          const bool left = band < lo;  // the first crossing lies below the band
+          hi = band;
+          fhi = fband;
+          if (left) {
+            lo = a_prev;
+            flo = r_prev.all;
+          }
+          break;
+        }
+      }
+      a_prev = lo;
+      r_prev = r_lo;
       lo = hi;
+      r_lo = r_hi;
       flo = fhi;
     }
   }
@@ -647,7 +799,7 @@ std::vector<double> SemiDiscretizationSolver::spectral_radius_map(const std::vec
   PeriodMap pm;
   for (double rpm : rpms) {
     if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
-    const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat);
+    const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
     for (double d : depths_m) {
       kernel.build_map(g, d, pm);
       out.push_back(std::abs(kernel.dominant(pm, false).mu));
