@@ -14,6 +14,7 @@
 #include <utility>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -48,6 +49,15 @@ constexpr int kArnoldiMaxRestarts = 60;
 constexpr double kSecantOvershoot = 0.01;
 constexpr double kMinClimb = 1e-3;
 const double kLogQuarter = std::log(0.25);
+// Branch roots of turning (SdmKernel::branches): used when τ min ζω is at
+// least kBranchMinDecay (contraction factor about 1/kBranchMinDecay) and the
+// map is larger than dense_max_dimension; Newton's iteration budget and
+// tolerance (on s τ, rad).
+constexpr double kBranchMinDecay = 4.0;
+constexpr int kBranchIterations = 50;
+constexpr double kBranchTolerance = 1e-11;
+// A branch whose Newton iterates stay below |μ| = e^this is deeply damped.
+constexpr double kNegligibleLog = -7.0;
 // Continuation step: no followed multiplier may be predicted to move more
 // than this fraction of its distance to the unit circle in one step.
 constexpr double kMoveFraction = 0.5;
@@ -87,6 +97,7 @@ struct Grid {
   int m = 0;                   // number of cutting steps
   double free_time = 0.0;      // free-flight duration (s), 0 if a tooth always cuts
   MatrixXd E_free;             // exp(A t_free), depth-independent: built once per speed
+  bool branch_roots = false;   // see SdmKernel::branches
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
@@ -101,6 +112,8 @@ struct PeriodMap {
   bool free_flight = false;
   const MatrixXd* E = nullptr;  // exp(A t_free), owned by the Grid
   int n2 = 0, nr = 0, nz = 0, dim = 0;
+  double tau = 0.0;             // s
+  bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
 };
 
 // Dominant eigenpair of the one-period map.
@@ -110,6 +123,9 @@ struct Dominant {
   // (Re μ < 0: where flip bands come from) and the right half-plane.
   double rho_left = 0.0, rho_right = 0.0;
   Cplx mu_left{0.0, 0.0}, mu_right{0.0, 0.0};  // those multipliers, Im >= 0
+  // Exponent s of the dominant multiplier μ = e^{sτ} when it came from the
+  // branch roots of turning (Im s: chatter frequency, rad/s); else 0.
+  Cplx branch_s{0.0, 0.0};
   bool converged = true;
   Eigen::VectorXcd vec;  // empty unless requested
 };
@@ -143,6 +159,8 @@ class SdmKernel {
     pm.nz = pm.free_flight ? g.m + 1 : g.m;
     pm.dim = n2 + pm.nz * nr;
     pm.E = pm.free_flight ? &g.E_free : nullptr;
+    pm.tau = g.tau;
+    pm.branch_roots = g.branch_roots && nr == 1;
     pm.steps.resize(g.steps.size());
     if (n2 + 2 * nr <= kSmallAugmented)
       build_steps<SmallMatrix>(g, depth, pm);  // no heap traffic: most models
@@ -232,8 +250,94 @@ class SdmKernel {
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const {
+    if (pm.branch_roots) {
+      Dominant d;
+      if (branches(pm, d)) return d;
+    }
     if (pm.dim <= o_.dense_max_dimension) return dense(pm, want_vector);
     return arnoldi(pm, want_vector, decide);
+  }
+
+  // Turning: every step is the same map D, x_{i+1} = P x_i + R0 z_{i−m} +
+  // R1 z_{i−m+1}, z = W x (one delayed quantity), and Φ = D^m. With x_i =
+  // ν^i v the eigenvalues of D solve ν^m = g(ν), g(ν) = W (νI − P)⁻¹ (R0 +
+  // R1 ν) (matrix determinant lemma), and the multipliers of Φ are μ = ν^m.
+  // Writing ν = e^{sh} (τ = m h), each branch k = 0 … m/2 of
+  //     s τ = Ln g(e^{sh}) + 2πjk
+  // has one root while the map s ↦ (Ln g(e^{sh}) + 2πjk)/τ contracts, which
+  // holds near the unit circle when τ min ζω is large (|d Ln g/ds| is about
+  // 1/|s − λ| for a mode pole λ); the roots it misses lie within ~1/τ of the
+  // poles, |μ| ≈ e^{−ζωτ}, never dominant there. Newton on each branch from
+  // s = 2πjk/τ: cost O(m) per map instead of an eigenproblem of size m whose
+  // multipliers crowd the unit circle. The multiplier is exact for the
+  // discretised map; μ = e^{sτ}, and Im s is the chatter frequency (rad/s).
+  // Returns false (caller falls back to the eigen-solvers) if P cannot be
+  // diagonalised or a branch does not converge.
+  bool branches(const PeriodMap& pm, Dominant& out) const {
+    const StepMap& st = pm.steps[0];
+    const int n2 = pm.n2;
+    Eigen::ComplexEigenSolver<Eigen::MatrixXcd> es(st.P.cast<Cplx>());
+    if (es.info() != Eigen::Success) return false;
+    const Eigen::MatrixXcd& V = es.eigenvectors();
+    const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(V);
+    if (!((V * lu.solve(Eigen::MatrixXcd::Identity(n2, n2)) - Eigen::MatrixXcd::Identity(n2, n2)).norm() < 1e-8))
+      return false;
+    const Eigen::VectorXcd lam = es.eigenvalues();
+    const Eigen::RowVectorXcd c = Wx_.row(0).cast<Cplx>() * V;
+    const Eigen::VectorXcd d0 = lu.solve(st.R0.col(0).cast<Cplx>());
+    const Eigen::VectorXcd d1 = lu.solve(st.R1.col(0).cast<Cplx>());
+    const double tau = pm.tau, h = tau / pm.m;
+    const int kmax = pm.m / 2;
+    out = Dominant{};
+    double best_re = -kInf;
+    Cplx best_s{0.0, 0.0};
+    for (int k = 0; k <= kmax; ++k) {
+      const Cplx twopik(0.0, kTwoPi * k);
+      Cplx s = twopik / tau;
+      bool ok = false;
+      for (int it = 0; it < kBranchIterations; ++it) {
+        const Cplx nu = std::exp(s * h);
+        Cplx G(0.0, 0.0), Gp(0.0, 0.0);
+        for (int i = 0; i < n2; ++i) {
+          const Cplx den = nu - lam(i);
+          G += c(i) * (d0(i) + d1(i) * nu) / den;
+          Gp -= c(i) * (d0(i) + d1(i) * lam(i)) / (den * den);
+        }
+        if (G == Cplx(0.0, 0.0)) break;  // no regeneration seen on this branch
+        const Cplx F = s * tau - std::log(G) - twopik;
+        const Cplx dF = tau - h * nu * Gp / G;
+        Cplx ds = F / dF;
+        if (std::abs(ds) * tau > kPi) ds *= kPi / (std::abs(ds) * tau);  // stay near branch k
+        s -= ds;
+        if (std::abs(ds) * tau < kBranchTolerance) {
+          ok = true;
+          break;
+        }
+      }
+      if (!ok) {
+        // Far from the modes g can vanish (Ln g → −∞) and Newton wanders at
+        // deeply damped values: such a branch cannot hold the dominant
+        // multiplier. Anything else: let the eigen-solvers decide.
+        if (s.real() * tau < kNegligibleLog) continue;
+        return false;
+      }
+      const Cplx mu = std::exp(s * tau);
+      const Cplx mu_up = mu.imag() >= 0.0 ? mu : std::conj(mu);
+      const bool left = mu.real() < 0.0;
+      double& r = left ? out.rho_left : out.rho_right;
+      if (std::abs(mu) > r) {
+        r = std::abs(mu);
+        (left ? out.mu_left : out.mu_right) = mu_up;
+      }
+      if (s.real() > best_re) {
+        best_re = s.real();
+        best_s = s;
+      }
+    }
+    out.mu = std::exp(best_s * tau);
+    if (out.mu.imag() < 0.0) out.mu = std::conj(out.mu);
+    out.branch_s = best_s;
+    return true;
   }
 
  private:
@@ -609,6 +713,14 @@ MultiplierType classify(const Cplx& mu) {
   return MultiplierType::kHopf;
 }
 
+// Turning with a map larger than dense_max_dimension and τ min ζω >=
+// kBranchMinDecay: multipliers from the branch roots (SdmKernel::branches).
+Grid with_branch_choice(Grid g, double slowest_decay, const SemiDiscretizationOptions& o, Index n2, Index nr) {
+  g.branch_roots = g.constant && nr == 1 && n2 + g.m * nr > o.dense_max_dimension &&
+                   g.tau * slowest_decay >= kBranchMinDecay;
+  return g;
+}
+
 // Dimension of the one-period map on grid g.
 int map_dimension_of(const Grid& g, int n2, int nr) { return n2 + (g.free_time > 0.0 ? g.m + 1 : g.m) * nr; }
 
@@ -649,7 +761,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
     throw InputError(os.str());
   }
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
   const SdmKernel kernel(A_, B_, Wx_, U_, options_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
@@ -675,7 +787,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   lim.spindle_rpm = rpm;
   if (Wx_.rows() == 0) return lim;  // the process cannot see any mode: never unstable
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
   const SdmKernel kernel(A_, B_, Wx_, U_, options_);
   PeriodMap pm;
   auto log_rho = [&](double a) {
@@ -799,7 +911,7 @@ std::vector<double> SemiDiscretizationSolver::spectral_radius_map(const std::vec
   PeriodMap pm;
   for (double rpm : rpms) {
     if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
-    const Grid g = make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_);
+    const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
     for (double d : depths_m) {
       kernel.build_map(g, d, pm);
       out.push_back(std::abs(kernel.dominant(pm, false).mu));
