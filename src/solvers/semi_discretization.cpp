@@ -495,41 +495,127 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
 
 namespace {
 
-// Chatter frequency from the dominant multiplier (rule in docs/sdm.md).
-double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
-                         const std::vector<double>& natural_hz) {
-  const double tau = g.tau;
-  const double arg = std::arg(mu);
-  if (!pm.free_flight && pm.nr > 0 && vec.size() == pm.dim && pm.m >= 2) {
-    // No free flight: the delayed samples of the eigenvector cover one whole
-    // period; their phase advance per step is the chatter frequency (of the
-    // dominant harmonic), which fixes k.
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i + 1 < pm.nz; ++i) {
-      const Cplx c = vec.segment(pm.n2 + i * pm.nr, pm.nr).dot(vec.segment(pm.n2 + (i + 1) * pm.nr, pm.nr));
-      const double h = g.constant ? g.steps[0].h : g.steps[static_cast<std::size_t>(i)].h;
-      num += std::abs(c) * std::arg(c) / h;
-      den += std::abs(c);
+// Chatter frequency: which member of the family f_k = (arg μ + 2πk)/(2πτ)
+// the motion shows (rule in docs/sdm.md). The Floquet solution is
+// x(t) = p(t) μ^{t/τ}, p τ-periodic; its spectrum has one line per k with
+// the amplitude of the k-th Fourier coefficient of p. The cut-seen
+// displacement z = W q of the eigen-solution is reconstructed over one period
+// (step maps through the cut, exact exp(A t) through free flight), divided by
+// μ^{t/τ}, and its Fourier coefficients are integrated exactly on the
+// piecewise-linear interpolant (so that aliases of a line are attenuated by
+// sinc², never tied with it). The k with the largest |c_k|² (summed over the
+// components of z; |z| = |S q| in milling, the feed direction in turning) wins.
+
+// Highest |f_k| considered, Hz: the natural frequencies with a margin of 100 %
+// (milling chatter lies near a mode, above it by a few tens of % at most)
+// plus two members above, so that every line near a mode is a candidate.
+constexpr double kFrequencyMarginFactor = 2.0;
+constexpr int kFrequencyMarginMembers = 2;
+// Free flight is sampled at least this many times per period of that
+// highest frequency (linear interpolation error of a line's amplitude
+// ≈ (π/16)²/6 ≈ 0.6 % at the top of the range, less below).
+constexpr int kFreeFlightSamplesPerCycle = 16;
+// Below this |u| = |ω h| the Filon weight uses its Taylor series (the closed
+// form cancels): the first omitted term is below 1e-14 relative.
+constexpr double kFilonSeriesBelow = 0.05;
+
+// ∫₀¹ (1 − s) e^{−j u s} ds = 1/(ju) + (1 − e^{−ju})/u², given e^{−ju}.
+Cplx filon_weight(double u, const Cplx& e_minus_ju) {
+  if (std::abs(u) < kFilonSeriesBelow) {
+    // Σ (−ju)ⁿ/(n + 2)!
+    const Cplx ju(0.0, -u);
+    Cplx term(0.5, 0.0), sum(0.0, 0.0);
+    for (int n = 0; n < 6; ++n) {
+      sum += term;
+      term *= ju / static_cast<double>(n + 3);
     }
-    if (den > 0.0) {
-      const double w_est = num / den;  // rad/s
-      const double k = std::round((w_est * tau - arg) / kTwoPi);
-      return std::abs((arg + kTwoPi * k) / (kTwoPi * tau));
+    return sum;
+  }
+  return Cplx(0.0, -1.0 / u) + (1.0 - e_minus_ju) / (u * u);
+}
+
+// The eigen-solution's cut-seen displacement z = W q at times t over one
+// period [0, τ] (t.front() = 0, t.back() = τ), from the dominant eigenvector
+// `vec` = [x(0); z(t_i − τ), i < n_z] of Φ.
+void eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g, const MatrixXd& A,
+                            const MatrixXd& Wx, double f_top_hz, std::vector<double>& t,
+                            std::vector<Eigen::VectorXcd>& z) {
+  const int n2 = pm.n2, nr = pm.nr;
+  const Eigen::MatrixXcd W = Wx.cast<Cplx>();
+  Eigen::VectorXcd x = vec.head(n2);
+  const Eigen::VectorXcd z_start = W * x;
+  double now = 0.0;
+  for (int i = 0; i < pm.m; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const StepMap& s = pm.constant ? pm.steps[0] : pm.steps[si];
+    const double h = g.constant ? g.steps[0].h : g.steps[si].h;
+    t.push_back(now);
+    z.push_back(W * x);
+    const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
+    const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
+    x = (s.P.cast<Cplx>() * x + s.R0.cast<Cplx>() * z0 + s.R1.cast<Cplx>() * z1).eval();
+    now += h;
+  }
+  if (pm.free_flight) {
+    const int pieces = std::max(1, static_cast<int>(std::ceil(g.free_time * f_top_hz * kFreeFlightSamplesPerCycle)));
+    const double dt = g.free_time / pieces;
+    const Eigen::MatrixXcd E = (A * dt).exp().cast<Cplx>();
+    for (int j = 0; j < pieces; ++j) {
+      t.push_back(now + j * dt);
+      z.push_back(W * x);
+      x = (E * x).eval();
     }
   }
-  // Free flight: f = (k ± |arg μ|/2π)/τ closest to a natural frequency.
-  double best = std::abs(arg) / (kTwoPi * tau), err = kInf;
-  for (double fn : natural_hz)
-    for (double sgn : {1.0, -1.0}) {
-      const double base = sgn * std::abs(arg) / kTwoPi;
-      const double k = std::round(fn * tau - base);
-      const double f = std::abs((base + k) / tau);
-      if (std::abs(f - fn) < err) {
-        err = std::abs(f - fn);
-        best = f;
-      }
+  t.push_back(g.tau);
+  z.push_back(W * x);
+}
+
+double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
+  const double tau = g.tau;
+  const double arg = std::arg(mu);
+  const double alpha = arg / kTwoPi;  // f_k τ = k + α
+  const double f_top = kFrequencyMarginFactor * f_max_hz + kFrequencyMarginMembers / tau;
+  if (vec.size() != pm.dim || pm.nr == 0) return std::abs(alpha) / tau;  // nothing to look at: k = 0
+  std::vector<double> t;
+  std::vector<Eigen::VectorXcd> z;
+  eigen_solution_samples(vec, pm, g, A, Wx, f_top, t, z);
+  // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
+  const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
+  for (std::size_t i = 0; i < t.size(); ++i) z[i] *= std::exp(Cplx(-log_rho, -arg) * (t[i] / tau));
+  const int k_lo = static_cast<int>(std::ceil(-f_top * tau - alpha));
+  const int k_hi = static_cast<int>(std::floor(f_top * tau - alpha));
+  const int nk = k_hi - k_lo + 1;
+  // c_k τ = Σ over intervals [a, b], h = b − a, u = 2πk h/τ:
+  //   h (p_a e^{−j2πk a/τ} F(u) + p_b e^{−j2πk b/τ} F(−u)),  F = filon_weight.
+  // Phases run over k by recurrence from k_lo (one complex product per k).
+  Eigen::MatrixXcd c = Eigen::MatrixXcd::Zero(pm.nr, nk);
+  for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+    const double a = t[i], b = t[i + 1], h = b - a;
+    if (!(h > 0.0)) continue;
+    const Cplx step_a = std::polar(1.0, -kTwoPi * a / tau), step_b = std::polar(1.0, -kTwoPi * b / tau);
+    const Cplx step_u = std::polar(1.0, -kTwoPi * h / tau);
+    Cplx ea = std::polar(1.0, -kTwoPi * k_lo * a / tau), eb = std::polar(1.0, -kTwoPi * k_lo * b / tau);
+    Cplx eu = std::polar(1.0, -kTwoPi * k_lo * h / tau);
+    for (int j = 0; j < nk; ++j) {
+      const double u = kTwoPi * (k_lo + j) * h / tau;
+      const Cplx wa = h * ea * filon_weight(u, eu), wb = h * eb * filon_weight(-u, std::conj(eu));
+      c.col(j) += wa * z[i] + wb * z[i + 1];
+      ea *= step_a;
+      eb *= step_b;
+      eu *= step_u;
     }
-  return best;
+  }
+  int best = 0;
+  double best_power = -1.0;
+  for (int j = 0; j < nk; ++j) {
+    const double power = c.col(j).squaredNorm();
+    if (power > best_power) {
+      best_power = power;
+      best = j;
+    }
+  }
+  return std::abs((k_lo + best + alpha) / tau);
 }
 
 // Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
@@ -567,7 +653,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   r.spectral_radius = std::abs(d.mu);
   r.dominant_multiplier = d.mu;
   r.type = classify(d.mu);
-  r.chatter_frequency_hz = chatter_frequency(d.mu, d.vec, pm, g, natural_hz_);
+  r.chatter_frequency_hz = chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
   r.steps = g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.converged = d.converged;
