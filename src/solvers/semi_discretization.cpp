@@ -534,40 +534,73 @@ Cplx filon_weight(double u, const Cplx& e_minus_ju) {
   return Cplx(0.0, -1.0 / u) + (1.0 - e_minus_ju) / (u * u);
 }
 
-// The eigen-solution's cut-seen displacement z = W q at times t over one
-// period [0, τ] (t.front() = 0, t.back() = τ), from the dominant eigenvector
-// `vec` = [x(0); z(t_i − τ), i < n_z] of Φ.
-void eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g, const MatrixXd& A,
-                            const MatrixXd& Wx, double f_top_hz, std::vector<double>& t,
-                            std::vector<Eigen::VectorXcd>& z) {
+// The eigen-solution over one period [0, τ]: the cut-seen displacement
+// z = W q at the sample points, stored as runs of equally spaced samples
+// (one run per milling segment, one for free flight, one for turning).
+struct PeriodSamples {
+  struct Run {
+    double t0 = 0.0, h = 0.0;  // first sample time and spacing, s
+    std::size_t first = 0;     // index of the first sample; the run has n + 1 samples
+    std::size_t n = 0;         // intervals
+  };
+  std::vector<Run> runs;             // consecutive runs share their end samples
+  std::vector<Eigen::VectorXcd> z;   // n_r components per sample
+  std::vector<double> t;             // sample times, s
+};
+
+// From the dominant eigenvector `vec` = [x(0); z(t_i − τ), i < n_z] of Φ:
+// step maps through the cut (x complex, carried as real and imaginary parts
+// so the real step matrices apply without conversion), then exp(A δ) on a
+// grid fine enough for f_top_hz through free flight.
+PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
+                                     const MatrixXd& A, const MatrixXd& Wx, double f_top_hz) {
   const int n2 = pm.n2, nr = pm.nr;
-  const Eigen::MatrixXcd W = Wx.cast<Cplx>();
-  Eigen::VectorXcd x = vec.head(n2);
-  const Eigen::VectorXcd z_start = W * x;
+  PeriodSamples out;
+  VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), nr_r(n2), nr_i(n2);
+  auto z_of = [&](const VectorXd& a, const VectorXd& b) {
+    Eigen::VectorXcd z(nr);
+    z.real() = Wx * a;
+    z.imag() = Wx * b;
+    return z;
+  };
+  const Eigen::VectorXcd z_start = z_of(xr, xi);
+  auto push = [&](double t, double h) {  // sample at t, opening an interval of length h
+    if (out.runs.empty() || out.runs.back().h != h) out.runs.push_back({t, h, out.z.size(), 0});
+    ++out.runs.back().n;
+    out.t.push_back(t);
+    out.z.push_back(z_of(xr, xi));
+  };
   double now = 0.0;
   for (int i = 0; i < pm.m; ++i) {
     const auto si = static_cast<std::size_t>(i);
     const StepMap& s = pm.constant ? pm.steps[0] : pm.steps[si];
     const double h = g.constant ? g.steps[0].h : g.steps[si].h;
-    t.push_back(now);
-    z.push_back(W * x);
+    push(now, h);
     const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
     const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
-    x = (s.P.cast<Cplx>() * x + s.R0.cast<Cplx>() * z0 + s.R1.cast<Cplx>() * z1).eval();
+    nr_r.noalias() = s.P * xr;
+    nr_r.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
+    nr_i.noalias() = s.P * xi;
+    nr_i.noalias() += s.R0 * z0.imag() + s.R1 * z1.imag();
+    xr.swap(nr_r);
+    xi.swap(nr_i);
     now += h;
   }
   if (pm.free_flight) {
     const int pieces = std::max(1, static_cast<int>(std::ceil(g.free_time * f_top_hz * kFreeFlightSamplesPerCycle)));
     const double dt = g.free_time / pieces;
-    const Eigen::MatrixXcd E = (A * dt).exp().cast<Cplx>();
+    const MatrixXd E = (A * dt).exp();
     for (int j = 0; j < pieces; ++j) {
-      t.push_back(now + j * dt);
-      z.push_back(W * x);
-      x = (E * x).eval();
+      push(now + j * dt, dt);
+      nr_r.noalias() = E * xr;
+      nr_i.noalias() = E * xi;
+      xr.swap(nr_r);
+      xi.swap(nr_i);
     }
   }
-  t.push_back(g.tau);
-  z.push_back(W * x);
+  out.t.push_back(g.tau);
+  out.z.push_back(z_of(xr, xi));
+  return out;
 }
 
 double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
@@ -577,33 +610,50 @@ double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const Peri
   const double alpha = arg / kTwoPi;  // f_k τ = k + α
   const double f_top = kFrequencyMarginFactor * f_max_hz + kFrequencyMarginMembers / tau;
   if (vec.size() != pm.dim || pm.nr == 0) return std::abs(alpha) / tau;  // nothing to look at: k = 0
-  std::vector<double> t;
-  std::vector<Eigen::VectorXcd> z;
-  eigen_solution_samples(vec, pm, g, A, Wx, f_top, t, z);
+  PeriodSamples ps = eigen_solution_samples(vec, pm, g, A, Wx, f_top);
   // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
   const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
-  for (std::size_t i = 0; i < t.size(); ++i) z[i] *= std::exp(Cplx(-log_rho, -arg) * (t[i] / tau));
+  for (std::size_t i = 0; i < ps.t.size(); ++i) ps.z[i] *= std::exp(Cplx(-log_rho, -arg) * (ps.t[i] / tau));
   const int k_lo = static_cast<int>(std::ceil(-f_top * tau - alpha));
   const int k_hi = static_cast<int>(std::floor(f_top * tau - alpha));
   const int nk = k_hi - k_lo + 1;
-  // c_k τ = Σ over intervals [a, b], h = b − a, u = 2πk h/τ:
-  //   h (p_a e^{−j2πk a/τ} F(u) + p_b e^{−j2πk b/τ} F(−u)),  F = filon_weight.
-  // Phases run over k by recurrence from k_lo (one complex product per k).
+  // On a run of n equal intervals h from t0 (samples p_0 … p_n), with
+  // ω = 2πk/τ, u = ω h, e_i = e^{−jω(t0 + i h)} and T = Σ_{i=0..n} p_i e_i:
+  //   ∫ (piecewise-linear p) e^{−jωt} dt = h (F(u) (T − p_n e_n) + F(−u) (T − p_0 e_0)),
+  // F = filon_weight; T by the recurrence e_{i+1} = e_i e^{−ju}: O(n) per k.
+  // Samples as contiguous real and imaginary parts per component, and the
+  // products written out in real arithmetic (std::complex's operator* guards
+  // against NaN through a library call: 5× slower in this inner loop).
+  const std::size_t ns = ps.z.size();
+  std::vector<double> zr(ns * static_cast<std::size_t>(pm.nr)), zi(zr.size());
+  for (int comp = 0; comp < pm.nr; ++comp)
+    for (std::size_t i = 0; i < ns; ++i) {
+      zr[comp * ns + i] = ps.z[i](comp).real();
+      zi[comp * ns + i] = ps.z[i](comp).imag();
+    }
   Eigen::MatrixXcd c = Eigen::MatrixXcd::Zero(pm.nr, nk);
-  for (std::size_t i = 0; i + 1 < t.size(); ++i) {
-    const double a = t[i], b = t[i + 1], h = b - a;
-    if (!(h > 0.0)) continue;
-    const Cplx step_a = std::polar(1.0, -kTwoPi * a / tau), step_b = std::polar(1.0, -kTwoPi * b / tau);
-    const Cplx step_u = std::polar(1.0, -kTwoPi * h / tau);
-    Cplx ea = std::polar(1.0, -kTwoPi * k_lo * a / tau), eb = std::polar(1.0, -kTwoPi * k_lo * b / tau);
-    Cplx eu = std::polar(1.0, -kTwoPi * k_lo * h / tau);
+  for (const PeriodSamples::Run& run : ps.runs) {
     for (int j = 0; j < nk; ++j) {
-      const double u = kTwoPi * (k_lo + j) * h / tau;
-      const Cplx wa = h * ea * filon_weight(u, eu), wb = h * eb * filon_weight(-u, std::conj(eu));
-      c.col(j) += wa * z[i] + wb * z[i + 1];
-      ea *= step_a;
-      eb *= step_b;
-      eu *= step_u;
+      const double omega = kTwoPi * (k_lo + j) / tau;
+      const double u = omega * run.h;
+      const Cplx w = std::polar(1.0, -u), e0 = std::polar(1.0, -omega * run.t0);
+      for (int comp = 0; comp < pm.nr; ++comp) {
+        const double* pr = zr.data() + comp * ns + run.first;
+        const double* pi = zi.data() + comp * ns + run.first;
+        double er = e0.real(), ei = e0.imag(), tr = 0.0, ti = 0.0;
+        const double wr = w.real(), wi = w.imag();
+        for (std::size_t i = 0; i <= run.n; ++i) {
+          tr += er * pr[i] - ei * pi[i];
+          ti += er * pi[i] + ei * pr[i];
+          if (i < run.n) {
+            const double t = er * wr - ei * wi;
+            ei = er * wi + ei * wr;
+            er = t;
+          }
+        }
+        const Cplx T(tr, ti), e_end(er, ei), p0(pr[0], pi[0]), pn(pr[run.n], pi[run.n]);
+        c(comp, j) += run.h * (filon_weight(u, w) * (T - e_end * pn) + filon_weight(-u, std::conj(w)) * (T - e0 * p0));
+      }
     }
   }
   int best = 0;
