@@ -516,18 +516,19 @@ constexpr int kFrequencyMarginMembers = 2;
 // ≈ (π/16)²/6 ≈ 0.6 % at the top of the range, less below).
 constexpr int kFreeFlightSamplesPerCycle = 16;
 // Below this |u| = |ω h| the Filon weight uses its Taylor series (the closed
-// form cancels): the first omitted term is below 1e-14 relative.
+// form cancels, losing ~1e-13 there): the first omitted term, u⁶/8!, is
+// below 1e-12 relative.
 constexpr double kFilonSeriesBelow = 0.05;
 
 // ∫₀¹ (1 − s) e^{−j u s} ds = 1/(ju) + (1 − e^{−ju})/u², given e^{−ju}.
 Cplx filon_weight(double u, const Cplx& e_minus_ju) {
   if (std::abs(u) < kFilonSeriesBelow) {
     // Σ (−ju)ⁿ/(n + 2)!
-    const Cplx ju(0.0, -u);
+    const Cplx minus_ju(0.0, -u);
     Cplx term(0.5, 0.0), sum(0.0, 0.0);
     for (int n = 0; n < 6; ++n) {
       sum += term;
-      term *= ju / static_cast<double>(n + 3);
+      term *= minus_ju / static_cast<double>(n + 3);
     }
     return sum;
   }
