@@ -557,7 +557,7 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
                                      const MatrixXd& A, const MatrixXd& Wx, double f_top_hz) {
   const int n2 = pm.n2, nr = pm.nr;
   PeriodSamples out;
-  VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), nr_r(n2), nr_i(n2);
+  VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), xr_next(n2), xi_next(n2);
   auto z_of = [&](const VectorXd& a, const VectorXd& b) {
     Eigen::VectorXcd z(nr);
     z.real() = Wx * a;
@@ -579,12 +579,12 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     push(now, h);
     const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
     const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
-    nr_r.noalias() = s.P * xr;
-    nr_r.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
-    nr_i.noalias() = s.P * xi;
-    nr_i.noalias() += s.R0 * z0.imag() + s.R1 * z1.imag();
-    xr.swap(nr_r);
-    xi.swap(nr_i);
+    xr_next.noalias() = s.P * xr;
+    xr_next.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
+    xi_next.noalias() = s.P * xi;
+    xi_next.noalias() += s.R0 * z0.imag() + s.R1 * z1.imag();
+    xr.swap(xr_next);
+    xi.swap(xi_next);
     now += h;
   }
   if (pm.free_flight) {
@@ -593,10 +593,10 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     const MatrixXd E = (A * dt).exp();
     for (int j = 0; j < pieces; ++j) {
       push(now + j * dt, dt);
-      nr_r.noalias() = E * xr;
-      nr_i.noalias() = E * xi;
-      xr.swap(nr_r);
-      xi.swap(nr_i);
+      xr_next.noalias() = E * xr;
+      xi_next.noalias() = E * xi;
+      xr.swap(xr_next);
+      xi.swap(xi_next);
     }
   }
   out.t.push_back(g.tau);
