@@ -97,8 +97,16 @@ struct FloquetResult {
   /// The dominant multiplier (the one with Im μ >= 0 of a complex pair).
   std::complex<double> dominant_multiplier{0.0, 0.0};
   MultiplierType type = MultiplierType::kHopf;
-  /// Chatter frequency (Hz) implied by the dominant multiplier:
-  /// f = (arg μ + 2πk)/(2πτ), k as documented in docs/sdm.md.
+  /// Chatter frequency (Hz): the member |f_k| = |arg μ + 2πk|/(2πτ), k ∈ ℤ,
+  /// of the dominant multiplier's family that the motion shows. The Floquet
+  /// solution x(t) = p(t) μ^{t/τ} (p τ-periodic) is rebuilt over one period
+  /// from the dominant eigenvector (step maps through the cut, exact free
+  /// vibration through free flight); k is the one whose Fourier coefficient
+  /// of p, for the displacement the cut sees (X and Y power summed in
+  /// milling, X in turning), is the largest, over |f_k| <= 2 f_max + 2/τ.
+  /// A flip gives (k + ½)/τ, a Hopf the line nearest the dominant vibration.
+  /// Cost: O(samples × members) once per call, about 3 ms at 3 600 steps and
+  /// 230 members (case A at 100 rev/min). Rule and tests: docs/sdm.md.
   double chatter_frequency_hz = 0.0;
   /// Steps per delay period used (cutting steps + 1 when there is free flight).
   int steps = 0;

@@ -662,41 +662,178 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
 
 namespace {
 
-// Chatter frequency from the dominant multiplier (rule in docs/sdm.md).
-double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
-                         const std::vector<double>& natural_hz) {
-  const double tau = g.tau;
-  const double arg = std::arg(mu);
-  if (!pm.free_flight && pm.nr > 0 && vec.size() == pm.dim && pm.m >= 2) {
-    // No free flight: the delayed samples of the eigenvector cover one whole
-    // period; their phase advance per step is the chatter frequency (of the
-    // dominant harmonic), which fixes k.
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i + 1 < pm.nz; ++i) {
-      const Cplx c = vec.segment(pm.n2 + i * pm.nr, pm.nr).dot(vec.segment(pm.n2 + (i + 1) * pm.nr, pm.nr));
-      const double h = g.constant ? g.steps[0].h : g.steps[static_cast<std::size_t>(i)].h;
-      num += std::abs(c) * std::arg(c) / h;
-      den += std::abs(c);
+// Chatter frequency: which member of the family f_k = (arg μ + 2πk)/(2πτ)
+// the motion shows (rule in docs/sdm.md). The Floquet solution is
+// x(t) = p(t) μ^{t/τ}, p τ-periodic; its spectrum has one line per k with
+// the amplitude of the k-th Fourier coefficient of p. The cut-seen
+// displacement z = W q of the eigen-solution is reconstructed over one period
+// (step maps through the cut, exact exp(A t) through free flight), divided by
+// μ^{t/τ}, and its Fourier coefficients are integrated exactly on the
+// piecewise-linear interpolant (so that aliases of a line are attenuated by
+// sinc², never tied with it). The k with the largest |c_k|² (summed over the
+// components of z; |z| = |S q| in milling, the feed direction in turning) wins.
+
+// Highest |f_k| considered, Hz: the natural frequencies with a margin of 100 %
+// (milling chatter lies near a mode, above it by a few tens of % at most)
+// plus two members above, so that every line near a mode is a candidate.
+constexpr double kFrequencyMarginFactor = 2.0;
+constexpr int kFrequencyMarginMembers = 2;
+// Free flight is sampled at least this many times per period of that
+// highest frequency (linear interpolation error of a line's amplitude
+// ≈ (π/16)²/6 ≈ 0.6 % at the top of the range, less below).
+constexpr int kFreeFlightSamplesPerCycle = 16;
+// Below this |u| = |ω h| the Filon weight uses its Taylor series (the closed
+// form cancels, losing ~1e-13 there): the first omitted term, u⁶/8!, is
+// below 1e-12 relative.
+constexpr double kFilonSeriesBelow = 0.05;
+
+// ∫₀¹ (1 − s) e^{−j u s} ds = 1/(ju) + (1 − e^{−ju})/u², given e^{−ju}.
+Cplx filon_weight(double u, const Cplx& e_minus_ju) {
+  if (std::abs(u) < kFilonSeriesBelow) {
+    // Σ (−ju)ⁿ/(n + 2)!
+    const Cplx minus_ju(0.0, -u);
+    Cplx term(0.5, 0.0), sum(0.0, 0.0);
+    for (int n = 0; n < 6; ++n) {
+      sum += term;
+      term *= minus_ju / static_cast<double>(n + 3);
     }
-    if (den > 0.0) {
-      const double w_est = num / den;  // rad/s
-      const double k = std::round((w_est * tau - arg) / kTwoPi);
-      return std::abs((arg + kTwoPi * k) / (kTwoPi * tau));
+    return sum;
+  }
+  return Cplx(0.0, -1.0 / u) + (1.0 - e_minus_ju) / (u * u);
+}
+
+// The eigen-solution over one period [0, τ]: the cut-seen displacement
+// z = W q at the sample points, stored as runs of equally spaced samples
+// (one run per milling segment, one for free flight, one for turning).
+struct PeriodSamples {
+  struct Run {
+    double t0 = 0.0, h = 0.0;  // first sample time and spacing, s
+    std::size_t first = 0;     // index of the first sample; the run has n + 1 samples
+    std::size_t n = 0;         // intervals
+  };
+  std::vector<Run> runs;             // consecutive runs share their end samples
+  std::vector<Eigen::VectorXcd> z;   // n_r components per sample
+  std::vector<double> t;             // sample times, s
+};
+
+// From the dominant eigenvector `vec` = [x(0); z(t_i − τ), i < n_z] of Φ:
+// step maps through the cut (x complex, carried as real and imaginary parts
+// so the real step matrices apply without conversion), then exp(A δ) on a
+// grid fine enough for f_top_hz through free flight.
+PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
+                                     const MatrixXd& A, const MatrixXd& Wx, double f_top_hz) {
+  const int n2 = pm.n2, nr = pm.nr;
+  PeriodSamples out;
+  VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), xr_next(n2), xi_next(n2);
+  auto z_of = [&](const VectorXd& a, const VectorXd& b) {
+    Eigen::VectorXcd z(nr);
+    z.real() = Wx * a;
+    z.imag() = Wx * b;
+    return z;
+  };
+  const Eigen::VectorXcd z_start = z_of(xr, xi);
+  auto push = [&](double t, double h) {  // sample at t, opening an interval of length h
+    if (out.runs.empty() || out.runs.back().h != h) out.runs.push_back({t, h, out.z.size(), 0});
+    ++out.runs.back().n;
+    out.t.push_back(t);
+    out.z.push_back(z_of(xr, xi));
+  };
+  double now = 0.0;
+  for (int i = 0; i < pm.m; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    const StepMap& s = pm.constant ? pm.steps[0] : pm.steps[si];
+    const double h = g.constant ? g.steps[0].h : g.steps[si].h;
+    push(now, h);
+    const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
+    const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
+    xr_next.noalias() = s.P * xr;
+    xr_next.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
+    xi_next.noalias() = s.P * xi;
+    xi_next.noalias() += s.R0 * z0.imag() + s.R1 * z1.imag();
+    xr.swap(xr_next);
+    xi.swap(xi_next);
+    now += h;
+  }
+  if (pm.free_flight) {
+    const int pieces = std::max(1, static_cast<int>(std::ceil(g.free_time * f_top_hz * kFreeFlightSamplesPerCycle)));
+    const double dt = g.free_time / pieces;
+    const MatrixXd E = (A * dt).exp();
+    for (int j = 0; j < pieces; ++j) {
+      push(now + j * dt, dt);
+      xr_next.noalias() = E * xr;
+      xi_next.noalias() = E * xi;
+      xr.swap(xr_next);
+      xi.swap(xi_next);
     }
   }
-  // Free flight: f = (k ± |arg μ|/2π)/τ closest to a natural frequency.
-  double best = std::abs(arg) / (kTwoPi * tau), err = kInf;
-  for (double fn : natural_hz)
-    for (double sgn : {1.0, -1.0}) {
-      const double base = sgn * std::abs(arg) / kTwoPi;
-      const double k = std::round(fn * tau - base);
-      const double f = std::abs((base + k) / tau);
-      if (std::abs(f - fn) < err) {
-        err = std::abs(f - fn);
-        best = f;
+  out.t.push_back(g.tau);
+  out.z.push_back(z_of(xr, xi));
+  return out;
+}
+
+double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
+  const double tau = g.tau;
+  const double arg = std::arg(mu);
+  const double alpha = arg / kTwoPi;  // f_k τ = k + α
+  const double f_top = kFrequencyMarginFactor * f_max_hz + kFrequencyMarginMembers / tau;
+  if (vec.size() != pm.dim || pm.nr == 0) return std::abs(alpha) / tau;  // nothing to look at: k = 0
+  PeriodSamples ps = eigen_solution_samples(vec, pm, g, A, Wx, f_top);
+  // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
+  const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
+  for (std::size_t i = 0; i < ps.t.size(); ++i) ps.z[i] *= std::exp(Cplx(-log_rho, -arg) * (ps.t[i] / tau));
+  const int k_lo = static_cast<int>(std::ceil(-f_top * tau - alpha));
+  const int k_hi = static_cast<int>(std::floor(f_top * tau - alpha));
+  const int nk = k_hi - k_lo + 1;
+  // On a run of n equal intervals h from t0 (samples p_0 … p_n), with
+  // ω = 2πk/τ, u = ω h, e_i = e^{−jω(t0 + i h)} and T = Σ_{i=0..n} p_i e_i:
+  //   ∫ (piecewise-linear p) e^{−jωt} dt = h (F(u) (T − p_n e_n) + F(−u) (T − p_0 e_0)),
+  // F = filon_weight; T by the recurrence e_{i+1} = e_i e^{−ju}: O(n) per k.
+  // Samples as contiguous real and imaginary parts per component, and the
+  // products written out in real arithmetic (std::complex's operator* guards
+  // against NaN through a library call: 5× slower in this inner loop).
+  const std::size_t ns = ps.z.size();
+  std::vector<double> zr(ns * static_cast<std::size_t>(pm.nr)), zi(zr.size());
+  for (int comp = 0; comp < pm.nr; ++comp)
+    for (std::size_t i = 0; i < ns; ++i) {
+      zr[comp * ns + i] = ps.z[i](comp).real();
+      zi[comp * ns + i] = ps.z[i](comp).imag();
+    }
+  Eigen::MatrixXcd c = Eigen::MatrixXcd::Zero(pm.nr, nk);
+  for (const PeriodSamples::Run& run : ps.runs) {
+    for (int j = 0; j < nk; ++j) {
+      const double omega = kTwoPi * (k_lo + j) / tau;
+      const double u = omega * run.h;
+      const Cplx w = std::polar(1.0, -u), e0 = std::polar(1.0, -omega * run.t0);
+      for (int comp = 0; comp < pm.nr; ++comp) {
+        const double* pr = zr.data() + comp * ns + run.first;
+        const double* pi = zi.data() + comp * ns + run.first;
+        double er = e0.real(), ei = e0.imag(), tr = 0.0, ti = 0.0;
+        const double wr = w.real(), wi = w.imag();
+        for (std::size_t i = 0; i <= run.n; ++i) {
+          tr += er * pr[i] - ei * pi[i];
+          ti += er * pi[i] + ei * pr[i];
+          if (i < run.n) {
+            const double t = er * wr - ei * wi;
+            ei = er * wi + ei * wr;
+            er = t;
+          }
+        }
+        const Cplx T(tr, ti), e_end(er, ei), p0(pr[0], pi[0]), pn(pr[run.n], pi[run.n]);
+        c(comp, j) += run.h * (filon_weight(u, w) * (T - e_end * pn) + filon_weight(-u, std::conj(w)) * (T - e0 * p0));
       }
     }
-  return best;
+  }
+  int best = 0;
+  double best_power = -1.0;
+  for (int j = 0; j < nk; ++j) {
+    const double power = c.col(j).squaredNorm();
+    if (power > best_power) {
+      best_power = power;
+      best = j;
+    }
+  }
+  return std::abs((k_lo + best + alpha) / tau);
 }
 
 // Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
@@ -772,7 +909,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   r.spectral_radius = std::abs(d.mu);
   r.dominant_multiplier = d.mu;
   r.type = classify(d.mu);
-  r.chatter_frequency_hz = chatter_frequency(d.mu, d.vec, pm, g, natural_hz_);
+  r.chatter_frequency_hz = chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
   r.steps = g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.converged = d.converged;
