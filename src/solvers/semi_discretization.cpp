@@ -909,7 +909,10 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   r.spectral_radius = std::abs(d.mu);
   r.dominant_multiplier = d.mu;
   r.type = classify(d.mu);
-  r.chatter_frequency_hz = chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
+  // Branch roots (turning at low speed) give the exponent s itself: the
+  // solution is e^{st} sampled at the steps, Im s its frequency.
+  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
+                                                         : chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
   r.steps = g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.converged = d.converged;
