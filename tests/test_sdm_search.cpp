@@ -16,6 +16,7 @@
 
 #include "chatter/io/config.hpp"
 #include "chatter/semi_discretization.hpp"
+#include "chatter/transfer_function.hpp"
 
 namespace chatter {
 namespace {
@@ -158,6 +159,54 @@ TEST(SdmSearch, ShippedConfigLimitsUnchanged) {
         EXPECT_NEAR(now, depth, kUnchanged * depth) << rpm << " rev/min";
       }
     }
+  }
+}
+
+}  // namespace
+}  // namespace chatter
+
+namespace chatter {
+namespace {
+
+// Case A (PHYSICS-style 1-DOF turning: 94.22 Hz, ζ 0.033, k 45 MN/m, K_f 2.4e9).
+StructuralModel seed_turning() {
+  StructuralModel m;
+  m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));
+  return m;
+}
+
+// The branch roots of low-speed turning and the Arnoldi iteration on the same
+// discretised map give the same spectral radius (they solve one eigenproblem
+// two ways); at 150 rev/min both are affordable.
+constexpr double kBranchVsArnoldi = 1e-7;  // relative, on ρ
+TEST(SdmTurningBranches, SameSpectralRadiusAsArnoldi) {
+  SemiDiscretizationOptions with, without;
+  without.turning_branch_roots = false;
+  const SemiDiscretizationSolver a(seed_turning(), Process::turning({2.4e9}), with);
+  const SemiDiscretizationSolver b(seed_turning(), Process::turning({2.4e9}), without);
+  for (double rpm : {150.0, 200.0}) {
+    for (double depth : {0.5e-3, 1.2e-3, 1.4e-3, 3e-3}) {
+      const FloquetResult ra = a.analyse(rpm, depth), rb = b.analyse(rpm, depth);
+      EXPECT_NEAR(ra.spectral_radius, rb.spectral_radius, kBranchVsArnoldi * rb.spectral_radius)
+          << rpm << " rev/min, " << depth << " m";
+      EXPECT_EQ(ra.type, rb.type);
+    }
+  }
+}
+
+// At 10 rev/min (≈565 vibration cycles per revolution) the sdm limit is within
+// 0.5 % of the exact transfer-function limit (case A: no flip in turning).
+constexpr double kLowSpeedAgree = 5e-3;
+TEST(SdmTurningBranches, LowSpeedLimitMatchesTransferFunction) {
+  SemiDiscretizationOptions o;
+  o.depth_max_m = 0.02;
+  const SemiDiscretizationSolver sdm(seed_turning(), Process::turning({2.4e9}), o);
+  TransferFunctionOptions to;
+  to.depth_max_m = 0.02;
+  const AnalyticSolver exact(seed_turning(), Process::turning({2.4e9}), to);
+  for (double rpm : {10.0, 30.0}) {
+    const double s = sdm.limit_at(rpm).depth_limit_m, e = exact.limit_at(rpm).depth_limit_m;
+    EXPECT_NEAR(s, e, kLowSpeedAgree * e) << rpm << " rev/min";
   }
 }
 

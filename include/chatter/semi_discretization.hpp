@@ -74,6 +74,12 @@ struct SemiDiscretizationOptions {
   int dense_max_dimension = 24;
   /// Krylov subspace dimension of the Arnoldi iteration (in [4, 400]).
   int krylov_dimension = 30;
+  /// Turning with a map larger than dense_max_dimension and τ·min ζω >= 4
+  /// (low speed, many vibration cycles per revolution): take the multipliers
+  /// from the scalar branch equation ν^m = g(ν) of the one-step map, O(m) per
+  /// map, instead of Arnoldi on Φ, whose multipliers crowd the unit circle
+  /// there (docs/sdm.md). false: always the eigen-solvers (cross-checks).
+  bool turning_branch_roots = true;
 
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;

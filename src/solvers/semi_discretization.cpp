@@ -853,7 +853,7 @@ MultiplierType classify(const Cplx& mu) {
 // Turning with a map larger than dense_max_dimension and τ min ζω >=
 // kBranchMinDecay: multipliers from the branch roots (SdmKernel::branches).
 Grid with_branch_choice(Grid g, double slowest_decay, const SemiDiscretizationOptions& o, Index n2, Index nr) {
-  g.branch_roots = g.constant && nr == 1 && n2 + g.m * nr > o.dense_max_dimension &&
+  g.branch_roots = o.turning_branch_roots && g.constant && nr == 1 && n2 + g.m * nr > o.dense_max_dimension &&
                    g.tau * slowest_decay >= kBranchMinDecay;
   return g;
 }
