@@ -254,7 +254,7 @@ class SdmKernel {
       Dominant d;
       if (branches(pm, d)) return d;
     }
-    if (pm.dim <= o_.dense_max_dimension) return dense(pm, want_vector);
+    if (pm.dim <= o_.dense_max_dimension && !decide) return dense(pm, want_vector);
     return arnoldi(pm, want_vector, decide);
   }
 
@@ -858,8 +858,6 @@ Grid with_branch_choice(Grid g, double slowest_decay, const SemiDiscretizationOp
   return g;
 }
 
-// Dimension of the one-period map on grid g.
-int map_dimension_of(const Grid& g, int n2, int nr) { return n2 + (g.free_time > 0.0 ? g.m + 1 : g.m) * nr; }
 
 // Golden-section search for a point where ln ρ >= 0 inside a local maximum
 // bracketed by a < b < c with f(b) >= f(a) and f(b) > f(c) (fb = f(b)).
@@ -946,10 +944,10 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
   };
   const double dmax = options_.depth_max_m;
-  // Small maps are solved densely (exact ρ, as cheap as a verdict); large ones
-  // by Arnoldi stopped as soon as the verdict ρ < 1 or >= 1 is sure.
-  const bool accurate = map_dimension_of(g, static_cast<int>(A_.rows()), static_cast<int>(Wx_.rows())) <=
-                        options_.dense_max_dimension;
+  // While climbing, ρ comes from Arnoldi stopped as soon as the verdict ρ < 1
+  // or >= 1 is sure (cheaper than a dense decomposition even for small maps),
+  // except for the branch roots of low-speed turning, which are exact.
+  const bool accurate = g.branch_roots;
   // At zero depth the multipliers are known exactly: e^{λτ} of the free modes.
   Radii r_zero;
   r_zero.all = -slowest_decay_per_s_ * g.tau;
