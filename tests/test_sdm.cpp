@@ -376,6 +376,11 @@ TEST(SdmConvergence, HalvingTheStepDividesTheErrorByFourInSlotting) {
   expect_second_order(case_c(), case_c_process(4, 1.0), 9000.0, 0.5e-3);
 }
 
+// The map stops Arnoldi as soon as the dominant Ritz value has converged to a
+// residual of 1e-10 of its modulus; analyse() (which also wants the
+// eigenvector) may run it further: the two agree to about that residual.
+constexpr double kMapVsAnalyse = 1e-9;
+
 TEST(SdmMap, SpectralRadiusMapIsRowMajorAndMatchesAnalyse) {
   const SemiDiscretizationSolver sdm(case_c(), case_c_process(2, 0.05), sdm_options(0.01));
   const std::vector<double> rpms{9000.0, 18000.0}, depths{0.0, 1e-3, 4e-3};
@@ -383,7 +388,8 @@ TEST(SdmMap, SpectralRadiusMapIsRowMajorAndMatchesAnalyse) {
   ASSERT_EQ(map.size(), rpms.size() * depths.size());
   for (std::size_t i = 0; i < rpms.size(); ++i)
     for (std::size_t j = 0; j < depths.size(); ++j)
-      EXPECT_DOUBLE_EQ(map[i * depths.size() + j], sdm.analyse(rpms[i], depths[j]).spectral_radius);
+      EXPECT_NEAR(map[i * depths.size() + j], sdm.analyse(rpms[i], depths[j]).spectral_radius,
+                  kMapVsAnalyse * map[i * depths.size() + j]);
   // Depth 0: free vibration over one delay, ρ = e^{−ζωτ}.
   const double tau = 60.0 / (2 * 9000.0);
   EXPECT_NEAR(map[0], std::exp(-0.011 * kTwoPi * 922.0 * tau), 1e-9);

@@ -71,7 +71,7 @@ struct SemiDiscretizationOptions {
   int bracket_steps = 8;
   /// Largest one-period map solved with a dense eigen-decomposition (>= 1);
   /// bigger maps use the restarted Arnoldi iteration.
-  int dense_max_dimension = 24;
+  int dense_max_dimension = 12;
   /// Krylov subspace dimension of the Arnoldi iteration (in [4, 400]).
   int krylov_dimension = 30;
   /// Turning with a map larger than dense_max_dimension and τ·min ζω >= 4

@@ -456,13 +456,15 @@ class SdmKernel {
           break;
         }
         V.col(j + 1) = w / beta;
-        if (decide && j + 1 >= 8 && j + 1 < k && (j + 1) % 6 == 2) {
-          // Early verdict: far from the unit circle a short Krylov space is enough.
+        if (j + 1 >= 8 && j + 1 < k && (j + 1) % 6 == 2) {
+          // Early verdict (decide) or early convergence of the dominant Ritz
+          // value: a short Krylov space is often enough.
           Cplx th;
           Eigen::VectorXcd yy;
           hessenberg_dominant(H.topLeftCorner(j + 1, j + 1), th, yy, nullptr, &eigs);
           const double res = beta * std::abs(yy(j));
-          if (std::abs(std::abs(th) - 1.0) > kDecideFactor * res) {
+          if ((decide && std::abs(std::abs(th) - 1.0) > kDecideFactor * res) ||
+              (!want_vector && res <= kArnoldiTol * std::abs(th))) {
             out.mu = th;
             half_plane_radii(eigs, out);
             return out;
