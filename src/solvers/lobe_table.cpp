@@ -197,8 +197,12 @@ RefinedEnvelope refine_envelope(const std::function<StabilityLimit(double)>& lim
         const StabilityLimit &a = out.rows[i], &m = mid[j], &b = out.rows[i + 1];
         const double e = midpoint_error(a, m, b, options);
         rows.push_back(m);
-        next.push_back({still_open(a, m, e, options), e});
-        next.push_back({still_open(m, b, e, options), e});
+        // The test only vouches for the halves when a-b was one smooth piece:
+        // across a cusp the line a-b says nothing about either side, so both
+        // halves get their own test.
+        const double e_half = same_piece(a, b) ? e : std::max(e, kUnmeasured);
+        next.push_back({still_open(a, m, e_half, options), e});
+        next.push_back({still_open(m, b, e_half, options), e});
         ++j;
       } else {
         next.push_back(iv[i]);
