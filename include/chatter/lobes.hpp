@@ -144,7 +144,9 @@ RefinedEnvelope refine_envelope(const LobeSolver& solver, std::vector<StabilityL
 /// rpm_max (both included, increasing): max(2, max_points / 4) evenly spaced
 /// speeds, then refine_envelope() with max_solves = max_points minus those
 /// (options.max_solves is ignored). Fewer rows when the tolerance is met
-/// earlier. @throws InputError as evenly_spaced_speeds (max_points >= 2).
+/// earlier; `solves` counts every limit_at call, the even ones included
+/// (= rows.size()). @throws InputError as evenly_spaced_speeds
+/// (max_points >= 2) or on invalid options.
 RefinedEnvelope adaptive_envelope(const std::function<StabilityLimit(double spindle_rpm)>& limit_at,
                                   double rpm_min, double rpm_max, int max_points,
                                   const EnvelopeRefinement& options = {}, unsigned threads = 1,
