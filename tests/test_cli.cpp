@@ -24,6 +24,8 @@
 
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/lobes.hpp"
+#include "chatter/transfer_function.hpp"
 
 #include "cli_harness.hpp"
 
@@ -362,7 +364,7 @@ TEST_F(CliTest, NoArgumentsIsUsageError) {
 
 TEST_F(CliTest, SubcommandHelp) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {"lobes", {"--rpm-min", "--rpm-max", "--rpm-points", "--depth-max-mm", "--table", "--json", "--method"}},
+      {"lobes", {"--rpm-min", "--rpm-max", "--rpm-points", "--rpm-spacing", "--depth-max-mm", "--table", "--json", "--method"}},
       {"point", {"--rpm", "--depth-mm", "--depth-max-mm", "--method"}},
       {"frf", {"--points", "--out", "--fmin", "--fmax"}},
   };
@@ -592,6 +594,91 @@ TEST_F(CliTest, LobesToStdoutWithoutTable) {
   EXPECT_EQ(rows.back().rpm, 600.0);
 }
 
+// --rpm-spacing even is the table of before: evenly_spaced_speeds, then
+// lobe_envelope, written by write_lobe_csv, byte for byte.
+TEST_F(CliTest, LobesEvenSpacingIsTheEvenTableByteForByte) {
+  const fs::path cfg = config_path("seed_turning_1dof.toml");
+  const auto plain = run({"lobes", cfg.string(), "--rpm-points", "57", "--quiet"});
+  const auto even = run({"lobes", cfg.string(), "--rpm-points", "57", "--rpm-spacing", "even", "--quiet"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(even.exit_code, 0) << even.err;
+  EXPECT_EQ(even.out, plain.out);
+  const chatter::Config c = chatter::load_config(cfg);
+  chatter::TransferFunctionOptions o;
+  o.depth_max_m = *c.sweep.depth_max_mm * 1e-3;
+  const chatter::AnalyticSolver solver(c.model, c.process, o);
+  std::ostringstream expected;
+  chatter::write_lobe_csv(expected,
+                          chatter::lobe_envelope(solver, chatter::evenly_spaced_speeds(*c.sweep.rpm_min,
+                                                                                       *c.sweep.rpm_max, 57)));
+  EXPECT_EQ(even.out, expected.str());
+}
+
+// --rpm-spacing adaptive: ascending speeds, both ends, at most --rpm-points
+// rows, and between every two rows the exact limit at the midpoint is within
+// the stated 0.5 % of the straight line (exact solves by the library).
+TEST_F(CliTest, LobesAdaptiveSpacingMeetsItsMidpointTolerance) {
+  const fs::path cfg = config_path("seed_turning_1dof.toml");
+  const fs::path table = path("a.csv"), json = path("a.json");
+  const auto r = run({"lobes", cfg.string(), "--rpm-min", "300", "--rpm-max", "2000", "--rpm-points", "1500",
+                      "--rpm-spacing", "adaptive", "--table", table.string(), "--json", json.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "every midpoint within 0.5 %")) << r.out;
+  const auto rows = parse_lobe_csv(slurp(table));
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_LE(rows.size(), 1500u);
+  EXPECT_EQ(rows.front().rpm, 300.0);
+  EXPECT_EQ(rows.back().rpm, 2000.0);
+  const chatter::Config c = chatter::load_config(cfg);
+  chatter::TransferFunctionOptions o;
+  o.depth_max_m = *c.sweep.depth_max_mm * 1e-3;
+  const chatter::AnalyticSolver solver(c.model, c.process, o);
+  // The table's criterion (0.5 % of the local depth), plus the 10 printed
+  // significant digits of the rows (5e-10 relative, negligible here).
+  constexpr double kMidpointRelTol = 0.005;
+  for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+    ASSERT_LT(rows[i].rpm, rows[i + 1].rpm) << "row " << i;
+    const double n = 0.5 * (rows[i].rpm + rows[i + 1].rpm);
+    const double exact = solver.limit_at(n).depth_limit_m * 1e3;
+    const double line = 0.5 * (rows[i].depth_mm + rows[i + 1].depth_mm);
+    EXPECT_LE(std::abs(line - exact), kMidpointRelTol * exact + 1e-4)
+        << "midpoint " << n << " rev/min: exact " << exact << " mm, line " << line << " mm";
+  }
+  const auto j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["sweep"]["rpm_spacing"], "adaptive");
+  EXPECT_EQ(j["sweep"]["rpm_points"], 1500);
+  EXPECT_EQ(j["sweep"]["tolerance_met"], true);
+  EXPECT_EQ(j["rows"].size(), rows.size());
+}
+
+// sdm keeps its extra columns with adaptive speeds; the JSON of an even
+// table says so too.
+TEST_F(CliTest, LobesAdaptiveSpacingWithSdm) {
+  const fs::path cfg = config_path("milling_benchmark_ae005_down.toml");
+  const fs::path table = path("s.csv"), json = path("s.json");
+  const auto r = run({"lobes", cfg.string(), "--method", "sdm", "--rpm-min", "14000", "--rpm-max", "20000",
+                      "--rpm-points", "40", "--rpm-spacing", "adaptive", "--quiet", "--table", table.string(),
+                      "--json", json.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lines = split_lines(slurp(table));
+  ASSERT_GE(lines.size(), 12u);  // header + the 10 even speeds + refinement
+  EXPECT_LE(lines.size(), 41u);
+  EXPECT_EQ(lines[0], "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe,multiplier_type,spectral_radius_check");
+  double previous = 0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const double n = std::stod(split_fields(lines[i])[0]);
+    EXPECT_GT(n, previous) << lines[i];
+    previous = n;
+  }
+  EXPECT_EQ(std::stod(split_fields(lines[1])[0]), 14000.0);
+  EXPECT_EQ(previous, 20000.0);
+  EXPECT_TRUE(contains(slurp(table), "flip")) << "14000-20000 rev/min holds case C's flip lobe";
+  EXPECT_EQ(nlohmann::json::parse(slurp(json))["sweep"]["rpm_spacing"], "adaptive");
+  const auto e = run({"lobes", cfg.string(), "--rpm-points", "5", "--quiet", "--json", json.string()});
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(json))["sweep"]["rpm_spacing"], "even");
+}
+
 // ========================================================================= point
 
 TEST_F(CliTest, PointStableAndUnstableOnCaseA) {
@@ -708,6 +795,15 @@ TEST_F(CliTest, RejectsBadSweepOptions) {
                   "--rpm-points abc");
   expect_rejected(run({"lobes", cfg, "--rpm-points", "40.5", "--table", T}), {"rpm-points", "whole number"}, {t},
                   "--rpm-points 40.5");
+}
+
+TEST_F(CliTest, RejectsBadRpmSpacing) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  const fs::path t = path("t.csv"), js = path("t.json");
+  expect_rejected(run({"lobes", cfg, "--rpm-spacing", "log", "--table", t.string(), "--json", js.string()}),
+                  {"--rpm-spacing", "even or adaptive"}, {t, js}, "--rpm-spacing log");
+  expect_rejected(run({"lobes", cfg, "--rpm-spacing", "", "--table", t.string()}), {"--rpm-spacing"}, {t},
+                  "--rpm-spacing ''");
 }
 
 TEST_F(CliTest, RejectsUnknownSubcommand) {

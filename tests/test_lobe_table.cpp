@@ -1,12 +1,18 @@
-// Lobe-table plumbing: the speed grid (evenly_spaced_speeds) and the CSV/JSON
+// Lobe-table plumbing: the speed grids (evenly_spaced_speeds, and the adaptive
+// refine_envelope / adaptive_envelope checked on case A in closed form) and the CSV/JSON
 // writers, the contract CAM integrators parse (include/chatter/io/table_writer.hpp).
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <complex>
 #include <filesystem>
+#include <iostream>
+#include <random>
 #include <fstream>
 #include <iterator>
 #include <thread>
@@ -21,6 +27,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/transfer_function.hpp"
 
 namespace {
 
@@ -352,3 +359,283 @@ TEST(WriteTextFiles, SymbolicLinkIsWrittenThroughNotReplaced) {
 }
 
 }  // namespace
+
+// ------------------------------------------------------------ refine_envelope / adaptive_envelope
+
+namespace {
+
+// Case A (PHYSICS §7 A) in closed form, independent of the library's phase
+// search: G(ω) = 1 / (k (1 − r² + 2jζr)), b = −1/(2 K_f Re G),
+// ε = 3π + 2 atan2(Im G, Re G), N_k(ω) = 60 ω / (ε + 2πk) (turning).
+struct CaseA {
+  double wn = 2 * M_PI * 94.22, zeta = 0.033, k = 45e6, kf = 2.4e9;
+  std::complex<double> g(double w) const {
+    const double r = w / wn;
+    return 1.0 / (k * std::complex<double>(1 - r * r, 2 * zeta * r));
+  }
+  double depth(double w) const { return -1.0 / (2 * kf * g(w).real()); }
+  double rpm(double w, int lobe) const {
+    const std::complex<double> G = g(w);
+    return 60 * w / (3 * M_PI + 2 * std::atan2(G.imag(), G.real()) + 2 * M_PI * lobe);
+  }
+  // Depth (m) of lobe `lobe` at `n` rev/min: N_k(ω) rises monotonically from
+  // N_k(ω_n) on ω > ω_n, so bisection on ω; +inf below the lobe's first speed.
+  double lobe_depth(int lobe, double n) const {
+    double lo = wn * (1 + 1e-12), hi = 2 * wn;
+    if (rpm(lo, lobe) >= n) return kInf;
+    while (rpm(hi, lobe) < n) hi *= 2;
+    for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (rpm(mid, lobe) < n ? lo : hi) = mid;
+    }
+    return depth(0.5 * (lo + hi));
+  }
+  // The speed where lobes `lobe` and `lobe + 1` cross, bisecting their depth
+  // difference inside [lo, hi] (which must bracket the crossing).
+  double cusp_rpm(int lobe, double lo, double hi) const {
+    auto diff = [&](double n) { return lobe_depth(lobe, n) - lobe_depth(lobe + 1, n); };
+    const bool lo_positive = diff(lo) > 0;
+    EXPECT_NE(lo_positive, diff(hi) > 0) << "no crossing of lobes " << lobe << ", " << lobe + 1 << " in [" << lo
+                                         << ", " << hi << "]";
+    for (int i = 0; i < 200 && hi - lo > 1e-13 * hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      ((diff(mid) > 0) == lo_positive ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  }
+};
+
+chatter::AnalyticSolver case_a_solver() {
+  const chatter::Config cfg = chatter::load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/seed_turning_1dof.toml");
+  chatter::TransferFunctionOptions o;
+  o.depth_max_m = 20e-3;
+  return chatter::AnalyticSolver(cfg.model, cfg.process, o);
+}
+
+// Depth of the straight line through the rows at `rpm` (rows increasing).
+double interpolate(const std::vector<StabilityLimit>& rows, double rpm) {
+  auto it = std::upper_bound(rows.begin(), rows.end(), rpm,
+                             [](double x, const StabilityLimit& r) { return x < r.spindle_rpm; });
+  if (it == rows.begin()) return rows.front().depth_limit_m;
+  if (it == rows.end()) return rows.back().depth_limit_m;
+  const StabilityLimit &b = *it, &a = *(it - 1);
+  const double t = (rpm - a.spindle_rpm) / (b.spindle_rpm - a.spindle_rpm);
+  return a.depth_limit_m + t * (b.depth_limit_m - a.depth_limit_m);
+}
+
+// The refinement's own criterion (EnvelopeRefinement): 0.5 % of the local depth.
+constexpr double kRefineRelTol = 0.005;
+// Case A's lobes are at most about 3 mm/(rev/min) steep next to a cusp at 50
+// rev/min; a cusp bracket 1e-6 × 50 rev/min wide then leaves its rows within
+// 1.5e-4 mm of the cusp depth, 1.2e-4 of 1.28 mm: allow 3e-4.
+constexpr double kCuspDepthRelTol = 3e-4;
+// A cusp is bracketed by two rows at most cusp_rel_tol (1e-6) × speed apart;
+// its midpoint is within half of that of the crossing (plus round-off).
+constexpr double kCuspRpmRelTol = 0.6e-6;
+// The analytic solver and the closed form both solve to round-off (Brent's
+// method to 1e-15 relative on ω); ω-to-depth conditioning near a cusp's
+// steep side costs a few digits.
+constexpr double kExactRelTol = 1e-9;
+
+chatter::RefinedEnvelope refined_case_a(const chatter::AnalyticSolver& solver, unsigned threads = 1) {
+  const auto speeds = chatter::evenly_spaced_speeds(50, 2000, 400);
+  chatter::EnvelopeRefinement o;
+  o.depth_rel_tol = kRefineRelTol;
+  o.cusp_rel_tol = 1e-6;
+  return chatter::refine_envelope(solver, chatter::lobe_envelope(solver, speeds), o, threads);
+}
+
+}  // namespace
+
+TEST(RefineEnvelope, CaseACuspsAreTheCrossingsOfNeighbouringLobes) {
+  const chatter::AnalyticSolver solver = case_a_solver();
+  const chatter::RefinedEnvelope r = refined_case_a(solver);
+  ASSERT_TRUE(r.converged) << r.solves << " solves";
+  const CaseA a;
+  int cusps = 0;
+  double worst_depth = 0, worst_rpm = 0;
+  for (std::size_t i = 0; i + 1 < r.rows.size(); ++i) {
+    const StabilityLimit &lo = r.rows[i], &hi = r.rows[i + 1];
+    ASSERT_TRUE(lo.bounded() && hi.bounded());
+    if (lo.lobe == hi.lobe) continue;
+    // Lobe numbers fall by one from one lobe to the next as the speed rises.
+    ASSERT_EQ(lo.lobe, hi.lobe + 1) << "at " << lo.spindle_rpm << " rev/min";
+    ++cusps;
+    const double pad = 1e-3 * hi.spindle_rpm;
+    const double n_star = a.cusp_rpm(hi.lobe, lo.spindle_rpm - pad, hi.spindle_rpm + pad);
+    const double n_mid = 0.5 * (lo.spindle_rpm + hi.spindle_rpm);
+    EXPECT_LE(std::abs(n_mid - n_star), kCuspRpmRelTol * n_star)
+        << "cusp " << hi.lobe << "/" << lo.lobe << ": refined " << n_mid << ", crossing " << n_star;
+    const double d_star = a.lobe_depth(hi.lobe, n_star);
+    const double d_rows = std::max(lo.depth_limit_m, hi.depth_limit_m);
+    EXPECT_LE(std::abs(d_rows - d_star), kCuspDepthRelTol * d_star)
+        << "cusp at " << n_star << " rev/min: rows " << d_rows << " m, crossing " << d_star << " m";
+    // The exact solve at the crossing is the crossing's depth.
+    const StabilityLimit exact = solver.limit_at(n_star);
+    EXPECT_LE(std::abs(exact.depth_limit_m - d_star), kExactRelTol * d_star)
+        << "limit_at(" << n_star << ") = " << exact.depth_limit_m << " m, closed form " << d_star << " m";
+    worst_depth = std::max(worst_depth, std::abs(d_rows - d_star) / d_star);
+    worst_rpm = std::max(worst_rpm, std::abs(n_mid - n_star) / n_star);
+  }
+  // 50-2000 rev/min holds lobes k = 2 to about 112: every crossing between.
+  EXPECT_GE(cusps, 100);
+  std::cout << "case A: " << r.rows.size() << " rows (" << r.solves << " solves), " << cusps
+            << " cusps, worst cusp depth error " << worst_depth << ", worst cusp speed error " << worst_rpm << "\n";
+}
+
+TEST(RefineEnvelope, CaseALineStaysWithinToleranceAtRandomSpeeds) {
+  const chatter::AnalyticSolver solver = case_a_solver();
+  const chatter::RefinedEnvelope r = refined_case_a(solver);
+  ASSERT_TRUE(r.converged);
+  std::mt19937 rng(20240611);
+  std::uniform_real_distribution<double> speed(50.0, 2000.0);
+  double worst = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const double n = i < 1500 ? speed(rng) : 50.0 + 250.0 * (i - 1500) / 1500.0 + 0.0137;  // dense lobes below 300
+    const double line = interpolate(r.rows, n), exact = solver.limit_at(n).depth_limit_m;
+    const double tol = kRefineRelTol * exact + 1e-7;
+    EXPECT_LE(line - exact, tol) << "above the exact envelope at " << n << " rev/min: line " << line
+                                 << " m, exact " << exact << " m";
+    EXPECT_LE(exact - line, tol) << "below the exact envelope at " << n << " rev/min: line " << line
+                                 << " m, exact " << exact << " m";
+    worst = std::max(worst, std::abs(line - exact) / exact);
+  }
+  std::cout << "worst relative distance of the line from the exact envelope: " << worst << "\n";
+}
+
+TEST(RefineEnvelope, SameRowsWhateverTheThreadCount) {
+  const chatter::AnalyticSolver solver = case_a_solver();
+  const auto one = refined_case_a(solver, 1), two = refined_case_a(solver, 3);
+  ASSERT_EQ(one.rows.size(), two.rows.size());
+  for (std::size_t i = 0; i < one.rows.size(); ++i) {
+    EXPECT_EQ(one.rows[i].spindle_rpm, two.rows[i].spindle_rpm) << "row " << i;
+    EXPECT_EQ(one.rows[i].depth_limit_m, two.rows[i].depth_limit_m) << "row " << i;
+  }
+}
+
+TEST(RefineEnvelope, KeepsToTheSolveBudget) {
+  const chatter::AnalyticSolver solver = case_a_solver();
+  const auto start = chatter::lobe_envelope(solver, chatter::evenly_spaced_speeds(50, 2000, 40));
+  chatter::EnvelopeRefinement o;
+  o.max_solves = 57;
+  std::atomic<std::size_t> calls{0};
+  const auto r = chatter::refine_envelope(
+      [&](double n) {
+        ++calls;
+        return solver.limit_at(n);
+      },
+      start, o, 2);
+  EXPECT_EQ(r.solves, 57u);
+  EXPECT_EQ(calls.load(), 57u);
+  EXPECT_EQ(r.rows.size(), 40u + 57u);
+  EXPECT_FALSE(r.converged);
+  for (std::size_t i = 0; i + 1 < r.rows.size(); ++i) EXPECT_LT(r.rows[i].spindle_rpm, r.rows[i + 1].spindle_rpm);
+}
+
+// A problem built from its answer: two parabolic "lobes" d1 = 1 + (n − 3)²,
+// d2 = 1 + (n − 7)²/4 (lobe 1 and 0), envelope their minimum; they cross at
+// n* = 13/3 − √(64/9 − 4·... ) solved exactly below; above depth 4 there is
+// "no limit" (+inf), so the gap edges are located too.
+TEST(RefineEnvelope, SyntheticLobesCuspAndGapEdgesAreLocated) {
+  const double cap = 4.0;
+  auto env = [&](double n) {
+    StabilityLimit r;
+    r.spindle_rpm = n;
+    const double d1 = 1 + (n - 3) * (n - 3), d2 = 1 + (n - 7) * (n - 7) / 4;
+    const double d = std::min(d1, d2);
+    if (d >= cap) return r;  // unbounded
+    r.depth_limit_m = d;
+    r.lobe = d1 < d2 ? 1 : 0;
+    r.branch = 0;
+    return r;
+  };
+  // d1 = d2: 4(n−3)² = (n−7)²  ->  2(n−3) = ±(n−7): n = −1 or n = 13/3.
+  const double n_cusp = 13.0 / 3.0;
+  // Gap edges: d1 = 4 at n = 3 − √3 (left), d2 = 4 at n = 7 + 2√3 (right).
+  const double n_left = 3 - std::sqrt(3.0), n_right = 7 + 2 * std::sqrt(3.0);
+  std::vector<StabilityLimit> start;
+  for (double n : chatter::evenly_spaced_speeds(0.5, 12.0, 5)) start.push_back(env(n));
+  chatter::EnvelopeRefinement o;
+  o.cusp_rel_tol = 1e-9;
+  const auto r = chatter::refine_envelope(env, start, o);
+  ASSERT_TRUE(r.converged);
+  int edges = 0;
+  for (std::size_t i = 0; i + 1 < r.rows.size(); ++i) {
+    const StabilityLimit &a = r.rows[i], &b = r.rows[i + 1];
+    const double mid = 0.5 * (a.spindle_rpm + b.spindle_rpm);
+    // Every switch is bracketed within cusp_rel_tol of the speed.
+    constexpr double kBracketRelTol = 1e-9;
+    if (a.bounded() != b.bounded()) {
+      ++edges;
+      const double expect = a.bounded() ? n_right : n_left;
+      EXPECT_NEAR(mid, expect, kBracketRelTol * expect) << "gap edge";
+    } else if (a.bounded() && a.lobe != b.lobe) {
+      ++edges;
+      EXPECT_NEAR(mid, n_cusp, kBracketRelTol * n_cusp) << "cusp";
+      EXPECT_NEAR(std::max(a.depth_limit_m, b.depth_limit_m), 1 + (n_cusp - 3) * (n_cusp - 3), 1e-7) << "cusp depth";
+    }
+  }
+  EXPECT_EQ(edges, 3);
+  // Between rows the line is within the tolerance of the parabolas.
+  for (std::size_t i = 0; i + 1 < r.rows.size(); ++i) {
+    const StabilityLimit &a = r.rows[i], &b = r.rows[i + 1];
+    if (!(a.bounded() && b.bounded())) continue;
+    for (double t : {0.25, 0.5, 0.75}) {
+      const double n = a.spindle_rpm + t * (b.spindle_rpm - a.spindle_rpm);
+      const double exact = env(n).depth_limit_m;
+      if (!std::isfinite(exact)) continue;
+      const double line = a.depth_limit_m + t * (b.depth_limit_m - a.depth_limit_m);
+      EXPECT_LE(std::abs(line - exact), o.depth_rel_tol * exact + o.depth_abs_tol_m)
+          << "at " << n << ": line " << line << ", exact " << exact;
+    }
+  }
+}
+
+TEST(RefineEnvelope, BadOptionsAndStartThrow) {
+  const auto f = [](double n) {
+    StabilityLimit r;
+    r.spindle_rpm = n;
+    return r;
+  };
+  chatter::EnvelopeRefinement o;
+  o.depth_rel_tol = 0;
+  EXPECT_THROW(chatter::refine_envelope(f, {f(1), f(2)}, o), chatter::InputError);
+  o = {};
+  o.cusp_rel_tol = 0;
+  EXPECT_THROW(chatter::refine_envelope(f, {f(1), f(2)}, o), chatter::InputError);
+  EXPECT_THROW(chatter::refine_envelope(f, {}, {}), chatter::InputError);
+  EXPECT_THROW(chatter::refine_envelope(f, {f(1), f(1)}, {}), chatter::InputError);
+  EXPECT_THROW(chatter::adaptive_envelope(f, 100, 200, 1), chatter::InputError);
+}
+
+TEST(AdaptiveEnvelope, CaseAEveryMidpointIsWithinToleranceOfTheLine) {
+  const chatter::AnalyticSolver solver = case_a_solver();
+  chatter::EnvelopeRefinement o;
+  o.depth_rel_tol = kRefineRelTol;
+  o.cusp_rel_tol = 1e-5;
+  const int budget = 8000;
+  const auto r = chatter::adaptive_envelope([&](double n) { return solver.limit_at(n); }, 50, 2000, budget, o, 2);
+  ASSERT_TRUE(r.converged) << "budget " << budget << " too small";
+  ASSERT_LE(r.rows.size(), static_cast<std::size_t>(budget));
+  EXPECT_EQ(r.rows.size(), r.solves);
+  EXPECT_EQ(r.rows.front().spindle_rpm, 50.0);
+  EXPECT_EQ(r.rows.back().spindle_rpm, 2000.0);
+  std::size_t below_300 = 0;
+  for (std::size_t i = 0; i + 1 < r.rows.size(); ++i) {
+    const StabilityLimit &a = r.rows[i], &b = r.rows[i + 1];
+    ASSERT_LT(a.spindle_rpm, b.spindle_rpm);
+    if (a.spindle_rpm < 300) ++below_300;
+    const double n = 0.5 * (a.spindle_rpm + b.spindle_rpm);
+    const double exact = solver.limit_at(n).depth_limit_m;
+    const double line = 0.5 * (a.depth_limit_m + b.depth_limit_m);
+    EXPECT_LE(std::abs(line - exact), kRefineRelTol * exact + o.depth_abs_tol_m)
+        << "midpoint " << n << " rev/min: exact " << exact << " m, line " << line << " m";
+  }
+  // The dense lobes get the rows: below 300 rev/min (lobes k >= 18, each
+  // under 17 rev/min wide, against 60 to 400 rev/min above 600) at least 3x
+  // as many rows per rev/min as above (an even table: the same density).
+  const double density_low = static_cast<double>(below_300) / 250.0,
+               density_high = static_cast<double>(r.rows.size() - below_300) / 1700.0;
+  EXPECT_GT(density_low, 3 * density_high) << below_300 << " of " << r.rows.size() << " rows below 300 rev/min";
+  std::cout << "adaptive case A: " << r.rows.size() << " rows, " << below_300 << " below 300 rev/min\n";
+}

@@ -78,6 +78,80 @@ std::vector<StabilityLimit> lobe_envelope(const LobeSolver& solver, const std::v
                                           unsigned threads = 1,
                                           const std::function<void(std::size_t done)>& per_speed = {});
 
+/// Settings of refine_envelope() / adaptive_envelope().
+///
+/// Error criterion (the midpoint test): an interval [a, b] between two
+/// solved speeds is accepted when the exact limit d_m at its midpoint is
+/// within depth_rel_tol · d_m + depth_abs_tol_m of the straight line through
+/// the ends, (d_a + d_b) / 2; the midpoint is kept as a row either way, so
+/// on a smooth stretch the line through the final rows is off by about a
+/// quarter of what was tested. An interval whose ends differ in lobe number,
+/// branch or boundedness (a cusp between two lobes, a flip/Hopf switch, the
+/// edge of a stretch with no limit below depth_max) is halved further, until
+/// it is narrower than cusp_rel_tol × its speed, so the rows on either side
+/// of a cusp are exact solves that close to it. No interval is ever split
+/// below that width (jumps terminate), and at most max_solves limit_at calls
+/// are made.
+struct EnvelopeRefinement {
+  /// Depth tolerance relative to the local depth (> 0; 0.005 = 0.5 %).
+  double depth_rel_tol = 0.005;
+  /// Absolute depth tolerance, m (>= 0), for limits near zero.
+  double depth_abs_tol_m = 1e-7;
+  /// Narrowest interval split, relative to its speed (in [1e-12, 0.1]):
+  /// the precision to which cusps and jumps are located.
+  double cusp_rel_tol = 1e-6;
+  /// Most limit_at calls (new rows) refinement may add.
+  std::size_t max_solves = 20000;
+
+  /// Empty when valid, else the violated rule.
+  std::string validate() const;
+};
+
+/// Rows placed by refine_envelope() / adaptive_envelope().
+struct RefinedEnvelope {
+  /// Every row solved, start rows included, in increasing speed (distinct).
+  std::vector<StabilityLimit> rows;
+  /// limit_at calls made by the refinement (start rows not counted).
+  std::size_t solves = 0;
+  /// True when every interval met the criterion (or reached the narrowest
+  /// width) before the solve budget ran out.
+  bool converged = false;
+};
+
+/// Adds speeds to `start` where the envelope bends, until the midpoint test
+/// of EnvelopeRefinement holds on every interval or max_solves is spent.
+/// Passes: all open intervals are halved at once (their midpoints solved in
+/// parallel as in lobe_envelope), so the result is bitwise the same whatever
+/// the thread count. When the budget cannot cover a pass, the intervals with
+/// the largest error (measured, or estimated from the start rows: lobe
+/// changes first, then the relative depth change) are halved first, ties by
+/// lower speed. Cost: the limit_at calls made, at most max_solves; each
+/// cusp costs about log2(interval / (cusp_rel_tol × speed)) of them.
+/// @param limit_at  the exact limit at a speed (rev/min); called from worker
+///                  threads, so it must be thread-safe.
+/// @param start     solved rows (>= 1), any order; distinct speeds.
+/// @param per_speed called after each solve with the number done so far.
+/// @throws InputError on invalid options, an empty start or repeated speeds.
+RefinedEnvelope refine_envelope(const std::function<StabilityLimit(double spindle_rpm)>& limit_at,
+                                std::vector<StabilityLimit> start, const EnvelopeRefinement& options = {},
+                                unsigned threads = 1, const std::function<void(std::size_t done)>& per_speed = {});
+/// The same with solver.limit_at.
+RefinedEnvelope refine_envelope(const LobeSolver& solver, std::vector<StabilityLimit> start,
+                                const EnvelopeRefinement& options = {}, unsigned threads = 1,
+                                const std::function<void(std::size_t done)>& per_speed = {});
+
+/// An adaptively spaced table of at most `max_points` rows from rpm_min to
+/// rpm_max (both included, increasing): max(2, max_points / 4) evenly spaced
+/// speeds, then refine_envelope() with max_solves = max_points minus those
+/// (options.max_solves is ignored). Fewer rows when the tolerance is met
+/// earlier; `solves` counts every limit_at call, the even ones included
+/// (= rows.size()). @throws InputError as evenly_spaced_speeds
+/// (max_points >= 2) or on invalid options.
+RefinedEnvelope adaptive_envelope(const std::function<StabilityLimit(double spindle_rpm)>& limit_at,
+                                  double rpm_min, double rpm_max, int max_points,
+                                  const EnvelopeRefinement& options = {}, unsigned threads = 1,
+                                  const std::function<void(std::size_t done)>& per_speed = {});
+
 /// The same loop for any per-speed computation: out[i] = f(i) for i < n.
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& f,
                   const std::function<void(std::size_t done)>& per_item = {});

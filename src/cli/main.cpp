@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -29,6 +31,19 @@ using chatter::InputError;
 using namespace chatter::cli;
 
 namespace {
+
+// Midpoint tolerance of --rpm-spacing adaptive and of the plotted envelope:
+// 0.5 % of the local depth (under a pixel on a default plot whose depth axis
+// reaches about 4x the absolute limit).
+constexpr double kEnvelopeDepthRelTol = 0.005;
+// Cusps located to 1e-5 x the speed in an adaptive table (0.01 rev/min at
+// 1000 rev/min: about 10 rows per cusp), 1e-6 in a plot.
+constexpr double kTableCuspRelTol = 1e-5;
+constexpr double kPlotCuspRelTol = 1e-6;
+// Extra limit_at solves for the plotted envelope: the transfer-function
+// solvers are cheap (tens of microseconds per speed); sdm and time-domain get
+// as many as the table has rows, so the plot at most doubles the run time.
+constexpr std::size_t kPlotSolvesTransferFunction = 20000;
 
 const char* const kMainHelp = R"(chatter - predict regenerative chatter and draw stability lobes
 
@@ -78,13 +93,17 @@ Exit status: 0 success, 2 bad input or usage, 1 internal failure
 
 int cmd_lobes(const std::vector<std::string>& args) {
   Common common;
-  std::string table_path, json_path, plot_path;
+  std::string table_path, json_path, plot_path, spacing = "even";
   po::options_description d("Options");
   add_common(d, common);
   d.add_options()
       ("rpm-min", po::value<double>(), "lowest spindle speed, rev/min (default: sweep.rpm_min)")
       ("rpm-max", po::value<double>(), "highest spindle speed, rev/min (default: sweep.rpm_max)")
-      ("rpm-points", po::value<int>(), "number of evenly spaced speeds, both ends included (default: sweep.rpm_points or 400)")
+      ("rpm-points", po::value<int>(), "number of speeds, both ends included (default: sweep.rpm_points or 400); "
+                                       "with --rpm-spacing adaptive the most rows written")
+      ("rpm-spacing", po::value<std::string>(&spacing), "even (default): evenly spaced speeds; adaptive: a quarter of "
+                                                        "--rpm-points evenly spaced, the rest halving the intervals where the "
+                                                        "envelope bends (0.5 % depth midpoint test, cusps between lobes located)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm; deeper limits print as inf (default: sweep.depth_max_mm or 50)")
       ("table", po::value<std::string>(&table_path), "write the CSV table here (default: standard output)")
       ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON")
@@ -100,19 +119,61 @@ int cmd_lobes(const std::vector<std::string>& args) {
                    "at every depth up to --depth-max-mm); --method sdm adds multiplier_type (hopf, flip,\n"
                    "fold) and spectral_radius_check. Use sdm for milling at low radial immersion: the\n"
                    "transfer-function methods miss its flip lobes. --method time-domain simulates the\n"
-                   "cut at each speed and bisects on depth (slow: about 0.3 s per speed, 1 % bracket).\n",
+                   "cut at each speed and bisects on depth (slow: about 0.3 s per speed, 1 % bracket).\n"
+                   "--rpm-spacing adaptive places the speeds where the envelope bends: the exact limit at\n"
+                   "the middle of every two neighbouring rows is within 0.5 % of the straight line between\n"
+                   "them (when --rpm-points allows; the summary says if not). The plotted envelope is\n"
+                   "always refined that way, from the table's rows, whatever the spacing.\n",
              d, common, vm))
     return 0;
+  if (spacing != "even" && spacing != "adaptive")
+    throw InputError("--rpm-spacing = '" + spacing + "': must be even or adaptive");
+  const bool adaptive = spacing == "adaptive";
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
   const chatter::Config cfg = chatter::load_config(common.config_path);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
   const BuiltSolver built = build_solver(common.method, cfg, s.depth_max_mm * 1e-3, vm);
   const chatter::LobeSolver& solver = *built.solver;
-  const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
-  std::vector<chatter::StabilityLimit> rows(speeds.size());
+  chatter::EnvelopeRefinement table_refinement;
+  table_refinement.depth_rel_tol = kEnvelopeDepthRelTol;
+  table_refinement.cusp_rel_tol = kTableCuspRelTol;
+  bool tolerance_met = false;
+  std::vector<double> speeds;
+  std::vector<chatter::StabilityLimit> rows;
   std::vector<chatter::ExtraColumn> extra;
-  {
+  if (!adaptive) {
+    speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
+    rows.resize(speeds.size());
+  }
+  if (adaptive) {
+    Progress progress(vm, static_cast<std::size_t>(s.rpm_points), "lobes (" + solver.method() + ", adaptive)");
+    const auto tick = [&](std::size_t done) { progress.tick(done); };
+    // sdm: keep the Floquet result of every solve for the extra columns.
+    std::map<double, chatter::FloquetResult> floquet;
+    std::mutex floquet_mutex;
+    const auto limit = [&](double rpm) {
+      if (!built.sdm) return solver.limit_at(rpm);
+      chatter::FloquetResult f;
+      const chatter::StabilityLimit r = built.sdm->limit_at(rpm, &f);
+      std::lock_guard<std::mutex> lock(floquet_mutex);
+      floquet[rpm] = f;
+      return r;
+    };
+    const chatter::RefinedEnvelope r =
+        chatter::adaptive_envelope(limit, s.rpm_min, s.rpm_max, s.rpm_points, table_refinement, threads, tick);
+    rows = r.rows;
+    tolerance_met = r.converged;
+    if (built.sdm) {
+      chatter::ExtraColumn type{"multiplier_type", {}, false}, rho{"spectral_radius_check", {}, true};
+      for (const auto& row : rows) {
+        const chatter::FloquetResult& f = floquet.at(row.spindle_rpm);
+        type.values.push_back(row.bounded() ? chatter::to_string(f.type) : "");
+        rho.values.push_back(row.bounded() ? chatter::table_number(f.spectral_radius) : "");
+      }
+      extra = {type, rho};
+    }
+  } else {
     Progress progress(vm, speeds.size(), "lobes (" + solver.method() + ")");
     const auto tick = [&](std::size_t done) { progress.tick(done); };
     if (built.sdm) {
@@ -144,6 +205,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
     p.rpm_min = s.rpm_min;
     p.rpm_max = s.rpm_max;
     p.rpm_points = s.rpm_points;
+    p.rpm_spacing = spacing;
+    if (adaptive) {
+      p.adaptive_depth_rel_tol = table_refinement.depth_rel_tol;
+      p.adaptive_tolerance_met = tolerance_met;
+    }
     p.depth_max_mm = s.depth_max_mm;
     p.absolute_limit = abs_lim;
     p.options_json = built.options_json;
@@ -171,6 +237,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
     summary << " at " << fmt(best->spindle_rpm) << " rev/min";
   }
   if (bounded == 0) summary << "; no chatter below " << fmt(s.depth_max_mm) << " mm at any speed";
+  if (adaptive)
+    summary << "; adaptive spacing: "
+            << (tolerance_met ? "every midpoint within 0.5 % of the line between rows"
+                              : "0.5 % midpoint tolerance not met everywhere within --rpm-points " +
+                                    std::to_string(s.rpm_points) + " (raise it)");
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!table_path.empty()) files.emplace_back(table_path, csv.str());
@@ -184,8 +255,21 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (!plot_path.empty()) {
     chatter::PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
+    // The plotted envelope: the table's rows refined where the line through
+    // them leaves the exact envelope, cusps between lobes located.
+    chatter::EnvelopeRefinement plot_refinement;
+    plot_refinement.depth_rel_tol = kEnvelopeDepthRelTol;
+    plot_refinement.cusp_rel_tol = kPlotCuspRelTol;
+    plot_refinement.max_solves = built.tf ? kPlotSolvesTransferFunction : rows.size();
+    std::vector<chatter::StabilityLimit> plotted;
+    {
+      Progress progress(vm, plot_refinement.max_solves, "plot envelope (" + solver.method() + ")");
+      plotted = chatter::refine_envelope(solver, rows, plot_refinement, threads,
+                                         [&](std::size_t done) { progress.tick(done); })
+                    .rows;
+    }
     const auto plot_files = chatter::plot_lobes(
-        plot_path, cfg.name + " (" + solver.method() + ")", rows,
+        plot_path, cfg.name + " (" + solver.method() + ")", plotted,
         built.tf ? built.tf->lobe_curves(s.rpm_min, s.rpm_max) : std::vector<chatter::LobeCurve>{},
         abs_lim.value_or(chatter::AbsoluteLimit{}), solver.depth_max_m(), po_);
     info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "

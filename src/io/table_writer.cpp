@@ -82,7 +82,11 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
                    {"workpiece", body_json(p.config->model.workpiece)}};
   }
   j["sweep"] = {{"rpm_min", p.rpm_min}, {"rpm_max", p.rpm_max}, {"rpm_points", p.rpm_points},
-                {"depth_max_mm", p.depth_max_mm}};
+                {"depth_max_mm", p.depth_max_mm}, {"rpm_spacing", p.rpm_spacing}};
+  if (p.rpm_spacing == "adaptive") {
+    j["sweep"]["depth_rel_tol"] = p.adaptive_depth_rel_tol;
+    j["sweep"]["tolerance_met"] = p.adaptive_tolerance_met;
+  }
   j["options"] = nlohmann::json::parse(p.options_json);
   if (p.absolute_limit) {
     j["absolute_limit"] = {{"depth_mm", json_num(p.absolute_limit->depth_m * 1e3)},

@@ -36,7 +36,10 @@ struct TableProvenance {
   std::string method;                 ///< "analytic", "coupled", ...
   const Config* config = nullptr;     ///< model, process and file (may be null)
   double rpm_min = 0.0, rpm_max = 0.0;
-  int rpm_points = 0;
+  int rpm_points = 0;                 ///< even: the row count; adaptive: the most rows allowed
+  std::string rpm_spacing = "even";   ///< "even" or "adaptive" (speeds placed where the envelope bends)
+  double adaptive_depth_rel_tol = 0.0;  ///< adaptive only: the midpoint tolerance (relative depth)
+  bool adaptive_tolerance_met = false;  ///< adaptive only: met on every interval within rpm_points
   double depth_max_mm = 0.0;
   std::optional<AbsoluteLimit> absolute_limit;
   std::string options_json = "{}";    ///< solver options as a JSON object text
