@@ -1,5 +1,5 @@
 /* Drives the C API from C: success paths against the C++ results' known
- * values (PHYSICS case A) and every error path. Prints "N passed, M failed". */
+ * values (docs/physics.md case A) and every error path. Prints "N passed, M failed". */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

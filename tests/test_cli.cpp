@@ -1,6 +1,6 @@
 // End-to-end tests of the `chatter` command line (src/cli/main.cpp), run as a
 // separate process. The lobe tables are checked against the transfer-function
-// formulas of PHYSICS.md §4 re-implemented here from the mode parameters
+// formulas of docs/physics.md §4 re-implemented here from the mode parameters
 // (receptance, H₀ by numerical quadrature, eigenvalues of H₀G): nothing below
 // calls a library solver. The library is used only to read configs.
 #include <gtest/gtest.h>
@@ -96,7 +96,7 @@ std::vector<std::string> split_fields(const std::string& line) {
 class CliTest : public CliFixture {};
 
 // ------------------------------------------------------------- the physics (§4)
-// Written from PHYSICS.md only; uses the config's mode parameters, not the
+// Written from docs/physics.md only; uses the config's mode parameters, not the
 // library's receptance, H₀ or eigenvalue code.
 
 struct Physics {
@@ -455,7 +455,7 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
     ASSERT_EQ(ph.modes.size(), 1u);
     const auto& m = ph.modes[0];
     const double bmin_mm = 2 * m.k * m.zeta * (1 + m.zeta) / ph.h0[0] * 1e3;
-    EXPECT_NEAR(bmin_mm, 1.2783, 1e-4);  // PHYSICS §7 A
+    EXPECT_NEAR(bmin_mm, 1.2783, 1e-4);  // docs/physics.md §7 A
     double lowest = std::numeric_limits<double>::infinity();
     for (const Row& row : rows) lowest = std::min(lowest, row.depth_mm);
     EXPECT_GE(lowest, bmin_mm * (1 - kAbsMinSlack));
@@ -467,7 +467,7 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
 }
 
 // The envelope is the minimum over every lobe and frequency landing on the
-// speed (PHYSICS §4), recomputed here by scanning the phase equation.
+// speed (docs/physics.md §4), recomputed here by scanning the phase equation.
 TEST_P(CliConfigTest, LobesTableIsTheEnvelope) {
   const fs::path cfg_file = config_path(GetParam());
   const chatter::Config cfg = chatter::load_config(cfg_file);
@@ -530,7 +530,7 @@ TEST_P(CliConfigTest, FrfColumnsAreConsistent) {
         const double rel = std::stod(f[col("relative" + suffix)]);
         const double scale = std::abs(tool) + std::abs(work) + 1e-300;
         EXPECT_LE(std::abs(rel - (tool + work)), 2 * kPrintedRelTol * scale) << "line " << i << " " << suffix;
-        // And the relative receptance is G of PHYSICS §2.
+        // And the relative receptance is G of docs/physics.md §2.
         const cplx gij = g[static_cast<std::size_t>(2 * index[t].first + index[t].second)];
         const double expected = std::string(part) == "real" ? gij.real() : gij.imag();
         EXPECT_LE(std::abs(rel - expected), kFormulaRelTol * std::abs(gij) + 1e-300)

@@ -1,5 +1,5 @@
 // Tests for the TOML config reader (src/io/config.cpp, docs/config.md):
-// every shipped config loads with the values of PHYSICS.md §7, and every
+// every shipped config loads with the values of docs/physics.md §7, and every
 // bad-input rule throws chatter::InputError whose message names the origin,
 // the exact key path and the rule.
 #include "chatter/io/config.hpp"
