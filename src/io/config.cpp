@@ -1185,6 +1185,11 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     return read_config(root, doc);
   } catch (const InputError&) {
     throw;
+  } catch (const Skip&) {
+    // Every Skip is caught where reading resumes; should one get here, its
+    // error is recorded: report it.
+    doc.throw_if_errors();
+    throw InputError(origin + ": invalid config");
 #if TOML_EXCEPTIONS
   } catch (const toml::parse_error& e) {
     throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
