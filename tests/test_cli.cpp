@@ -1131,7 +1131,8 @@ TEST_F(CliTest, EveryConfigErrorAtOnce) {
                   {"chatter: " + f + ": process.feed_force_coeficient_n_per_m2: unknown key (did you mean "
                                      "feed_force_coefficient_n_per_m2?)\n",
                    "chatter: " + f + ": workpiece.modes[0].frequency: unknown key (did you mean frequency_hz?)\n",
-                   "chatter: " + f + ": workpiece.modes[0].damping_ratio = 3.3: must be in (0, 1)\n",
+                   "chatter: " + f + ": workpiece.modes[0].damping_ratio = 3.3: must be in (0, 1) (a ratio, not a "
+                                     "percentage: 3.3 % is 0.033)\n",
                    "chatter: " + f + ": sweep.rpm_mn: unknown key (did you mean rpm_min?)\n"},
                   {t}, "four errors");
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 4) << r.err;

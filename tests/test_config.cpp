@@ -519,6 +519,12 @@ TEST(ConfigError, DampingOne) {
       {"mem/case.toml: tool.modes[0].damping_ratio = 1.0: must be in (0, 1)"}));
 }
 
+TEST(ConfigError, DampingAsPercentageSaysSo) {
+  EXPECT_EQ(MessageOf(Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 3\nstiffness_n_per_m = 1e7\n")),
+            "mem/case.toml: tool.modes[0].damping_ratio = 3: must be in (0, 1) (a ratio, not a percentage: 3 % is "
+            "0.03)");
+}
+
 TEST(ConfigError, DampingNegative) {
   EXPECT_TRUE(ThrowsInputError(
       Turning("[[workpiece.modes]]\nfrequency_hz = 100.0\ndamping_ratio = -0.02\nstiffness_n_per_m = 1e7\n"),

@@ -71,7 +71,9 @@ Examples:
   chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 --plot sim.png
 
 Run 'chatter <command> --help' for the options of a command.
-Options: --help, --version.
+Options: --help, --version. Every command that reads a config prints its
+plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
+and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable).
 )";

@@ -687,6 +687,18 @@ Eigen::Vector2d read_direction(const Table& mode) {
 
 /// The damping ratio, checked, and its warning.
 std::optional<double> read_damping(const Table& mode) {
+  // A percentage typed as a ratio (3 for 3 %): say so in the error.
+  if (const toml::node* n = mode.find("damping_ratio")) {
+    const double v = n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                     : n->is_floating_point() ? n->as_floating_point()->get()
+                                              : 0.0;
+    if (v >= 1.0 && v < 100.0) {
+      mode.doc().error(mode.path_of("damping_ratio"), *n,
+                       "must be in (0, 1) (a ratio, not a percentage: " + mode.doc().as_written(*n) + " % is " +
+                           number_text(v / 100.0) + ")");
+      return std::nullopt;
+    }
+  }
   const auto zeta = mode.required_number("damping_ratio", kOpenUnit, "");
   if (zeta && !mode.plausible("damping_ratio", *zeta, kDampingBound)) return std::nullopt;
   return zeta;
