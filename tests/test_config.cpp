@@ -971,7 +971,8 @@ rpm_max = 100
             "radial_coefficient_n_per_mm2, radial_immersion, milling_direction)\n"
             "mem/case.toml: process.feed_force_coefficient_n_per_m2 = -1: must be > 0\n"
             "mem/case.toml: tool.modes[0].stiffness: unknown key (did you mean stiffness_n_per_m?)\n"
-            "mem/case.toml: tool.modes[0].damping_ratio = 1.5: must be in (0, 1)\n"
+            "mem/case.toml: tool.modes[0].damping_ratio = 1.5: must be in (0, 1) (a ratio, not a percentage: 1.5 % is "
+            "0.015)\n"
             "mem/case.toml: tool.modes[1].direction = \"z\": must be \"x\", \"y\" or two numbers [x, y]\n"
             "mem/case.toml: sweep.rpm_max = 100: must be > rpm_min (500)");
 }
