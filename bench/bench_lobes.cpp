@@ -15,7 +15,7 @@ using namespace chatter;
 // (turning) path and general receptances are exercised.
 StructuralModel three_mode_model() {
   StructuralModel m;
-  m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));  // PHYSICS case A
+  m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));  // docs/physics.md case A
   m.tool.modes.push_back(Mode::from_stiffness(150.0, 0.03, 30e6, {1.0, 0.0}));
   m.tool.modes.push_back(Mode::from_stiffness(420.0, 0.02, 60e6,
                                               {std::cos(std::numbers::pi / 6), std::sin(std::numbers::pi / 6)}));

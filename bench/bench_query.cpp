@@ -13,14 +13,14 @@ namespace {
 
 using namespace chatter;
 
-// PHYSICS case A (seed 1-DOF turning), 50–2 000 rev/min: ~110 lobes, the
+// docs/physics.md case A (seed 1-DOF turning), 50–2 000 rev/min: ~110 lobes, the
 // densest table of the shipped configs.
 StructuralModel case_a() {
   StructuralModel m;
   m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));
   return m;
 }
-// PHYSICS case C (milling benchmark, a_e/D = 0.05, 5 000–25 000 rev/min).
+// docs/physics.md case C (milling benchmark, a_e/D = 0.05, 5 000–25 000 rev/min).
 StructuralModel case_c() {
   StructuralModel m;
   m.tool.modes.push_back(Mode::from_mass(922.0, 0.011, 0.03993, {1.0, 0.0}));

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One command from a fresh Debian 12 machine to a lobe table: installs what is
-# missing, builds, and computes the lobes of the seed turning case (PHYSICS case A).
+# missing, builds, and computes the lobes of the seed turning case (docs/physics.md case A).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -24,7 +24,7 @@ constexpr double kResidual = 1e-9;     // |characteristic function| at a reporte
 constexpr double kBruteForce = 1e-6;   // scan of 400 000 points, linear root interpolation
 constexpr double kScaling = 1e-9;      // exact invariances, round-off only
 
-// PHYSICS case A.
+// docs/physics.md case A.
 constexpr double kA_f = 94.22, kA_zeta = 0.033, kA_k = 45e6, kA_Kf = 2.4e9;
 
 StructuralModel case_a_model(double zeta = kA_zeta, double k = kA_k) {
@@ -39,7 +39,7 @@ TransferFunctionOptions depth_max(double m) {
   return o;
 }
 
-// Receptance of one mode, written here from PHYSICS §2.
+// Receptance of one mode, written here from docs/physics.md §2.
 C g1(double w, double f, double zeta, double k) {
   const double r = w / (2 * kPi * f);
   return 1.0 / (k * C(1 - r * r, 2 * zeta * r));
@@ -177,7 +177,7 @@ class ZerothOrderMilling1Dof : public ::testing::TestWithParam<std::pair<double,
 
 TEST_P(ZerothOrderMilling1Dof, AbsoluteLimitAndRootsMatchClosedForm) {
   const auto [ae, dir] = GetParam();
-  const double f = 922, zeta = 0.011, mass = 0.03993;  // PHYSICS case C
+  const double f = 922, zeta = 0.011, mass = 0.03993;  // docs/physics.md case C
   const double k = mass * std::pow(2 * kPi * f, 2);
   const double en = dir == MillingDirection::kDown ? std::acos(2 * ae - 1) : 0.0;
   const double ex = dir == MillingDirection::kDown ? kPi : std::acos(1 - 2 * ae);

@@ -1,5 +1,5 @@
 /* Drives the C API from C: success paths against the C++ results' known
- * values (PHYSICS case A) and every error path. Prints "N passed, M failed". */
+ * values (docs/physics.md case A) and every error path. Prints "N passed, M failed". */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -68,6 +68,22 @@ int main(void) {
   CHECK(chatter_model_parse("[process]\noperation = \"turning\"\n", "inline.toml", &model) == CHATTER_INPUT_ERROR);
   CHECK(strstr(chatter_last_error(), "inline.toml") != NULL);
   CHECK(chatter_model_load(NULL, &model) == CHATTER_NULL_ARGUMENT);
+
+  /* Plausibility warnings: none for a shipped config, one naming the unit
+   * mistake for a stiffness of 20 N/m (20 N/um meant). */
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
+  CHECK(chatter_model_warning_count(model) == 0 && chatter_model_warning(model, 0) == NULL);
+  chatter_model_free(model);
+  CHECK(chatter_model_parse("[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = 2.4e9\n"
+                            "[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nstiffness_n_per_m = 20\n",
+                            "k20.toml", &model) == CHATTER_OK);
+  CHECK(chatter_model_warning_count(model) == 1);
+  CHECK(chatter_model_warning(model, 0) != NULL &&
+        strstr(chatter_model_warning(model, 0), "k20.toml: tool.modes[0].stiffness_n_per_m = 20: ") != NULL &&
+        strstr(chatter_model_warning(model, 0), "did you mean N/um (stiffness_n_per_um = 20)?") != NULL);
+  CHECK(chatter_model_warning(model, 1) == NULL && chatter_model_warning(NULL, 0) == NULL);
+  CHECK(chatter_model_warning_count(NULL) == 0);
+  chatter_model_free(model);
 
   printf("%d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;

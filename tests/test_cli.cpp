@@ -1,6 +1,6 @@
 // End-to-end tests of the `chatter` command line (src/cli/main.cpp), run as a
 // separate process. The lobe tables are checked against the transfer-function
-// formulas of PHYSICS.md §4 re-implemented here from the mode parameters
+// formulas of docs/physics.md §4 re-implemented here from the mode parameters
 // (receptance, H₀ by numerical quadrature, eigenvalues of H₀G): nothing below
 // calls a library solver. The library is used only to read configs.
 #include <gtest/gtest.h>
@@ -98,7 +98,7 @@ std::vector<std::string> split_fields(const std::string& line) {
 class CliTest : public CliFixture {};
 
 // ------------------------------------------------------------- the physics (§4)
-// Written from PHYSICS.md only; uses the config's mode parameters, not the
+// Written from docs/physics.md only; uses the config's mode parameters, not the
 // library's receptance, H₀ or eigenvalue code.
 
 struct Physics {
@@ -457,7 +457,7 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
     ASSERT_EQ(ph.modes.size(), 1u);
     const auto& m = ph.modes[0];
     const double bmin_mm = 2 * m.k * m.zeta * (1 + m.zeta) / ph.h0[0] * 1e3;
-    EXPECT_NEAR(bmin_mm, 1.2783, 1e-4);  // PHYSICS §7 A
+    EXPECT_NEAR(bmin_mm, 1.2783, 1e-4);  // docs/physics.md §7 A
     double lowest = std::numeric_limits<double>::infinity();
     for (const Row& row : rows) lowest = std::min(lowest, row.depth_mm);
     EXPECT_GE(lowest, bmin_mm * (1 - kAbsMinSlack));
@@ -469,7 +469,7 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
 }
 
 // The envelope is the minimum over every lobe and frequency landing on the
-// speed (PHYSICS §4), recomputed here by scanning the phase equation.
+// speed (docs/physics.md §4), recomputed here by scanning the phase equation.
 TEST_P(CliConfigTest, LobesTableIsTheEnvelope) {
   const fs::path cfg_file = config_path(GetParam());
   const chatter::Config cfg = chatter::load_config(cfg_file);
@@ -532,7 +532,7 @@ TEST_P(CliConfigTest, FrfColumnsAreConsistent) {
         const double rel = std::stod(f[col("relative" + suffix)]);
         const double scale = std::abs(tool) + std::abs(work) + 1e-300;
         EXPECT_LE(std::abs(rel - (tool + work)), 2 * kPrintedRelTol * scale) << "line " << i << " " << suffix;
-        // And the relative receptance is G of PHYSICS §2.
+        // And the relative receptance is G of docs/physics.md §2.
         const cplx gij = g[static_cast<std::size_t>(2 * index[t].first + index[t].second)];
         const double expected = std::string(part) == "real" ? gij.real() : gij.imag();
         EXPECT_LE(std::abs(rel - expected), kFormulaRelTol * std::abs(gij) + 1e-300)
@@ -1099,6 +1099,139 @@ TEST_F(CliTest, PlotImageTypeIsCheckedBeforeAnyComputation) {
   r = run({"compare", missing, "--table", t.string(), "--plot", path("cmp.jpg").string()});
   expect_rejected(r, {"unknown image type '.jpg'"}, {t, path("cmp.gp"), path("cmp.dat")}, "compare --plot .jpg");
   EXPECT_FALSE(contains(r.err, "no_such_config")) << r.err;
+}
+
+// ============================================================ plausibility warnings, every error at once
+
+/// Case A (seed turning) with its stiffness written as 45 (N/um meant) into
+/// the N/m key: loads, with one warning naming the mistake.
+std::string case_a_with_stiffness_in_n_per_um() {
+  const std::string original = slurp(config_path("seed_turning_1dof.toml"));
+  const std::regex key(R"(stiffness_n_per_m\s*=\s*45e6)");
+  EXPECT_TRUE(std::regex_search(original, key)) << "case A config changed: update this test";
+  return std::regex_replace(original, key, "stiffness_n_per_m = 45");
+}
+
+constexpr const char* kCaseAStiffnessWarning =
+    ": workpiece.modes[0].stiffness_n_per_m = 45: k = 45 N/m is over 1e3 times below the 1e5 to 1e10 N/m of "
+    "machine-tool, tool and workpiece modes; did you mean N/um (stiffness_n_per_um = 45)?";
+
+TEST_F(CliTest, ShippedConfigsRaiseNoWarning) {
+  for (const char* f : {"seed_turning_1dof.toml", "coupled_tool1_workpiece1.toml", "coupled_tool2_workpiece2.toml",
+                        "milling_benchmark_ae005_down.toml"}) {
+    const RunResult r = run({"lobes", config_path(f).string(), "--rpm-points", "3", "--strict", "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << f << ": " << r.err;
+    EXPECT_FALSE(contains(r.err, "warning")) << f << ": " << r.err;
+  }
+}
+
+TEST_F(CliTest, CoefficientsInNPerMm2WarnAndStrictRefuses) {
+  // The issue's case: N/mm^2 typed into N/m^2 keys printed "no chatter below
+  // 20 mm at any speed" with exit 0 and no word.
+  const fs::path cfg = path("kt700.toml");
+  std::ofstream(cfg) << "[process]\noperation = \"milling\"\nteeth = 2\ntangential_coefficient_n_per_m2 = 700\n"
+                        "radial_coefficient_n_per_m2 = 210\nradial_immersion = 0.05\n"
+                        "[[tool.modes]]\nfrequency_hz = 922\ndamping_ratio = 0.011\nmass_kg = 0.03993\n"
+                        "[sweep]\nrpm_min = 5000\nrpm_max = 25000\nrpm_points = 5\ndepth_max_mm = 20\n";
+  const fs::path t = path("t.csv"), js = path("t.json");
+  const std::string kt = "warning: " + cfg.string() +
+                         ": process.tangential_coefficient_n_per_m2 = 700: K_t = 700 N/m^2 is over 1e5 times below";
+  const std::string kr = "warning: " + cfg.string() + ": process.radial_coefficient_n_per_m2 = 210: K_r = 210 N/m^2";
+  RunResult r = run({"lobes", cfg.string(), "--table", t.string(), "--json", js.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, kt)) << r.err;
+  EXPECT_TRUE(contains(r.err, "did you mean N/mm^2 (tangential_coefficient_n_per_mm2 = 700)?")) << r.err;
+  EXPECT_TRUE(contains(r.err, kr)) << r.err;
+  const auto j = nlohmann::json::parse(slurp(js));
+  ASSERT_EQ(j["warnings"].size(), 2u) << j["warnings"].dump();
+  EXPECT_TRUE(contains(r.err, "warning: " + j["warnings"][0].get<std::string>())) << r.err;
+  EXPECT_TRUE(contains(r.err, "warning: " + j["warnings"][1].get<std::string>())) << r.err;
+  fs::remove(t);
+  fs::remove(js);
+  expect_rejected(run({"lobes", cfg.string(), "--table", t.string(), "--json", js.string(), "--strict"}),
+                  {cfg.string() + ": process.tangential_coefficient_n_per_m2 = 700", "did you mean N/mm^2"}, {t, js},
+                  "--strict with K_t = 700 N/m^2");
+  // The mixed case: K_t = 700, K_r = 2.1e8 gave a believable limit.
+  std::ofstream(cfg) << "[process]\noperation = \"milling\"\nteeth = 2\ntangential_coefficient_n_per_m2 = 700\n"
+                        "radial_coefficient_n_per_m2 = 2.1e8\nradial_immersion = 0.05\n"
+                        "[[tool.modes]]\nfrequency_hz = 922\ndamping_ratio = 0.011\nmass_kg = 0.03993\n";
+  r = run({"point", cfg.string(), "--rpm", "10000", "--depth-mm", "1"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "process.radial_coefficient_n_per_m2 = 2.1e8: K_r/K_t = 3e+05")) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["warnings"].size(), 2u) << r.out;
+}
+
+TEST_F(CliTest, StiffnessInNPerUmWarnsInEveryJsonOutput) {
+  const fs::path cfg = path("k45.toml");
+  std::ofstream(cfg) << case_a_with_stiffness_in_n_per_um();
+  const std::string expected = cfg.string() + kCaseAStiffnessWarning;
+  const auto has_warning = [&](const nlohmann::json& j, const std::string& what) {
+    ASSERT_TRUE(j.contains("warnings")) << what;
+    ASSERT_GE(j["warnings"].size(), 1u) << what;
+    EXPECT_EQ(j["warnings"][0].get<std::string>(), expected) << what;
+  };
+  const fs::path js = path("o.json");
+  RunResult r = run({"lobes", cfg.string(), "--rpm-points", "3", "--json", js.string(), "--quiet"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "warning: " + expected)) << r.err;
+  has_warning(nlohmann::json::parse(slurp(js)), "lobes --json");
+  r = run({"point", cfg.string(), "--rpm", "1000", "--depth-mm", "0.001"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  has_warning(nlohmann::json::parse(r.out), "point");
+  fs::remove(js);
+  r = run({"compare", cfg.string(), "--methods", "analytic,coupled", "--rpm-points", "3", "--json", js.string(),
+           "--quiet"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  has_warning(nlohmann::json::parse(slurp(js)), "compare --json");
+  r = run({"simulate", cfg.string(), "--rpm", "1000", "--depth-mm", "0.0001", "--periods", "20"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  has_warning(nlohmann::json::parse(r.out), "simulate");
+  r = run({"check", cfg.string(), "--operations",
+           (fs::path(source_dir()) / "examples" / "operations" / "case_a_ops.csv").string(), "--json", "-"});
+  EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 3) << r.err;
+  has_warning(nlohmann::json::parse(r.out), "check --json");
+  r = run({"recommend", cfg.string(), "--feed-per-tooth-mm", "0.2", "--workpiece-diameter-mm", "50",
+           "--max-power-kw", "2", "--json", "-"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  has_warning(nlohmann::json::parse(r.out), "recommend --json");
+  // --strict on every command that loads a config: exit 2, nothing written.
+  const fs::path out = path("out.txt");
+  for (const std::vector<std::string>& cmd : std::vector<std::vector<std::string>>{
+           {"lobes", "--rpm-points", "3", "--table", out.string()},
+           {"point", "--rpm", "1000", "--depth-mm", "1"},
+           {"frf", "--out", out.string()},
+           {"map", "--rpm-points", "2", "--depth-points", "2", "--out", out.string()},
+           {"compare", "--methods", "analytic,coupled", "--table", out.string()},
+           {"simulate", "--rpm", "1000", "--depth-mm", "1", "--out", out.string()},
+           {"check", "--operations",
+            (fs::path(source_dir()) / "examples" / "operations" / "case_a_ops.csv").string(), "--json",
+            out.string()},
+           {"recommend", "--feed-per-tooth-mm", "0.2", "--json", out.string()}}) {
+    std::vector<std::string> args = {cmd[0], cfg.string(), "--strict"};
+    args.insert(args.end(), cmd.begin() + 1, cmd.end());
+    r = run(args);
+    expect_rejected(r, {expected}, {out}, cmd[0] + " --strict");
+    EXPECT_TRUE(r.out.empty()) << cmd[0] << " --strict wrote to stdout: " << r.out;
+  }
+}
+
+TEST_F(CliTest, EveryConfigErrorAtOnce) {
+  // Three unknown keys and a bad value: one run lists all four, one line each.
+  const fs::path cfg = path("typos.toml"), t = path("t.csv");
+  std::ofstream(cfg) << "[process]\noperation = \"turning\"\nfeed_force_coeficient_n_per_m2 = 2.4e9\n"
+                        "[[workpiece.modes]]\nfrequency = 94.22\ndamping_ratio = 3.3\nstiffness_n_per_m = 45e6\n"
+                        "[sweep]\nrpm_mn = 50\n";
+  const RunResult r = run({"lobes", cfg.string(), "--table", t.string()});
+  const std::string f = cfg.string();
+  expect_rejected(r,
+                  {"chatter: " + f + ": process.feed_force_coeficient_n_per_m2: unknown key (did you mean "
+                                     "feed_force_coefficient_n_per_m2?)\n",
+                   "chatter: " + f + ": workpiece.modes[0].frequency: unknown key (did you mean frequency_hz?)\n",
+                   "chatter: " + f + ": workpiece.modes[0].damping_ratio = 3.3: must be in (0, 1) (a ratio, not a "
+                                     "percentage: 3.3 % is 0.033)\n",
+                   "chatter: " + f + ": sweep.rpm_mn: unknown key (did you mean rpm_min?)\n"},
+                  {t}, "four errors");
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 4) << r.err;
 }
 
 }  // namespace

@@ -87,7 +87,9 @@ class CliFit : public CliFixture {
     std::ofstream(cfg) << "name = \"fitted\"\n[process]\noperation = \"turning\"\n"
                           "feed_force_coefficient_n_per_m2 = 1e9\n\n"
                        << slurp(toml);
-    return chatter::load_config(cfg);
+    chatter::Config c = chatter::load_config(cfg);
+    EXPECT_TRUE(c.warnings.empty()) << c.warnings.front();  // fitted modes are plausible ones
+    return c;
   }
 
   fs::path dir_;

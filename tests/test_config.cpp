@@ -1,5 +1,5 @@
 // Tests for the TOML config reader (src/io/config.cpp, docs/config.md):
-// every shipped config loads with the values of PHYSICS.md §7, and every
+// every shipped config loads with the values of docs/physics.md §7, and every
 // bad-input rule throws chatter::InputError whose message names the origin,
 // the exact key path and the rule.
 #include "chatter/io/config.hpp"
@@ -9,6 +9,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -175,7 +176,13 @@ TEST(ShippedConfig, EveryFileInConfigsLoads) {
   for (const auto& entry : fs::directory_iterator(kConfigDir)) {
     if (entry.path().extension() != ".toml") continue;
     ++count;
-    EXPECT_NO_THROW((void)load_config(entry.path())) << entry.path();
+    try {
+      const Config c = load_config(entry.path());
+      // A shipped config is the example users copy: it raises no warning.
+      EXPECT_TRUE(c.warnings.empty()) << entry.path() << ": " << (c.warnings.empty() ? "" : c.warnings.front());
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.what();
+    }
   }
   EXPECT_GE(count, 4);
 }
@@ -419,7 +426,14 @@ TEST(ConfigError, MissingCantileverKey) {
 // ============================================================ wrong types
 
 TEST(ConfigError, WrongTypeTeethString) {
-  EXPECT_EQ(MessageOf(Milling("teeth = \"two\"\n")), "mem/case.toml: process.teeth = \"two\": must be an integer");
+  // Every error of the process at once: the bad teeth and the three keys missing.
+  EXPECT_EQ(MessageOf(Milling("teeth = \"two\"\n")),
+            "mem/case.toml: process.teeth = \"two\": must be an integer\n"
+            "mem/case.toml: process.tangential_coefficient_n_per_m2: missing (required, N/m^2, > 0); or give "
+            "tangential_coefficient_n_per_mm2 (N/mm^2)\n"
+            "mem/case.toml: process.radial_coefficient_n_per_m2: missing (required, N/m^2, >= 0); or give "
+            "radial_coefficient_n_per_mm2 (N/mm^2)\n"
+            "mem/case.toml: process.radial_immersion: missing (required, a_e/D, in (0, 1])");
 }
 
 TEST(ConfigError, WrongTypeNumberAsString) {
@@ -503,6 +517,12 @@ TEST(ConfigError, DampingOne) {
   EXPECT_TRUE(ThrowsInputError(
       Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 1.0\nstiffness_n_per_m = 1e7\n"),
       {"mem/case.toml: tool.modes[0].damping_ratio = 1.0: must be in (0, 1)"}));
+}
+
+TEST(ConfigError, DampingAsPercentageSaysSo) {
+  EXPECT_EQ(MessageOf(Turning("[[tool.modes]]\nfrequency_hz = 100.0\ndamping_ratio = 3\nstiffness_n_per_m = 1e7\n")),
+            "mem/case.toml: tool.modes[0].damping_ratio = 3: must be in (0, 1) (a ratio, not a percentage: 3 % is "
+            "0.03)");
 }
 
 TEST(ConfigError, DampingNegative) {
@@ -734,6 +754,238 @@ TEST(ConfigError, LoadConfigNamesThePathAndStem) {
   EXPECT_EQ(c.name, "chatter_bad_config");
   EXPECT_EQ(c.source, file);
   fs::remove(file);
+}
+
+// ============================================================ shop units
+
+// The value as it would be in SI, times the unit's factor: exact up to the
+// one rounding of the multiplication.
+constexpr double kUnitRelTol = 1e-15;
+
+TEST(ConfigUnits, ShopUnitKeysGiveTheSameModelAsSi) {
+  const Config si = parse_config(R"(
+[process]
+operation = "milling"
+teeth = 2
+tangential_coefficient_n_per_m2 = 6e8
+radial_coefficient_n_per_m2 = 2e8
+radial_immersion = 0.05
+[[tool.modes]]
+frequency_hz = 922
+damping_ratio = 0.011
+mass_kg = 0.03993
+[[tool.modes]]
+frequency_hz = 1500
+damping_ratio = 0.02
+stiffness_n_per_m = 2e7
+[[workpiece.modes]]
+damping_ratio = 0.025
+cantilever = { youngs_modulus_pa = 180e9, density_kg_per_m3 = 7600, length_m = 0.5, diameter_m = 0.12 }
+)",
+                                 kOrigin);
+  const Config shop = parse_config(R"(
+[process]
+operation = "milling"
+teeth = 2
+tangential_coefficient_n_per_mm2 = 600
+radial_coefficient_n_per_mm2 = 200
+radial_immersion = 0.05
+[[tool.modes]]
+frequency_hz = 922
+damping_ratio = 0.011
+mass_g = 39.93
+[[tool.modes]]
+frequency_hz = 1500
+damping_ratio = 0.02
+stiffness_n_per_um = 20
+[[workpiece.modes]]
+damping_ratio = 0.025
+cantilever = { youngs_modulus_gpa = 180, density_g_per_cm3 = 7.6, length_mm = 500, diameter_mm = 120 }
+)",
+                                   kOrigin);
+  const MillingParameters& a = si.process.milling_parameters();
+  const MillingParameters& b = shop.process.milling_parameters();
+  EXPECT_TRUE(RelNear(b.tangential_coefficient_n_per_m2, a.tangential_coefficient_n_per_m2, kUnitRelTol));
+  EXPECT_TRUE(RelNear(b.radial_coefficient_n_per_m2, a.radial_coefficient_n_per_m2, kUnitRelTol));
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_TRUE(RelNear(shop.model.tool.modes[i].stiffness_n_per_m, si.model.tool.modes[i].stiffness_n_per_m,
+                        4 * kUnitRelTol));
+  EXPECT_TRUE(RelNear(shop.model.workpiece.modes[0].stiffness_n_per_m, si.model.workpiece.modes[0].stiffness_n_per_m,
+                      16 * kUnitRelTol));
+  EXPECT_TRUE(RelNear(shop.model.workpiece.modes[0].natural_frequency_hz,
+                      si.model.workpiece.modes[0].natural_frequency_hz, 16 * kUnitRelTol));
+  EXPECT_TRUE(si.warnings.empty()) << si.warnings.front();
+  EXPECT_TRUE(shop.warnings.empty()) << shop.warnings.front();
+  const Config turning = parse_config(
+      "[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_mm2 = 2400\n" + kOneToolMode, kOrigin);
+  EXPECT_TRUE(RelNear(turning.process.turning_parameters().feed_force_coefficient_n_per_m2, 2.4e9, kUnitRelTol));
+}
+
+TEST(ConfigUnits, OneQuantityTwoKeysIsAnErrorNamingBoth) {
+  EXPECT_TRUE(ThrowsInputError(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nstiffness_n_per_m = 2e7\n"
+              "stiffness_n_per_um = 20\n"),
+      {"mem/case.toml: tool.modes[0].stiffness_n_per_um = 20: not with stiffness_n_per_m", "one quantity, one key"}));
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\n"
+                                       "tangential_coefficient_n_per_mm2 = 600\nradial_coefficient_n_per_m2 = 2e8\n"
+                                       "radial_immersion = 0.5\n"),
+                               {"process.tangential_coefficient_n_per_mm2 = 600: not with "
+                                "tangential_coefficient_n_per_m2"}));
+  EXPECT_TRUE(ThrowsInputError(Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nmass_g = 40\n"
+                                       "mass_kg = 0.04\n"),
+                               {"tool.modes[0].mass_g = 40: not with mass_kg"}));
+}
+
+// ============================================================ warnings
+
+/// The warnings of a config that loads.
+std::vector<std::string> WarningsOf(const std::string& text) { return parse_config(text, kOrigin).warnings; }
+
+/// Succeeds when exactly one warning is raised and it holds every part.
+::testing::AssertionResult WarnsOnce(const std::string& text, std::initializer_list<std::string> parts) {
+  std::vector<std::string> w;
+  try {
+    w = WarningsOf(text);
+  } catch (const InputError& e) {
+    return ::testing::AssertionFailure() << "refused: " << e.what();
+  }
+  if (w.size() != 1) {
+    auto f = ::testing::AssertionFailure() << w.size() << " warnings:";
+    for (const auto& x : w) f << "\n  " << x;
+    return f;
+  }
+  for (const std::string& p : parts)
+    if (w[0].find(p) == std::string::npos) return ::testing::AssertionFailure() << "\"" << w[0] << "\" lacks \"" << p << "\"";
+  return ::testing::AssertionSuccess() << w[0];
+}
+
+TEST(ConfigWarning, EveryValidModelOfTheseTestsRaisesNone) {
+  for (const std::string& text :
+       {TurningWithToolMode(""), Milling(kMillingKeys), Milling(kMillingKeys + "milling_direction = \"up\"\n"),
+        Turning("[[workpiece.modes]]\ndamping_ratio = 0.025\n[workpiece.modes.cantilever]\nyoungs_modulus_pa = "
+                "180e9\ndensity_kg_per_m3 = 7600\nlength_m = 0.5\ndiameter_m = 0.12\n"),
+        Turning("[[tool.modes]]\nfrequency_hz = 300.0\ndamping_ratio = 0.03\nmass_kg = 2\ndirection = [3, -4.0]\n"),
+        Milling("teeth = 4\ntangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_n_per_m2 = 0\n"
+                "radial_immersion = 1\n"),
+        TurningWithToolMode("[sweep]\nrpm_min = 50\nrpm_max = 2000\n")}) {
+    const auto w = WarningsOf(text);
+    EXPECT_TRUE(w.empty()) << text << "\n" << (w.empty() ? "" : w.front());
+  }
+}
+
+TEST(ConfigWarning, CoefficientInNPerMm2TypedIntoNPerM2Key) {
+  // The issue's case: K_t = 700 and K_r = 210, meant as N/mm^2.
+  const auto w = WarningsOf(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 700\n"
+                                    "radial_coefficient_n_per_m2 = 210\nradial_immersion = 0.5\n"));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0],
+            "mem/case.toml: process.tangential_coefficient_n_per_m2 = 700: K_t = 700 N/m^2 is over 1e5 times below "
+            "the 1e8 to 1e10 N/m^2 of metal cutting (aluminium about 5e8, steel about 2e9, hardened steel and "
+            "titanium about 3e9); did you mean N/mm^2 (tangential_coefficient_n_per_mm2 = 700)?");
+  EXPECT_NE(w[1].find("process.radial_coefficient_n_per_m2 = 210: K_r = 210 N/m^2"), std::string::npos) << w[1];
+  EXPECT_NE(w[1].find("did you mean N/mm^2 (radial_coefficient_n_per_mm2 = 210)?"), std::string::npos) << w[1];
+  EXPECT_TRUE(WarnsOnce("[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = 2400\n" + kOneToolMode,
+                        {"process.feed_force_coefficient_n_per_m2 = 2400: K_f = 2400 N/m^2",
+                         "did you mean N/mm^2 (feed_force_coefficient_n_per_mm2 = 2400)?"}));
+}
+
+TEST(ConfigWarning, RadialOverTangentialRatio) {
+  // K_t = 700 (N/mm^2 meant) with K_r = 2.1e8: the ratio is 3e5.
+  const auto w = WarningsOf(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 700\n"
+                                    "radial_coefficient_n_per_m2 = 2.1e8\nradial_immersion = 0.5\n"));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("did you mean N/mm^2"), std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("process.radial_coefficient_n_per_m2 = 2.1e8: K_r/K_t = 3e+05"), std::string::npos) << w[1];
+  EXPECT_TRUE(WarnsOnce(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\n"
+                                "radial_coefficient_n_per_m2 = 1.2e9\nradial_immersion = 0.5\n"),
+                        {"K_r/K_t = 2,", "0.1 to 1"}));
+}
+
+TEST(ConfigWarning, StiffnessInNPerUmTypedIntoNPerMKey) {
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nstiffness_n_per_m = 20\n"),
+                        {"mem/case.toml: tool.modes[0].stiffness_n_per_m = 20: k = 20 N/m is over 1e3 times below",
+                         "did you mean N/um (stiffness_n_per_um = 20)?"}));
+  EXPECT_TRUE(WarnsOnce(
+      Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.03\nstiffness_n_per_m = 20000\n"),
+      {"is it in N/mm (stiffness_n_per_m = 2e+07)?"}));
+  // A mass in grams typed into mass_kg: k = m (2 pi f)^2 far above machine modes.
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 922\ndamping_ratio = 0.03\nmass_kg = 39930\n"),
+                        {"tool.modes[0].mass_kg = 39930: gives k = m (2 pi f)^2 = ", "did you mean g (mass_g = 39930)?"}));
+}
+
+TEST(ConfigWarning, DampingAndFrequency) {
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 0.5\nstiffness_n_per_m = 2e7\n"),
+                        {"tool.modes[0].damping_ratio = 0.5: zeta = 0.5 is above", "is it in percent"}));
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 100\ndamping_ratio = 2e-4\nstiffness_n_per_m = 2e7\n"),
+                        {"tool.modes[0].damping_ratio = 2e-4: zeta = 0.0002 is below"}));
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 6e4\ndamping_ratio = 0.03\nstiffness_n_per_m = 2e7\n"),
+                        {"tool.modes[0].frequency_hz = 6e4: f = 6e+04 Hz is above", "is it in rad/s (frequency_hz = 9549)?"}));
+  EXPECT_TRUE(WarnsOnce(Turning("[[tool.modes]]\nfrequency_hz = 0.9\ndamping_ratio = 0.03\nstiffness_n_per_m = 2e7\n"),
+                        {"tool.modes[0].frequency_hz = 0.9: f = 0.9 Hz is over 1e1 times below", "is it in kHz (frequency_hz = 900)?"}));
+}
+
+TEST(ConfigWarning, FrequencyOutOfReachOfTheSpeedRange) {
+  // A 100 Hz mode, 2 teeth, rpm_max = 5: tooth passing at 1/6 Hz, lobe 600.
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 1\nrpm_max = 5\n",
+                        {"tool.modes[0].frequency_hz = 100.0: f is over 200 times the tooth-passing frequency",
+                         "rev/min"}));
+  // A 100 Hz mode against 2 teeth at 120 000 rev/min or more: tooth passing 40 times f.
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 120000\nrpm_max = 200000\n",
+                        {"tool.modes[0].frequency_hz = 100.0: f is under 1/20 of the tooth-passing frequency"}));
+}
+
+TEST(ConfigWarning, CantileverInMillimetresTypedIntoMetreKeys) {
+  EXPECT_TRUE(WarnsOnce(Turning("[[workpiece.modes]]\ndamping_ratio = 0.025\ncantilever = { youngs_modulus_pa = "
+                                "180e9, density_kg_per_m3 = 7600, length_m = 500, diameter_m = 0.12 }\n"),
+                        {"workpiece.modes[0].cantilever.length_m = 500: L = 500 m is over 1e1 times above",
+                         "did you mean mm (length_mm = 500)?"}));
+}
+
+// ============================================================ every error at once
+
+TEST(ConfigErrors, EveryErrorOfTheFileIsListed) {
+  const std::string msg = MessageOf(R"(
+nmae = "x"
+[process]
+operation = "turning"
+feed_force_coefficient_n_per_m2 = -1
+colour = "red"
+[[tool.modes]]
+frequency_hz = 100
+damping_ratio = 1.5
+stiffness = 2e7
+[[tool.modes]]
+frequency_hz = 200
+damping_ratio = 0.03
+stiffness_n_per_m = 2e7
+direction = "z"
+[sweep]
+rpm_min = 500
+rpm_max = 100
+)");
+  EXPECT_EQ(msg,
+            "mem/case.toml: nmae: unknown key (did you mean name?)\n"
+            "mem/case.toml: process.colour: unknown key (expected one of: operation, feed_force_coefficient_n_per_m2, "
+            "feed_force_coefficient_n_per_mm2, feed_per_rev_mm, feed_per_tooth_mm, teeth, "
+            "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
+            "radial_coefficient_n_per_mm2, radial_immersion, milling_direction)\n"
+            "mem/case.toml: process.feed_force_coefficient_n_per_m2 = -1: must be > 0\n"
+            "mem/case.toml: tool.modes[0].stiffness: unknown key (did you mean stiffness_n_per_m?)\n"
+            "mem/case.toml: tool.modes[0].damping_ratio = 1.5: must be in (0, 1) (a ratio, not a percentage: 1.5 % is "
+            "0.015)\n"
+            "mem/case.toml: tool.modes[1].direction = \"z\": must be \"x\", \"y\" or two numbers [x, y]\n"
+            "mem/case.toml: sweep.rpm_max = 100: must be > rpm_min (500)");
+}
+
+TEST(ConfigErrors, ListIsCappedAtTwentyWithACount) {
+  std::string text = TurningWithToolMode("");
+  for (int i = 0; i < 25; ++i) text += "[[workpiece.modes]]\nfrequency_hz = -" + std::to_string(i + 1) + "\n";
+  const std::string msg = MessageOf(text);
+  // 25 modes, each with three errors (frequency, damping, stiffness): 75.
+  std::size_t lines = 1;
+  for (char c : msg) lines += c == '\n';
+  EXPECT_EQ(lines, 21u) << msg;
+  EXPECT_NE(msg.find("mem/case.toml: 55 more errors not listed (the first 20 are)"), std::string::npos) << msg;
 }
 
 }  // namespace

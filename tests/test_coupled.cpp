@@ -1,6 +1,6 @@
 // The `coupled` solver (characteristic determinant of the modal system)
 // against the `analytic` solver (eigenvalues of H₀G), against the closed-form
-// two-body equation of PHYSICS §4, and in the rigid-body limit.
+// two-body equation of docs/physics.md §4, and in the rigid-body limit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,7 +22,7 @@ constexpr double kMethodsAgree = 1e-8;
 constexpr double kRigidLimit = 1e-5;
 constexpr double kResidual = 1e-9;
 
-// PHYSICS case B: K_f = 2000e6·cos 70°, tool cond. 1 or 2, workpiece cond. 1 or 2.
+// docs/physics.md case B: K_f = 2000e6·cos 70°, tool cond. 1 or 2, workpiece cond. 1 or 2.
 constexpr double kKf = 684e6;
 StructuralModel case_b(int cond) {
   StructuralModel m;

@@ -205,6 +205,7 @@ TEST(ModalFit, FragmentLoadsAsAConfig) {
   EXPECT_EQ(fragment.rfind("# fitted from synthetic\n# band all\n", 0), 0u) << fragment;
   const std::string config = "[process]\noperation = \"turning\"\nfeed_force_coefficient_n_per_m2 = 1e9\n\n" + fragment;
   const Config c = parse_config(config, "fragment.toml");
+  EXPECT_TRUE(c.warnings.empty()) << c.warnings.front();  // fitted modes are plausible ones
   ASSERT_EQ(c.model.tool.modes.size(), modes.size());
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const Mode& a = modes[i];

@@ -37,7 +37,7 @@ namespace {
 
 // ---------------------------------------------------------------- tolerances
 
-// Case A reference values (PHYSICS §7, from the closed form / issue brief),
+// Case A reference values (docs/physics.md §7, from the closed form / issue brief),
 // printed with 10 significant digits: relative 1e-9 covers the printing.
 constexpr double kCaseALimit1800Mm = 2.974523725;
 constexpr double kCaseALimit1200Mm = 1.376356164;

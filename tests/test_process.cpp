@@ -1,4 +1,4 @@
-// The process: directional matrix against the force law of PHYSICS §3 and
+// The process: directional matrix against the force law of docs/physics.md §3 and
 // H₀ against numerical quadrature.
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ TEST(Process, EntryAndExitAngles) {
 
 TEST(Process, ToothMatrixReproducesTheForceLaw) {
   // F = −a H Δr with h = Δx sinφ + Δy cosφ, F_t = K_t a h, F_r = K_r a h,
-  // F_x = −F_t cosφ − F_r sinφ, F_y = F_t sinφ − F_r cosφ (PHYSICS §3).
+  // F_x = −F_t cosφ − F_r sinφ, F_y = F_t sinφ − F_r cosφ (docs/physics.md §3).
   const Process p = case_c(1.0, MillingDirection::kDown);
   const double a = 2e-3, dx = 1e-5, dy = -3e-6;
   for (double phi : {0.1, 0.7, 1.5, 2.2, 3.0}) {

@@ -1,4 +1,4 @@
-// The `sdm` solver (first-order semi-discretisation, PHYSICS.md §5) against
+// The `sdm` solver (first-order semi-discretisation, docs/physics.md §5) against
 // the transfer-function solvers where the two must agree (turning, slotting
 // with a constant H), against a known multiplier (the analytic boundary point
 // of case A lies on the unit circle), where they must differ (flip lobes of
@@ -44,7 +44,7 @@ constexpr double kFlipMultiplier = 1e-3;
 // Second order: halving the step divides the error by 4; accepted band.
 constexpr double kOrderRatioMin = 3.0, kOrderRatioMax = 5.5;
 
-// PHYSICS case A.
+// docs/physics.md case A.
 constexpr double kA_f = 94.22, kA_zeta = 0.033, kA_k = 45e6, kA_Kf = 2.4e9;
 StructuralModel case_a() {
   StructuralModel m;
@@ -52,7 +52,7 @@ StructuralModel case_a() {
   return m;
 }
 
-// PHYSICS case B, tool condition 1 × workpiece condition 1.
+// docs/physics.md case B, tool condition 1 × workpiece condition 1.
 constexpr double kB_Kf = 684e6;
 StructuralModel case_b11() {
   StructuralModel m;
@@ -61,7 +61,7 @@ StructuralModel case_b11() {
   return m;
 }
 
-// PHYSICS case C: one tool mode along X.
+// docs/physics.md case C: one tool mode along X.
 StructuralModel case_c() {
   StructuralModel m;
   m.tool.modes.push_back(Mode::from_mass(922.0, 0.011, 0.03993, {1.0, 0.0}));

@@ -100,7 +100,7 @@ TEST(ModalMatrices, SignsAndOrder) {
   EXPECT_NEAR(mm.mass_kg(1), 5.0, kRoundOff);
 }
 
-// Seed thesis table IV.1 (PHYSICS case B): steel bar E = 180 GPa, ρ = 7600.
+// Seed thesis table IV.1 (docs/physics.md case B): steel bar E = 180 GPa, ρ = 7600.
 struct BarCase {
   double length, diameter, k_expected, f_expected;
 };

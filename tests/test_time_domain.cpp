@@ -1,4 +1,4 @@
-// The `time-domain` solver (SUNDIALS CVODE, PHYSICS.md §6) against closed
+// The `time-domain` solver (SUNDIALS CVODE, docs/physics.md §6) against closed
 // forms (free vibration), against Floquet theory (`sdm`: growth factor per
 // period vs spectral radius, verdicts either side of the sdm limit, in a
 // Hopf and in a flip lobe, chatter frequency), for bounded nonlinear

@@ -16,6 +16,8 @@
 #ifndef CHATTER_CHATTER_H
 #define CHATTER_CHATTER_H
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -52,6 +54,12 @@ chatter_status chatter_model_load(const char* config_path, chatter_model** out);
 /* Same from TOML text; `origin` names it in messages (may be NULL). */
 chatter_status chatter_model_parse(const char* toml_text, const char* origin, chatter_model** out);
 void chatter_model_free(chatter_model* model);
+/* Plausibility warnings of the model's config (values that load but lie
+ * outside what machining usually sees, docs/config.md): how many, and the
+ * i-th as "<file>: <key path> = <value>: <what is odd; did you mean ...?>",
+ * valid while the model lives (NULL when model is NULL or i >= the count). */
+size_t chatter_model_warning_count(const chatter_model* model);
+const char* chatter_model_warning(const chatter_model* model, size_t i);
 
 /* Builds a solver. method: "analytic", "coupled", "sdm" (semi-discretisation:
  * Floquet, flip lobes; ~2 ms per speed) or "time-domain" (simulation;

@@ -345,7 +345,7 @@ struct Recommendation {
 
 /// The speed in [rpm_min, rpm_max] and depth maximising MRR subject to
 /// depth ≤ safety × limit(rpm), mean power ≤ max_power, mean torque ≤
-/// max_torque and depth ≤ depth_max (PHYSICS §3 force model; see
+/// max_torque and depth ≤ depth_max (docs/physics.md §3 force model; see
 /// docs/operations.md):
 ///   turning:  F_c = K_c b f,  T = F_c D/2,  P = F_c π D N/60,  MRR = b f π D N/60;
 ///   milling:  T = (D/2)(N_t/2π) K_t a f_z (cos φ_en − cos φ_ex),  P = T·2πN/60,

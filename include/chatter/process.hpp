@@ -1,4 +1,4 @@
-// The cutting process: turning or straight-tooth milling (PHYSICS.md §3).
+// The cutting process: turning or straight-tooth milling (docs/physics.md §3).
 //
 // Every operation reduces to the regenerative force on the tool
 //   F(t) = −a · H(t) · (r(t) − r(t − τ)),

@@ -1,9 +1,9 @@
 // Floquet stability of the periodic delay equation by first-order
-// semi-discretisation: the `sdm` solver (PHYSICS.md §5).
+// semi-discretisation: the `sdm` solver (docs/physics.md §5).
 //
 // Method: T. Insperger, G. Stépán, "Updated semi-discretization method for
 // periodic delay-differential equations with discrete delay", Int. J. Numer.
-// Meth. Engng 61 (2004) 117–141. In modal coordinates (PHYSICS §2–3)
+// Meth. Engng 61 (2004) 117–141. In modal coordinates (docs/physics.md §2–3)
 //   ẋ = A x − a B H(t) S q(t) + a B H(t) S q(t − τ),   x = [q; q̇],
 // the delay period τ is split into steps; on each step H is replaced by its
 // exact average over the step, the delayed term by the straight line through

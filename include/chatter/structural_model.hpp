@@ -1,5 +1,5 @@
 // The one structural-mode description shared by every solver
-// (PHYSICS.md §2).
+// (docs/physics.md §2).
 //
 // Two bodies, the tool and the workpiece, each with zero or more modes. A body
 // with no modes is rigid. Everything here is in SI units (Hz only where a name
@@ -47,7 +47,7 @@ struct Mode {
 /// First bending mode of a cantilever bar of circular section (clamped at one
 /// end, force at the free end): k = 3EI/L³, ω = (1.8751²/L²)·√(EI/(ρA)),
 /// I = πD⁴/64, A = πD²/4. Modal mass k/ω² (not the bar's mass ρAL). This is
-/// how the seed thesis (table IV.1, PHYSICS case B) derives its workpiece modes.
+/// how the seed thesis (table IV.1, docs/physics.md case B) derives its workpiece modes.
 struct CantileverBar {
   double youngs_modulus_pa = 0.0;   ///< E > 0, Pa.
   double density_kg_per_m3 = 0.0;   ///< ρ > 0, kg/m³.
@@ -109,7 +109,7 @@ struct StructuralModel {
   double max_omega() const;
 };
 
-/// Modal view of the model (PHYSICS §2): n modal coordinates q, tool modes
+/// Modal view of the model (docs/physics.md §2): n modal coordinates q, tool modes
 /// first then workpiece modes, each mass-normalised so that
 ///   q̈_i + 2ζ_i ω_i q̇_i + ω_i² q_i = (1/m_i) s_i u_iᵀ F(t),
 /// and relative displacement r = S q with column i of S equal to s_i u_i

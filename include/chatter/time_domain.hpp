@@ -1,7 +1,7 @@
 // Time-domain simulation of the regenerative delay equation with the real,
-// nonlinear chip: the `time-domain` solver (PHYSICS.md §2, §3, §6).
+// nonlinear chip: the `time-domain` solver (docs/physics.md §2, §3, §6).
 //
-// Equations (modal coordinates, PHYSICS §2–3):
+// Equations (modal coordinates, docs/physics.md §2–3):
 //   q̈_i + 2 ζ_i ω_i q̇_i + ω_i² q_i = (1/m_i) S_iᵀ F(t),   r = S q (relative, m)
 // Force on the tool, N (the workpiece gets −F):
 //   turning: h = f + r_x(t) − r_x(t − τ),                    F = (−a K_f max(0, h), 0)

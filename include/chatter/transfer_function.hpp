@@ -1,5 +1,5 @@
 // Transfer-function (frequency-domain) stability lobes: the `analytic` and
-// `coupled` solvers (PHYSICS.md §4).
+// `coupled` solvers (docs/physics.md §4).
 //
 // Both replace H(t) by its average H₀ (turning: H itself; milling: the
 // zeroth-order approximation of Altintas & Budak, CIRP Annals 44(1), 1995) and
@@ -10,7 +10,7 @@
 // - AnalyticSolver works with the eigenvalues λ of H₀G(jω):
 //     a = −1/(2 Re λ),  ε = 3π + 2 atan2(Im λ, Re λ) (mod 2π),  ωτ = ε + 2πk.
 // - CoupledSolver works with the determinant of the coupled modal system
-//   (tool and workpiece modes together, PHYSICS §4 / seed ch. III with its
+//   (tool and workpiece modes together, docs/physics.md §4 / seed ch. III with its
 //   sign errors corrected):  det(D(jω) + c Sᵀ H₀ S) = 0, with
 //   D = diag(m_i(ω_i² − ω² + 2jζ_iω_iω)) and c = a(1 − e^{−jωτ}); the
 //   determinant is a polynomial of degree rank(Sᵀ H₀ S) <= 2 in c, and each

@@ -82,6 +82,13 @@ chatter_status chatter_model_parse(const char* toml_text, const char* origin, ch
 
 void chatter_model_free(chatter_model* model) { delete model; }
 
+size_t chatter_model_warning_count(const chatter_model* model) { return model ? model->config.warnings.size() : 0; }
+
+const char* chatter_model_warning(const chatter_model* model, size_t i) {
+  if (!model || i >= model->config.warnings.size()) return nullptr;
+  return model->config.warnings[i].c_str();
+}
+
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out) {
   if (!model || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_solver_create: model and out must not be NULL");

@@ -29,6 +29,7 @@ void add_common(po::options_description& d, Common& c) {
 // Parses a subcommand's arguments; returns false if --help was printed.
 bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
            Common& common, po::variables_map& vm) {
+  visible.add_options()("strict", "refuse a config that raises a plausibility warning (exit 2, nothing written)");
   po::options_description hidden;
   hidden.add_options()("config", po::value<std::string>(&common.config_path), "config file");
   po::options_description all;
@@ -42,8 +43,21 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
     return false;
   }
   po::notify(vm);
+  common.strict = vm.count("strict") > 0;
   if (common.config_path.empty()) throw po::error("missing CONFIG (a .toml file, see configs/)");
   return true;
+}
+
+Config load_checked(const Common& common) {
+  Config cfg = load_config(common.config_path);
+  if (cfg.warnings.empty()) return cfg;
+  if (common.strict) {
+    std::string message;
+    for (const std::string& w : cfg.warnings) message += (message.empty() ? "" : "\n") + w + " (--strict)";
+    throw InputError(message);
+  }
+  for (const std::string& w : cfg.warnings) std::cerr << "warning: " << w << "\n";
+  return cfg;
 }
 
 Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {

@@ -23,15 +23,21 @@ std::string fmt(double x, int digits = 6);
 struct Common {
   std::string config_path;
   std::string method = "analytic";
+  bool strict = false;  ///< --strict: the config's plausibility warnings are errors
 };
 
 /// Adds --method to `d`.
 void add_common(po::options_description& d, Common& c);
 
-/// Parses a subcommand's arguments (positional CONFIG); returns false if
-/// --help was printed. @throws po::error on a usage error.
+/// Parses a subcommand's arguments (positional CONFIG, --strict); returns
+/// false if --help was printed. @throws po::error on a usage error.
 bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
            Common& common, po::variables_map& vm);
+
+/// Loads CONFIG and prints each plausibility warning on stderr as
+/// "warning: <file>: <key> = <value>: <what>". With --strict the warnings are
+/// errors: @throws InputError listing them (before anything is written).
+Config load_checked(const Common& common);
 
 /// Speeds and depth from --rpm-min/--rpm-max/--rpm-points/--depth-max-mm,
 /// falling back on the config's [sweep]. @throws InputError.

@@ -92,7 +92,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   std::vector<std::string> methods;
   if (vm.count("methods")) methods = parse_methods(methods_list, all);  // fail before reading the config
   if (!plot_path.empty()) check_plot_path(plot_path);  // fail before computing
-  const Config cfg = load_config(common.config_path);
+  const Config cfg = load_checked(common);
   const bool measured = cfg.model.has_measured();
   const auto applies = [&](const std::string& m) { return m == "analytic" || !measured; };
   if (all) {
@@ -228,7 +228,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   if (!json_path.empty()) {
     nlohmann::json j = {{"config", cfg.source.string()}, {"name", cfg.name}, {"methods", methods},
                         {"rpm_min", s.rpm_min},          {"rpm_max", s.rpm_max}, {"rpm_points", s.rpm_points},
-                        {"depth_max_mm", s.depth_max_mm}, {"solver_options", solver_options},
+                        {"depth_max_mm", s.depth_max_mm}, {"solver_options", solver_options}, {"warnings", cfg.warnings},
                         {"pairs", pairs}};
     files.emplace_back(json_path, j.dump(2) + "\n");
   }

@@ -133,7 +133,7 @@ int cmd_check(const std::vector<std::string>& args) {
       ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it");
   po::variables_map vm;
   if (!parse(args, kCheckUsage, d, common, vm)) return 0;
-  const Config cfg = load_config(common.config_path);
+  const Config cfg = load_checked(common);
   CheckOptions opt;
   opt.machine = machine_range(vm, cfg);
   opt.method = method;
@@ -198,7 +198,8 @@ int cmd_check(const std::vector<std::string>& args) {
     j["operations_file"] = ops_path;
     j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
     j["method_requested"] = method;
-    j["warnings"] = report.warnings;
+    j["warnings"] = cfg.warnings;  // the config's plausibility warnings, then the check's
+    for (const auto& w : report.warnings) j["warnings"].push_back(w);
     j["search_depth_rule"] = "max(4 x depth_mm, 20 mm)";
     json ops = json::array();
     for (const auto& c : report.checks) {
@@ -279,7 +280,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
              "Exit status: 0 a recommendation was made, 2 bad input or usage, 1 internal failure.\n",
              d, common, vm))
     return 0;
-  const Config cfg = load_config(common.config_path);
+  const Config cfg = load_checked(common);
   const bool milling = cfg.process.operation() == Operation::kMilling;
   RecommendOptions opt;
   opt.machine = machine_range(vm, cfg);
@@ -375,7 +376,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
     j["power_kw"] = finite_or_null(r.power_w * 1e-3);
     j["mrr_cm3_per_min"] = finite_or_null(r.mrr_m3_per_s * 6e7);
     j["mrr_cm3_per_min_per_mm_diameter"] = r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3;
-    j["warnings"] = r.warnings;
+    j["warnings"] = cfg.warnings;  // the config's plausibility warnings, then the recommendation's
+    for (const auto& w : r.warnings) j["warnings"].push_back(w);
     j["explanation"] = text;
     emit_json(json_path, j);
   }

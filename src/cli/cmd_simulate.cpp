@@ -73,7 +73,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
              d, common, vm))
     return 0;
   if (!plot_path.empty()) check_plot_path(plot_path);
-  const Config cfg = load_config(common.config_path);
+  const Config cfg = load_checked(common);
   if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
   if (!(std::isfinite(depth_mm) && depth_mm >= 0.0 && depth_mm <= 1000.0))
@@ -109,6 +109,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
   nlohmann::json j;
   j["method"] = "time-domain";
   j["config"] = cfg.name;
+  j["warnings"] = cfg.warnings;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = st.linear ? nlohmann::json(nullptr) : nlohmann::json(feed_mm);

@@ -86,7 +86,9 @@ Examples:
   chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 --plot sim.png
 
 Run 'chatter <command> --help' for the options of a command.
-Options: --help, --version.
+Options: --help, --version. Every command that reads a config prints its
+plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
+and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable).
 )";
@@ -130,7 +132,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     throw InputError("--rpm-spacing = '" + spacing + "': must be even or adaptive");
   const bool adaptive = spacing == "adaptive";
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
-  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
   const BuiltSolver built = build_solver(common.method, cfg, s.depth_max_mm * 1e-3, vm);
@@ -297,7 +299,7 @@ int cmd_point(const std::vector<std::string>& args) {
                    "stable), multiplier_type (hopf, flip, fold) and the dominant multiplier.\n",
              d, common, vm))
     return 0;
-  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const chatter::Config cfg = load_checked(common);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
   if (!(std::isfinite(depth_mm) && depth_mm >= 0.0))
     throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be >= 0 mm");
@@ -312,6 +314,7 @@ int cmd_point(const std::vector<std::string>& args) {
   const double depth_m = depth_mm * 1e-3;
   nlohmann::json j;
   j["method"] = built.solver->method();
+  j["warnings"] = cfg.warnings;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
@@ -368,7 +371,7 @@ int cmd_frf(const std::vector<std::string>& args) {
              d, common, vm))
     return 0;
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);
-  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const chatter::Config cfg = load_checked(common);
   const double f_lo_default = 0.5 * cfg.model.min_omega() / (2 * std::numbers::pi);
   const double f_hi_default = 2.0 * cfg.model.max_omega() / (2 * std::numbers::pi);
   const double fmin = vm.count("fmin") ? vm["fmin"].as<double>() : f_lo_default;
@@ -453,7 +456,7 @@ int cmd_map(const std::vector<std::string>& args) {
   if (common.method != "sdm") throw InputError("--method " + common.method + ": map needs --method sdm");
   if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
-  const chatter::Config cfg = chatter::load_config(common.config_path);
+  const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
   const BuiltSolver built = build_solver("sdm", cfg, s.depth_max_mm * 1e-3, vm);
@@ -559,7 +562,9 @@ int main(int argc, char** argv) {
               << "--help)\n";
     return 2;
   } catch (const InputError& e) {
-    std::cerr << "chatter: " << e.what() << "\n";
+    // One line per error (a config reports all of its errors at once).
+    std::istringstream lines(e.what());
+    for (std::string line; std::getline(lines, line);) std::cerr << "chatter: " << line << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "chatter: internal error: " << e.what() << "\n";

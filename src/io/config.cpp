@@ -95,9 +95,10 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
-// "did you mean" for a near miss (a typo, or a key written without its unit
-// suffix such as `stiffness` for `stiffness_n_per_m`), else the allowed list.
-std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {
+// The allowed key a near miss was meant to be (a typo, or a key written
+// without its unit suffix such as `stiffness` for `stiffness_n_per_m`);
+// empty if none is close.
+std::string_view near_miss(std::string_view key, std::span<const std::string_view> allowed) {
   std::string_view best;
   std::size_t best_distance = std::numeric_limits<std::size_t>::max();
   for (const std::string_view candidate : allowed) {
@@ -110,7 +111,13 @@ std::string unknown_key_rule(std::string_view key, std::span<const std::string_v
     }
   }
   const std::size_t tolerance = std::max<std::size_t>(2, key.size() / 4);
-  if (!best.empty() && best_distance <= tolerance) return "unknown key (did you mean " + std::string(best) + "?)";
+  return best_distance <= tolerance ? best : std::string_view();
+}
+
+// "did you mean" for a near miss, else the allowed list.
+std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {
+  if (const std::string_view best = near_miss(key, allowed); !best.empty())
+    return "unknown key (did you mean " + std::string(best) + "?)";
   std::string list;
   for (const std::string_view candidate : allowed) {
     if (!list.empty()) list += ", ";
@@ -156,6 +163,13 @@ constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel c
 
 // ----------------------------------------------------------------- document
 
+/// At most this many errors are listed; the rest are counted.
+constexpr std::size_t kMaxErrors = 20;
+
+/// Thrown after an error is recorded: abandons the value or table being read
+/// (reading resumes at the next one; see attempt()). Never leaves this file.
+struct Skip {};
+
 /// The TOML text and its origin: turns nodes back into the text the user
 /// wrote and builds the messages.
 class Document {
@@ -168,14 +182,53 @@ class Document {
 
   const std::string& origin() const { return origin_; }
 
-  /// "<origin>: <path> = <value>: <rule>"
+  /// Records "<origin>: <path> = <value>: <rule>" and goes on reading.
+  void error(const Path& path, const toml::node& value, std::string_view rule) const {
+    add_error(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
+  }
+  /// Records "<origin>: <path>: <rule>" (missing or unknown keys, whole-model rules).
+  void error_key(const Path& path, std::string_view rule) const {
+    add_error(origin_ + ": " + path + ": " + std::string(rule));
+  }
+  /// Records a whole message (e.g. from an FRF reader).
+  void add_error(std::string message) const {
+    ++error_total_;
+    if (errors_.size() < kMaxErrors) errors_.push_back(std::move(message));
+  }
+  /// Records the error and abandons the value or table being read (Skip).
   [[noreturn]] void fail(const Path& path, const toml::node& value, std::string_view rule) const {
-    throw InputError(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
+    error(path, value, rule);
+    throw Skip{};
   }
-  /// "<origin>: <path>: <rule>" (missing or unknown keys, whole-model rules).
   [[noreturn]] void fail_key(const Path& path, std::string_view rule) const {
-    throw InputError(origin_ + ": " + path + ": " + std::string(rule));
+    error_key(path, rule);
+    throw Skip{};
   }
+  std::size_t error_count() const { return error_total_; }
+
+  /// Throws one InputError listing the recorded errors, one per line (the
+  /// first kMaxErrors, then how many more); nothing if there are none.
+  void throw_if_errors() const {
+    if (errors_.empty()) return;
+    std::string message;
+    for (const std::string& e : errors_) message += (message.empty() ? "" : "\n") + e;
+    if (error_total_ > errors_.size())
+      message += "\n" + origin_ + ": " + std::to_string(error_total_ - errors_.size()) + " more error" +
+                 (error_total_ - errors_.size() == 1 ? "" : "s") + " not listed (the first " +
+                 std::to_string(kMaxErrors) + " are)";
+    throw InputError(message);
+  }
+
+  /// Records "<origin>: <path> = <value>: <what>" as a plausibility warning.
+  void warn(const Path& path, const toml::node& value, std::string_view what) const {
+    warnings_.push_back(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(what));
+  }
+  /// Records "<origin>: <path>: <what>" (a value derived from several keys).
+  void warn_key(const Path& path, std::string_view what) const {
+    warnings_.push_back(origin_ + ": " + path + ": " + std::string(what));
+  }
+  std::size_t warning_count() const { return warnings_.size(); }
+  std::vector<std::string> take_warnings() const { return std::move(warnings_); }
 
   /// The value as it appears in the text when it sits on one line (so
   /// `45e6` stays `45e6`), else a compact rendering.
@@ -240,11 +293,60 @@ class Document {
   std::string_view text_;
   std::string origin_;
   std::vector<std::size_t> line_starts_;
+  // Reading goes on after an error so that one run reports them all.
+  mutable std::vector<std::string> errors_;
+  mutable std::size_t error_total_ = 0;
+  mutable std::vector<std::string> warnings_;
+};
+
+/// Runs `read`; a Skip (the error is recorded) gives nullopt, so reading goes
+/// on with the next key or table.
+template <class F>
+auto attempt(F&& read) -> std::optional<decltype(read())> {
+  try {
+    return read();
+  } catch (const Skip&) {
+    return std::nullopt;
+  }
+}
+template <class F>
+void attempt_void(F&& read) {
+  try {
+    read();
+  } catch (const Skip&) {
+  }
+}
+
+// ------------------------------------------------------------------- units
+
+/// One key of a quantity: its name (the suffix names the unit) and the
+/// factor to SI.
+struct UnitKey {
+  std::string_view key;
+  double to_si;
+  std::string_view unit;  ///< for messages: "N/m^2", "N/um", ...
+};
+
+/// A physical quantity that a config may give in one of several units: the
+/// SI key first, then the shop-unit alternatives. Giving two is an error.
+struct Quantity {
+  std::span<const UnitKey> keys;
+  const UnitKey& si() const { return keys.front(); }
+};
+
+/// What a table holds for a Quantity.
+struct Given {
+  const UnitKey* unit = nullptr;  ///< the key present; nullptr: none
+  std::optional<double> si;       ///< the value in SI; nullopt if absent or bad (the error is recorded)
+  double written = 0.0;           ///< the value in the unit of its key
+  bool present() const { return unit != nullptr; }
 };
 
 // -------------------------------------------------------------------- table
 
-/// A TOML table at a known key path, with typed, validated getters.
+/// A TOML table at a known key path, with typed, validated getters. A bad
+/// value is recorded as an error (Document::error) and read as absent
+/// (nullopt), so reading goes on and every error of a file is reported.
 class Table {
  public:
   Table(const Document& doc, const toml::table& table, Path path)
@@ -255,61 +357,127 @@ class Table {
   const toml::node* find(std::string_view key) const { return table_.get(key); }
   bool has(std::string_view key) const { return find(key) != nullptr; }
 
-  /// Rejects any key not in `allowed` (checked first, in key order).
+  /// Records every key not in `allowed`, in key order. A key a near miss
+  /// was meant to be is not reported missing as well.
   void reject_unknown(std::span<const std::string_view> allowed) const {
     for (auto&& [key, value] : table_) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
-        doc_.fail_key(path_of(key.str()), unknown_key_rule(key.str(), allowed));
+      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+      doc_.error_key(path_of(key.str()), unknown_key_rule(key.str(), allowed));
+      if (const std::string_view meant = near_miss(key.str(), allowed); !meant.empty()) meant_.push_back(meant);
     }
   }
+  /// True if an unknown key of this table was a near miss of `key`.
+  bool meant(std::string_view key) const { return std::find(meant_.begin(), meant_.end(), key) != meant_.end(); }
 
-  /// A number (float, or integer converted) in `range`; nullopt if absent.
+  /// A number (float, or integer converted) in `range`; nullopt if absent or
+  /// bad (recorded).
   std::optional<double> number(std::string_view key, const Range& range) const {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
     double v = 0.0;
-    if (const auto* i = n->as_integer())
+    if (const auto* i = n->as_integer()) {
       v = static_cast<double>(i->get());
-    else if (const auto* f = n->as_floating_point())
+    } else if (const auto* f = n->as_floating_point()) {
       v = f->get();
-    else
-      doc_.fail(path_of(key), *n, "must be a number");
-    if (!std::isfinite(v)) doc_.fail(path_of(key), *n, "must be a finite number");
-    if (!range.contains(v)) doc_.fail(path_of(key), *n, "must be " + std::string(range.text));
+    } else {
+      doc_.error(path_of(key), *n, "must be a number");
+      return std::nullopt;
+    }
+    if (!std::isfinite(v)) {
+      doc_.error(path_of(key), *n, "must be a finite number");
+      return std::nullopt;
+    }
+    if (!range.contains(v)) {
+      doc_.error(path_of(key), *n, "must be " + std::string(range.text));
+      return std::nullopt;
+    }
     return v;
   }
 
   /// A required number; `unit` ("Hz", "" for a ratio) goes into the
-  /// missing-key message.
-  double required_number(std::string_view key, const Range& range, std::string_view unit) const {
-    if (const auto v = number(key, range)) return *v;
-    doc_.fail_key(path_of(key), "missing (required, " + (unit.empty() ? std::string() : std::string(unit) + ", ") +
-                                    std::string(range.text) + ")");
+  /// missing-key message. nullopt (recorded) if absent or bad.
+  std::optional<double> required_number(std::string_view key, const Range& range, std::string_view unit) const {
+    if (!has(key)) {
+      if (!meant(key))
+        doc_.error_key(path_of(key), "missing (required, " + (unit.empty() ? std::string() : std::string(unit) + ", ") +
+                                         std::string(range.text) + ")");
+      return std::nullopt;
+    }
+    return number(key, range);
   }
 
-  /// An integer >= `min` that fits an int; nullopt if absent. Floats are
-  /// rejected, even 2.0.
+  /// The quantity `q` in whichever of its keys is present, converted to SI.
+  /// Two keys of one quantity are an error naming both.
+  Given quantity(const Quantity& q, const Range& range) const {
+    Given g;
+    for (const UnitKey& u : q.keys) {
+      if (!has(u.key)) continue;
+      if (g.unit) {
+        doc_.error(path_of(u.key), *find(u.key),
+                   "not with " + std::string(g.unit->key) + " (one quantity, one key: give " +
+                       std::string(g.unit->key) + " or " + std::string(u.key) + ")");
+        g.si.reset();
+        return g;
+      }
+      g.unit = &u;
+      if (const auto v = number(u.key, range)) {
+        g.written = *v;
+        g.si = *v * u.to_si;
+      }
+    }
+    return g;
+  }
+
+  /// A required quantity: absent is an error naming its keys and units.
+  Given required_quantity(const Quantity& q, const Range& range) const {
+    Given g = quantity(q, range);
+    const bool near_miss_reported =
+        std::any_of(q.keys.begin(), q.keys.end(), [this](const UnitKey& u) { return meant(u.key); });
+    if (!g.present() && !near_miss_reported) {
+      std::string rule = "missing (required, " + std::string(q.si().unit) + ", " + std::string(range.text) + ")";
+      for (std::size_t i = 1; i < q.keys.size(); ++i)
+        rule += (i == 1 ? "; or give " : " or ") + std::string(q.keys[i].key) + " (" + std::string(q.keys[i].unit) + ")";
+      doc_.error_key(path_of(q.si().key), rule);
+    }
+    return g;
+  }
+
+  /// An integer >= `min` that fits an int; nullopt if absent or bad
+  /// (recorded). Floats are rejected, even 2.0.
   std::optional<int> integer(std::string_view key, int min) const {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
     const auto* i = n->as_integer();
-    if (!i) doc_.fail(path_of(key), *n, "must be an integer");
+    if (!i) {
+      doc_.error(path_of(key), *n, "must be an integer");
+      return std::nullopt;
+    }
     const std::int64_t v = i->get();
-    if (v < min) doc_.fail(path_of(key), *n, "must be an integer >= " + std::to_string(min));
-    if (v > std::numeric_limits<int>::max())
-      doc_.fail(path_of(key), *n, "must be an integer <= " + std::to_string(std::numeric_limits<int>::max()));
+    if (v < min) {
+      doc_.error(path_of(key), *n, "must be an integer >= " + std::to_string(min));
+      return std::nullopt;
+    }
+    if (v > std::numeric_limits<int>::max()) {
+      doc_.error(path_of(key), *n, "must be an integer <= " + std::to_string(std::numeric_limits<int>::max()));
+      return std::nullopt;
+    }
     return static_cast<int>(v);
   }
 
+  /// A string; nullopt if absent or not a string (recorded with `rule`).
   std::optional<std::string> string(std::string_view key, std::string_view rule = "must be a string") const {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
     const auto* s = n->as_string();
-    if (!s) doc_.fail(path_of(key), *n, rule);
+    if (!s) {
+      doc_.error(path_of(key), *n, rule);
+      return std::nullopt;
+    }
     return s->get();
   }
 
-  /// A sub-table (a [header] or an inline table); nullopt if absent.
+  /// A sub-table (a [header] or an inline table); nullopt if absent; not a
+  /// table: recorded, and Skip.
   std::optional<Table> table(std::string_view key) const {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
@@ -320,23 +488,173 @@ class Table {
 
   const Document& doc() const { return doc_; }
 
-  /// Fails naming `key` when `value` lies outside the plausible bound.
-  void plausible(std::string_view key, double value, const Plausible& b) const {
-    if (value < b.lo || value > b.hi) doc_.fail(path_of(key), *find(key), b.rule);
+  /// Records an error naming `key` when `si_value` lies outside the hard
+  /// bound; false then. `unit` is the key's unit, to show the SI value when
+  /// the key is in another unit.
+  bool plausible(std::string_view key, double si_value, const Plausible& b, const UnitKey* unit = nullptr) const {
+    if (si_value >= b.lo && si_value <= b.hi) return true;
+    std::string rule = b.rule;
+    if (unit && unit->to_si != 1.0) {
+      std::ostringstream os;
+      os << rule << " (this is " << si_value << " in SI)";
+      rule = os.str();
+    }
+    doc_.error(path_of(key), *find(key), rule);
+    return false;
   }
 
  private:
   const Document& doc_;
   const toml::table& table_;
   Path path_;
+  mutable std::vector<std::string_view> meant_;  // keys that unknown near misses were meant to be
 };
+
+// ------------------------------------------------------------ the quantities
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Every quantity has its SI key first, then at most a couple of shop-unit
+// keys whose suffix names the unit (docs/config.md, "Units").
+constexpr UnitKey kFeedForceKeys[] = {{"feed_force_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                      {"feed_force_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kTangentialKeys[] = {{"tangential_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                       {"tangential_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kRadialKeys[] = {{"radial_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                   {"radial_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kStiffnessKeys[] = {{"stiffness_n_per_m", 1.0, "N/m"}, {"stiffness_n_per_um", 1e6, "N/um"}};
+constexpr UnitKey kMassKeys[] = {{"mass_kg", 1.0, "kg"}, {"mass_g", 1e-3, "g"}};
+constexpr UnitKey kYoungsKeys[] = {{"youngs_modulus_pa", 1.0, "Pa"}, {"youngs_modulus_gpa", 1e9, "GPa"}};
+constexpr UnitKey kDensityKeys[] = {{"density_kg_per_m3", 1.0, "kg/m^3"}, {"density_g_per_cm3", 1e3, "g/cm^3"}};
+constexpr UnitKey kLengthKeys[] = {{"length_m", 1.0, "m"}, {"length_mm", 1e-3, "mm"}};
+constexpr UnitKey kDiameterKeys[] = {{"diameter_m", 1.0, "m"}, {"diameter_mm", 1e-3, "mm"}};
+
+const Quantity kFeedForce{kFeedForceKeys};
+const Quantity kTangential{kTangentialKeys};
+const Quantity kRadial{kRadialKeys};
+const Quantity kStiffness{kStiffnessKeys};
+const Quantity kMass{kMassKeys};
+const Quantity kYoungs{kYoungsKeys};
+const Quantity kDensity{kDensityKeys};
+const Quantity kLength{kLengthKeys};
+const Quantity kDiameter{kDiameterKeys};
+
+// ------------------------------------------------------ plausibility warnings
+
+/// The values usual in machining (docs/config.md, "Plausibility warnings").
+/// Outside the band a value is accepted but warned about; the warning names
+/// a unit in which the number as written would be inside the band.
+struct Band {
+  double lo, hi;               ///< SI
+  std::string_view symbol;     ///< "K_t"
+  std::string_view unit;       ///< SI unit for the message
+  std::string_view usual;      ///< "the 1e8 to 1e10 N/m^2 of metal cutting (...)"
+  std::span<const UnitKey> other_units = {};  ///< likely mix-ups that are not keys (rad/s, N/mm, ...)
+  bool contains(double v) const { return v >= lo && v <= hi; }
+};
+
+constexpr UnitKey kStiffnessMixups[] = {{"", 1e3, "N/mm"}};
+constexpr UnitKey kFrequencyMixups[] = {{"", 1.0 / (2 * kPi), "rad/s"}, {"", 1e3, "kHz"}};
+constexpr UnitKey kDampingMixups[] = {{"", 1e-2, "percent"}};
+
+const Band kCoefficientBand{1e8, 1e10, "K", "N/m^2",
+                            "the 1e8 to 1e10 N/m^2 of metal cutting (aluminium about 5e8, steel about 2e9, hardened "
+                            "steel and titanium about 3e9)"};
+const Band kRadialBand{5e6, 1.5e10, "K_r", "N/m^2", "the 5e6 to 1.5e10 N/m^2 of metal cutting"};
+const Band kStiffnessBand{1e5, 1e10, "k", "N/m", "the 1e5 to 1e10 N/m of machine-tool, tool and workpiece modes",
+                          kStiffnessMixups};
+const Band kFrequencyBand{10.0, 2e4, "f", "Hz", "the 10 Hz to 20 kHz of machining structures", kFrequencyMixups};
+const Band kDampingBand{1e-3, 0.2, "zeta", "", "the 0.001 to 0.2 of machine structures (0.01 to 0.05 is common)",
+                        kDampingMixups};
+const Band kYoungsBand{1e9, 1.2e12, "E", "Pa", "the 1e9 to 1.2e12 Pa of engineering materials (steel 2.1e11)"};
+const Band kDensityBand{500.0, 2.5e4, "rho", "kg/m^3", "the 500 to 25 000 kg/m^3 of solids (steel 7850)"};
+const Band kLengthBand{1e-3, 20.0, "L", "m", "1 mm to 20 m"};
+const Band kDiameterBand{1e-4, 5.0, "D", "m", "0.1 mm to 5 m"};
+// K_r/K_t: usually 0.1 to 1; warned outside this slightly wider band.
+constexpr double kRatioLo = 0.05, kRatioHi = 1.5;
+// A natural frequency above this many tooth-passing frequencies at the
+// fastest speed (lobe numbers above 200 everywhere: lobes narrower than a
+// 400-point sweep resolves), or below the slowest tooth-passing frequency
+// divided by kToothPassingOverModeMax, is out of reach of the sweep.
+constexpr double kLobeNumberMax = 200.0;
+constexpr double kToothPassingOverModeMax = 20.0;
+
+std::string number_text(double x) {
+  std::ostringstream os;
+  os.precision(4);
+  os << x;
+  return os.str();
+}
+
+/// "over 1e5 times below" / "below".
+std::string how_far(double v, const Band& b) {
+  const bool below = v < b.lo;
+  const double ratio = below ? b.lo / v : v / b.hi;
+  const std::string side = below ? "below " : "above ";
+  if (!(ratio >= 10.0) || !std::isfinite(ratio)) return side;
+  return "over 1e" + std::to_string(static_cast<int>(std::floor(std::log10(ratio)))) + " times " + side;
+}
+
+/// Warns when the quantity given in `g` (or what `derive` makes of its SI
+/// value) lies outside `b`; `derived` describes the derived value ("gives
+/// k = m (2 pi f)^2 = "), empty when the band is on the value itself.
+// (noinline: inlined, GCC 12 reports a false -Wmaybe-uninitialized on Given::si.)
+template <class Derive>
+[[gnu::noinline]] void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b, Derive derive,
+               std::string_view derived = "") {
+  if (!g.present() || !g.si.has_value()) return;
+  const double v = derive(g.si.value());
+  if (b.contains(v)) return;
+  std::string what;
+  if (derived.empty())
+    what = std::string(b.symbol) + " = " + number_text(v) + (b.unit.empty() ? "" : " ") + std::string(b.unit);
+  else
+    what = std::string(derived) + number_text(v) + " " + std::string(b.unit) + ", which";
+  what += " is " + how_far(v, b) + std::string(b.usual);
+  // A unit in which the number as written would be usual.
+  const std::string written = t.doc().as_written(*t.find(g.unit->key));
+  std::string hint;
+  for (const UnitKey& u : q.keys) {
+    if (&u == g.unit || !b.contains(derive(g.written * u.to_si))) continue;
+    hint = "did you mean " + std::string(u.unit) + " (" + std::string(u.key) + " = " + written + ")?";
+    break;
+  }
+  for (const UnitKey& u : b.other_units) {
+    if (!hint.empty() || !b.contains(derive(g.written * g.unit->to_si * u.to_si))) continue;
+    hint = "is it in " + std::string(u.unit) + " (" + std::string(q.si().key) + " = " +
+           number_text(g.written * g.unit->to_si * u.to_si) + ")?";
+  }
+  if (!hint.empty()) what += "; " + hint;
+  t.doc().warn(t.path_of(g.unit->key), *t.find(g.unit->key), what);
+}
+
+void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b) {
+  warn_band(t, g, q, b, [](double v) { return v; });
+}
+
+/// A single-key number as a Given (frequency_hz, damping_ratio).
+Given given(const UnitKey& key, std::optional<double> v) {
+  Given g;
+  if (v) {
+    g.unit = &key;
+    g.si = *v;
+    g.written = *v;
+  }
+  return g;
+}
 
 // -------------------------------------------------------------------- modes
 
-constexpr std::string_view kModeKeys[] = {"frequency_hz", "damping_ratio", "stiffness_n_per_m",
-                                          "mass_kg",      "direction",     "cantilever"};
-constexpr std::string_view kCantileverKeys[] = {"youngs_modulus_pa", "density_kg_per_m3", "length_m",
-                                                "diameter_m"};
+constexpr std::string_view kModeKeys[] = {"frequency_hz",      "damping_ratio", "stiffness_n_per_m",
+                                          "stiffness_n_per_um", "mass_kg",       "mass_g",
+                                          "direction",          "cantilever"};
+constexpr std::string_view kCantileverKeys[] = {"youngs_modulus_pa", "youngs_modulus_gpa", "density_kg_per_m3",
+                                                "density_g_per_cm3", "length_m",           "length_mm",
+                                                "diameter_m",        "diameter_mm"};
+constexpr UnitKey kFrequencyKeys[] = {{"frequency_hz", 1.0, "Hz"}};
+constexpr UnitKey kDampingKeys[] = {{"damping_ratio", 1.0, ""}};
+const Quantity kFrequency{kFrequencyKeys};
+const Quantity kDamping{kDampingKeys};
 
 constexpr std::string_view kDirectionRule = R"(must be "x", "y" or two numbers [x, y])";
 
@@ -367,46 +685,117 @@ Eigen::Vector2d read_direction(const Table& mode) {
   return d;
 }
 
+/// The damping ratio, checked, and its warning.
+std::optional<double> read_damping(const Table& mode) {
+  // A percentage typed as a ratio (3 for 3 %): say so in the error.
+  if (const toml::node* n = mode.find("damping_ratio")) {
+    const double v = n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                     : n->is_floating_point() ? n->as_floating_point()->get()
+                                              : 0.0;
+    if (v >= 1.0 && v < 100.0) {
+      mode.doc().error(mode.path_of("damping_ratio"), *n,
+                       "must be in (0, 1) (a ratio, not a percentage: " + mode.doc().as_written(*n) + " % is " +
+                           number_text(v / 100.0) + ")");
+      return std::nullopt;
+    }
+  }
+  const auto zeta = mode.required_number("damping_ratio", kOpenUnit, "");
+  if (zeta && !mode.plausible("damping_ratio", *zeta, kDampingBound)) return std::nullopt;
+  return zeta;
+}
+
+/// Throws Skip when errors were recorded since `mark`.
+void stop_if_errors_since(const Document& doc, std::size_t mark) {
+  if (doc.error_count() > mark) throw Skip{};
+}
+
+/// Warns on a mode's stiffness and frequency derived from a cantilever bar.
+void warn_derived_mode(const Table& mode, const Mode& md) {
+  const Path path = mode.path_of("cantilever");
+  if (!kStiffnessBand.contains(md.stiffness_n_per_m))
+    mode.doc().warn_key(path, "gives k = 3EI/L^3 = " + number_text(md.stiffness_n_per_m) + " N/m, which is " +
+                                  how_far(md.stiffness_n_per_m, kStiffnessBand) + std::string(kStiffnessBand.usual) +
+                                  "; check the units of the bar");
+  if (!kFrequencyBand.contains(md.natural_frequency_hz))
+    mode.doc().warn_key(path, "gives f = " + number_text(md.natural_frequency_hz) + " Hz, which is " +
+                                  how_far(md.natural_frequency_hz, kFrequencyBand) +
+                                  std::string(kFrequencyBand.usual) + "; check the units of the bar");
+}
+
 Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
-  for (const std::string_view key : {"frequency_hz", "stiffness_n_per_m", "mass_kg"}) {
+  const Document& doc = mode.doc();
+  const std::size_t mark = doc.error_count();
+  for (const std::string_view key : {"frequency_hz", "stiffness_n_per_m", "stiffness_n_per_um", "mass_kg", "mass_g"}) {
     if (const toml::node* n = mode.find(key))
-      mode.doc().fail(mode.path_of(key), *n, "not with cantilever (the bar gives frequency and stiffness)");
+      doc.error(mode.path_of(key), *n, "not with cantilever (the bar gives frequency and stiffness)");
   }
   bar_table.reject_unknown(kCantileverKeys);
+  const Given e = bar_table.required_quantity(kYoungs, kPositive);
+  const Given rho = bar_table.required_quantity(kDensity, kPositive);
+  const Given len = bar_table.required_quantity(kLength, kPositive);
+  const Given dia = bar_table.required_quantity(kDiameter, kPositive);
+  const auto zeta = read_damping(mode);
+  const auto dir = attempt([&] { return read_direction(mode); });
+  stop_if_errors_since(doc, mark);
+  if (!(e.si && rho.si && len.si && dia.si && zeta && dir)) throw Skip{};
   CantileverBar bar;
-  bar.youngs_modulus_pa = bar_table.required_number("youngs_modulus_pa", kPositive, "Pa");
-  bar.density_kg_per_m3 = bar_table.required_number("density_kg_per_m3", kPositive, "kg/m^3");
-  bar.length_m = bar_table.required_number("length_m", kPositive, "m");
-  bar.diameter_m = bar_table.required_number("diameter_m", kPositive, "m");
-  const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
-  mode.plausible("damping_ratio", zeta, kDampingBound);
-  return first_bending_mode(bar, zeta, read_direction(mode));
+  bar.youngs_modulus_pa = *e.si;
+  bar.density_kg_per_m3 = *rho.si;
+  bar.length_m = *len.si;
+  bar.diameter_m = *dia.si;
+  const Mode md = first_bending_mode(bar, *zeta, *dir);
+  const std::size_t warnings_before = doc.warning_count();
+  warn_band(bar_table, e, kYoungs, kYoungsBand);
+  warn_band(bar_table, rho, kDensity, kDensityBand);
+  warn_band(bar_table, len, kLength, kLengthBand);
+  warn_band(bar_table, dia, kDiameter, kDiameterBand);
+  if (doc.warning_count() == warnings_before) warn_derived_mode(mode, md);
+  warn_band(mode, given(kDampingKeys[0], zeta), kDamping, kDampingBand);
+  return md;
 }
 
 Mode read_mode(const Table& mode) {
+  const Document& doc = mode.doc();
+  const std::size_t mark = doc.error_count();
   mode.reject_unknown(kModeKeys);
-  if (const auto bar = mode.table("cantilever")) return read_cantilever_mode(mode, *bar);
+  if (const auto bar = mode.table("cantilever")) {
+    const Mode md = read_cantilever_mode(mode, *bar);
+    stop_if_errors_since(doc, mark);
+    return md;
+  }
 
-  const double f = mode.required_number("frequency_hz", kPositive, "Hz");
-  const double zeta = mode.required_number("damping_ratio", kOpenUnit, "");
-  const auto k = mode.number("stiffness_n_per_m", kPositive);
-  const auto m = mode.number("mass_kg", kPositive);
-  mode.plausible("frequency_hz", f, kFrequencyBound);
-  mode.plausible("damping_ratio", zeta, kDampingBound);
-  if (k) mode.plausible("stiffness_n_per_m", *k, kStiffnessBound);
-  if (m) mode.plausible("mass_kg", *m, kMassBound);
-  if (k && m)
-    mode.doc().fail(mode.path_of("mass_kg"), *mode.find("mass_kg"),
-                    "not with stiffness_n_per_m (give exactly one of stiffness_n_per_m, mass_kg)");
-  if (!k && !m)
-    mode.doc().fail_key(mode.path_of("stiffness_n_per_m"),
-                        "missing (give exactly one of stiffness_n_per_m (N/m, > 0) or mass_kg (kg, > 0))");
-  const Eigen::Vector2d u = read_direction(mode);
-  const Mode md = k ? Mode::from_stiffness(f, zeta, *k, u) : Mode::from_mass(f, zeta, *m, u);
-  if (m && md.stiffness_n_per_m < kStiffnessBound.lo) {
+  auto f = mode.required_number("frequency_hz", kPositive, "Hz");
+  if (f && !mode.plausible("frequency_hz", *f, kFrequencyBound)) f.reset();
+  const auto zeta = read_damping(mode);
+  Given k = mode.quantity(kStiffness, kPositive);
+  Given m = mode.quantity(kMass, kPositive);
+  if (k.si && !mode.plausible(k.unit->key, *k.si, kStiffnessBound, k.unit)) k.si.reset();
+  if (m.si && !mode.plausible(m.unit->key, *m.si, kMassBound, m.unit)) m.si.reset();
+  if (k.present() && m.present())
+    doc.error(mode.path_of(m.unit->key), *mode.find(m.unit->key),
+              "not with " + std::string(k.unit->key) + " (give exactly one of stiffness_n_per_m, mass_kg)");
+  const bool near_miss = mode.meant("stiffness_n_per_m") || mode.meant("stiffness_n_per_um") ||
+                         mode.meant("mass_kg") || mode.meant("mass_g");
+  if (!k.present() && !m.present() && !near_miss)
+    doc.error_key(mode.path_of("stiffness_n_per_m"),
+                  "missing (give exactly one of stiffness_n_per_m (N/m, > 0) or mass_kg (kg, > 0); or in shop "
+                  "units stiffness_n_per_um (N/um) or mass_g (g))");
+  const auto dir = attempt([&] { return read_direction(mode); });
+  stop_if_errors_since(doc, mark);
+  if (!(f && zeta && dir && (k.si || m.si))) throw Skip{};
+  const Mode md = k.si ? Mode::from_stiffness(*f, *zeta, *k.si, *dir) : Mode::from_mass(*f, *zeta, *m.si, *dir);
+  if (m.si && md.stiffness_n_per_m < kStiffnessBound.lo) {
     std::ostringstream rule;
     rule << "gives a modal stiffness m(2 pi f)^2 = " << md.stiffness_n_per_m << " N/m: must be >= 1 N/m";
-    mode.doc().fail(mode.path_of("mass_kg"), *mode.find("mass_kg"), rule.str());
+    doc.fail(mode.path_of(m.unit->key), *mode.find(m.unit->key), rule.str());
+  }
+  warn_band(mode, given(kFrequencyKeys[0], f), kFrequency, kFrequencyBand);
+  warn_band(mode, given(kDampingKeys[0], zeta), kDamping, kDampingBand);
+  if (k.si) {
+    warn_band(mode, k, kStiffness, kStiffnessBand);
+  } else {
+    const double w2 = std::pow(2 * kPi * *f, 2);
+    warn_band(mode, m, kMass, kStiffnessBand, [w2](double mass) { return mass * w2; }, "gives k = m (2 pi f)^2 = ");
   }
   return md;
 }
@@ -418,10 +807,11 @@ constexpr std::string_view kFrfKeys[] = {"file", "direction", "format", "quantit
 /// One `[[tool.frf]]` / `[[workpiece.frf]]` entry: a measured receptance
 /// term read from a file (path relative to the config's folder).
 MeasuredTerm read_frf_term(const Table& t) {
-  t.reject_unknown(kFrfKeys);
   const Document& doc = t.doc();
+  const std::size_t mark = doc.error_count();
+  t.reject_unknown(kFrfKeys);
+  if (!t.has("file")) doc.fail_key(t.path_of("file"), "missing (required: the measurement file, relative to the config)");
   const auto file = t.string("file");
-  if (!file) doc.fail_key(t.path_of("file"), "missing (required: the measurement file, relative to the config)");
   MeasuredTerm term;
   const std::string dir = t.string("direction").value_or("xx");
   if (dir == "xx") {
@@ -432,18 +822,22 @@ MeasuredTerm read_frf_term(const Table& t) {
     term.row = 0;
     term.col = 1;
   } else {
-    doc.fail(t.path_of("direction"), *t.find("direction"), R"(must be "xx", "xy" or "yy")");
+    doc.error(t.path_of("direction"), *t.find("direction"), R"(must be "xx", "xy" or "yy")");
   }
   FrfReadOptions opt;
   if (const auto q = t.string("quantity")) {
     opt.quantity = parse_frf_quantity(*q);
     if (!opt.quantity)
-      doc.fail(t.path_of("quantity"), *t.find("quantity"), R"(must be "receptance", "mobility" or "accelerance")");
+      doc.error(t.path_of("quantity"), *t.find("quantity"), R"(must be "receptance", "mobility" or "accelerance")");
   }
   if (const auto sc = t.number("scale", kPositive)) opt.scale = *sc;
+  const auto record = t.integer("record", 1);
+  const auto format_key = t.string("format");
+  stop_if_errors_since(doc, mark);  // read no file for a bad entry
+  if (!file) throw Skip{};
   std::filesystem::path path(*file);
   if (path.is_relative()) path = std::filesystem::path(doc.origin()).parent_path() / path;
-  std::string format = t.string("format").value_or("");
+  std::string format = format_key.value_or("");
   if (format.empty()) {
     std::string ext = path.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -453,122 +847,153 @@ MeasuredTerm read_frf_term(const Table& t) {
       doc.fail(t.path_of("file"), *t.find("file"),
                R"(cannot tell the format from the extension: add format = "csv", "tab" or "uff")");
   }
-  const auto record = t.integer("record", 1);
+  if (format != "csv" && format != "tab" && format != "uff")
+    doc.fail(t.path_of("format"), *t.find("format"), R"(must be "csv", "tab" or "uff")");
+  if (record && format != "uff") doc.fail(t.path_of("record"), *t.find("record"), "only for format = \"uff\"");
   FrfTable table;
   if (format == "csv") {
     table = read_frf_csv(path, opt);
   } else if (format == "tab") {
     table = read_frf_tab(path, opt);
-  } else if (format == "uff") {
+  } else {
     const auto tables = read_uff58(path, opt);
     const int r = record.value_or(1);
     if (static_cast<std::size_t>(r) > tables.size())
       doc.fail(t.path_of("record"), *t.find("record"),
                "must be <= " + std::to_string(tables.size()) + " (the FRF records in " + path.string() + ")");
     table = tables[static_cast<std::size_t>(r - 1)];
-  } else {
-    doc.fail(t.path_of("format"), *t.find("format"), R"(must be "csv", "tab" or "uff")");
   }
-  if (record && format != "uff") doc.fail(t.path_of("record"), *t.find("record"), "only for format = \"uff\"");
   term.frequency_hz = std::move(table.frequency_hz);
   term.receptance = std::move(table.value);
   term.source = table.source;
   return term;
 }
 
-/// `[tool]` / `[workpiece]`: absent, or without `modes`, means rigid.
+/// `[tool]` / `[workpiece]`: absent, or without `modes`, means rigid. A bad
+/// entry is recorded and left out; the others are still read.
 Body read_body(const Table& root, std::string_view name) {
   Body body;
   const auto table = root.table(name);
   if (!table) return body;
   constexpr std::string_view kBodyKeys[] = {"modes", "frf"};
   table->reject_unknown(kBodyKeys);
+  const Document& doc = root.doc();
   if (const toml::node* f = table->find("frf")) {
     const Path fpath = table->path_of("frf");
-    const toml::array* terms = f->as_array();
-    if (!terms) root.doc().fail(fpath, *f, "must be an array of tables ([[" + fpath + "]])");
-    for (std::size_t i = 0; i < terms->size(); ++i) {
-      const toml::node& m = *terms->get(i);
-      const toml::table* t = m.as_table();
-      if (!t) root.doc().fail(element(fpath, i), m, "must be a table");
-      try {
-        body.measured.push_back(read_frf_term(Table(root.doc(), *t, element(fpath, i))));
-      } catch (const InputError& e) {
-        const std::string msg = e.what();
-        if (msg.rfind(root.doc().origin() + ": " + element(fpath, i), 0) == 0) throw;
-        // A reader error names the measurement file; say which entry read it.
-        throw InputError(root.doc().origin() + ": " + element(fpath, i) + ": " + msg);
+    if (const toml::array* terms = f->as_array()) {
+      for (std::size_t i = 0; i < terms->size(); ++i) {
+        const toml::node& m = *terms->get(i);
+        const toml::table* t = m.as_table();
+        if (!t) {
+          doc.error(element(fpath, i), m, "must be a table");
+          continue;
+        }
+        try {
+          if (auto term = attempt([&] { return read_frf_term(Table(doc, *t, element(fpath, i))); }))
+            body.measured.push_back(std::move(*term));
+        } catch (const InputError& e) {
+          // A reader error names the measurement file; say which entry read it.
+          doc.add_error(doc.origin() + ": " + element(fpath, i) + ": " + e.what());
+        }
       }
+    } else {
+      doc.error(fpath, *f, "must be an array of tables ([[" + fpath + "]])");
     }
   }
   const toml::node* n = table->find("modes");
   if (!n) return body;
   const Path path = table->path_of("modes");
   const toml::array* modes = n->as_array();
-  if (!modes) root.doc().fail(path, *n, "must be an array of tables ([[" + path + "]])");
+  if (!modes) doc.fail(path, *n, "must be an array of tables ([[" + path + "]])");
   for (std::size_t i = 0; i < modes->size(); ++i) {
     const toml::node& m = *modes->get(i);
     const toml::table* t = m.as_table();
-    if (!t) root.doc().fail(element(path, i), m, "must be a table");
-    body.modes.push_back(read_mode(Table(root.doc(), *t, element(path, i))));
+    if (!t) {
+      doc.error(element(path, i), m, "must be a table");
+      continue;
+    }
+    if (auto mode = attempt([&] { return read_mode(Table(doc, *t, element(path, i))); }))
+      body.modes.push_back(*mode);
   }
   return body;
 }
 
 // ------------------------------------------------------------------ process
 
-constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_per_rev_mm"};
-constexpr std::string_view kMillingKeys[] = {"teeth", "tangential_coefficient_n_per_m2",
-                                             "radial_coefficient_n_per_m2", "radial_immersion",
-                                             "milling_direction", "feed_per_tooth_mm"};
+constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_force_coefficient_n_per_mm2",
+                                             "feed_per_rev_mm"};
+constexpr std::string_view kMillingKeys[] = {"teeth",
+                                             "tangential_coefficient_n_per_m2",
+                                             "tangential_coefficient_n_per_mm2",
+                                             "radial_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_mm2",
+                                             "radial_immersion",
+                                             "milling_direction",
+                                             "feed_per_tooth_mm"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
 constexpr std::string_view kProcessKeys[] = {"operation",
                                              "feed_force_coefficient_n_per_m2",
+                                             "feed_force_coefficient_n_per_mm2",
                                              "feed_per_rev_mm",
                                              "feed_per_tooth_mm",
                                              "teeth",
                                              "tangential_coefficient_n_per_m2",
+                                             "tangential_coefficient_n_per_mm2",
                                              "radial_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_mm2",
                                              "radial_immersion",
                                              "milling_direction"};
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
     if (const toml::node* n = process.find(key))
-      process.doc().fail(process.path_of(key), *n, "only for operation = \"" + std::string(operation) + "\"");
+      process.doc().error(process.path_of(key), *n, "only for operation = \"" + std::string(operation) + "\"");
   }
+}
+
+/// A cutting coefficient, with the hard bound.
+Given read_coefficient(const Table& process, const Quantity& q, const Range& range) {
+  Given g = process.required_quantity(q, range);
+  if (g.si && !process.plausible(g.unit->key, *g.si, kCoefficientBound, g.unit)) g.si.reset();
+  return g;
 }
 
 Process read_process(const Table& root, std::optional<double>* feed_mm) {
   const auto process = root.table("process");
-  if (!process) root.doc().fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
+  const Document& doc = root.doc();
+  if (!process) doc.fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
   process->reject_unknown(kProcessKeys);
 
   constexpr std::string_view kOperationRule = R"(must be "turning" or "milling")";
+  if (!process->has("operation"))
+    doc.fail_key(process->path_of("operation"), R"(missing (required, "turning" or "milling"))");
   const auto operation = process->string("operation", kOperationRule);
-  if (!operation) process->doc().fail_key(process->path_of("operation"), R"(missing (required, "turning" or "milling"))");
+  if (!operation) throw Skip{};
+  const std::size_t mark = doc.error_count();
 
   if (*operation == "turning") {
     reject_keys_of(*process, kMillingKeys, "milling");
-    TurningParameters p;
-    p.feed_force_coefficient_n_per_m2 = process->required_number("feed_force_coefficient_n_per_m2", kPositive, "N/m^2");
-    process->plausible("feed_force_coefficient_n_per_m2", p.feed_force_coefficient_n_per_m2, kCoefficientBound);
+    const Given kf = read_coefficient(*process, kFeedForce, kPositive);
     *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
+    stop_if_errors_since(doc, mark);
+    if (!kf.si) throw Skip{};
+    TurningParameters p;
+    p.feed_force_coefficient_n_per_m2 = *kf.si;
+    Band band = kCoefficientBand;
+    band.symbol = "K_f";
+    warn_band(*process, kf, kFeedForce, band);
     return Process::turning(p);
   }
   if (*operation == "milling") {
     reject_keys_of(*process, kTurningKeys, "turning");
     MillingParameters p;
     const auto teeth = process->integer("teeth", 1);
-    if (!teeth) process->doc().fail_key(process->path_of("teeth"), "missing (required, integer >= 1)");
-    p.teeth = *teeth;
-    p.tangential_coefficient_n_per_m2 = process->required_number("tangential_coefficient_n_per_m2", kPositive, "N/m^2");
-    p.radial_coefficient_n_per_m2 = process->required_number("radial_coefficient_n_per_m2", kNonNegative, "N/m^2");
-    process->plausible("tangential_coefficient_n_per_m2", p.tangential_coefficient_n_per_m2, kCoefficientBound);
-    process->plausible("radial_coefficient_n_per_m2", p.radial_coefficient_n_per_m2, kCoefficientBound);
-    p.radial_immersion = process->required_number("radial_immersion", kUnitInterval, "a_e/D");
+    if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
+    const Given kt = read_coefficient(*process, kTangential, kPositive);
+    const Given kr = read_coefficient(*process, kRadial, kNonNegative);
+    const auto immersion = process->required_number("radial_immersion", kUnitInterval, "a_e/D");
     constexpr std::string_view kDirectionRuleMilling = R"(must be "down" or "up")";
     const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
     if (direction == "down")
@@ -576,12 +1001,30 @@ Process read_process(const Table& root, std::optional<double>* feed_mm) {
     else if (direction == "up")
       p.direction = MillingDirection::kUp;
     else
-      process->doc().fail(process->path_of("milling_direction"), *process->find("milling_direction"),
-                          kDirectionRuleMilling);
+      doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+    stop_if_errors_since(doc, mark);
+    if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
+    p.teeth = *teeth;
+    p.tangential_coefficient_n_per_m2 = *kt.si;
+    p.radial_coefficient_n_per_m2 = *kr.si;
+    p.radial_immersion = *immersion;
+    Band band = kCoefficientBand;
+    band.symbol = "K_t";
+    warn_band(*process, kt, kTangential, band);
+    if (*kr.si > 0.0) {  // K_r = 0 is a deliberate idealisation: no radial force
+      warn_band(*process, kr, kRadial, kRadialBand);
+      const double ratio = *kr.si / *kt.si;
+      if (ratio < kRatioLo || ratio > kRatioHi)
+        doc.warn(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+                 "K_r/K_t = " + number_text(ratio) +
+                     ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                     "titanium 0.3 to 0.8); are " +
+                     std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
+    }
     return Process::milling(p);
   }
-  process->doc().fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
+  doc.fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
 }
 
 // -------------------------------------------------------------------- sweep
@@ -595,8 +1038,8 @@ SweepDefaults read_sweep(const Table& root) {
   s.rpm_min = sweep->number("rpm_min", kPositive);
   s.rpm_max = sweep->number("rpm_max", kPositive);
   if (s.rpm_min && s.rpm_max && !(*s.rpm_max > *s.rpm_min))
-    sweep->doc().fail(sweep->path_of("rpm_max"), *sweep->find("rpm_max"),
-                      "must be > rpm_min (" + sweep->doc().as_written(*sweep->find("rpm_min")) + ")");
+    sweep->doc().error(sweep->path_of("rpm_max"), *sweep->find("rpm_max"),
+                       "must be > rpm_min (" + sweep->doc().as_written(*sweep->find("rpm_min")) + ")");
   s.rpm_points = sweep->integer("rpm_points", 2);
   s.depth_max_mm = sweep->number("depth_max_mm", kPositive);
   return s;
@@ -604,25 +1047,66 @@ SweepDefaults read_sweep(const Table& root) {
 
 // --------------------------------------------------------------------- root
 
+/// Each mode's natural frequency against the tooth-passing frequencies of the
+/// [sweep] speeds: a mode the sweep cannot excite in a usual lobe.
+void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc, const Config& config) {
+  if (!config.sweep.rpm_min || !config.sweep.rpm_max) return;
+  const double z = config.process.delays_per_revolution();
+  const double ftp_min = *config.sweep.rpm_min * z / 60.0, ftp_max = *config.sweep.rpm_max * z / 60.0;
+  for (const std::string_view name : {"tool", "workpiece"}) {
+    const Body& body = name == "tool" ? config.model.tool : config.model.workpiece;
+    const toml::array* modes = root_table.at_path(std::string(name) + ".modes").as_array();
+    if (!modes) continue;
+    for (std::size_t i = 0; i < body.modes.size() && i < modes->size(); ++i) {
+      const toml::table* t = modes->get(i)->as_table();
+      if (!t) continue;
+      const double f = body.modes[i].natural_frequency_hz;
+      std::string what;
+      if (f > kLobeNumberMax * ftp_max)
+        what = "f is over " + number_text(kLobeNumberMax) + " times the tooth-passing frequency at sweep.rpm_max (" +
+               number_text(ftp_max) + " Hz): lobe numbers above " + number_text(kLobeNumberMax) +
+               " at every speed of the sweep, lobes narrower than its speed step; is the speed in rev/min (not "
+               "rev/s) and the frequency in Hz (not rad/s)?";
+      else if (f * kToothPassingOverModeMax < ftp_min)
+        what = "f is under 1/" + number_text(kToothPassingOverModeMax) +
+               " of the tooth-passing frequency at sweep.rpm_min (" + number_text(ftp_min) +
+               " Hz): every speed of the sweep is far past the last lobe; is the frequency in Hz (not kHz) and "
+               "the speed in rev/min?";
+      if (what.empty()) continue;
+      const Path path = element(child(Path(name), "modes"), i);
+      if (const toml::node* n = t->get("frequency_hz"))
+        doc.warn(child(path, "frequency_hz"), *n, what);
+      else
+        doc.warn_key(child(path, "cantilever"), "gives f = " + number_text(f) + " Hz: " + what);
+    }
+  }
+}
+
 Config read_config(const toml::table& root_table, const Document& doc) {
   const Table root(doc, root_table, "");
   constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep"};
   root.reject_unknown(kTopKeys);
 
   Config config;
-  if (const auto name = root.string("name")) {
-    if (name->empty()) doc.fail("name", *root.find("name"), "must not be empty");
+  const auto name = root.string("name");
+  if (name && name->empty()) doc.error("name", *root.find("name"), "must not be empty");
+  if (name) {
     config.name = *name;
   } else {
     const std::string stem = std::filesystem::path(doc.origin()).stem().string();
     config.name = stem.empty() ? doc.origin() : stem;
   }
-  config.process = read_process(root, &config.feed_mm);
-  config.model.tool = read_body(root, "tool");
-  config.model.workpiece = read_body(root, "workpiece");
-  if (config.model.rigid())
-    doc.fail_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode (or a measured frf)");
-  config.sweep = read_sweep(root);
+  attempt_void([&] { config.process = read_process(root, &config.feed_mm); });
+  const std::size_t before_bodies = doc.error_count();
+  attempt_void([&] { config.model.tool = read_body(root, "tool"); });
+  attempt_void([&] { config.model.workpiece = read_body(root, "workpiece"); });
+  // A body whose modes all had errors looks rigid: say so only without them.
+  if (doc.error_count() == before_bodies && config.model.rigid())
+    doc.error_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode (or a measured frf)");
+  attempt_void([&] { config.sweep = read_sweep(root); });
+  doc.throw_if_errors();
+  warn_frequency_vs_speeds(root_table, doc, config);
+  config.warnings = doc.take_warnings();
   return config;
 }
 
@@ -713,6 +1197,11 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     return read_config(root, doc);
   } catch (const InputError&) {
     throw;
+  } catch (const Skip&) {
+    // Every Skip is caught where reading resumes; should one get here, its
+    // error is recorded: report it.
+    doc.throw_if_errors();
+    throw InputError(origin + ": invalid config");
 #if TOML_EXCEPTIONS
   } catch (const toml::parse_error& e) {
     throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +

@@ -503,7 +503,7 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
   // --- data ---
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": receptance (chatter " << version() << ")\n"
-      << "# Relative receptance = tool + workpiece (PHYSICS.md section 2). '?' = rigid body (no value).\n"
+      << "# Relative receptance = tool + workpiece (docs/physics.md section 2). '?' = rigid body (no value).\n"
       << "# Per body and term: magnitude (m/N), phase (deg), real and imaginary parts (m/N).\n"
       << "# frequency_hz";
   for (const auto& term : terms)

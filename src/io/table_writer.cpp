@@ -81,6 +81,7 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
                    {"tool", body_json(p.config->model.tool)},
                    {"workpiece", body_json(p.config->model.workpiece)}};
   }
+  j["warnings"] = p.config ? p.config->warnings : std::vector<std::string>{};
   j["sweep"] = {{"rpm_min", p.rpm_min}, {"rpm_max", p.rpm_max}, {"rpm_points", p.rpm_points},
                 {"depth_max_mm", p.depth_max_mm}, {"rpm_spacing", p.rpm_spacing}};
   if (p.rpm_spacing == "adaptive") {

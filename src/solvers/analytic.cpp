@@ -1,4 +1,4 @@
-// Transfer-function lobes from the eigenvalues of H₀G(jω) (PHYSICS.md §4),
+// Transfer-function lobes from the eigenvalues of H₀G(jω) (docs/physics.md §4),
 // and the behaviour shared with the coupled solver.
 #include <cmath>
 #include <numbers>

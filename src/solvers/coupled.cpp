@@ -1,8 +1,8 @@
 // Coupled tool–workpiece lobes from the characteristic determinant of the
-// modal system (PHYSICS.md §4; seed thesis ch. III with its sign errors
+// modal system (docs/physics.md §4; seed thesis ch. III with its sign errors
 // corrected: the compliances of the two bodies add).
 //
-// Modal equations (PHYSICS §2–3) with the averaged force give, at s = jω,
+// Modal equations (docs/physics.md §2–3) with the averaged force give, at s = jω,
 //   [D(jω) + c Sᵀ H₀ S] q = 0,  D = diag(m_i(ω_i² − ω² + 2jζ_iω_iω)),
 //   c = a(1 − e^{−jωτ}).
 // For one tool and one workpiece mode along X in turning this is

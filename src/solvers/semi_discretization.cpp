@@ -1,5 +1,5 @@
 // First-order semi-discretisation (Insperger & Stépán 2004) of the periodic
-// delay equation of PHYSICS.md §3, the `sdm` solver. See
+// delay equation of docs/physics.md §3, the `sdm` solver. See
 // include/chatter/semi_discretization.hpp for the method and docs/sdm.md for
 // the convergence study.
 #include "chatter/semi_discretization.hpp"

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "chatter/process.hpp"
 #include "chatter/structural_model.hpp"
@@ -29,13 +30,24 @@ struct Config {
   /// `[process] feed_per_rev_mm` (turning) or `feed_per_tooth_mm` (milling);
   /// absent: the command line's default (0.1 mm).
   std::optional<double> feed_mm;
+  /// Plausibility warnings: values that load but lie outside what machining
+  /// usually sees (a cutting coefficient 1e6 below metals, a stiffness of
+  /// 20 N/m, ...), each "<file>: <key path> = <value>: <what is odd; the
+  /// likely mistake>". Bands and reasons: docs/config.md. Empty for every
+  /// shipped config. The CLI prints them on stderr, records them in its JSON
+  /// and, with --strict, refuses the config.
+  std::vector<std::string> warnings;
 };
 
-/// Reads and validates a config file.
-/// @throws InputError with a message "<file>: <key path> = <value>: <rule>"
-///         (or "<file>:<line>:<col>: <TOML syntax error>") on any bad input:
-///         unreadable file, syntax error, unknown or missing key, wrong type,
-///         non-physical value.
+/// Reads and validates a config file. Quantities may be given in SI or in
+/// the shop-unit key beside it (`stiffness_n_per_um`, `mass_g`,
+/// `tangential_coefficient_n_per_mm2`, ...; one key per quantity); the
+/// Config holds SI. Cost: linear in the file, plus reading measured FRFs.
+/// @throws InputError on any bad input: unreadable file, syntax error
+///         ("<file>:<line>:<col>: <TOML syntax error>"), unknown or missing
+///         key, wrong type, non-physical value. Every error of the file is
+///         reported (up to 20, then a count), one per line, each
+///         "<file>: <key path> = <value>: <rule>" or "<file>: <key path>: <rule>".
 Config load_config(const std::filesystem::path& file);
 
 /// Same, from TOML text; `origin` names the source in messages.

@@ -6,7 +6,7 @@
 // significant digits; the output is byte-identical for identical input.
 //
 // JSON: {"format": "chatter-lobe-table", "version", "method", "config",
-// "options", "absolute_limit", "rows": [{spindle_rpm, depth_limit_mm,
+// "warnings" (the config's plausibility warnings, [] if none), "options", "absolute_limit", "rows": [{spindle_rpm, depth_limit_mm,
 // chatter_frequency_hz, lobe}]}, with null where the CSV is `inf`/empty.
 #pragma once
 
