@@ -364,7 +364,7 @@ TEST(WriteTextFiles, SymbolicLinkIsWrittenThroughNotReplaced) {
 
 namespace {
 
-// Case A (PHYSICS §7 A) in closed form, independent of the library's phase
+// Case A (docs/physics.md, validation case A) in closed form, independent of the library's phase
 // search: G(ω) = 1 / (k (1 − r² + 2jζr)), b = −1/(2 K_f Re G),
 // ε = 3π + 2 atan2(Im G, Re G), N_k(ω) = 60 ω / (ε + 2πk) (turning).
 struct CaseA {

@@ -168,7 +168,7 @@ TEST(SdmSearch, ShippedConfigLimitsUnchanged) {
 namespace chatter {
 namespace {
 
-// Case A (PHYSICS-style 1-DOF turning: 94.22 Hz, ζ 0.033, k 45 MN/m, K_f 2.4e9).
+// Case A (docs/physics.md: 1-DOF turning: 94.22 Hz, ζ 0.033, k 45 MN/m, K_f 2.4e9).
 StructuralModel seed_turning() {
   StructuralModel m;
   m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));
