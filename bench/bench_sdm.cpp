@@ -70,6 +70,24 @@ void BM_CaseA_100rpm(benchmark::State& state) {
 }
 BENCHMARK(BM_CaseA_100rpm)->Unit(benchmark::kMillisecond);
 
+// How the cost of one turning limit grows as the speed falls (steps per
+// revolution m ∝ 1/rpm): the branch roots make each map O(m).
+void BM_CaseA_LowSpeed(benchmark::State& state) {
+  const double rpm = static_cast<double>(state.range(0));
+  SemiDiscretizationOptions o;
+  o.depth_max_m = 0.05;
+  const SemiDiscretizationSolver solver(case_a(), Process::turning({2.4e9}), o);
+  StabilityLimit l;
+  for (auto _ : state) {
+    l = solver.limit_at(rpm);
+    benchmark::DoNotOptimize(&l);
+  }
+  FloquetResult fr = solver.analyse(rpm, 1e-3);
+  state.counters["steps"] = fr.steps;
+  state.SetLabel("depth " + std::to_string(l.depth_limit_m * 1e3) + " mm");
+}
+BENCHMARK(BM_CaseA_LowSpeed)->Arg(300)->Arg(100)->Arg(30)->Arg(10)->Arg(5)->Arg(3)->Unit(benchmark::kMillisecond);
+
 // The spectral-radius map the CLI `map` command draws, same grid as the
 // brute force below but with the solver's own step rule and eigen-solver.
 void BM_CaseC_Map200x100(benchmark::State& state) {

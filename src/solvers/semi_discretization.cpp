@@ -56,8 +56,9 @@ const double kLogQuarter = std::log(0.25);
 constexpr double kBranchMinDecay = 4.0;
 constexpr int kBranchIterations = 50;
 constexpr double kBranchTolerance = 1e-11;
-// A branch whose Newton iterates stay below |μ| = e^this is deeply damped.
-constexpr double kNegligibleLog = -7.0;
+// A branch whose Newton iterates stay below e^this times the dominant
+// multiplier's modulus cannot be dominant.
+constexpr double kNegligibleLog = -3.0;
 // Continuation step: no followed multiplier may be predicted to move more
 // than this fraction of its distance to the unit circle in one step.
 constexpr double kMoveFraction = 0.5;
@@ -290,6 +291,7 @@ class SdmKernel {
     const int kmax = pm.m / 2;
     out = Dominant{};
     double best_re = -kInf;
+    double worst_failed = -kInf;  // largest Re s τ at which a branch gave up
     Cplx best_s{0.0, 0.0};
     for (int k = 0; k <= kmax; ++k) {
       const Cplx twopik(0.0, kTwoPi * k);
@@ -316,10 +318,9 @@ class SdmKernel {
       }
       if (!ok) {
         // Far from the modes g can vanish (Ln g → −∞) and Newton wanders at
-        // deeply damped values: such a branch cannot hold the dominant
-        // multiplier. Anything else: let the eigen-solvers decide.
-        if (s.real() * tau < kNegligibleLog) continue;
-        return false;
+        // deeply damped values. Decided after all branches are known.
+        worst_failed = std::max(worst_failed, s.real() * tau);
+        continue;
       }
       const Cplx mu = std::exp(s * tau);
       const Cplx mu_up = mu.imag() >= 0.0 ? mu : std::conj(mu);
@@ -334,6 +335,9 @@ class SdmKernel {
         best_s = s;
       }
     }
+    // A branch that did not converge cannot hold the dominant multiplier if
+    // its iterates stayed kNegligibleLog below it; else let the eigen-solvers decide.
+    if (worst_failed > best_re * tau + kNegligibleLog) return false;
     out.mu = std::exp(best_s * tau);
     if (out.mu.imag() < 0.0) out.mu = std::conj(out.mu);
     out.branch_s = best_s;
