@@ -520,7 +520,7 @@ Body read_body(const Table& root, std::string_view name) {
 constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_per_rev_mm"};
 constexpr std::string_view kMillingKeys[] = {"teeth", "tangential_coefficient_n_per_m2",
                                              "radial_coefficient_n_per_m2", "radial_immersion",
-                                             "milling_direction", "feed_per_tooth_mm"};
+                                             "milling_direction", "feed_per_tooth_mm", "flute_length_mm"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
@@ -532,7 +532,8 @@ constexpr std::string_view kProcessKeys[] = {"operation",
                                              "tangential_coefficient_n_per_m2",
                                              "radial_coefficient_n_per_m2",
                                              "radial_immersion",
-                                             "milling_direction"};
+                                             "milling_direction",
+                                             "flute_length_mm"};
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
@@ -541,7 +542,7 @@ void reject_keys_of(const Table& process, std::span<const std::string_view> keys
   }
 }
 
-Process read_process(const Table& root, std::optional<double>* feed_mm) {
+Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
   const auto process = root.table("process");
   if (!process) root.doc().fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
   process->reject_unknown(kProcessKeys);
@@ -579,6 +580,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm) {
       process->doc().fail(process->path_of("milling_direction"), *process->find("milling_direction"),
                           kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+    if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
     return Process::milling(p);
   }
   process->doc().fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
@@ -617,7 +619,7 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     const std::string stem = std::filesystem::path(doc.origin()).stem().string();
     config.name = stem.empty() ? doc.origin() : stem;
   }
-  config.process = read_process(root, &config.feed_mm);
+  config.process = read_process(root, &config.feed_mm, &config.flute_length_m);
   config.model.tool = read_body(root, "tool");
   config.model.workpiece = read_body(root, "workpiece");
   if (config.model.rigid())

@@ -29,6 +29,10 @@ struct Config {
   /// `[process] feed_per_rev_mm` (turning) or `feed_per_tooth_mm` (milling);
   /// absent: the command line's default (0.1 mm).
   std::optional<double> feed_mm;
+  /// Usable flute length of the milling cutter, m (`[process]
+  /// flute_length_mm`, milling only, > 0): `recommend` never proposes a
+  /// deeper cut, `check` warns about one. Absent: not known.
+  std::optional<double> flute_length_m;
 };
 
 /// Reads and validates a config file.
