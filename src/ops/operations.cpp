@@ -40,6 +40,10 @@ constexpr double kTieRelative = 1e-9;
 // steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
 // optimum then differ by up to ~1e-5.
 constexpr double kBindingRelative = 1e-5;
+// With a speed tolerance the optimum is bracketed to kRobustRelativeWidth
+// (1e-4 of the speed): on a flank of log-slope up to 10 crossing caps then
+// differ by up to 1e-3.
+constexpr double kRobustBindingRelative = 1e-3;
 // The recommendation searches limits up to this multiple of depth_max/safety,
 // so a limit near the tool's depth cap is still reported (and can co-bind).
 constexpr double kRecommendSearchFactor = 2.0;
@@ -347,10 +351,13 @@ constexpr std::size_t kMaxCandidates = 3;
 // at 10 000), far below a spindle's speed error; at tolerance 0 the optimum
 // is a cusp and the old kGoldenRelativeWidth (1e-8) applies.
 constexpr double kRobustRelativeWidth = 1e-4;
-// Lobe bottoms inside a band and pocket edges: 1e-5 of the speed. A bottom is
-// smooth (quadratic), so its value is then exact to ~1e-10 relative.
+// Lobe bottoms inside a band: 1e-5 of the speed; a bottom is smooth
+// (quadratic), so its value is then exact to ~1e-10 relative. Pocket edges:
+// 1e-4 of the speed (1 rev/min at 10 000; they are printed in whole rev/min).
 constexpr double kBottomRelativeWidth = 1e-5;
-constexpr double kEdgeRelativeWidth = 1e-5;
+constexpr double kEdgeRelativeWidth = 1e-4;
+// The band's two ends are balanced when their limits agree to this (relative).
+constexpr double kBalanceRelative = 1e-6;
 constexpr int kEdgeMaxIterations = 60;
 // Progress estimates (solves): a scan of a few lobes and its refinements per
 // process, the band and pocket searches per row; the reported fraction stops
@@ -514,13 +521,52 @@ class SpeedSearch {
     double best_x = scan_[cand.front()], best_f = band_min(best_x);
     for (std::size_t i : cand) {
       const double a = scan_[i == 0 ? 0 : i - 1], b = scan_[std::min(i + 1, scan_.size() - 1)];
-      const double x = maximize([&](double n) { return std::min(band_min(n), cap); }, a, b, rel);
+      double x = tol_ > 0.0 ? balance(a, b, rel) : 0.0;
+      if (!(x > 0.0)) x = maximize([&](double n) { return std::min(band_min(n), cap); }, a, b, rel);
       for (double y : {x, scan_[i]}) {
         const double fy = std::min(band_min(y), cap);
         if (fy > best_f) best_f = fy, best_x = y;
       }
     }
     return best_x;
+  }
+
+  // The band straddling a cusp is best placed where its two ends see the same
+  // limit: d(N) = g(N(1 − tol)) − g(N(1 + tol)) = 0, d < 0 left of it. Found
+  // by regula falsi (Illinois) in [a, b] when d changes sign there and the
+  // band's worst limit at the root is at its ends (no lobe bottom inside);
+  // else 0 (the caller falls back on golden-section search). ≈ 2 solves per
+  // step, superlinear on the smooth lobe flanks.
+  double balance(double a, double b, double rel) {
+    if (tol_ == 0.0) return 0.0;
+    auto d = [&](double n) {
+      const double l = g(n * (1.0 - tol_)), r = g(n * (1.0 + tol_));
+      if (!std::isfinite(l) || !std::isfinite(r)) return std::numeric_limits<double>::quiet_NaN();
+      return l - r;
+    };
+    double fa = d(a), fb = d(b);
+    if (!(fa < 0.0 && fb > 0.0)) return 0.0;
+    int side = 0;
+    double x = a;
+    for (int it = 0; it < kEdgeMaxIterations && (b - a) > rel * b; ++it) {
+      x = a - fa * (b - a) / (fb - fa);
+      if (!(x > a && x < b)) x = 0.5 * (a + b);
+      const double fx = d(x);
+      if (!std::isfinite(fx)) return 0.0;
+      if (fx == 0.0) break;
+      if (fx < 0.0) {
+        a = x, fa = fx;
+        if (side == -1) fb *= 0.5;
+        side = -1;
+      } else {
+        b = x, fb = fx;
+        if (side == +1) fa *= 0.5;
+        side = +1;
+      }
+      if (std::abs(fx) <= kBalanceRelative * g(x * (1.0 - tol_))) break;
+    }
+    const double ends = std::min(g(x * (1.0 - tol_)), g(x * (1.0 + tol_)));
+    return band_min(x) < ends ? 0.0 : x;
   }
 
  private:
@@ -1169,7 +1215,14 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
       if (better(c, best)) best = c, ib = i;
       return power_bound ? c.margin : c.objective;
     };
-    s.maximize(f, a, b, rel);
+    // Bound by stability or power near a cusp, the optimum is where the band's
+    // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
+    // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
+    // with N up to where stability takes over: golden-section search.
+    const bool stability_bound = at_point.depth == at_point.stab;
+    const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
+    if (x > 0.0) f(x);
+    else s.maximize(f, a, b, rel);
   }
 
   rec.spindle_rpm = best.rpm;
@@ -1190,7 +1243,8 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   rec.power_w = cm.power_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
   rec.mrr_m3_per_s = cm.mrr_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
   rec.mrr_per_diameter_m2_per_s = cm.mrr_per_diam_depth_rpm * rec.depth_m * rec.spindle_rpm;
-  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + kBindingRelative); };
+  const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
+  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
   if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
   if (binds(best.power)) rec.binding.push_back(Binding::kPower);
   if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
