@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <initializer_list>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -391,6 +392,13 @@ class SpeedSearch {
   /// Called after every exact solve (from worker threads during the scan).
   std::function<void()> on_solve;
   double g(double rpm) { return at(rpm).depth_limit_m; }
+  // Solves the speeds not cached yet in parallel (a band's two ends).
+  void prefetch(std::initializer_list<double> rpms) {
+    std::vector<double> todo;
+    for (double r : rpms)
+      if (!cache_.count(r) && std::find(todo.begin(), todo.end(), r) == todo.end()) todo.push_back(r);
+    if (todo.size() > 1 && threads_ != 1) solve_all(todo);
+  }
 
   // The scan over [rpm_min, rpm_max], evenly spaced in 1/rpm.
   void scan() {
@@ -453,6 +461,7 @@ class SpeedSearch {
   double band_min(double rpm) {
     if (tol_ == 0.0) return g(rpm);
     const double a = rpm * (1.0 - tol_), b = rpm * (1.0 + tol_);
+    prefetch({a, b});
     double m = std::min(g(a), g(b));
     const auto first = std::upper_bound(scan_.begin(), scan_.end(), a);
     for (auto it = first; it != scan_.end() && *it < b; ++it) {
@@ -540,10 +549,12 @@ class SpeedSearch {
   double balance(double a, double b, double rel) {
     if (tol_ == 0.0) return 0.0;
     auto d = [&](double n) {
+      prefetch({n * (1.0 - tol_), n * (1.0 + tol_)});
       const double l = g(n * (1.0 - tol_)), r = g(n * (1.0 + tol_));
       if (!std::isfinite(l) || !std::isfinite(r)) return std::numeric_limits<double>::quiet_NaN();
       return l - r;
     };
+    prefetch({a * (1.0 - tol_), a * (1.0 + tol_), b * (1.0 - tol_), b * (1.0 + tol_)});
     double fa = d(a), fb = d(b);
     if (!(fa < 0.0 && fb > 0.0)) return 0.0;
     int side = 0;
@@ -947,7 +958,7 @@ std::string CheckOptions::validate() const {
     os << "CheckOptions::search_depth_factor = " << search_depth_factor << ": must be > 1";
   else if (!(std::isfinite(search_depth_min_m) && search_depth_min_m > 0.0))
     os << "CheckOptions::search_depth_min_m = " << search_depth_min_m << ": must be > 0 m";
-  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "CheckOptions::speed_tolerance"); !t.empty())
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "CheckOptions::speed_tolerance x 100"); !t.empty())
     os << t;
   else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
     os << "CheckOptions::flute_length_m = " << *flute_length_m << ": must be > 0 m";
@@ -1077,7 +1088,7 @@ std::string RecommendOptions::validate() const {
     os << "cutting coefficient = " << *cutting_coefficient_n_per_m2 << " N/m²: must be > 0";
   else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
     os << "flute_length = " << *flute_length_m * 1e3 << " mm: must be > 0";
-  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "speed tolerance"); !t.empty())
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "speed tolerance x 100"); !t.empty())
     os << t;
   return os.str();
 }
