@@ -524,6 +524,8 @@ class SpeedSearch {
       const bool local = (i == 0 || est[i] >= est[i - 1]) && (i + 1 == scan_.size() || est[i] >= est[i + 1]);
       if (local && est[i] >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
     }
+    if (cand.empty())  // only with NaN estimates: the largest one
+      cand.push_back(static_cast<std::size_t>(std::max_element(est.begin(), est.end()) - est.begin()));
     std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return est[x] > est[y]; });
     if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
     const double rel = tol_ > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
@@ -1210,6 +1212,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
                        (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
     if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
   }
+  if (cand.empty()) cand.push_back(0);  // only with NaN objectives
   std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
   if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
   const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
