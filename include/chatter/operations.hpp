@@ -314,10 +314,13 @@ struct OperationCheck {
   StabilityLimit limit;             ///< exact, at op.spindle_rpm; +inf above search_depth_m
   bool stable = false;              ///< op.depth_m < limit.depth_limit_m
   double margin = 0.0;              ///< limit / depth; +inf when unbounded
-  /// Suggested speed in the machine range with the largest margin for the
-  /// same depth (exact limit there); empty when no speed in range is stable
-  /// at this depth ("none in range"). When the limit exceeds the searched
-  /// depth at several speeds (margin +inf), the one nearest op.spindle_rpm.
+  /// Suggested speed in the machine range with the largest worst margin
+  /// over its band speed × (1 ± options.speed_tolerance) for the same depth
+  /// (exact limit at the speed itself); empty when no speed in range is
+  /// stable over its whole band at this depth ("none in range"). When the
+  /// worst limit exceeds the searched depth at several speeds (margin +inf),
+  /// the scanned one nearest op.spindle_rpm (the row's own speed if its band
+  /// is such). With speed_tolerance 0: the largest exact margin (a cusp).
   std::optional<StabilityLimit> suggestion;
   double suggestion_margin = 0.0;   ///< suggestion limit / depth (+inf if unbounded)
   /// Worst margin (smallest limit / depth) over op.spindle_rpm × (1 ± tol):
