@@ -636,10 +636,12 @@ void expect_pocket_edges(const LobeSolver& ref, const SpeedPocket& p, double thr
   EXPECT_GE(p.pocket_max_rpm, std::min(n * (1.0 + p.speed_tolerance), rpm_max) * (1 - kEdgeRel));
   EXPECT_GT(ref.limit_at(p.pocket_min_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m);
   EXPECT_GT(ref.limit_at(p.pocket_max_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m);
-  if (p.pocket_min_rpm > rpm_min)
+  if (p.pocket_min_rpm > rpm_min) {
     EXPECT_LE(ref.limit_at(p.pocket_min_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_min_rpm;
-  if (p.pocket_max_rpm < rpm_max)
+  }
+  if (p.pocket_max_rpm < rpm_max) {
     EXPECT_LE(ref.limit_at(p.pocket_max_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_max_rpm;
+  }
 }
 
 TEST(RobustSpeed, CaseASuggestionLeavesTheCuspAndHoldsOverTheBand) {
@@ -735,7 +737,7 @@ TEST(RobustSpeed, TwoModeMillingCheckEqualsSdmPointAndHoldsOverTheBand) {
   ASSERT_EQ(rep.checks.size(), 2u);
   // The 17 mm row is deeper than the 16 mm flutes: a warning names it.
   bool warned = false;
-  for (const auto& w : rep.warnings) warned = warned || contains(w, "'too_long'") && contains(w, "flute length 16 mm");
+  for (const auto& w : rep.warnings) warned = warned || (contains(w, "'too_long'") && contains(w, "flute length 16 mm"));
   EXPECT_TRUE(warned);
   const auto ref = make_lobe_solver("sdm", cfg.model, cfg.process, 0.05);
   const OperationCheck& c = rep.checks[0];
