@@ -32,6 +32,28 @@ int main(void) {
   CHECK(chatter_lobe_table(solver, 50.0, 2000.0, 5, rows) == CHATTER_OK);
   for (i = 0; i < 5; ++i) CHECK(rows[i].bounded && rows[i].depth_limit_mm >= closed * (1 - 1e-9));
   CHECK(rows[0].spindle_rpm == 50.0 && rows[4].spindle_rpm == 2000.0);
+  {
+    /* Robust speed, case A at 2 mm, +/-2 %: every speed of the band (sampled
+       every 0.01 %) is stable and the pocket holds the band. */
+    chatter_robust_speed rs;
+    chatter_limit band;
+    double n, worst = HUGE_VAL;
+    int k;
+    CHECK(chatter_find_robust_speed(solver, 50.0, 2000.0, 2.0, 2.0, &rs) == CHATTER_OK);
+    CHECK(rs.found == 1 && rs.worst_margin > 1.0 && rs.speed_tolerance_pct == 2.0);
+    n = rs.limit.spindle_rpm;
+    CHECK(n >= 50.0 && n <= 2000.0 && fabs(n - 1922.2) > 19.0); /* not the cusp */
+    CHECK(rs.pocket_min_rpm <= n * 0.98 * (1 + 2e-4) && rs.pocket_max_rpm >= n * 1.02 * (1 - 2e-4));
+    for (k = 0; k <= 400; ++k) {
+      CHECK(chatter_limit_at(solver, n * (0.98 + 0.04 * k / 400.0), &band) == CHATTER_OK);
+      if (band.depth_limit_mm < worst) worst = band.depth_limit_mm;
+    }
+    CHECK(worst > 2.0 && rs.worst_limit_mm <= worst * (1 + 1e-9) && rs.worst_limit_mm >= worst * 0.99);
+    CHECK(chatter_find_robust_speed(solver, 50.0, 2000.0, 10.0, 2.0, &rs) == CHATTER_OK && rs.found == 0);
+    CHECK(chatter_find_robust_speed(solver, 50.0, 2000.0, 2.0, -1.0, &rs) == CHATTER_INPUT_ERROR);
+    CHECK(strstr(chatter_last_error(), "speed_tolerance_pct") != NULL);
+    CHECK(chatter_find_robust_speed(solver, 50.0, 2000.0, 2.0, 2.0, NULL) == CHATTER_NULL_ARGUMENT);
+  }
   chatter_solver_free(solver);
 
   /* Shallow search: unbounded everywhere. */

@@ -245,6 +245,16 @@ stiffness_n_per_m = 1e7
                                {"process.feed_per_tooth_mm", "must be a number"}));
 }
 
+TEST(ConfigValid, FluteLengthIsMillingOnlyPositiveAndInMetres) {
+  EXPECT_EQ(parse_config(Milling(kMillingKeys + "flute_length_mm = 16\n"), kOrigin).flute_length_m, 16e-3);
+  EXPECT_FALSE(parse_config(Milling(kMillingKeys), kOrigin).flute_length_m.has_value());
+  for (const char* bad : {"0", "-16"})
+    EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "flute_length_mm = " + bad + "\n"),
+                                 {kOrigin, "process.flute_length_mm", "> 0"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "flute_length_mm = \"long\"\n"),
+                               {"process.flute_length_mm", "must be a number"}));
+}
+
 TEST(ConfigValid, ExplicitName) {
   EXPECT_EQ(parse_config("name = \"lathe 3\"\n" + TurningWithToolMode(""), kOrigin).name, "lathe 3");
 }

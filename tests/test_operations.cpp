@@ -59,10 +59,32 @@ constexpr double kOptimumRelTol = 1e-3;
 // the depth as the exact minimum of the caps; only round-off separates them.
 constexpr double kConstraintRelTol = 1e-12;
 constexpr double kBindingRelTol = 1e-9;
+// The robust optimum is bracketed to 1e-4 of the speed; on a lobe flank of
+// log-slope up to 10 two caps crossing there differ by up to 1e-3.
+constexpr double kRobustBindingRelTol = 1e-3;
 // Milling mean torque: tooth-by-tooth average over 200 000 angle samples of
 // a piecewise-smooth integrand (jump at entry/exit): error ~1/N ≈ 1e-5.
 constexpr double kTorqueAverageRelTol = 1e-4;
 constexpr int kTorqueSamples = 200000;
+// Robust speeds: the band N(1 ± tol) is sampled densely, independently of
+// the library's search, at this many speeds.
+constexpr int kBandSamples = 801;
+// With sdm (≈ 20 ms a solve today) fewer: 2e-4 of the speed apart.
+constexpr int kBandSamplesSdm = 201;
+// Dense samples are ≥ the true band minimum; the library's worst limit (exact
+// band ends + refined lobe bottoms) may sit below them by what the sample
+// spacing (5e-5 of the speed) lets a steep flank fall: 1 % covers log-slopes
+// up to 200.
+constexpr double kWorstLimitRelTol = 1e-2;
+// Pocket edges are located to 1e-4 of the speed: 1e-3 outside an edge the
+// limit must be at or below the threshold, 1e-3 inside above it. When the
+// recommendation's stability binds, the pocket edges are the band's ends (to
+// that 1e-4, doubled for the robust optimum's own 1e-4 bracket).
+constexpr double kEdgeProbeRel = 1e-3;
+constexpr double kEdgeRel = 2e-4;
+// check vs point: the brief's 1 %, the solvers being the same the numbers
+// agree to the solver's own tolerance.
+constexpr double kCheckEqualsPointRel = 1e-2;
 // Random speeds at which the table's error bound is checked.
 constexpr int kRandomQueries = 3000;
 
@@ -213,6 +235,7 @@ TEST(Check, VerdictsMatchExactLimitsOnStableUnstableAndBorderlineOperations) {
       << "too_deep_anywhere,1000,6.0,,0.2\n";
   CheckOptions opt;
   opt.machine = range(50, 2000);
+  opt.speed_tolerance = 0.0;  // exact speed: the suggestion is the highest cusp
   const OperationsFile f = parse_operations(csv.str(), "mixed.csv", Operation::kTurning, opt.machine);
   ASSERT_TRUE(f.rejected.empty());
   const CheckReport rep = check_operations(cfg.model, cfg.process, f.rows, opt);
@@ -345,6 +368,7 @@ Scenario turning_scenario(double rpm_min, double rpm_max) {
   s.opt.feed_per_tooth_m = 0.2e-3;
   s.opt.diameter_m = 0.05;
   s.opt.depth_max_m = 0.02;
+  s.opt.speed_tolerance = 0.0;  // exact-speed optimum: the old behaviour these tests pin down
   return s;
 }
 
@@ -586,6 +610,174 @@ TEST(LobeTableQuery, SameTableWhateverTheThreadCount) {
   EXPECT_EQ(one.error_bound_m(), three.error_bound_m());
 }
 
+
+// ============================================================ robust speeds
+
+// Dense, independent check of a speed band: every sampled speed in
+// N(1 ± tol) has a limit above `threshold_m`; returns the smallest sample.
+double expect_band_stable(const LobeSolver& ref, double rpm, double tol, double threshold_m,
+                          int samples = kBandSamples) {
+  double worst = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < samples; ++i) {
+    const double n = rpm * (1.0 - tol + 2.0 * tol * i / (samples - 1));
+    const double lim = ref.limit_at(n).depth_limit_m;
+    worst = std::min(worst, lim);
+    EXPECT_GT(lim, threshold_m) << "at " << n << " rev/min (band of " << rpm << ")";
+  }
+  return worst;
+}
+
+// The pocket's edges are real: just inside above the threshold, just outside
+// (when inside the range) at or below it.
+void expect_pocket_edges(const LobeSolver& ref, const SpeedPocket& p, double threshold_m, double rpm_min,
+                         double rpm_max) {
+  const double n = p.limit.spindle_rpm;
+  EXPECT_LE(p.pocket_min_rpm, n * (1.0 - p.speed_tolerance) * (1 + kEdgeRel));
+  EXPECT_GE(p.pocket_max_rpm, std::min(n * (1.0 + p.speed_tolerance), rpm_max) * (1 - kEdgeRel));
+  EXPECT_GT(ref.limit_at(p.pocket_min_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m);
+  EXPECT_GT(ref.limit_at(p.pocket_max_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m);
+  if (p.pocket_min_rpm > rpm_min) {
+    EXPECT_LE(ref.limit_at(p.pocket_min_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_min_rpm;
+  }
+  if (p.pocket_max_rpm < rpm_max) {
+    EXPECT_LE(ref.limit_at(p.pocket_max_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_max_rpm;
+  }
+}
+
+TEST(RobustSpeed, CaseASuggestionLeavesTheCuspAndHoldsOverTheBand) {
+  // Regression: every row of case A was sent to the 1 922.2 rev/min cusp,
+  // where ±1 % of speed error loses a third of the limit.
+  const Config cfg = case_a();
+  CheckOptions opt;
+  opt.machine = range(50, 2000);
+  const std::string csv = "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"
+                          "rough_1,1800,2.5,,0.25\nrough_2,1200,2.0,,0.25\nface,600,1.2,,0.20\n";
+  const OperationsFile f = parse_operations(csv, "a.csv", Operation::kTurning, opt.machine);
+  const CheckReport rep = check_operations(cfg.model, cfg.process, f.rows, opt);
+  const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.1);
+  for (const auto& c : rep.checks) {
+    SCOPED_TRACE(c.op.id);
+    ASSERT_TRUE(c.suggestion.has_value());
+    ASSERT_TRUE(c.suggestion_pocket.has_value());
+    const SpeedPocket& p = *c.suggestion_pocket;
+    const double n = c.suggestion->spindle_rpm;
+    EXPECT_GT(std::abs(n - 1922.2), 0.01 * 1922.2) << "still on the cusp";
+    EXPECT_DOUBLE_EQ(p.speed_tolerance, kDefaultSpeedTolerance);
+    const double dense = expect_band_stable(*ref, n, p.speed_tolerance, c.op.depth_m);
+    EXPECT_LE(p.worst_limit_m, dense * (1 + kSameRootRelTol));
+    EXPECT_GE(p.worst_limit_m, dense * (1 - kWorstLimitRelTol));
+    EXPECT_DOUBLE_EQ(p.worst_margin, p.worst_limit_m / c.op.depth_m);
+    expect_pocket_edges(*ref, p, c.op.depth_m, 50, 2000);
+    // The verdict is still the exact limit at the row's own speed.
+    EXPECT_NEAR(c.limit.depth_limit_m, ref->limit_at(c.op.spindle_rpm).depth_limit_m,
+                kSameRootRelTol * c.limit.depth_limit_m);
+    // The row's own worst margin: no larger than its exact-speed margin.
+    EXPECT_LE(c.worst_margin, c.margin * (1 + kSameRootRelTol));
+  }
+  // The exact-speed cusp loses: its band minimum is below the suggestion's.
+  double cusp_band = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kBandSamples; ++i)
+    cusp_band = std::min(cusp_band, ref->limit_at(1922.2 * (0.98 + 0.04 * i / (kBandSamples - 1))).depth_limit_m);
+  EXPECT_LT(cusp_band, rep.checks[0].suggestion_pocket->worst_limit_m);
+}
+
+TEST(RobustSpeed, TurningRecommendationsSurviveTheSpeedError) {
+  // Regression: a recommended turning speed sat on a cusp where +0.6 % chatters.
+  for (const char* file : {"seed_turning_1dof.toml", "coupled_tool1_workpiece1.toml", "coupled_tool2_workpiece2.toml"}) {
+    SCOPED_TRACE(file);
+    const Config cfg = load_config(config_path(file));
+    RecommendOptions o;
+    o.machine = range(cfg.sweep.rpm_min.value(), cfg.sweep.rpm_max.value());
+    o.feed_per_tooth_m = 0.2e-3;
+    o.depth_max_m = 0.05;
+    const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.2);
+    const Recommendation r = recommend(cfg.model, cfg.process, o);
+    const double threshold = r.depth_m / o.safety;
+    EXPECT_GE(ref->limit_at(r.spindle_rpm * 1.006).depth_limit_m, threshold);
+    EXPECT_GE(ref->limit_at(r.spindle_rpm * 0.994).depth_limit_m, threshold);
+    const double dense = expect_band_stable(*ref, r.spindle_rpm, o.speed_tolerance, threshold * (1 - kBindingRelTol));
+    EXPECT_LE(r.pocket.worst_limit_m, dense * (1 + kSameRootRelTol));
+    EXPECT_GE(r.pocket.worst_margin, 1.0 / o.safety * (1 - kBindingRelTol));
+    expect_pocket_edges(*ref, r.pocket, threshold * (1 - kBindingRelTol), o.machine.rpm_min, o.machine.rpm_max);
+    // The exact-speed optimum (tolerance 0) is a cusp: the test above would
+    // fail there for at least one side of +-0.6 %.
+    RecommendOptions exact = o;
+    exact.speed_tolerance = 0.0;
+    const Recommendation e = recommend(cfg.model, cfg.process, exact);
+    const double te = e.depth_m / o.safety;
+    EXPECT_LT(std::min(ref->limit_at(e.spindle_rpm * 1.006).depth_limit_m,
+                       ref->limit_at(e.spindle_rpm * 0.994).depth_limit_m), te);
+  }
+}
+
+TEST(RobustSpeed, LibraryFunctionAndItsRules) {
+  const Config cfg = case_a();
+  const auto solver = make_lobe_solver("analytic", cfg.model, cfg.process, 0.02);
+  const auto p = robust_speed(*solver, 50, 2000, 2.0e-3, 0.03);
+  ASSERT_TRUE(p.has_value());
+  const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.1);
+  expect_band_stable(*ref, p->limit.spindle_rpm, 0.03, 2.0e-3);
+  expect_pocket_edges(*ref, *p, 2.0e-3, 50, 2000);
+  EXPECT_FALSE(robust_speed(*solver, 50, 2000, 6.0e-3, 0.03).has_value());  // deeper than every limit
+  EXPECT_THROW(robust_speed(*solver, 50, 2000, 1e-3, -0.01), InputError);
+  EXPECT_THROW(robust_speed(*solver, 50, 2000, 1e-3, 0.5), InputError);
+  EXPECT_THROW(robust_speed(*solver, 2000, 50, 1e-3, 0.02), InputError);
+}
+
+TEST(RobustSpeed, TwoModeMillingCheckEqualsSdmPointAndHoldsOverTheBand) {
+  if (!has_lobe_method("sdm")) GTEST_SKIP() << "no sdm in this build";
+  const Config cfg = load_config(fs::path(CHATTER_SOURCE_DIR) / "examples/operations/two_mode_half_up.toml");
+  CheckOptions opt;
+  opt.machine = range(5000, 25000);
+  opt.flute_length_m = cfg.flute_length_m;
+  const std::string csv = "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"
+                          "rough,12000,3.0,,0.05\ntoo_long,15000,17.0,,0.05\n";
+  const OperationsFile f = parse_operations(csv, "m.csv", Operation::kMilling, opt.machine);
+  const CheckReport rep = check_operations(cfg.model, cfg.process, f.rows, opt);
+  ASSERT_EQ(rep.checks.size(), 2u);
+  // The 17 mm row is deeper than the 16 mm flutes: a warning names it.
+  bool warned = false;
+  for (const auto& w : rep.warnings) warned = warned || (contains(w, "'too_long'") && contains(w, "flute length 16 mm"));
+  EXPECT_TRUE(warned);
+  const auto ref = make_lobe_solver("sdm", cfg.model, cfg.process, 0.05);
+  const OperationCheck& c = rep.checks[0];
+  EXPECT_EQ(c.method, "sdm");
+  const double point = ref->limit_at(12000).depth_limit_m;
+  EXPECT_NEAR(c.limit.depth_limit_m, point, kCheckEqualsPointRel * point);
+  ASSERT_TRUE(c.suggestion_pocket.has_value());
+  expect_band_stable(*ref, c.suggestion->spindle_rpm, kDefaultSpeedTolerance, c.op.depth_m, kBandSamplesSdm);
+}
+
+TEST(RobustSpeed, FluteLengthCapsTheRecommendedDepth) {
+  const Config cfg = load_config(fs::path(CHATTER_SOURCE_DIR) / "examples/operations/two_mode_half_up.toml");
+  ASSERT_TRUE(cfg.flute_length_m.has_value());
+  EXPECT_DOUBLE_EQ(*cfg.flute_length_m, 16e-3);
+  RecommendOptions o;
+  o.machine = range(5000, 25000);
+  o.feed_per_tooth_m = 0.05e-3;
+  o.diameter_m = 16e-3;
+  o.depth_max_m = 0.05;
+  o.method = "analytic";  // fast; the cap does not depend on the solver
+  const Recommendation free = recommend(cfg.model, cfg.process, o);
+  ASSERT_TRUE(has(free, Binding::kStability)) << bindings(free);
+  // A cutter shorter than that depth: the flutes bind, never exceeded.
+  o.flute_length_m = 0.5 * free.depth_m;
+  const Recommendation capped = recommend(cfg.model, cfg.process, o);
+  EXPECT_LE(capped.depth_m, *o.flute_length_m);
+  EXPECT_TRUE(has(capped, Binding::kFluteLength)) << bindings(capped);
+  EXPECT_FALSE(has(capped, Binding::kDepthMax)) << bindings(capped);
+  // MRR = N × flute grows with speed up to where stability takes over, so
+  // stability co-binds at the optimum (within the robust search's 1e-3).
+  EXPECT_NEAR(capped.depth_m, *o.flute_length_m, kRobustBindingRelTol * capped.depth_m);
+  // --depth-max-mm smaller than the flutes: depth_max binds instead.
+  o.depth_max_m = 0.4 * free.depth_m;
+  const Recommendation shallow = recommend(cfg.model, cfg.process, o);
+  EXPECT_TRUE(has(shallow, Binding::kDepthMax)) << bindings(shallow);
+  EXPECT_FALSE(has(shallow, Binding::kFluteLength)) << bindings(shallow);
+  o.flute_length_m = 0.0;
+  EXPECT_THROW(recommend(cfg.model, cfg.process, o), InputError);
+}
+
 // ================================================================== CLI
 
 class OperationsCli : public ::testing::Test {
@@ -723,6 +915,89 @@ TEST_F(OperationsCli, RecommendExplainsAndWritesJson) {
                        "--tool-diameter-mm", "10"});
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(contains(bad.err, "--tool-diameter-mm: only for milling")) << bad.err;
+}
+
+
+TEST_F(OperationsCli, CheckEqualsPointOnShippedConfigs) {
+  // One row per shipped config at a speed inside its range; `chatter point`
+  // with the method check resolved to must give the same limit (1 %).
+  struct Case { std::string cfg; double rpm, depth_mm; std::string method; };
+  const std::string src = CHATTER_SOURCE_DIR;
+  std::vector<Case> cases = {{config_path("seed_turning_1dof.toml").string(), 1500, 1.0, "analytic"},
+                             {config_path("coupled_tool1_workpiece1.toml").string(), 4000, 1.0, "analytic"},
+                             {config_path("coupled_tool2_workpiece2.toml").string(), 7000, 1.0, "analytic"}};
+  if (has_lobe_method("sdm")) {
+    cases.push_back({config_path("milling_benchmark_ae005_down.toml").string(), 12000, 1.0, "sdm"});
+    cases.push_back({src + "/examples/operations/two_mode_half_up.toml", 15000, 2.0, "sdm"});
+  }
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.cfg);
+    std::ostringstream row;
+    row << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nr," << c.rpm << "," << c.depth_mm << ",,\n";
+    const fs::path ops = write("ops.csv", row.str());
+    const Run chk = run({"check", c.cfg, "--operations", ops.string(), "--json", "-", "--quiet"});
+    ASSERT_TRUE(chk.code == 0 || chk.code == 3) << chk.out << chk.err;
+    const auto j = nlohmann::json::parse(chk.out);
+    const auto& op = j["operations"][0];
+    EXPECT_EQ(op["method"], c.method);
+    const Run pt = run({"point", c.cfg, "--rpm", std::to_string(c.rpm), "--depth-mm", std::to_string(c.depth_mm),
+                        "--method", c.method});
+    ASSERT_EQ(pt.code == 0 || pt.code == 3, true) << pt.out << pt.err;
+    const auto jp = nlohmann::json::parse(pt.out);
+    ASSERT_FALSE(op["depth_limit_mm"].is_null());
+    const double a = op["depth_limit_mm"].get<double>(), b = jp["depth_limit_mm"].get<double>();
+    EXPECT_NEAR(a, b, kCheckEqualsPointRel * b) << "check " << a << " point " << b;
+    // The suggestion carries its band and pocket.
+    if (!op["suggestion"].is_null()) {
+      EXPECT_EQ(op["suggestion"]["speed_tolerance_pct"], 2.0);
+      EXPECT_LE(op["suggestion"]["pocket_min_rpm"].get<double>(), op["suggestion"]["spindle_rpm"].get<double>());
+      EXPECT_GE(op["suggestion"]["pocket_max_rpm"].get<double>(), op["suggestion"]["spindle_rpm"].get<double>());
+      EXPECT_GT(op["suggestion"]["worst_margin"].get<double>(), 1.0);
+    }
+  }
+}
+
+TEST_F(OperationsCli, BadToleranceAndFluteLengthExitTwoNamingTheOptionOrKey) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  const fs::path ops = write("ops.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\n");
+  Run r = run({"check", cfg, "--operations", ops.string(), "--speed-tolerance-pct", "-1"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "--speed-tolerance-pct = -1: must be >= 0 and < 50")) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  r = run({"recommend", cfg, "--feed-per-tooth-mm", "0.2", "--speed-tolerance-pct", "50"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "--speed-tolerance-pct = 50")) << r.err;
+  const std::string milling = slurp(fs::path(CHATTER_SOURCE_DIR) / "examples/operations/two_mode_half_up.toml");
+  for (const std::string bad : {"0", "-16"}) {
+    std::string text = milling;
+    text.replace(text.find("flute_length_mm = 16"), 20, "flute_length_mm = " + bad);
+    const fs::path c = write("bad.toml", text);
+    r = run({"recommend", c.string(), "--feed-per-tooth-mm", "0.05", "--method", "analytic"});
+    EXPECT_EQ(r.code, 2) << r.out << r.err;
+    EXPECT_TRUE(contains(r.err, "process.flute_length_mm")) << r.err;
+    EXPECT_TRUE(contains(r.err, "> 0")) << r.err;
+  }
+  // A turning config has no flutes.
+  std::string turning = slurp(config_path("seed_turning_1dof.toml"));
+  turning.replace(turning.find("[process]"), 9, "[process]\nflute_length_mm = 10");
+  const fs::path t = write("turn.toml", turning);
+  r = run({"recommend", t.string(), "--feed-per-tooth-mm", "0.2"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "process.flute_length_mm")) << r.err;
+}
+
+TEST_F(OperationsCli, RecommendNeverExceedsTheFluteLength) {
+  // The 16 mm cutter of the example was once asked 17.3 mm.
+  const fs::path js = dir_ / "rec.json";
+  const Run r = run({"recommend", CHATTER_SOURCE_DIR + std::string("/examples/operations/two_mode_half_up.toml"),
+                     "--feed-per-tooth-mm", "0.05", "--tool-diameter-mm", "16", "--method", "analytic",
+                     "--speed-tolerance-pct", "0", "--json", js.string()});
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_LE(j["depth_mm"].get<double>(), 16.0 * (1 + 1e-12));
+  EXPECT_EQ(j["inputs"]["flute_length_mm"], 16.0);
+  EXPECT_EQ(j["depth_caps_mm"]["flute_length"], 16.0);
+  EXPECT_TRUE(contains(r.out, "Speed band +/-0.0 %")) << r.out;
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
  *
  * Thread safety: a chatter_model and a chatter_solver are immutable once
  * created; any number of threads may call chatter_limit_at /
- * chatter_lobe_table on the same solver at once. Creating and freeing are
+ * chatter_lobe_table / chatter_find_robust_speed on the same solver at once. Creating and freeing are
  * not synchronised: do not free a handle another thread is using.
  */
 #ifndef CHATTER_CHATTER_H
@@ -77,6 +77,28 @@ chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm
  * entries. */
 chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, double rpm_max, int points,
                                   chatter_limit* rows);
+
+/* A robust spindle speed: the one in [rpm_min, rpm_max] whose worst limit
+ * over spindle_rpm * (1 +/- speed_tolerance_pct/100) is largest (a spindle
+ * never runs exactly at its set speed), and the stable pocket around it at
+ * depth_mm. */
+typedef struct chatter_robust_speed {
+  chatter_limit limit;          /* exact at the chosen speed (limit.spindle_rpm) */
+  double speed_tolerance_pct;   /* as asked */
+  double worst_limit_mm;        /* smallest limit over the band; HUGE_VAL: none below the searched depth */
+  double worst_margin;          /* worst_limit_mm / depth_mm (> 1) */
+  double pocket_min_rpm;        /* the connected interval around the speed where limit > depth, */
+  double pocket_max_rpm;        /* searched inside [rpm_min, rpm_max] (an end: the pocket goes on) */
+  int found;                    /* 1: set; 0: no speed in range is stable over the whole band */
+} chatter_robust_speed;
+
+/* The robust speed for a cut depth_mm deep (> 0), 0 <= speed_tolerance_pct
+ * < 50 (0: the highest cusp, held exactly). A few tens of solves plus about
+ * 8 per lobe in the range. out->found = 0 (and CHATTER_OK) when no speed is
+ * stable over the whole band at that depth. */
+chatter_status chatter_find_robust_speed(const chatter_solver* solver, double rpm_min, double rpm_max,
+                                         double depth_mm, double speed_tolerance_pct,
+                                         chatter_robust_speed* out);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -175,8 +176,56 @@ class LobeTableQuery {
 /// (rpm_min + rpm_max)/2 with depth_limit_m = +inf.
 StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table);
 
-/// Table options for locating optima (check suggestions, recommendation):
-/// relative_tolerance 1e-2, the rest default.
+// ========================================================= robust speeds
+
+/// Default speed tolerance of check and recommend: a spindle holds its set
+/// speed to about ±1–2 % under load, and the model is not exact either.
+inline constexpr double kDefaultSpeedTolerance = 0.02;
+
+/// A spindle speed with the stability around it: the pocket and the worst
+/// limit the spindle meets when its speed is off by up to ± tolerance.
+struct SpeedPocket {
+  StabilityLimit limit;            ///< exact at limit.spindle_rpm (+inf above the searched depth)
+  double speed_tolerance = 0.0;    ///< fraction (0.02 = ±2 %)
+  /// Smallest exact limit over [N(1 − tol), N(1 + tol)], m (the band may
+  /// reach past the machine range: the spindle's error does not stop there);
+  /// +inf when none is below the searched depth anywhere in the band.
+  double worst_limit_m = 0.0;
+  double worst_margin = 0.0;       ///< worst_limit_m / depth (+inf if unbounded)
+  /// The connected speed interval around N where the limit exceeds the
+  /// threshold depth (the depth itself in check, depth / safety in
+  /// recommend), rev/min, searched inside the machine range: an edge equal
+  /// to rpm_min or rpm_max means the pocket reaches the end of the range.
+  double pocket_min_rpm = 0.0, pocket_max_rpm = 0.0;
+};
+
+/// The speed in [rpm_min, rpm_max] whose worst limit over ± speed_tolerance is
+/// largest (with speed_tolerance = 0: the highest point of the envelope, a
+/// cusp), and its pocket at `depth_m`. Empty when even that worst limit is
+/// not above depth_m (no speed in range is stable over the whole band).
+///
+/// Method (docs/operations.md): a scan evenly spaced in 1/rpm — 24 solves,
+/// then ≈ 8 per lobe, the lobe count from the lobe numbers of the first 24
+/// (at most 2 000 solves) — ranks the speeds by the worst limit in their band;
+/// the best (and any other within 10 %, at most 3) is refined by
+/// golden-section search on exact solves (bracket 1e-4 of the speed, 1e-8 at
+/// tolerance 0). The worst limit in a band is the smaller end value or a
+/// lobe bottom inside (found by golden-section minimisation between scan
+/// points); pocket edges by bracketed regula falsi (Illinois) to 1e-5 of the
+/// speed. Cost: the scan plus ≈ 40–80 solves.
+/// @pre 0 < rpm_min < rpm_max, depth_m > 0, 0 <= speed_tolerance < 0.5.
+/// @throws InputError on a violated precondition.
+std::optional<SpeedPocket> robust_speed(const LobeSolver& solver, double rpm_min, double rpm_max, double depth_m,
+                                        double speed_tolerance = kDefaultSpeedTolerance, unsigned threads = 1);
+
+/// Checks a speed tolerance (a fraction); "" when valid, else the rule with
+/// `name` (the option or field) in percent, e.g.
+/// "--speed-tolerance-pct = -1: must be >= 0 and < 50 (percent)".
+std::string validate_speed_tolerance(double speed_tolerance, const std::string& name);
+
+/// Table options for locating optima on a table: relative_tolerance 1e-2,
+/// the rest default (≈ 1 200 sdm solves on case C; check and recommend no
+/// longer build a table, see robust_speed()).
 inline LobeTableQueryOptions coarse_table() {
   LobeTableQueryOptions o;
   o.relative_tolerance = 1e-2;
@@ -239,13 +288,20 @@ struct CheckOptions {
   /// search_depth_min_m). A limit above it is reported as +inf (margin +inf).
   double search_depth_factor = 4.0;
   double search_depth_min_m = 0.02;
-  /// Table used to locate the suggested speed (the suggestion itself is then
-  /// refined with exact solves): 1 % is enough to find the highest cusp and
-  /// keeps an `sdm` table to ~1 200 solves (≈ 4 s for case C).
-  LobeTableQueryOptions table = coarse_table();
-  /// Threads for the tables and the per-row solves (0 = every core); the
-  /// report is the same whatever the count. Overrides table.threads.
+  /// Speed error the suggestion must tolerate, a fraction in [0, 0.5): the
+  /// suggested speed maximises the worst limit over ± this (robust_speed()).
+  /// 0: the old exact-speed behaviour (the highest cusp).
+  double speed_tolerance = kDefaultSpeedTolerance;
+  /// Usable flute length of the cutter, m (milling; empty = not known): a
+  /// row deeper than it gets a warning.
+  std::optional<double> flute_length_m;
+  /// Threads for the scans and the per-row solves (0 = every core); the
+  /// report is the same whatever the count.
   unsigned threads = 1;
+  /// Called with an estimate of the fraction of the work done (0..1; 1 at
+  /// the end) after every exact solve, from worker threads: keep it cheap and
+  /// thread-safe. For a progress bar; may be empty.
+  std::function<void(double)> progress;
 
   std::string validate() const;
 };
@@ -258,12 +314,21 @@ struct OperationCheck {
   StabilityLimit limit;             ///< exact, at op.spindle_rpm; +inf above search_depth_m
   bool stable = false;              ///< op.depth_m < limit.depth_limit_m
   double margin = 0.0;              ///< limit / depth; +inf when unbounded
-  /// Suggested speed in the machine range with the largest margin for the
-  /// same depth (exact limit there); empty when no speed in range is stable
-  /// at this depth ("none in range"). When the limit exceeds the searched
-  /// depth at several speeds (margin +inf), the one nearest op.spindle_rpm.
+  /// Suggested speed in the machine range with the largest worst margin
+  /// over its band speed × (1 ± options.speed_tolerance) for the same depth
+  /// (exact limit at the speed itself); empty when no speed in range is
+  /// stable over its whole band at this depth ("none in range"). When the
+  /// worst limit exceeds the searched depth at several speeds (margin +inf),
+  /// the scanned one nearest op.spindle_rpm (the row's own speed if its band
+  /// is such). With speed_tolerance 0: the largest exact margin (a cusp).
   std::optional<StabilityLimit> suggestion;
   double suggestion_margin = 0.0;   ///< suggestion limit / depth (+inf if unbounded)
+  /// Worst margin (smallest limit / depth) over op.spindle_rpm × (1 ± tol):
+  /// below 1 the row is stable only if the spindle holds its speed exactly.
+  double worst_margin = 0.0;
+  /// The suggestion's band and pocket (worst_margin there; pocket edges at
+  /// this row's depth); set whenever `suggestion` is.
+  std::optional<SpeedPocket> suggestion_pocket;
 };
 
 struct CheckReport {
@@ -272,9 +337,12 @@ struct CheckReport {
   std::size_t unstable() const;
 };
 
-/// Checks every row (see OperationCheck). One solver and one lobe table per
-/// distinct (immersion, teeth, direction). Cost: per distinct process one
-/// table (≈ 400–2 000 solves), per row one exact solve.
+/// Checks every row (see OperationCheck). One solver and one robust speed
+/// search per distinct (immersion, teeth, direction); per row one exact solve
+/// at its speed (the verdict), the worst limit over its speed band and the
+/// pocket edges of the suggestion. Cost: per distinct process the scan of
+/// robust_speed() (≈ 24 + 8 per lobe solves) and ≈ 30 refining solves, per
+/// row ≈ 10–30 solves.
 /// @throws InputError on invalid options or an unknown method.
 CheckReport check_operations(const StructuralModel& model, const Process& process,
                              const std::vector<OperationRow>& rows, const CheckOptions& options);
@@ -292,8 +360,14 @@ struct RecommendOptions {
   /// m³/s; without it MRR is reported per metre of diameter.
   double diameter_m = 0.0;
   /// Deepest cut the tool allows, m (> 0); also sets the depth searched
-  /// (2 × depth_max_m / safety).
+  /// (2 × min(depth_max_m, flute_length_m) / safety).
   double depth_max_m = 0.05;
+  /// Usable flute length of the cutter, m (milling; > 0; empty = not known):
+  /// the depth never exceeds it (Binding::kFluteLength).
+  std::optional<double> flute_length_m;
+  /// Speed error the recommendation must tolerate, a fraction in [0, 0.5):
+  /// depth ≤ safety × the worst limit over spindle_rpm × (1 ± tol).
+  double speed_tolerance = kDefaultSpeedTolerance;
   /// Turning only: specific cutting force K_c (N/m²) in the mean cutting
   /// force F_c = K_c·b·f. Empty: the config's feed-force coefficient K_f
   /// (the only coefficient a turning config has; with a force angle θ the
@@ -301,10 +375,10 @@ struct RecommendOptions {
   /// underestimated — a warning says so).
   std::optional<double> cutting_coefficient_n_per_m2;
   std::string method = "auto";
-  /// Table whose exact points are the speeds scanned (see CheckOptions::table).
-  LobeTableQueryOptions table = coarse_table();
-  /// Threads for the table (0 = every core); overrides table.threads.
+  /// Threads for the scan (0 = every core); the result does not depend on it.
   unsigned threads = 1;
+  /// Progress callback as in CheckOptions (may be empty).
+  std::function<void(double)> progress;
 
   std::string validate() const;
 };
@@ -316,8 +390,9 @@ enum class Binding {
   kTorque,      ///< mean torque = max_torque
   kDepthMax,    ///< depth = the tool's depth_max
   kSpeedRange,  ///< speed at rpm_min or rpm_max and MRR would grow beyond it
+  kFluteLength, ///< depth = the cutter's usable flute length
 };
-/// "stability", "power", "torque", "depth_max", "speed_range".
+/// "stability", "power", "torque", "depth_max", "speed_range", "flute_length".
 std::string to_string(Binding b);
 
 struct Recommendation {
@@ -333,6 +408,11 @@ struct Recommendation {
   double depth_power_m = 0.0;
   double depth_torque_m = 0.0;
   double depth_cap_m = 0.0;        ///< options.depth_max_m
+  double depth_flute_m = 0.0;      ///< options.flute_length_m (+inf when not given)
+  /// Stability over the speed band: worst_limit_m is the smallest limit over
+  /// spindle_rpm × (1 ± tol), worst_margin = worst_limit / depth (>= 1/safety),
+  /// pocket edges where safety × limit >= depth.
+  SpeedPocket pocket;
   /// Mean cutting force (N), torque (N·m), power (W); NaN without a diameter.
   double force_n = 0.0, torque_n_m = 0.0, power_w = 0.0;
   /// Material removal rate, m³/s (NaN without a diameter) and per metre of
@@ -350,11 +430,12 @@ struct Recommendation {
 ///   turning:  F_c = K_c b f,  T = F_c D/2,  P = F_c π D N/60,  MRR = b f π D N/60;
 ///   milling:  T = (D/2)(N_t/2π) K_t a f_z (cos φ_en − cos φ_ex),  P = T·2πN/60,
 ///             MRR = a (a_e/D·D) f_z N_t N/60   (so P = K_t·MRR).
-/// For each speed the depth is the smallest cap; MRR is maximised over the
-/// exact points of a LobeTableQuery (refined at the lobe cusps where the
-/// optimum lies), then by golden-section search between the best point's
-/// neighbours. Ties in MRR (power-bound: MRR = P_max/K is then the same at
-/// every speed) go to the largest stability margin.
+/// For each speed the depth is the smallest cap, the stability cap being
+/// safety × the worst limit over the speed band N(1 ± speed_tolerance); MRR is
+/// maximised over the scan of robust_speed() (evenly spaced in 1/rpm, ≈ 8
+/// solves per lobe), then by golden-section search on exact solves between
+/// the best scan points' neighbours. Ties in MRR (power-bound: MRR = P_max/K
+/// is then the same at every speed) go to the largest worst margin.
 /// @throws InputError on invalid options, or on a power/torque limit without
 ///         a diameter.
 Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options);

@@ -12,6 +12,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/operations.hpp"
 #include "chatter/transfer_function.hpp"
 
 struct chatter_model {
@@ -117,6 +118,32 @@ chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, 
     if (!(rpm_max > rpm_min)) throw chatter::InputError("chatter_lobe_table: rpm_max must be > rpm_min");
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, points);
     for (std::size_t i = 0; i < speeds.size(); ++i) rows[i] = to_c(solver->solver->limit_at(speeds[i]));
+  });
+}
+
+chatter_status chatter_find_robust_speed(const chatter_solver* solver, double rpm_min, double rpm_max,
+                                         double depth_mm, double speed_tolerance_pct,
+                                         chatter_robust_speed* out) {
+  if (!solver || !out)
+    return fail(CHATTER_NULL_ARGUMENT, "chatter_find_robust_speed: solver and out must not be NULL");
+  return guarded([&] {
+    if (const std::string e = chatter::validate_speed_tolerance(speed_tolerance_pct / 100.0,
+                                                                "chatter_find_robust_speed: speed_tolerance_pct");
+        !e.empty())
+      throw chatter::InputError(e);
+    const auto p = chatter::robust_speed(*solver->solver, rpm_min, rpm_max, depth_mm * 1e-3,
+                                         speed_tolerance_pct / 100.0);
+    chatter_robust_speed r{};
+    r.speed_tolerance_pct = speed_tolerance_pct;
+    r.found = p ? 1 : 0;
+    if (p) {
+      r.limit = to_c(p->limit);
+      r.worst_limit_mm = std::isfinite(p->worst_limit_m) ? p->worst_limit_m * 1e3 : HUGE_VAL;
+      r.worst_margin = std::isfinite(p->worst_margin) ? p->worst_margin : HUGE_VAL;
+      r.pocket_min_rpm = p->pocket_min_rpm;
+      r.pocket_max_rpm = p->pocket_max_rpm;
+    }
+    *out = r;
   });
 }
 

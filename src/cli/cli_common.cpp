@@ -200,23 +200,26 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
   return b;
 }
 
-Progress::Progress(const po::variables_map& vm, std::size_t total, std::string label)
+Progress::Progress(const po::variables_map& vm, std::size_t total, std::string label, double show_after_s)
     : enabled_(vm.count("quiet") == 0 && ::isatty(STDERR_FILENO) == 1 && total > 1),
       total_(total),
       label_(std::move(label)),
       start_(std::chrono::steady_clock::now()),
-      last_(start_) {}
+      last_(start_),
+      show_after_(show_after_s) {}
 
 Progress::~Progress() {
-  if (enabled_) std::cerr << "\r\033[K" << std::flush;  // clear the line
+  if (enabled_ && shown_) std::cerr << "\r\033[K" << std::flush;  // clear the line
 }
 
 void Progress::tick(std::size_t done) {
   if (!enabled_) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const auto now = std::chrono::steady_clock::now();
-  if (done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
+  if (now - start_ < show_after_) return;
+  if (shown_ && done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
   last_ = now;
+  shown_ = true;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double frac = static_cast<double>(done) / static_cast<double>(total_);
   const double left = frac > 0 ? elapsed * (1 - frac) / frac : 0.0;

@@ -90,10 +90,11 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
 unsigned thread_count(const po::variables_map& vm);
 
 /// A progress bar with the time left, on stderr, only when stderr is a
-/// terminal and --quiet is not given. Safe to tick from worker threads.
+/// terminal and --quiet is not given, and only once `show_after_s` seconds
+/// have passed (short runs stay silent). Safe to tick from worker threads.
 class Progress {
  public:
-  Progress(const po::variables_map& vm, std::size_t total, std::string label);
+  Progress(const po::variables_map& vm, std::size_t total, std::string label, double show_after_s = 0.0);
   ~Progress();
   void tick(std::size_t done);
 
@@ -104,6 +105,8 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::chrono::steady_clock::time_point last_;
+  std::chrono::duration<double> show_after_;
+  bool shown_ = false;
 };
 
 }  // namespace chatter::cli

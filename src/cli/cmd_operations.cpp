@@ -54,6 +54,18 @@ MachineLimits machine_range(const po::variables_map& vm, const Config& cfg) {
   return m;
 }
 
+// --speed-tolerance-pct (default 2 %) as a fraction. @throws InputError.
+double speed_tolerance(const po::variables_map& vm) {
+  const double pct = vm["speed-tolerance-pct"].as<double>();
+  if (const std::string e = validate_speed_tolerance(pct / 100.0, "--speed-tolerance-pct"); !e.empty())
+    throw InputError(e);
+  return pct / 100.0;
+}
+
+// The progress bar of check and recommend: on a terminal, after a second.
+constexpr double kProgressAfterS = 1.0;
+constexpr std::size_t kProgressSteps = 1000;
+
 std::string fixed(double x, int digits) {
   if (std::isinf(x)) return "inf";
   if (std::isnan(x)) return "-";
@@ -82,6 +94,14 @@ std::string text_table(const std::vector<std::vector<std::string>>& rows) {
   return os.str();
 }
 
+json pocket_json(const SpeedPocket& p) {
+  return {{"speed_tolerance_pct", p.speed_tolerance * 100.0},
+          {"worst_limit_mm", finite_or_null(p.worst_limit_m * 1e3)},
+          {"worst_margin", finite_or_null(p.worst_margin)},
+          {"pocket_min_rpm", p.pocket_min_rpm},
+          {"pocket_max_rpm", p.pocket_max_rpm}};
+}
+
 json limit_json(const StabilityLimit& l) {
   return {{"spindle_rpm", l.spindle_rpm},
           {"depth_limit_mm", l.bounded() ? json(l.depth_limit_m * 1e3) : json(nullptr)},
@@ -105,8 +125,11 @@ and one operation per line:
 milling_direction empty for turning; feed_per_tooth_mm may be empty.)
 For each operation: stable?, margin = depth limit / depth (> 1 is stable; 'inf'
 = no chatter below max(4 x depth, 20 mm)), chatter frequency and lobe, and a
-suggested spindle speed in [rpm-min, rpm-max] where the same depth is stable
-with the largest margin ('none' if no speed in range is stable at that depth).
+suggested spindle speed in [rpm-min, rpm-max] where the same depth stays
+stable with the largest worst margin while the speed is off by up to
++/- --speed-tolerance-pct (default 2 %), with its stable pocket (edges in
+rev/min); 'none' if no speed in range is stable over the whole band.
+worst_margin is the smallest margin over the row's own speed band.
 Rows that cannot be read are listed with their line number and reason; the
 other rows are still checked.
 
@@ -130,7 +153,9 @@ int cmd_check(const std::vector<std::string>& args) {
       ("rpm-min", po::value<double>(), "machine's lowest spindle speed, rev/min (default: sweep.rpm_min)")
       ("rpm-max", po::value<double>(), "machine's highest spindle speed, rev/min (default: sweep.rpm_max)")
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
-      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it");
+      ("speed-tolerance-pct", po::value<double>()->default_value(2.0, "2"), "speed error the suggestion must tolerate, % in [0, 50) (0 = exact speed: the lobe's cusp)")
+      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
+      ("quiet,q", "no progress bar");
   po::variables_map vm;
   if (!parse(args, kCheckUsage, d, common, vm)) return 0;
   const Config cfg = load_checked(common);
@@ -138,14 +163,21 @@ int cmd_check(const std::vector<std::string>& args) {
   opt.machine = machine_range(vm, cfg);
   opt.method = method;
   opt.threads = thread_count(vm);
+  opt.speed_tolerance = speed_tolerance(vm);
+  opt.flute_length_m = cfg.flute_length_m;
   resolve_lobe_method(cfg.process, method, nullptr);  // unknown method: fail before reading the file
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
-  const CheckReport report = check_operations(cfg.model, cfg.process, file.rows, opt);
+  CheckReport report;
+  {
+    Progress bar(vm, kProgressSteps, "check", kProgressAfterS);
+    opt.progress = [&](double f) { bar.tick(static_cast<std::size_t>(f * kProgressSteps)); };
+    report = check_operations(cfg.model, cfg.process, file.rows, opt);
+  }
 
   const bool milling = cfg.process.operation() == Operation::kMilling;
   std::vector<std::vector<std::string>> t;
-  t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "chatter_hz", "lobe",
-               "suggest_rpm", "limit_there_mm", "margin_there"});
+  t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "worst_margin", "chatter_hz", "lobe",
+               "suggest_rpm", "limit_there_mm", "worst_margin_there", "pocket_rpm"});
   if (milling) t.front().insert(t.front().begin() + 4, "a_e/D");
   for (const auto& c : report.checks) {
     std::vector<std::string> r = {c.op.id,
@@ -155,14 +187,17 @@ int cmd_check(const std::vector<std::string>& args) {
                                   c.limit.bounded() ? fixed(c.limit.depth_limit_m * 1e3, 4) : "inf",
                                   fixed(c.margin, 3),
                                   c.stable ? "stable" : "UNSTABLE",
+                                  fixed(c.worst_margin, 3),
                                   c.limit.bounded() ? fixed(c.limit.chatter_frequency_hz, 1) : "-",
                                   c.limit.bounded() ? std::to_string(c.limit.lobe) : "-"};
     if (c.suggestion) {
       r.push_back(fixed(c.suggestion->spindle_rpm, 1));
       r.push_back(c.suggestion->bounded() ? fixed(c.suggestion->depth_limit_m * 1e3, 4) : "inf");
-      r.push_back(fixed(c.suggestion_margin, 3));
+      const SpeedPocket& p = *c.suggestion_pocket;
+      r.push_back(fixed(p.worst_margin, 3));
+      r.push_back(fixed(p.pocket_min_rpm, 0) + "-" + fixed(p.pocket_max_rpm, 0));
     } else {
-      r.insert(r.end(), {"none", "-", "-"});
+      r.insert(r.end(), {"none", "-", "-", "-"});
     }
     if (milling) {
       const double ae = c.op.radial_immersion.value_or(cfg.process.milling_parameters().radial_immersion);
@@ -201,6 +236,8 @@ int cmd_check(const std::vector<std::string>& args) {
     j["warnings"] = cfg.warnings;  // the config's plausibility warnings, then the check's
     for (const auto& w : report.warnings) j["warnings"].push_back(w);
     j["search_depth_rule"] = "max(4 x depth_mm, 20 mm)";
+    j["speed_tolerance_pct"] = opt.speed_tolerance * 100.0;
+    j["flute_length_mm"] = opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr);
     json ops = json::array();
     for (const auto& c : report.checks) {
       json o = {{"id", c.op.id},
@@ -213,6 +250,7 @@ int cmd_check(const std::vector<std::string>& args) {
                 {"depth_limit_mm", c.limit.bounded() ? json(c.limit.depth_limit_m * 1e3) : json(nullptr)},
                 {"searched_depth_mm", c.search_depth_m * 1e3},
                 {"margin", finite_or_null(c.margin)},
+                {"worst_margin", finite_or_null(c.worst_margin)},
                 {"chatter_frequency_hz", c.limit.bounded() ? json(c.limit.chatter_frequency_hz) : json(nullptr)},
                 {"lobe", c.limit.bounded() ? json(c.limit.lobe) : json(nullptr)}};
       if (milling) {
@@ -224,6 +262,7 @@ int cmd_check(const std::vector<std::string>& args) {
       if (c.suggestion) {
         json s = limit_json(*c.suggestion);
         s["margin"] = finite_or_null(c.suggestion_margin);
+        s.update(pocket_json(*c.suggestion_pocket));
         o["suggestion"] = s;
       } else {
         o["suggestion"] = nullptr;
@@ -257,7 +296,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
       ("max-power-kw", po::value<double>(), "spindle power available for cutting, kW (default: no limit)")
       ("max-torque-nm", po::value<double>(), "spindle torque available for cutting, N*m (default: no limit)")
       ("safety", po::value<double>(&safety)->default_value(0.8, "0.8"), "use at most this fraction of the depth limit, in (0, 1]")
-      ("depth-max-mm", po::value<double>(), "deepest cut the tool allows, mm (default: sweep.depth_max_mm or 50)")
+      ("depth-max-mm", po::value<double>(), "deepest cut the tool allows, mm (default: sweep.depth_max_mm or 50); milling: also process.flute_length_mm caps the depth")
+      ("speed-tolerance-pct", po::value<double>()->default_value(2.0, "2"), "speed error the recommendation must tolerate, % in [0, 50): depth <= safety x the worst limit over the band")
       ("tool-diameter-mm", po::value<double>(), "milling: tool diameter, mm (needed for power, torque and MRR)")
       ("workpiece-diameter-mm", po::value<double>(), "turning: workpiece diameter at the cut, mm (needed for power, torque and MRR)")
       ("tangential-coefficient-n-per-m2", po::value<double>(), "turning: specific cutting force K_c for power and torque, N/m^2 (default: the config's K_f, which underestimates them)")
@@ -266,14 +306,17 @@ int cmd_recommend(const std::vector<std::string>& args) {
       ("milling-direction", po::value<std::string>(), "milling: 'down' or 'up' (default: the config's)")
       ("json", po::value<std::string>(&json_path), "also write every number as JSON to this file ('-': standard output, the explanation then goes to standard error)")
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
-      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it");
+      ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
+      ("quiet,q", "no progress bar");
   po::variables_map vm;
   if (!parse(args,
              "Usage: chatter recommend CONFIG --feed-per-tooth-mm F [options]\n\n"
              "Finds the spindle speed in [rpm-min, rpm-max] and the depth of cut that remove the most\n"
              "material (MRR) while the depth stays below safety x the stability limit and the mean\n"
              "cutting power and torque stay within the spindle's. Explains which limit binds\n"
-             "(stability, power, torque, depth_max, speed_range), the margin and the MRR.\n"
+             "(stability, power, torque, depth_max, flute_length, speed_range), the margin and the MRR.\n"
+             "The speed is robust: the depth stays below safety x the worst limit while the speed is\n"
+             "off by up to +/- --speed-tolerance-pct; the stable pocket around it is reported.\n"
              "Mean cutting force: turning F_c = K_c b f; milling from K_t a h(phi) averaged over the\n"
              "engagement (docs/operations.md).\n"
              "Output: the explanation on standard output; --json adds every number.\n"
@@ -313,6 +356,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
     opt.cutting_coefficient_n_per_m2 = positive("tangential-coefficient-n-per-m2");
   opt.method = method;
   opt.threads = thread_count(vm);
+  opt.speed_tolerance = speed_tolerance(vm);
+  if (milling) opt.flute_length_m = cfg.flute_length_m;
 
   Process process = cfg.process;
   if (milling) {
@@ -336,7 +381,12 @@ int cmd_recommend(const std::vector<std::string>& args) {
     }
     process = process_for(cfg.process, row);
   }
-  const Recommendation r = recommend(cfg.model, process, opt);
+  Recommendation r;
+  {
+    Progress bar(vm, kProgressSteps, "recommend", kProgressAfterS);
+    opt.progress = [&](double f) { bar.tick(static_cast<std::size_t>(f * kProgressSteps)); };
+    r = recommend(cfg.model, process, opt);
+  }
   const std::string text = explain(r, opt);
 
   if (!json_path.empty()) {
@@ -352,6 +402,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
                    {"feed_per_tooth_mm", opt.feed_per_tooth_m * 1e3},
                    {"safety", opt.safety},
                    {"depth_max_mm", opt.depth_max_m * 1e3},
+                   {"flute_length_mm", opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr)},
+                   {"speed_tolerance_pct", opt.speed_tolerance * 100.0},
                    {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)}};
     if (milling) {
       const auto& mp = process.milling_parameters();
@@ -367,7 +419,9 @@ int cmd_recommend(const std::vector<std::string>& args) {
     j["depth_caps_mm"] = {{"stability", finite_or_null(r.depth_stability_m * 1e3)},
                           {"power", finite_or_null(r.depth_power_m * 1e3)},
                           {"torque", finite_or_null(r.depth_torque_m * 1e3)},
-                          {"depth_max", finite_or_null(r.depth_cap_m * 1e3)}};
+                          {"depth_max", finite_or_null(r.depth_cap_m * 1e3)},
+                          {"flute_length", finite_or_null(r.depth_flute_m * 1e3)}};
+    j["speed_band"] = pocket_json(r.pocket);
     json b = json::array();
     for (auto x : r.binding) b.push_back(to_string(x));
     j["binding"] = b;

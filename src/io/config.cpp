@@ -929,7 +929,8 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "radial_coefficient_n_per_mm2",
                                              "radial_immersion",
                                              "milling_direction",
-                                             "feed_per_tooth_mm"};
+                                             "feed_per_tooth_mm",
+                                             "flute_length_mm"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
@@ -944,7 +945,8 @@ constexpr std::string_view kProcessKeys[] = {"operation",
                                              "radial_coefficient_n_per_m2",
                                              "radial_coefficient_n_per_mm2",
                                              "radial_immersion",
-                                             "milling_direction"};
+                                             "milling_direction",
+                                             "flute_length_mm"};
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
@@ -960,7 +962,7 @@ Given read_coefficient(const Table& process, const Quantity& q, const Range& ran
   return g;
 }
 
-Process read_process(const Table& root, std::optional<double>* feed_mm) {
+Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
   const auto process = root.table("process");
   const Document& doc = root.doc();
   if (!process) doc.fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
@@ -1003,6 +1005,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm) {
     else
       doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+    if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
     stop_if_errors_since(doc, mark);
     if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
     p.teeth = *teeth;
@@ -1096,7 +1099,7 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     const std::string stem = std::filesystem::path(doc.origin()).stem().string();
     config.name = stem.empty() ? doc.origin() : stem;
   }
-  attempt_void([&] { config.process = read_process(root, &config.feed_mm); });
+  attempt_void([&] { config.process = read_process(root, &config.feed_mm, &config.flute_length_m); });
   const std::size_t before_bodies = doc.error_count();
   attempt_void([&] { config.model.tool = read_body(root, "tool"); });
   attempt_void([&] { config.model.workpiece = read_body(root, "workpiece"); });

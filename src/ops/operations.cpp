@@ -3,6 +3,8 @@
 #include "chatter/operations.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <initializer_list>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -39,6 +41,10 @@ constexpr double kTieRelative = 1e-9;
 // steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
 // optimum then differ by up to ~1e-5.
 constexpr double kBindingRelative = 1e-5;
+// With a speed tolerance the optimum is bracketed to kRobustRelativeWidth
+// (1e-4 of the speed): on a flank of log-slope up to 10 crossing caps then
+// differ by up to 1e-3.
+constexpr double kRobustBindingRelative = 1e-3;
 // The recommendation searches limits up to this multiple of depth_max/safety,
 // so a limit near the tool's depth cap is still reported (and can co-bind).
 constexpr double kRecommendSearchFactor = 2.0;
@@ -325,6 +331,362 @@ StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table)
   return top;
 }
 
+// ========================================================= robust speeds
+
+namespace {
+
+// Scan: kScanStart solves evenly spaced in 1/rpm, then each interval is
+// divided so that every lobe gets about kScanPointsPerLobe points (the lobe
+// count from the spread of lobe numbers of the first scan), at most
+// kScanMaxPoints in all. 8 points per lobe locate every cusp and lobe bottom
+// to 1/16 of a lobe; the refinements below work from there.
+constexpr int kScanStart = 24;
+constexpr double kScanPointsPerLobe = 8.0;
+constexpr int kScanMaxPoints = 2000;
+// Refined candidates: every local maximum of the scanned objective within
+// kCandidateSpread (relative) of the best, at most kMaxCandidates (two
+// pockets of nearly equal height are both refined).
+constexpr double kCandidateSpread = 0.1;
+constexpr std::size_t kMaxCandidates = 3;
+// Golden-section bracket for a robust optimum: 1e-4 of the speed (1 rev/min
+// at 10 000), far below a spindle's speed error; at tolerance 0 the optimum
+// is a cusp and the old kGoldenRelativeWidth (1e-8) applies.
+constexpr double kRobustRelativeWidth = 1e-4;
+// Lobe bottoms inside a band: 1e-5 of the speed; a bottom is smooth
+// (quadratic), so its value is then exact to ~1e-10 relative. Pocket edges:
+// 1e-4 of the speed (1 rev/min at 10 000; they are printed in whole rev/min).
+constexpr double kBottomRelativeWidth = 1e-5;
+constexpr double kEdgeRelativeWidth = 1e-4;
+// The band's two ends are balanced when their limits agree to this (relative).
+constexpr double kBalanceRelative = 1e-6;
+constexpr int kEdgeMaxIterations = 60;
+// Progress estimates (solves): a scan of a few lobes and its refinements per
+// process, the band and pocket searches per row; the reported fraction stops
+// at kProgressCeiling until the work is done.
+constexpr std::size_t kProgressSolvesPerProcess = 150;
+constexpr std::size_t kProgressSolvesPerRow = 30;
+constexpr double kProgressCeiling = 0.99;
+
+// Exact solves of one solver, cached by speed, with the scan and the band
+// and pocket searches built on them. Not thread-safe itself; the scan solves
+// in parallel.
+class SpeedSearch {
+ public:
+  SpeedSearch(const LobeSolver& solver, double rpm_min, double rpm_max, double tol, unsigned threads)
+      : solver_(solver), lo_(rpm_min), hi_(rpm_max), tol_(tol), dmax_(solver.depth_max_m()), threads_(threads) {}
+
+  double tolerance() const { return tol_; }
+  double rpm_min() const { return lo_; }
+  double rpm_max() const { return hi_; }
+  std::size_t solves() const { return solves_; }
+
+  const StabilityLimit& at(double rpm) {
+    auto it = cache_.find(rpm);
+    if (it == cache_.end()) {
+      it = cache_.emplace(rpm, solver_.limit_at(rpm)).first;
+      ++solves_;
+      if (on_solve) on_solve();
+    }
+    return it->second;
+  }
+  /// Called after every exact solve (from worker threads during the scan).
+  std::function<void()> on_solve;
+  double g(double rpm) { return at(rpm).depth_limit_m; }
+  // Solves the speeds not cached yet in parallel (a band's two ends).
+  void prefetch(std::initializer_list<double> rpms) {
+    std::vector<double> todo;
+    for (double r : rpms)
+      if (!cache_.count(r) && std::find(todo.begin(), todo.end(), r) == todo.end()) todo.push_back(r);
+    if (todo.size() > 1 && threads_ != 1) solve_all(todo);
+  }
+
+  // The scan over [rpm_min, rpm_max], evenly spaced in 1/rpm.
+  void scan() {
+    const double u_lo = 1.0 / hi_, u_hi = 1.0 / lo_;
+    auto grid = [&](int n) {
+      std::vector<double> r(static_cast<std::size_t>(n));
+      for (int i = 0; i < n; ++i)
+        r[static_cast<std::size_t>(i)] =
+            i == 0 ? hi_ : i == n - 1 ? lo_ : 1.0 / (u_lo + (u_hi - u_lo) * static_cast<double>(i) / (n - 1));
+      return r;
+    };
+    solve_all(grid(kScanStart));
+    int lobe_lo = std::numeric_limits<int>::max(), lobe_hi = std::numeric_limits<int>::min();
+    for (const auto& [rpm, l] : cache_)
+      if (l.bounded()) {
+        lobe_lo = std::min(lobe_lo, l.lobe);
+        lobe_hi = std::max(lobe_hi, l.lobe);
+      }
+    const double lobes = lobe_hi >= lobe_lo ? static_cast<double>(lobe_hi - lobe_lo + 1) : 1.0;
+    const double want = std::min(kScanPointsPerLobe * lobes + 1.0, static_cast<double>(kScanMaxPoints));
+    const int split = static_cast<int>(std::ceil((want - 1.0) / (kScanStart - 1)));  // sub-intervals per interval
+    if (split > 1) {
+      const std::vector<double> all = grid((kScanStart - 1) * split + 1);
+      std::vector<double> extra;
+      for (std::size_t i = 0; i < all.size(); ++i)
+        if (i % static_cast<std::size_t>(split) != 0) extra.push_back(all[i]);
+      solve_all(extra);
+    }
+    for (const auto& [rpm, l] : cache_) scan_.push_back(rpm);  // ascending speed
+  }
+  const std::vector<double>& scan_speeds() const { return scan_; }
+
+  // Linear interpolation of min(limit, cap) in 1/rpm between scanned speeds
+  // (clamped to the scan's ends): the cheap estimate used for ranking.
+  double g_scan(double rpm, double cap) {
+    cap = std::min(cap, dmax_);
+    if (rpm <= scan_.front()) return std::min(g(scan_.front()), cap);
+    if (rpm >= scan_.back()) return std::min(g(scan_.back()), cap);
+    const auto it = std::upper_bound(scan_.begin(), scan_.end(), rpm);
+    const double b = *it, a = *(it - 1);
+    const double ga = std::min(g(a), cap), gb = std::min(g(b), cap);
+    const double w = (1.0 / rpm - 1.0 / a) / (1.0 / b - 1.0 / a);
+    return ga + w * (gb - ga);
+  }
+  // Scan estimate of the worst limit over the band of `rpm` (no solves).
+  double band_min_scan(double rpm, double cap) {
+    cap = std::min(cap, dmax_);
+    const double a = rpm * (1.0 - tol_), b = rpm * (1.0 + tol_);
+    double m = std::min(g_scan(a, cap), g_scan(b, cap));
+    for (auto it = std::upper_bound(scan_.begin(), scan_.end(), a); it != scan_.end() && *it < b; ++it)
+      m = std::min(m, std::min(g(*it), cap));
+    return m;
+  }
+
+  // Exact worst limit over [rpm(1 − tol), rpm(1 + tol)]: the band's ends, the
+  // scanned speeds inside, and the refined bottom of every lobe whose scanned
+  // minimum lies inside (between a scan point's two neighbours; the bottom
+  // itself is used only if it lies inside the band — outside it, the limit
+  // is monotone towards the band's end, which is already counted).
+  double band_min(double rpm) {
+    if (tol_ == 0.0) return g(rpm);
+    const double a = rpm * (1.0 - tol_), b = rpm * (1.0 + tol_);
+    prefetch({a, b});
+    double m = std::min(g(a), g(b));
+    const auto first = std::upper_bound(scan_.begin(), scan_.end(), a);
+    for (auto it = first; it != scan_.end() && *it < b; ++it) {
+      const double gi = g(*it);
+      m = std::min(m, gi);
+      if (!std::isfinite(gi) || it == scan_.begin() || it + 1 == scan_.end()) continue;
+      if (gi <= g(*(it - 1)) && gi <= g(*(it + 1))) {  // a scanned lobe bottom
+        const auto [x, gx] = bottom(*(it - 1), *(it + 1));
+        if (x > a && x < b) m = std::min(m, gx);
+      }
+    }
+    return m;
+  }
+
+  // Golden-section maximisation of f on [a, b] down to `rel` of the speed;
+  // returns the best evaluated point.
+  template <class F>
+  double maximize(F&& f, double a, double b, double rel) {
+    const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+    double x1 = b - r * (b - a), x2 = a + r * (b - a);
+    double f1 = f(x1), f2 = f(x2);
+    double best_x = f1 >= f2 ? x1 : x2, best_f = std::max(f1, f2);
+    for (int it = 0; it < kGoldenMaxIterations && (b - a) > rel * b; ++it) {
+      if (f1 >= f2) {
+        b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
+      } else {
+        a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
+      }
+      if (f1 > best_f) best_f = f1, best_x = x1;
+      if (f2 > best_f) best_f = f2, best_x = x2;
+    }
+    return best_x;
+  }
+
+  // Edges of the connected interval around `rpm` (where limit > threshold is
+  // known) in which the limit stays above `threshold`, inside the range.
+  std::pair<double, double> pocket(double rpm, double threshold) {
+    return {edge(rpm, threshold, -1), edge(rpm, threshold, +1)};
+  }
+
+  // The robust optimum: the speed in range maximising band_min (capped at
+  // `cap`: above it every speed is as good, then the one nearest `near`).
+  double best(double cap, double near) {
+    cap = std::min(cap, dmax_);  // limits are below depth_max or +inf
+    std::vector<double> est(scan_.size());
+    for (std::size_t i = 0; i < scan_.size(); ++i) est[i] = band_min_scan(scan_[i], cap);
+    const double top = *std::max_element(est.begin(), est.end());
+    if (top >= cap) {  // speeds with no limit below the cap: the nearest one that holds exactly
+      std::vector<std::size_t> idx;
+      for (std::size_t i = 0; i < scan_.size(); ++i)
+        if (est[i] >= cap) idx.push_back(i);
+      std::sort(idx.begin(), idx.end(), [&](std::size_t x, std::size_t y) {
+        return std::abs(scan_[x] - near) < std::abs(scan_[y] - near);
+      });
+      for (std::size_t k = 0; k < std::min(idx.size(), kMaxCandidates); ++k)
+        if (band_min(scan_[idx[k]]) >= cap) return scan_[idx[k]];
+    }
+    std::vector<std::size_t> cand;
+    for (std::size_t i = 0; i < scan_.size(); ++i) {
+      const bool local = (i == 0 || est[i] >= est[i - 1]) && (i + 1 == scan_.size() || est[i] >= est[i + 1]);
+      if (local && est[i] >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+    }
+    if (cand.empty())  // only with NaN estimates: the largest one
+      cand.push_back(static_cast<std::size_t>(std::max_element(est.begin(), est.end()) - est.begin()));
+    std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return est[x] > est[y]; });
+    if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
+    const double rel = tol_ > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
+    double best_x = scan_[cand.front()], best_f = band_min(best_x);
+    for (std::size_t i : cand) {
+      const double a = scan_[i == 0 ? 0 : i - 1], b = scan_[std::min(i + 1, scan_.size() - 1)];
+      double x = tol_ > 0.0 ? balance(a, b, rel) : 0.0;
+      if (!(x > 0.0)) x = maximize([&](double n) { return std::min(band_min(n), cap); }, a, b, rel);
+      for (double y : {x, scan_[i]}) {
+        const double fy = std::min(band_min(y), cap);
+        if (fy > best_f) best_f = fy, best_x = y;
+      }
+    }
+    return best_x;
+  }
+
+  // The band straddling a cusp is best placed where its two ends see the same
+  // limit: d(N) = g(N(1 − tol)) − g(N(1 + tol)) = 0, d < 0 left of it. Found
+  // by regula falsi (Illinois) in [a, b] when d changes sign there and the
+  // band's worst limit at the root is at its ends (no lobe bottom inside);
+  // else 0 (the caller falls back on golden-section search). ≈ 2 solves per
+  // step, superlinear on the smooth lobe flanks.
+  double balance(double a, double b, double rel) {
+    if (tol_ == 0.0) return 0.0;
+    auto d = [&](double n) {
+      prefetch({n * (1.0 - tol_), n * (1.0 + tol_)});
+      const double l = g(n * (1.0 - tol_)), r = g(n * (1.0 + tol_));
+      if (!std::isfinite(l) || !std::isfinite(r)) return std::numeric_limits<double>::quiet_NaN();
+      return l - r;
+    };
+    prefetch({a * (1.0 - tol_), a * (1.0 + tol_), b * (1.0 - tol_), b * (1.0 + tol_)});
+    double fa = d(a), fb = d(b);
+    if (!(fa < 0.0 && fb > 0.0)) return 0.0;
+    int side = 0;
+    double x = a;
+    for (int it = 0; it < kEdgeMaxIterations && (b - a) > rel * b; ++it) {
+      x = a - fa * (b - a) / (fb - fa);
+      if (!(x > a && x < b)) x = 0.5 * (a + b);
+      const double fx = d(x);
+      if (!std::isfinite(fx)) return 0.0;
+      if (fx == 0.0) break;
+      if (fx < 0.0) {
+        a = x, fa = fx;
+        if (side == -1) fb *= 0.5;
+        side = -1;
+      } else {
+        b = x, fb = fx;
+        if (side == +1) fa *= 0.5;
+        side = +1;
+      }
+      if (std::abs(fx) <= kBalanceRelative * g(x * (1.0 - tol_))) break;
+    }
+    const double ends = std::min(g(x * (1.0 - tol_)), g(x * (1.0 + tol_)));
+    return band_min(x) < ends ? 0.0 : x;
+  }
+
+ private:
+  void solve_all(const std::vector<double>& rpms) {
+    std::vector<StabilityLimit> lims(rpms.size());
+    parallel_for(rpms.size(), threads_, [&](std::size_t i) {
+      lims[i] = solver_.limit_at(rpms[i]);
+      if (on_solve) on_solve();
+    });
+    for (std::size_t i = 0; i < rpms.size(); ++i) cache_.emplace(rpms[i], lims[i]);
+    solves_ += rpms.size();
+  }
+
+  // Golden-section minimum of the limit on [a, b] (memoised per bracket).
+  std::pair<double, double> bottom(double a, double b) {
+    const auto key = std::make_pair(a, b);
+    if (const auto it = bottoms_.find(key); it != bottoms_.end()) return it->second;
+    const double x = maximize([&](double n) { return -g(n); }, a, b, kBottomRelativeWidth);
+    return bottoms_[key] = {x, g(x)};
+  }
+
+  // The pocket edge on side `dir` (−1 lower, +1 upper) of `rpm`.
+  double edge(double rpm, double threshold, int dir) {
+    auto above = [&](double n) { return g(n) > threshold; };
+    const double end = dir < 0 ? lo_ : hi_;
+    // Walk the scanned speeds outwards to the first one at or below the threshold.
+    double inside = rpm, outside = end;
+    bool found = false;
+    if (dir > 0) {
+      for (auto it = std::upper_bound(scan_.begin(), scan_.end(), rpm); it != scan_.end(); ++it) {
+        if (!above(*it)) { outside = *it; found = true; break; }
+        inside = *it;
+      }
+    } else {
+      for (auto it = std::lower_bound(scan_.begin(), scan_.end(), rpm); it != scan_.begin();) {
+        --it;
+        if (!above(*it)) { outside = *it; found = true; break; }
+        inside = *it;
+      }
+    }
+    if (!found) return end;
+    // Regula falsi (Illinois) on limit − threshold, in 1/rpm; an infinite
+    // limit is handled by bisection.
+    double fi = g(inside) - threshold, fo = g(outside) - threshold;
+    int side = 0;
+    for (int it = 0; it < kEdgeMaxIterations && std::abs(outside - inside) > kEdgeRelativeWidth * inside; ++it) {
+      const double ui = 1.0 / inside, uo = 1.0 / outside;
+      double u = std::isfinite(fi) ? uo - fo * (uo - ui) / (fo - fi) : 0.5 * (ui + uo);
+      const double lo_u = std::min(ui, uo), hi_u = std::max(ui, uo);
+      if (!(u > lo_u && u < hi_u)) u = 0.5 * (ui + uo);
+      const double x = 1.0 / u, fx = g(x) - threshold;
+      if (fx > 0.0) {
+        inside = x, fi = fx;
+        if (side == +1) fo *= 0.5;
+        side = +1;
+      } else {
+        outside = x, fo = fx;
+        if (side == -1 && std::isfinite(fi)) fi *= 0.5;
+        side = -1;
+      }
+    }
+    return inside;
+  }
+
+  const LobeSolver& solver_;
+  double lo_, hi_, tol_, dmax_;
+  unsigned threads_;
+  std::map<double, StabilityLimit> cache_;
+  std::map<std::pair<double, double>, std::pair<double, double>> bottoms_;
+  std::vector<double> scan_;
+  std::size_t solves_ = 0;
+};
+
+SpeedPocket make_pocket(SpeedSearch& s, double rpm, double depth_m, double threshold_m) {
+  SpeedPocket p;
+  p.limit = s.at(rpm);
+  p.speed_tolerance = s.tolerance();
+  p.worst_limit_m = s.band_min(rpm);
+  p.worst_margin = p.worst_limit_m / depth_m;
+  if (s.g(rpm) > threshold_m) std::tie(p.pocket_min_rpm, p.pocket_max_rpm) = s.pocket(rpm, threshold_m);
+  else p.pocket_min_rpm = p.pocket_max_rpm = rpm;
+  return p;
+}
+
+}  // namespace
+
+std::string validate_speed_tolerance(double tol, const std::string& name) {
+  if (std::isfinite(tol) && tol >= 0.0 && tol < 0.5) return "";
+  return name + " = " + num(tol * 100.0) + ": must be >= 0 and < 50 (percent)";
+}
+
+std::optional<SpeedPocket> robust_speed(const LobeSolver& solver, double rpm_min, double rpm_max, double depth_m,
+                                        double speed_tolerance, unsigned threads) {
+  if (!(std::isfinite(rpm_min) && rpm_min > 0.0 && std::isfinite(rpm_max) && rpm_max > rpm_min))
+    throw InputError("robust_speed: speed range [" + num(rpm_min) + ", " + num(rpm_max) +
+                     "] rev/min: need 0 < rpm_min < rpm_max");
+  if (!(std::isfinite(depth_m) && depth_m > 0.0))
+    throw InputError("robust_speed: depth = " + num(depth_m * 1e3) + " mm: must be > 0");
+  if (const std::string e = validate_speed_tolerance(speed_tolerance, "robust_speed: speed tolerance"); !e.empty())
+    throw InputError(e);
+  SpeedSearch s(solver, rpm_min, rpm_max, speed_tolerance, threads);
+  s.scan();
+  const double n = s.best(kInf, 0.5 * (rpm_min + rpm_max));
+  if (!(s.band_min(n) > depth_m)) return std::nullopt;
+  return make_pocket(s, n, depth_m, depth_m);
+}
+
 // ===================================================== operations file
 
 namespace {
@@ -598,7 +960,10 @@ std::string CheckOptions::validate() const {
     os << "CheckOptions::search_depth_factor = " << search_depth_factor << ": must be > 1";
   else if (!(std::isfinite(search_depth_min_m) && search_depth_min_m > 0.0))
     os << "CheckOptions::search_depth_min_m = " << search_depth_min_m << ": must be > 0 m";
-  else if (const std::string t = table.validate(); !t.empty()) os << t;
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "CheckOptions::speed_tolerance x 100"); !t.empty())
+    os << t;
+  else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
+    os << "CheckOptions::flute_length_m = " << *flute_length_m << ": must be > 0 m";
   return os.str();
 }
 
@@ -614,14 +979,12 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
     return std::max(options.search_depth_factor * r.depth_m, options.search_depth_min_m);
   };
 
-  // One solver, table and best speed per distinct process.
+  // One solver and one speed search per distinct process.
   struct Group {
     Process process = Process::turning({1.0});
     std::string method;
     double depth_max_m = 0.0;
-    std::unique_ptr<LobeSolver> solver;
-    std::unique_ptr<LobeTableQuery> table;
-    StabilityLimit best;
+    std::vector<std::size_t> rows;
   };
   using Key = std::tuple<double, int, int>;
   auto key_of = [&](const OperationRow& r) -> Key {
@@ -630,9 +993,10 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
     return {r.radial_immersion.value_or(m.radial_immersion), r.teeth.value_or(m.teeth),
             static_cast<int>(r.direction.value_or(m.direction))};
   };
-  std::map<Key, Group> groups;
-  for (const auto& r : rows) {
-    Group& g = groups[key_of(r)];
+  std::map<Key, Group> by_key;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const OperationRow& r = rows[i];
+    Group& g = by_key[key_of(r)];
     if (g.method.empty()) {
       g.process = process_for(process, r);
       std::string warning;
@@ -642,54 +1006,70 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
         report.warnings.push_back(warning);
     }
     g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
+    g.rows.push_back(i);
+    if (options.flute_length_m && r.depth_m > *options.flute_length_m)
+      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): depth " +
+                                num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
+                                num(*options.flute_length_m * 1e3) + " mm");
   }
-  LobeTableQueryOptions table_options = options.table;
-  table_options.threads = options.threads;
-  for (auto& [key, g] : groups) {
-    g.solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
-    g.table = std::make_unique<LobeTableQuery>(*g.solver, options.machine.rpm_min, options.machine.rpm_max,
-                                               table_options);
-    g.best = best_speed(*g.solver, *g.table);
-  }
-  std::vector<StabilityLimit> own(rows.size());  // exact limit at each row's speed
-  parallel_for(rows.size(), options.threads, [&](std::size_t i) {
-    own[i] = groups.at(key_of(rows[i])).solver->limit_at(rows[i].spindle_rpm);
-  });
+  std::vector<Group*> groups;
+  for (auto& [key, g] : by_key) groups.push_back(&g);
 
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const OperationRow& r = rows[i];
-    const Group& g = groups.at(key_of(r));
-    const double ds = search_depth(r);
-    OperationCheck c;
-    c.op = r;
-    c.method = g.method;
-    c.search_depth_m = ds;
-    c.limit = clip(own[i], ds);
-    c.stable = r.depth_m < c.limit.depth_limit_m;
-    c.margin = c.limit.depth_limit_m / r.depth_m;
-    if (!c.limit.bounded()) {  // no limit below the searched depth here: stay
-      c.suggestion = c.limit;
-      c.suggestion_margin = kInf;
-    } else {
-      // Unbounded stretches (limit above this row's searched depth): nearest one.
-      const StabilityLimit* near = nullptr;
-      for (const auto& p : g.table->points())
-        if (!p.bounded() || p.depth_limit_m > ds)
-          if (!near || std::abs(p.spindle_rpm - r.spindle_rpm) < std::abs(near->spindle_rpm - r.spindle_rpm))
-            near = &p;
-      if (near) {
-        c.suggestion = clip(*near, ds);
-        c.suggestion_margin = kInf;
-      } else {
-        const StabilityLimit best = c.limit.depth_limit_m >= g.best.depth_limit_m ? c.limit : clip(g.best, ds);
-        if (best.depth_limit_m > r.depth_m) {
-          c.suggestion = best;
-          c.suggestion_margin = best.depth_limit_m / r.depth_m;
-        }
+  // Groups are independent: solved in parallel (each deterministic, so the
+  // report does not depend on the thread count); a lone group scans in parallel.
+  std::vector<OperationCheck> checks(rows.size());
+  const unsigned scan_threads = groups.size() == 1 ? options.threads : 1;
+  // Progress: exact solves against a rough estimate of the total (a scan of
+  // a few lobes plus the refinements), never reaching 1 before the end.
+  std::atomic<std::size_t> solves{0};
+  const double expected = static_cast<double>(kProgressSolvesPerProcess * groups.size() +
+                                              kProgressSolvesPerRow * rows.size());
+  auto tick = [&] {
+    const double f = static_cast<double>(++solves) / expected;
+    if (options.progress) options.progress(std::min(f, kProgressCeiling));
+  };
+  const double tol = options.speed_tolerance;
+  parallel_for(groups.size(), options.threads, [&](std::size_t gi) {
+    const Group& g = *groups[gi];
+    const auto solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
+    SpeedSearch s(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
+    s.on_solve = tick;
+    s.scan();
+    for (const std::size_t i : g.rows) {
+      const OperationRow& r = rows[i];
+      const double ds = search_depth(r);
+      auto clipped = [&](double w) { return w > ds ? kInf : w; };
+      OperationCheck& c = checks[i];
+      c.op = r;
+      c.method = g.method;
+      c.search_depth_m = ds;
+      c.limit = clip(s.at(r.spindle_rpm), ds);
+      c.stable = r.depth_m < c.limit.depth_limit_m;
+      c.margin = c.limit.depth_limit_m / r.depth_m;
+      const double own_worst = clipped(s.band_min(r.spindle_rpm));
+      c.worst_margin = own_worst / r.depth_m;
+      // The speed whose band has the largest worst limit (unbounded for this
+      // row's searched depth: the nearest such speed); the row's own speed
+      // when it is as good.
+      double n = r.spindle_rpm;
+      if (std::isfinite(own_worst)) {
+        const double best = s.best(ds, r.spindle_rpm);
+        if (clipped(s.band_min(best)) > own_worst) n = best;
+      }
+      const double worst = clipped(s.band_min(n));
+      if (worst > r.depth_m) {
+        c.suggestion = clip(s.at(n), ds);
+        c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
+        SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
+        p.limit = *c.suggestion;
+        p.worst_limit_m = worst;
+        p.worst_margin = worst / r.depth_m;
+        c.suggestion_pocket = p;
       }
     }
-    report.checks.push_back(std::move(c));
-  }
+  });
+  if (options.progress) options.progress(1.0);
+  report.checks = std::move(checks);
   return report;
 }
 
@@ -708,7 +1088,10 @@ std::string RecommendOptions::validate() const {
     os << "depth_max = " << depth_max_m * 1e3 << " mm: must be > 0";
   else if (cutting_coefficient_n_per_m2 && !(std::isfinite(*cutting_coefficient_n_per_m2) && *cutting_coefficient_n_per_m2 > 0.0))
     os << "cutting coefficient = " << *cutting_coefficient_n_per_m2 << " N/m²: must be > 0";
-  else if (const std::string t = table.validate(); !t.empty()) os << t;
+  else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
+    os << "flute_length = " << *flute_length_m * 1e3 << " mm: must be > 0";
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "speed tolerance x 100"); !t.empty())
+    os << t;
   return os.str();
 }
 
@@ -719,6 +1102,7 @@ std::string to_string(Binding b) {
     case Binding::kTorque: return "torque";
     case Binding::kDepthMax: return "depth_max";
     case Binding::kSpeedRange: return "speed_range";
+    case Binding::kFluteLength: return "flute_length";
   }
   return "?";
 }
@@ -780,27 +1164,34 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   if (options.diameter_m > 0.0)
     rec.warnings.insert(rec.warnings.end(), model_warnings.begin(), model_warnings.end());
 
-  rec.search_depth_m = kRecommendSearchFactor * options.depth_max_m / options.safety;
+  const double flute = options.flute_length_m.value_or(kInf);
+  rec.search_depth_m = kRecommendSearchFactor * std::min(options.depth_max_m, flute) / options.safety;
   const auto solver = make_lobe_solver(rec.method, model, process, rec.search_depth_m);
-  LobeTableQueryOptions table_options = options.table;
-  table_options.threads = options.threads;
-  const LobeTableQuery table(*solver, mc.rpm_min, mc.rpm_max, table_options);
+  SpeedSearch s(*solver, mc.rpm_min, mc.rpm_max, options.speed_tolerance, options.threads);
+  std::atomic<std::size_t> solves{0};
+  s.on_solve = [&] {
+    const double f = static_cast<double>(++solves) / static_cast<double>(kProgressSolvesPerProcess);
+    if (options.progress) options.progress(std::min(f, kProgressCeiling));
+  };
+  s.scan();
 
   struct Cand {
-    StabilityLimit lim;
-    double stab, power, torque, cap, depth, objective, margin;
+    double rpm, worst, stab, power, torque, cap, flute, depth, objective, margin;
   };
-  auto evaluate = [&](const StabilityLimit& lim0) {
+  // `exact`: the worst limit over the band from exact solves, else the scan's estimate.
+  auto evaluate = [&](double n, bool exact) {
     Cand c;
-    c.lim = clip(lim0, rec.search_depth_m);
-    const double n = c.lim.spindle_rpm;
-    c.stab = c.lim.bounded() ? options.safety * c.lim.depth_limit_m : kInf;
+    c.rpm = n;
+    const double w = exact ? s.band_min(n) : s.band_min_scan(n, kInf);
+    c.worst = w > rec.search_depth_m || w >= solver->depth_max_m() ? kInf : w;
+    c.stab = options.safety * c.worst;
     c.power = std::isfinite(mc.max_power_w) ? mc.max_power_w / (cm.power_per_depth_rpm * n) : kInf;
     c.torque = std::isfinite(mc.max_torque_n_m) ? mc.max_torque_n_m / cm.torque_per_depth : kInf;
     c.cap = options.depth_max_m;
-    c.depth = std::min({c.stab, c.power, c.torque, c.cap});
+    c.flute = flute;
+    c.depth = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
     c.objective = n * c.depth;  // MRR / (mrr per depth·rpm)
-    c.margin = c.lim.depth_limit_m / c.depth;
+    c.margin = c.worst / c.depth;
     return c;
   };
   auto better = [](const Cand& x, const Cand& y) {  // x strictly better than y
@@ -809,49 +1200,77 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     return x.margin > y.margin;
   };
 
-  const auto& pts = table.points();
-  std::vector<Cand> cands;
-  cands.reserve(pts.size());
-  for (const auto& p : pts) cands.push_back(evaluate(p));
-  std::size_t ib = 0;
-  for (std::size_t i = 1; i < cands.size(); ++i)
-    if (better(cands[i], cands[ib])) ib = i;
-  Cand best = cands[ib];
-  const bool power_bound = best.depth == best.power;
-  if (!power_bound && ib > 0 && ib + 1 < cands.size()) {
-    auto f = [&](double rpm) {
-      const Cand c = evaluate(solver->limit_at(rpm));
-      if (better(c, best)) best = c;
-      return c.objective;
+  // Rank the scanned speeds, refine the best local maxima with exact solves.
+  const std::vector<double>& pts = s.scan_speeds();
+  std::vector<Cand> scanned;
+  for (double n : pts) scanned.push_back(evaluate(n, false));
+  std::vector<std::size_t> cand;
+  double top = 0.0;
+  for (const auto& c : scanned) top = std::max(top, c.objective);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
+                       (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
+    if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+  }
+  if (cand.empty()) cand.push_back(0);  // only with NaN objectives
+  std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
+  if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
+  const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
+  Cand best = evaluate(pts[cand.front()], true);
+  std::size_t ib = cand.front();
+  for (const std::size_t i : cand) {
+    const Cand at_point = evaluate(pts[i], true);
+    if (better(at_point, best)) best = at_point, ib = i;
+    const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
+    // Power-bound MRR is flat in speed: then the largest worst margin.
+    const bool power_bound = at_point.depth == at_point.power;
+    auto f = [&](double n) {
+      const Cand c = evaluate(n, true);
+      if (better(c, best)) best = c, ib = i;
+      return power_bound ? c.margin : c.objective;
     };
-    golden_maximize(f, pts[ib - 1].spindle_rpm, pts[ib + 1].spindle_rpm);
+    // Bound by stability or power near a cusp, the optimum is where the band's
+    // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
+    // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
+    // with N up to where stability takes over: golden-section search.
+    const bool stability_bound = at_point.depth == at_point.stab;
+    const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
+    if (x > 0.0) f(x);
+    else s.maximize(f, a, b, rel);
   }
 
-  rec.spindle_rpm = best.lim.spindle_rpm;
+  rec.spindle_rpm = best.rpm;
   rec.depth_m = best.depth;
-  rec.limit = best.lim;
-  rec.margin = best.margin;
+  rec.limit = clip(s.at(best.rpm), rec.search_depth_m);
+  rec.margin = rec.limit.depth_limit_m / rec.depth_m;
   rec.depth_stability_m = best.stab;
   rec.depth_power_m = best.power;
   rec.depth_torque_m = best.torque;
   rec.depth_cap_m = best.cap;
+  rec.depth_flute_m = best.flute;
+  rec.pocket = make_pocket(s, best.rpm, rec.depth_m, rec.depth_m / options.safety);
+  rec.pocket.limit = rec.limit;
+  rec.pocket.worst_limit_m = best.worst;
+  rec.pocket.worst_margin = best.margin;
   rec.force_n = cm.force_per_depth * rec.depth_m;
   rec.torque_n_m = cm.torque_per_depth * rec.depth_m;
   rec.power_w = cm.power_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
   rec.mrr_m3_per_s = cm.mrr_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
   rec.mrr_per_diameter_m2_per_s = cm.mrr_per_diam_depth_rpm * rec.depth_m * rec.spindle_rpm;
-  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + kBindingRelative); };
+  const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
+  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
   if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
   if (binds(best.power)) rec.binding.push_back(Binding::kPower);
   if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
   if (binds(best.cap)) rec.binding.push_back(Binding::kDepthMax);
+  if (binds(best.flute)) rec.binding.push_back(Binding::kFluteLength);
   // The speed range binds when the optimum sits on an end of the range and MRR
   // still grows towards it (a power-bound MRR is flat in speed: it does not).
-  if (!binds(best.power) && (ib == 0 || ib + 1 == cands.size()) &&
-      best.lim.spindle_rpm == pts[ib].spindle_rpm) {
-    const Cand& inner = cands[ib == 0 ? 1 : ib - 1];
+  if (!binds(best.power) && (ib == 0 || ib + 1 == pts.size()) && best.rpm == pts[ib]) {
+    const Cand inner = evaluate(pts[ib == 0 ? 1 : ib - 1], true);
     if (best.objective > inner.objective * (1.0 + kTieRelative)) rec.binding.push_back(Binding::kSpeedRange);
   }
+  if (options.progress) options.progress(1.0);
   return rec;
 }
 
@@ -883,6 +1302,9 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
         os << "spindle torque (mean cutting torque = " << f(o.machine.max_torque_n_m, 2) << " N*m limit)";
         break;
       case Binding::kDepthMax: os << "the tool's maximum depth " << f(r.depth_cap_m * 1e3, 3) << " mm"; break;
+      case Binding::kFluteLength:
+        os << "the cutter's usable flute length " << f(r.depth_flute_m * 1e3, 3) << " mm";
+        break;
       case Binding::kSpeedRange:
         os << "speed range (at the machine's "
            << (r.spindle_rpm >= o.machine.rpm_max ? "maximum " : "minimum ") << f(r.spindle_rpm, 0)
@@ -891,6 +1313,14 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
     }
   }
   os << "\n";
+  const SpeedPocket& p = r.pocket;
+  os << "Speed band +/-" << f(p.speed_tolerance * 100.0, 1) << " %: ";
+  if (std::isfinite(p.worst_limit_m))
+    os << "worst limit " << f(p.worst_limit_m * 1e3, 3) << " mm, worst margin " << f(p.worst_margin, 3);
+  else
+    os << "no chatter below " << f(r.search_depth_m * 1e3, 3) << " mm";
+  os << "; stable pocket " << f(p.pocket_min_rpm, 0) << "-" << f(p.pocket_max_rpm, 0)
+     << " rev/min (safety x limit >= depth)\n";
   if (r.limit.bounded())
     os << "Stability margin: " << f(r.margin, 3) << " (limit " << f(r.limit.depth_limit_m * 1e3, 3)
        << " mm / depth; chatter would start at " << f(r.limit.chatter_frequency_hz, 1) << " Hz, lobe "

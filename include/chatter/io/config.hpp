@@ -37,6 +37,10 @@ struct Config {
   /// shipped config. The CLI prints them on stderr, records them in its JSON
   /// and, with --strict, refuses the config.
   std::vector<std::string> warnings;
+  /// Usable flute length of the milling cutter, m (`[process]
+  /// flute_length_mm`, milling only, > 0): `recommend` never proposes a
+  /// deeper cut, `check` warns about one. Absent: not known.
+  std::optional<double> flute_length_m;
 };
 
 /// Reads and validates a config file. Quantities may be given in SI or in
