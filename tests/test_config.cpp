@@ -978,7 +978,7 @@ rpm_max = 100
             "mem/case.toml: process.colour: unknown key (expected one of: operation, feed_force_coefficient_n_per_m2, "
             "feed_force_coefficient_n_per_mm2, feed_per_rev_mm, feed_per_tooth_mm, teeth, "
             "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
-            "radial_coefficient_n_per_mm2, radial_immersion, milling_direction)\n"
+            "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, flute_length_mm)\n"
             "mem/case.toml: process.feed_force_coefficient_n_per_m2 = -1: must be > 0\n"
             "mem/case.toml: tool.modes[0].stiffness: unknown key (did you mean stiffness_n_per_m?)\n"
             "mem/case.toml: tool.modes[0].damping_ratio = 1.5: must be in (0, 1) (a ratio, not a percentage: 1.5 % is "
