@@ -32,6 +32,30 @@ constexpr double kGrowthVsSdm = 5e-3;
 // the amplitude-dependent nonlinear vibration drifts from the linear one by
 // up to 1.6 % in the runs of docs/time_domain.md.
 constexpr double kChatterFrequency = 0.03;
+// Free vibration over 0.8 s (75 tool and 250 workpiece cycles): the global
+// error stays within this multiple of CVODE's relative tolerance, and falls
+// by at least kTighterFactor when the tolerance is tightened 100 times.
+constexpr double kGlobalErrorPerRtol = 300.0;
+constexpr double kTighterFactor = 10.0;
+// Period doubling: chatter at an odd multiple of half the tooth-passing
+// frequency, to the parabolic peak refinement (measured < 1e-4 half orders).
+constexpr double kHalfOrder = 1e-3;
+// Saturated chatter at 1.5 x the sdm limit: the tool is in air for more than
+// this fraction of the arc time (measured 20–45 %) …
+constexpr double kSaturatedAirFraction = 0.05;
+// … and the amplitude of a run five times longer drifts by less than this
+// (relative): the vibration is bounded, not growing (an unbounded growth
+// at |mu| >= 1.01 per period would be 1.01^800 = 3e3 times larger).
+constexpr double kSaturatedAmplitudeDrift = 0.1;
+// Time-domain lobe search vs sdm: bracket width 1 %, sdm within 0.5 % of exact.
+constexpr double kBisectionVsSdm = 0.02;
+// Random models: the nonlinear verdict equals sdm's where rho is more than
+// this away from 1 (closer, 150 periods may not show the trend; measured
+// agreement on all 11 checked trials, the closest at rho = 1.014) …
+constexpr double kVerdictMargin = 0.01;
+// … and saturated chatter has increments at |mu| = 1 within the verdict's
+// own margin (measured 1.000001–1.009 for rho = 1.014–1.22).
+constexpr double kSaturatedGrowth = 0.02;
 
 Config config(const std::string& name) { return load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/" + name); }
 
@@ -77,11 +101,11 @@ TEST(TimeDomainFreeVibration, MatchesExactSolutionAndErrorFallsWithTolerance) {
   const double e8 = free_vibration_error(1e-8);
   const double e10 = free_vibration_error(1e-10);
   // Global error within a small multiple of the tolerance …
-  EXPECT_LT(e6, 300 * 1e-6) << e6;
-  EXPECT_LT(e8, 300 * 1e-8) << e8;
+  EXPECT_LT(e6, kGlobalErrorPerRtol * 1e-6) << e6;
+  EXPECT_LT(e8, kGlobalErrorPerRtol * 1e-8) << e8;
   // … and falling when it is tightened.
-  EXPECT_LT(e8, e6 / 10) << e6 << " " << e8;
-  EXPECT_LT(e10, e8 / 10) << e8 << " " << e10;
+  EXPECT_LT(e8, e6 / kTighterFactor) << e6 << " " << e8;
+  EXPECT_LT(e10, e8 / kTighterFactor) << e8 << " " << e10;
 }
 
 struct GrowthCase {
@@ -145,7 +169,7 @@ TEST(TimeDomainNonlinear, VerdictChangesAcrossTheSdmLimitInHopfAndFlipLobes) {
         // Period doubling: the chatter sits at an odd multiple of half the
         // tooth-passing frequency.
         const double half_orders = r.chatter_frequency_hz / (0.5 * r.tooth_passing_hz);
-        EXPECT_NEAR(half_orders, std::round(half_orders), 1e-3);
+        EXPECT_NEAR(half_orders, std::round(half_orders), kHalfOrder);
         EXPECT_EQ(static_cast<long>(std::round(half_orders)) % 2, 1);
       }
     }
@@ -172,11 +196,11 @@ TEST(TimeDomainNonlinear, UnstableRunStaysBoundedAndChattersNearSdmFrequency) {
     SCOPED_TRACE(std::to_string(rpm) + " rev/min: " + b.verdict_measure);
     EXPECT_EQ(a.verdict, SimulationVerdict::kChatter);
     EXPECT_EQ(b.verdict, SimulationVerdict::kChatter);
-    EXPECT_GT(b.out_of_cut_fraction, 0.05);  // the tool leaves the cut …
+    EXPECT_GT(b.out_of_cut_fraction, kSaturatedAirFraction);  // the tool leaves the cut …
     // … which bounds the vibration: five times longer, same amplitude.
-    EXPECT_TRUE(std::isfinite(b.max_amplitude_m));
-    EXPECT_LT(b.max_amplitude_m, 1e-3);
-    EXPECT_NEAR(b.max_amplitude_m / a.max_amplitude_m, 1.0, 0.1);
+    EXPECT_GT(a.max_amplitude_m, 0.0);
+    EXPECT_NEAR(b.max_amplitude_m / a.max_amplitude_m, 1.0, kSaturatedAmplitudeDrift)
+        << b.max_amplitude_m << " vs " << a.max_amplitude_m;
     EXPECT_NEAR(b.chatter_frequency_hz / at_limit.chatter_frequency_hz, 1.0, kChatterFrequency)
         << b.chatter_frequency_hz << " vs sdm " << at_limit.chatter_frequency_hz;
   }
@@ -253,14 +277,16 @@ TEST(TimeDomainLobes, LimitByBisectionMatchesSdm) {
     const StabilityLimit b = sdm.limit_at(rpm);
     ASSERT_TRUE(a.bounded());
     // Bracket width 1 %, sdm within 0.5 % of exact.
-    EXPECT_NEAR(a.depth_limit_m / b.depth_limit_m, 1.0, 0.02) << name;
+    EXPECT_NEAR(a.depth_limit_m / b.depth_limit_m, 1.0, kBisectionVsSdm)
+        << name << ": " << a.depth_limit_m << " vs sdm " << b.depth_limit_m;
     EXPECT_NEAR(a.chatter_frequency_hz / b.chatter_frequency_hz, 1.0, kChatterFrequency) << name;
   }
 }
 
 // Random models (1–3 modes on either body at any angle, turning or milling
 // with 1–4 teeth, up or down, any immersion): the linear growth factor equals
-// sdm's spectral radius, and the nonlinear run gives finite numbers.
+// sdm's spectral radius, and the nonlinear verdict is sdm's away from rho = 1,
+// with bounded (saturated) chatter where rho > 1.
 TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
   std::mt19937_64 g(20261122);
   auto log_uniform = [&](double lo, double hi) {
@@ -268,7 +294,7 @@ TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
   };
   std::uniform_int_distribution<int> modes(1, 3), coin(0, 1), teeth(1, 4);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  int checked = 0;
+  int checked = 0, stable_compared = 0, unstable_compared = 0;
   for (int trial = 0; trial < 12; ++trial) {
     StructuralModel model;
     const int n = modes(g);
@@ -306,16 +332,37 @@ TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
     s.linear = false;
     s.multiple_regeneration = coin(g);
     const SimulationResult nl = sim.simulate(s);
-    EXPECT_TRUE(std::isfinite(nl.max_amplitude_m));
+    // The static chip moves the tool; the contact-loss fraction is a fraction.
+    EXPECT_GT(nl.max_amplitude_m, 0.0);
     EXPECT_GE(nl.out_of_cut_fraction, 0.0);
     EXPECT_LE(nl.out_of_cut_fraction, 1.0);
+    if (f.spectral_radius < 1.0 - kVerdictMargin) {
+      // Stable by Floquet theory: the nonlinear run is stable too (the
+      // start-up transient about the forced vibration of the static chip
+      // decays; it may leave the cut briefly, less and less).
+      EXPECT_EQ(nl.verdict, SimulationVerdict::kStable) << nl.verdict_measure;
+      ++stable_compared;
+    } else if (f.spectral_radius > 1.0 + kVerdictMargin) {
+      // Unstable: the vibration grows until the tool leaves the cut, which
+      // bounds it — saturated chatter, increments at |mu| = 1 to within the
+      // verdict's margin, while the linear run keeps growing by rho.
+      EXPECT_EQ(nl.verdict, SimulationVerdict::kChatter) << nl.verdict_measure;
+      EXPECT_GT(nl.out_of_cut_fraction, 0.0) << nl.verdict_measure;
+      EXPECT_NEAR(nl.growth_per_period, 1.0, kSaturatedGrowth) << nl.verdict_measure;
+      ++unstable_compared;
+    }
     ++checked;
   }
   EXPECT_GE(checked, 8);
+  // Both branches ran (measured: 4 stable, 7 unstable of 11 checked).
+  EXPECT_GE(stable_compared, 2);
+  EXPECT_GE(unstable_compared, 2);
 }
 
 // Extremes of the edge-case list (docs/reliability.md): every run ends with
 // finite numbers or a clear InputError, never NaN, a hang or a crash.
+// A bound that only catches a blown-up fit: a growth of 10 per period.
+constexpr double kEdgeGrowthBound = 10.0;
 TEST(TimeDomainEdgeCases, ExtremeModelsAndSpeedsGiveFiniteResultsOrInputError) {
   struct Case {
     const char* what;
@@ -353,9 +400,27 @@ TEST(TimeDomainEdgeCases, ExtremeModelsAndSpeedsGiveFiniteResultsOrInputError) {
         continue;
       }
       const SimulationResult r = sim.simulate(s);
+      SCOPED_TRACE(linear ? "linear" : "nonlinear");
+      // Something moves (initial perturbation or static chip), by a finite
+      // amount (no physical bound: the 1e4 N/m mode deflects 6 mm statically).
+      EXPECT_GT(r.max_amplitude_m, 0.0);
       EXPECT_TRUE(std::isfinite(r.max_amplitude_m));
-      EXPECT_TRUE(std::isnan(r.growth_per_period) || std::isfinite(r.growth_per_period));
+      if (linear) {
+        // The rescaled linear run always has periods to fit.
+        EXPECT_GT(r.growth_per_period, 0.0) << r.verdict_measure;
+        EXPECT_LT(r.growth_per_period, kEdgeGrowthBound) << r.verdict_measure;
+        EXPECT_EQ(r.verdict == SimulationVerdict::kChatter, r.growth_per_period >= 1.0) << r.verdict_measure;
+      } else if (std::isnan(r.growth_per_period)) {
+        // No estimate only when the increments fell to the noise (periodic)
+        // or the decision rests on the contact loss alone.
+        EXPECT_TRUE(r.verdict_measure.find("periodic") != std::string::npos ||
+                    r.verdict_measure.find("in air") != std::string::npos)
+            << r.verdict_measure;
+      } else {
+        EXPECT_GT(r.growth_per_period, 0.0) << r.verdict_measure;
+      }
       EXPECT_FALSE(r.verdict_measure.empty());
+      ASSERT_FALSE(r.spectrum_amplitude_m.empty());
       for (double a : r.spectrum_amplitude_m) ASSERT_TRUE(std::isfinite(a));
     }
   }

@@ -4,6 +4,7 @@
 // the convergence study.
 #include "chatter/semi_discretization.hpp"
 
+#include "depth_search.hpp"
 #include "roots.hpp"
 
 #include <algorithm>
@@ -65,6 +66,9 @@ constexpr double kMoveFraction = 0.5;
 // A local maximum of ln ρ below the crossing is searched with this many
 // golden-section steps (it ends on ρ ≥ 1 as soon as one is found).
 constexpr int kBandSearchSteps = 12;
+// Most divisions by bracket_ratio when the first depth is already unstable
+// (ρ(0) < 1, so a stable depth exists; this only bounds a broken model).
+constexpr int kMaxDescentSteps = 200;
 // Relative error of ln ρ from an early-stopped (decide-mode) Arnoldi: it stops
 // once | |θ| − 1 | exceeds kDecideFactor residuals, so |θ| is within 1/20 of
 // its distance to the circle; a fall of ln ρ smaller than this is noise.
@@ -965,15 +969,15 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   double a = dmax / std::pow(options_.bracket_ratio, options_.bracket_steps);
   Radii r = radii(a);
   double lo = 0.0, flo = r_zero.all, hi = a, fhi = r.all;
+  auto unstable = [](double log_rho_value) { return log_rho_value >= 0.0; };
   if (r.all >= 0.0) {
     // Unstable already: go down until stable (ρ(0) < 1 always: damped modes).
-    for (int i = 0; i < 200 && fhi >= 0.0; ++i) {
-      lo = hi / options_.bracket_ratio;
-      flo = radii(lo).all;
-      if (flo < 0.0) break;
-      hi = lo;
-      fhi = flo;
-    }
+    const detail::DepthBracket<double> down = detail::descend_to_stable(
+        hi, fhi, options_.bracket_ratio, kMaxDescentSteps, [&](double d) { return radii(d).all; }, unstable);
+    lo = down.lo;
+    flo = down.at_lo;
+    hi = down.hi;
+    fhi = down.at_hi;
   } else {
     // Climb from a towards the first crossing of ρ = 1 as a continuation in
     // depth. The largest multipliers of the left half-plane (where flip bands
@@ -1035,7 +1039,8 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
       flo = fhi;
     }
   }
-  const double root = detail::brent_root(log_rho, lo, hi, flo, fhi, options_.depth_tolerance * lo);
+  const double root = detail::refine_root(detail::DepthBracket<double>{lo, hi, flo, fhi, true}, log_rho,
+                                          options_.depth_tolerance * lo);
   lim.depth_limit_m = root;
   const FloquetResult fr = analyse(rpm, root);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;

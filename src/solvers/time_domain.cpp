@@ -8,16 +8,32 @@
 #include <deque>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
-#include <unsupported/Eigen/FFT>
 
 #include "chatter/error.hpp"
 #include "chatter/transfer_function.hpp"
+#include "depth_search.hpp"
 #include "sundials_raii.hpp"
+#include "time_domain_parts.hpp"
 
 namespace chatter {
 
 namespace {
+
+using detail::AirCounts;
+using detail::GrowthEstimate;
+using detail::History;
+using detail::HistoryEntry;
+using detail::PeriodSnapshots;
+using detail::Spectrum;
+using detail::VerdictInput;
+using detail::VerdictOutcome;
+using detail::amplitude_spectrum;
+using detail::decide_verdict;
+using detail::dominant_nonharmonic_hz;
+using detail::growth_per_period;
+using detail::tooth_passing_harmonics;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -32,131 +48,6 @@ constexpr int kStartImages = 6;
 constexpr int kRootImagesSingle = 2;
 constexpr int kRootImagesMultiple = 3;
 constexpr int kMaxAdamsOrder = 5;
-// Nonlinear verdict: fraction of the cutting-arc time in air that counts as
-// leaving the cut, and the margin below |mu| = 1 that then counts as chatter.
-constexpr double kAirFraction = 0.005;
-constexpr double kSaturatedMargin = 0.02;
-
-// ---------------------------------------------------------------------------
-// History ring buffer: one entry per stored instant (uniform grid + events),
-// sorted by time; quintic Hermite interpolation of r between neighbours.
-struct HistoryEntry {
-  double t = 0.0;
-  double r[2] = {0, 0}, v[2] = {0, 0};
-  double a_left[2] = {0, 0}, a_right[2] = {0, 0};
-};
-
-class History {
- public:
-  History(std::size_t capacity, int teeth) : teeth_(teeth) { reserve(capacity); }
-
-  void push(const HistoryEntry& e, const double* gaps) {
-    if (count_ == buf_.size()) reserve(2 * buf_.size());
-    const std::size_t i = (head_ + count_) % buf_.size();
-    buf_[i] = e;
-    std::copy(gaps, gaps + teeth_, gap_.begin() + static_cast<std::ptrdiff_t>(i * teeth_));
-    ++count_;
-    max_count_ = std::max(max_count_, count_);
-  }
-  /// Drops entries while the second oldest is still at or before `t`.
-  void drop_before(double t) {
-    while (count_ > 2 && at(1).t <= t) {
-      head_ = (head_ + 1) % buf_.size();
-      --count_;
-      hint_ = 0;
-    }
-  }
-  std::size_t capacity() const { return buf_.size(); }
-  std::size_t max_count() const { return max_count_; }
-  const HistoryEntry& newest() const { return at(count_ - 1); }
-  HistoryEntry& newest_mutable() { return buf_[(head_ + count_ - 1) % buf_.size()]; }
-  double* newest_gaps() { return &gap_[((head_ + count_ - 1) % buf_.size()) * teeth_]; }
-
-  /// r(t) (m). Outside the stored range the nearest interval's polynomial
-  /// is used (counted in extrapolations()).
-  void displacement(double t, double out[2]) const {
-    const std::size_t k = interval(t);
-    const HistoryEntry& e0 = at(k);
-    const HistoryEntry& e1 = at(k + 1);
-    const double h = e1.t - e0.t;
-    if (!(h > 0.0)) {
-      out[0] = e1.r[0];
-      out[1] = e1.r[1];
-      return;
-    }
-    const double s = (t - e0.t) / h, s2 = s * s, s3 = s2 * s, s4 = s3 * s, s5 = s4 * s;
-    const double h0 = 1 - 10 * s3 + 15 * s4 - 6 * s5;
-    const double h1 = s - 6 * s3 + 8 * s4 - 3 * s5;
-    const double h2 = 0.5 * (s2 - 3 * s3 + 3 * s4 - s5);
-    const double h3 = 10 * s3 - 15 * s4 + 6 * s5;
-    const double h4 = -4 * s3 + 7 * s4 - 3 * s5;
-    const double h5 = 0.5 * (s3 - 2 * s4 + s5);
-    for (int c = 0; c < 2; ++c)
-      out[c] = e0.r[c] * h0 + e0.v[c] * h * h1 + e0.a_right[c] * h * h * h2 + e1.r[c] * h3 + e1.v[c] * h * h4 +
-               e1.a_left[c] * h * h * h5;
-  }
-  /// Gap (m) left in air by tooth `tooth` at time t, linear interpolation.
-  double gap(double t, int tooth) const {
-    const std::size_t k = interval(t);
-    const std::size_t i0 = (head_ + k) % buf_.size(), i1 = (head_ + k + 1) % buf_.size();
-    const double t0 = buf_[i0].t, t1 = buf_[i1].t;
-    const double g0 = gap_[i0 * teeth_ + tooth], g1 = gap_[i1 * teeth_ + tooth];
-    if (!(t1 > t0)) return g1;
-    const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-    return g0 + s * (g1 - g0);
-  }
-  void scale(double factor) {
-    for (std::size_t k = 0; k < count_; ++k) {
-      HistoryEntry& e = buf_[(head_ + k) % buf_.size()];
-      for (int c = 0; c < 2; ++c) {
-        e.r[c] *= factor;
-        e.v[c] *= factor;
-        e.a_left[c] *= factor;
-        e.a_right[c] *= factor;
-      }
-    }
-  }
-  long extrapolations() const { return extrapolations_; }
-
- private:
-  const HistoryEntry& at(std::size_t k) const { return buf_[(head_ + k) % buf_.size()]; }
-  // Index k with at(k).t <= t <= at(k+1).t (clamped to the stored range).
-  std::size_t interval(double t) const {
-    if (t < at(0).t || t > at(count_ - 1).t) ++extrapolations_;
-    if (hint_ + 1 < count_ && at(hint_).t <= t && t <= at(hint_ + 1).t) return hint_;
-    if (hint_ + 2 < count_ && at(hint_ + 1).t <= t && t <= at(hint_ + 2).t) return ++hint_;
-    std::size_t lo = 0, hi = count_ - 1;  // invariant: answer in [lo, hi)
-    while (hi - lo > 1) {
-      const std::size_t mid = (lo + hi) / 2;
-      if (at(mid).t <= t) lo = mid;
-      else hi = mid;
-    }
-    hint_ = lo;
-    return lo;
-  }
-  void reserve(std::size_t cap) {
-    cap = std::max<std::size_t>(cap, 4);
-    std::vector<HistoryEntry> nb(cap);
-    std::vector<double> ng(cap * teeth_, 0.0);
-    for (std::size_t k = 0; k < count_; ++k) {
-      const std::size_t i = (head_ + k) % buf_.size();
-      nb[k] = buf_[i];
-      std::copy(gap_.begin() + static_cast<std::ptrdiff_t>(i * teeth_),
-                gap_.begin() + static_cast<std::ptrdiff_t>((i + 1) * teeth_), ng.begin() + static_cast<std::ptrdiff_t>(k * teeth_));
-    }
-    buf_.swap(nb);
-    gap_.swap(ng);
-    head_ = 0;
-    hint_ = 0;
-  }
-
-  int teeth_;
-  std::vector<HistoryEntry> buf_;
-  std::vector<double> gap_;
-  std::size_t head_ = 0, count_ = 0, max_count_ = 0;
-  mutable std::size_t hint_ = 0;
-  mutable long extrapolations_ = 0;
-};
 
 // ---------------------------------------------------------------------------
 // The right-hand side and everything it needs.
@@ -331,78 +222,522 @@ int cvode_roots(double t, N_Vector y, double* g, void* user) {
   return 0;
 }
 
+
 // ---------------------------------------------------------------------------
-// Exact DMD of a period-to-period map from snapshot pairs (x_k -> y_k):
-// the eigenvalue of largest modulus among the modes that carry at least
-// 1e-3 of the final snapshot. Returns NaN when there is nothing to fit.
-std::complex<double> dominant_multiplier(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y,
-                                         const Eigen::VectorXd& last, double rank_tolerance) {
-  if (X.cols() < 2) return {kNaN, 0.0};
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  if (sv.size() == 0 || !(sv(0) > 0.0)) return {kNaN, 0.0};
-  Eigen::Index r = 0;
-  while (r < sv.size() && sv(r) > rank_tolerance * sv(0)) ++r;
-  const Eigen::MatrixXd Ur = svd.matrixU().leftCols(r);
-  const Eigen::MatrixXd Vr = svd.matrixV().leftCols(r);
-  const Eigen::MatrixXd At = Ur.transpose() * Y * Vr * sv.head(r).cwiseInverse().asDiagonal();
-  Eigen::EigenSolver<Eigen::MatrixXd> es(At);
-  if (es.info() != Eigen::Success) return {kNaN, 0.0};
-  const Eigen::VectorXcd lambda = es.eigenvalues();
-  // Amplitudes of the last snapshot on the (projected) eigenvectors.
-  const Eigen::VectorXcd coord = Ur.transpose() * last;
-  const Eigen::VectorXcd b = es.eigenvectors().colPivHouseholderQr().solve(coord);
-  const double bmax = b.cwiseAbs().maxCoeff();
-  std::complex<double> best{kNaN, 0.0};
-  double best_abs = -1.0;
-  for (Eigen::Index i = 0; i < lambda.size(); ++i) {
-    if (std::abs(b(i)) < 1e-3 * bmax) continue;
-    if (std::abs(lambda(i)) > best_abs) {
-      best_abs = std::abs(lambda(i));
-      best = lambda(i);
-    }
-  }
-  if (best.imag() < 0) best = std::conj(best);
-  return best;
+// Settings checks that need neither the model nor the speed's sampling.
+void validate_settings(const SimulationSettings& s) {
+  if (!(s.spindle_rpm > 0.0 && std::isfinite(s.spindle_rpm)))
+    throw InputError("spindle speed " + std::to_string(s.spindle_rpm) + " rev/min: must be > 0");
+  if (!(s.depth_m >= 0.0 && std::isfinite(s.depth_m)))
+    throw InputError("depth " + std::to_string(s.depth_m * 1e3) + " mm: must be >= 0");
+  if (s.periods < 4) throw InputError("periods = " + std::to_string(s.periods) + ": must be >= 4");
+  if (!(s.feed_m >= 0.0 && std::isfinite(s.feed_m)))
+    throw InputError("feed " + std::to_string(s.feed_m * 1e3) + " mm: must be >= 0");
+  if (!(s.analysed_fraction > 0.0 && s.analysed_fraction <= 1.0))
+    throw InputError("analysed_fraction must be in (0, 1]");
 }
 
-struct Spectrum {
-  std::vector<double> f, amp;
-  double resolution_hz = 0.0;
+// ---------------------------------------------------------------------------
+// One run of TimeDomainSimulator::simulate.
+//   set-up (constructor): sampling, initial state and tolerance scale,
+//     history, stop points, CVODE;
+//   stepping (run): the uniform grid of M samples per delay; between grid
+//     points the fixed stop points (arc events, start images), the chip zero
+//     crossings (CVODE roots) and their delay images, each stored in the
+//     history and followed by a restart;
+//   outputs (finish): counters, then the analysers of time_domain_parts.hpp
+//     (growth per period, spectrum, verdict).
+// Lives on the stack of simulate(); not copyable (CVODE holds its address).
+class SimulationRun {
+ public:
+  SimulationRun(const StructuralModel& model, const Process& process, const TimeDomainOptions& options,
+                const SimulationSettings& s);
+  SimulationRun(const SimulationRun&) = delete;
+  SimulationRun& operator=(const SimulationRun&) = delete;
+
+  SimulationResult run();
+
+ private:
+  // --- set-up ---
+  void choose_sampling();
+  void set_initial_state();
+  void init_history();
+  void init_stops();
+  void init_integrator();
+  // --- stepping ---
+  void start();
+  void step_to_grid_point(long i);
+  void end_of_period(bool at_stop, bool& root_at_grid);
+  double next_event(int skip) const;
+  void pass_event(double tt);
+  void on_root(double tr);
+  double segment_mid(double tt, double t_next) const;
+  void restart(double tt);
+  Diagnostics store(double t, bool segment_changes, double t_next_mid);
+  SeriesSample make_sample(double t, const double* yy, const Diagnostics& d) const;
+  // --- outputs ---
+  SimulationResult finish();
+
+  const Process& process_;
+  const TimeDomainOptions& options_;
+  const SimulationSettings& s_;
+  const double tau_;
+  Model m_;
+  const int n_, teeth_;
+
+  // Sampling: M grid samples per delay, spacing dt; highest natural frequency.
+  double f_max_ = 0.0, dt_ = 0.0;
+  int M_ = 0;
+  // Initial state [q; q̇] and the displacement scale of the tolerances.
+  std::vector<double> y0_;
+  double scale_ = 0.0;
+  int root_cap_ = 0, root_images_ = 0;
+  std::optional<History> history_;
+  double t_end_ = 0.0;
+  std::vector<double> stops_;  // fixed stop points, sorted, t_end last
+
+  sundials::Context ctx_;
+  std::optional<sundials::SerialVector> y_, atol_;
+  std::optional<sundials::Cvode> cv_;
+  std::optional<sundials::FixedPointSolver> nls_;
+  void* mem_ = nullptr;
+  bool use_roots_ = false, roots_on_ = false;
+
+  SimulationResult res_;
+  int first_analysed_ = 0;
+  // Per-period observables for the DMD: r at the M grid points of the period
+  // just ended, plus the modal state at its end (velocities / ω).
+  int zdim_ = 0;
+  PeriodSnapshots snapshots_;
+  Eigen::VectorXd period_r_;
+  double log_scale_ = 0.0;  // linear mode: true state = stored × exp(log_scale)
+  std::vector<double> win_x_, win_y_;  // uniform samples of r over the analysed window
+  AirCounts air_;
+  double max_amp_ = 0.0;
+
+  std::vector<double> ydot_;
+  Diagnostics dg_;
+  // Pending images of the chip zero crossings, sorted; they lie within
+  // root_images delays ahead, so at most about (root_cap + 1) x root_images
+  // are held, whatever the simulated time.
+  std::deque<double> images_;
+  std::size_t next_stop_ = 0;
+  long restarts_ = 0, root_stops_ = 0;
+  double t_ = 0.0;
+  int roots_this_period_ = 0;
+  long steps_done_ = 0, rhs_done_ = 0;  // CVodeReInit resets CVODE's counters
 };
 
-Spectrum amplitude_spectrum(const std::vector<double>& x, const std::vector<double>& y, double dt) {
-  Spectrum s;
-  const std::size_t n = x.size();
-  if (n < 8) return s;
-  std::size_t nfft = 1;
-  while (nfft < n) nfft *= 2;
-  std::vector<double> w(n);
-  double wsum = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    w[i] = 0.5 - 0.5 * std::cos(2.0 * kPi * static_cast<double>(i) / static_cast<double>(n - 1));
-    wsum += w[i];
+SimulationRun::SimulationRun(const StructuralModel& model, const Process& process, const TimeDomainOptions& options,
+                             const SimulationSettings& s)
+    : process_(process),
+      options_(options),
+      s_(s),
+      tau_(process.delay_s(s.spindle_rpm)),
+      m_(model, process, s, tau_),
+      n_(m_.n()),
+      teeth_(m_.teeth()) {
+  if (!s.initial_state.empty() && static_cast<int>(s.initial_state.size()) != 2 * n_)
+    throw InputError("initial state has " + std::to_string(s.initial_state.size()) + " values: needs 2 x " +
+                     std::to_string(n_) + " modes");
+  choose_sampling();
+  set_initial_state();
+  init_history();
+  init_stops();
+  init_integrator();
+}
+
+void SimulationRun::choose_sampling() {
+  for (int i = 0; i < n_; ++i) f_max_ = std::max(f_max_, m_.modal().omega(i) / (2.0 * kPi));
+  const double need = std::ceil(options_.samples_per_vibration_cycle * tau_ * f_max_);
+  if (need > options_.max_samples_per_period)
+    throw InputError("time-domain: " + std::to_string(s_.spindle_rpm) + " rev/min needs " +
+                     std::to_string(static_cast<long>(need)) + " history samples per delay (limit " +
+                     std::to_string(options_.max_samples_per_period) + "): raise the speed");
+  M_ = std::max(options_.samples_per_period, static_cast<int>(need));
+  dt_ = tau_ / M_;
+}
+
+void SimulationRun::set_initial_state() {
+  y0_.assign(2 * n_, 0.0);
+  if (!s_.initial_state.empty()) {
+    y0_ = s_.initial_state;
+  } else if (s_.linear || s_.feed_m == 0.0) {
+    for (int i = 0; i < n_; ++i) {
+      y0_[i] = 1e-6;
+      y0_[n_ + i] = 0.5e-6 * m_.modal().omega(i);
+    }
   }
-  Eigen::FFT<double> fft;
-  std::vector<double> mag2(nfft / 2 + 1, 0.0);
-  for (const std::vector<double>* comp : {&x, &y}) {
-    double mean = 0.0;
-    for (double v : *comp) mean += v;
-    mean /= static_cast<double>(n);
-    std::vector<double> in(nfft, 0.0);
-    for (std::size_t i = 0; i < n; ++i) in[i] = ((*comp)[i] - mean) * w[i];
-    std::vector<std::complex<double>> out;
-    fft.fwd(out, in);
-    for (std::size_t k = 0; k <= nfft / 2; ++k) mag2[k] += std::norm(out[k]);
+  double scale = 0.0;
+  for (int i = 0; i < n_; ++i) scale = std::max(scale, std::abs(y0_[i]));
+  if (!s_.linear && s_.feed_m > 0.0) {
+    double kmin = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n_; ++i)
+      kmin = std::min(kmin, m_.modal().mass_kg(i) * m_.modal().omega(i) * m_.modal().omega(i));
+    const double coeff = m_.milling() ? process_.milling_parameters().tangential_coefficient_n_per_m2
+                                      : process_.turning_parameters().feed_force_coefficient_n_per_m2;
+    scale = std::max(scale, s_.depth_m * coeff * s_.feed_m / kmin);
   }
-  s.f.resize(nfft / 2 + 1);
-  s.amp.resize(nfft / 2 + 1);
-  for (std::size_t k = 0; k <= nfft / 2; ++k) {
-    s.f[k] = static_cast<double>(k) / (static_cast<double>(nfft) * dt);
-    s.amp[k] = 2.0 * std::sqrt(mag2[k]) / wsum;
+  if (!(scale > 0.0)) scale = 1e-9;
+  scale_ = scale;
+  m_.set_air_margin(1e-6 * std::max(scale_, s_.feed_m));
+}
+
+void SimulationRun::init_history() {
+  // History: constant at the initial displacement before t = 0.
+  // Entries held: about 1.5 delays of grid samples, the arc events and start
+  // images in that span, at most root_cap + 1 root stops per period and as
+  // many stops at each of their root_images delay images.
+  root_cap_ = 8 * teeth_ + 8;
+  root_images_ = s_.linear ? 0 : (s_.multiple_regeneration ? kRootImagesMultiple : kRootImagesSingle);
+  const std::size_t capacity =
+      static_cast<std::size_t>(M_ + M_ / 2 + 2 * (root_cap_ + 1) * (1 + root_images_) + 4 * teeth_ + 16);
+  history_.emplace(capacity, teeth_);
+  m_.attach(&*history_);
+  std::vector<double> zero_gaps(teeth_, 0.0);
+  HistoryEntry e;
+  m_.relative(y0_.data(), e.r);
+  e.t = -tau_ - 2.0 * dt_;
+  history_->push(e, zero_gaps.data());
+  e.t = 0.0;
+  history_->push(e, zero_gaps.data());
+}
+
+void SimulationRun::init_stops() {
+  t_end_ = s_.periods * tau_;
+  std::vector<double> stops = m_.arc_events(t_end_);
+  for (int k = 1; k <= kStartImages && k <= s_.periods; ++k) stops.push_back(k * tau_);
+  stops.push_back(t_end_);
+  std::sort(stops.begin(), stops.end());
+  std::vector<double> merged;
+  for (double t : stops) {
+    if (t <= 1e-9 * tau_ || t >= t_end_ - 1e-9 * tau_) continue;
+    if (merged.empty() || t - merged.back() > 1e-9 * tau_) merged.push_back(t);
   }
-  s.resolution_hz = 1.0 / (static_cast<double>(n) * dt);
-  return s;
+  merged.push_back(t_end_);  // always the last stop, exactly
+  stops_.swap(merged);
+}
+
+void SimulationRun::init_integrator() {
+  y_.emplace(2 * n_, ctx_);
+  atol_.emplace(2 * n_, ctx_);
+  std::copy(y0_.begin(), y0_.end(), y_->data());
+  const double rtol = options_.relative_tolerance;
+  for (int i = 0; i < n_; ++i) {
+    const double sc = std::max(1e-300, scale_);
+    atol_->data()[i] = rtol * sc;
+    atol_->data()[n_ + i] = rtol * sc * m_.modal().omega(i);
+  }
+  cv_.emplace(CV_ADAMS, ctx_);
+  mem_ = cv_->get();
+  cv_->check(CVodeInit(mem_, cvode_rhs, 0.0, *y_), "CVodeInit");
+  cv_->check(CVodeSVtolerances(mem_, rtol, *atol_), "CVodeSVtolerances");
+  nls_.emplace(*y_, 0, ctx_);
+  cv_->check(CVodeSetNonlinearSolver(mem_, *nls_), "CVodeSetNonlinearSolver");
+  cv_->check(CVodeSetUserData(mem_, &m_), "CVodeSetUserData");
+  cv_->check(CVodeSetMaxOrd(mem_, kMaxAdamsOrder), "CVodeSetMaxOrd");
+  cv_->check(CVodeSetMaxStep(mem_, 0.5 * tau_), "CVodeSetMaxStep");
+  cv_->check(CVodeSetMaxNumSteps(mem_, options_.max_steps), "CVodeSetMaxNumSteps");
+  use_roots_ = !s_.linear;
+  if (use_roots_) {
+    cv_->check(CVodeRootInit(mem_, teeth_, cvode_roots), "CVodeRootInit");
+    cv_->check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
+  }
+  roots_on_ = use_roots_;
+
+  res_.delay_s = tau_;
+  res_.tooth_passing_hz = 1.0 / tau_;
+  res_.periods = s_.periods;
+  res_.samples_per_period = M_;
+  first_analysed_ = std::clamp(static_cast<int>(std::floor(s_.periods * (1.0 - s_.analysed_fraction))), 0,
+                               s_.periods - 2);
+  res_.analysed_from_period = first_analysed_;
+  zdim_ = 2 * M_ + 2 * n_;
+  period_r_.resize(2 * M_);
+  ydot_.assign(2 * n_, 0.0);
+}
+
+SeriesSample SimulationRun::make_sample(double t, const double* yy, const Diagnostics& d) const {
+  SeriesSample smp;
+  smp.t_s = t;
+  const auto& mm = m_.modal();
+  const double ex = std::exp(log_scale_);
+  for (int i = 0; i < n_; ++i) {
+    // S column = ±u_i; the body's own displacement is u_i q_i.
+    const double sign = i < m_.tool_modes() ? 1.0 : -1.0;
+    const double dx = sign * mm.S(0, i) * yy[i] * ex, dy = sign * mm.S(1, i) * yy[i] * ex;
+    if (i < m_.tool_modes()) {
+      smp.tool_x_m += dx;
+      smp.tool_y_m += dy;
+    } else {
+      smp.workpiece_x_m += dx;
+      smp.workpiece_y_m += dy;
+    }
+  }
+  smp.rel_x_m = smp.tool_x_m - smp.workpiece_x_m;
+  smp.rel_y_m = smp.tool_y_m - smp.workpiece_y_m;
+  smp.force_x_n = d.force[0] * ex;
+  smp.force_y_n = d.force[1] * ex;
+  smp.chip_m = d.chip_max * (s_.linear ? ex : 1.0);
+  smp.in_cut = d.in_cut;
+  return smp;
+}
+
+// Stores a history entry at the current (t, y): a_left from the segment
+// that ends here, a_right from the one that starts (same when no event).
+// Returns the diagnostics of the segment that ends here.
+Diagnostics SimulationRun::store(double t, bool segment_changes, double t_next_mid) {
+  double* y = y_->data();
+  HistoryEntry e;
+  e.t = t;
+  m_.relative(y, e.r);
+  m_.rhs(t, y, ydot_.data(), &dg_);
+  // ṙ and r̈ from q̇ and q̈.
+  double v[2] = {0, 0}, a[2] = {0, 0};
+  for (int i = 0; i < n_; ++i) {
+    v[0] += m_.modal().S(0, i) * ydot_[i];
+    v[1] += m_.modal().S(1, i) * ydot_[i];
+    a[0] += m_.modal().S(0, i) * ydot_[n_ + i];
+    a[1] += m_.modal().S(1, i) * ydot_[n_ + i];
+  }
+  e.v[0] = v[0];
+  e.v[1] = v[1];
+  e.a_left[0] = e.a_right[0] = a[0];
+  e.a_left[1] = e.a_right[1] = a[1];
+  Diagnostics left = dg_;
+  if (segment_changes) {
+    m_.set_segment(t_next_mid);
+    m_.rhs(t, y, ydot_.data(), &dg_);
+    double ar[2] = {0, 0};
+    for (int i = 0; i < n_; ++i) {
+      ar[0] += m_.modal().S(0, i) * ydot_[n_ + i];
+      ar[1] += m_.modal().S(1, i) * ydot_[n_ + i];
+    }
+    e.a_right[0] = ar[0];
+    e.a_right[1] = ar[1];
+  }
+  // Gaps in air (multiple regeneration), from the chips after the event.
+  std::vector<double> gaps(teeth_, 0.0);
+  if (s_.multiple_regeneration && !s_.linear) {
+    std::vector<double> h(teeth_);
+    m_.chips(t, y, h.data());
+    for (int j = 0; j < teeth_; ++j) gaps[j] = m_.in_arc()[j] ? std::max(0.0, -h[j]) : 0.0;
+  }
+  history_->push(e, gaps.data());
+  history_->drop_before(t - 1.5 * tau_);
+  return left;
+}
+
+// The next stop (skip = 0) or the one after it (skip = 1): the earlier of
+// the fixed list and the pending images; two within 1e-9 τ are one.
+double SimulationRun::next_event(int skip) const {
+  double a[2] = {t_end_, t_end_};
+  std::size_t i = next_stop_, j = 0;
+  for (int k = 0; k < 2; ++k) {
+    const double si = i < stops_.size() ? stops_[i] : t_end_, ij = j < images_.size() ? images_[j] : t_end_;
+    a[k] = std::min(si, ij);
+    while (i < stops_.size() && stops_[i] - a[k] <= 1e-9 * tau_) ++i;
+    while (j < images_.size() && images_[j] - a[k] <= 1e-9 * tau_) ++j;
+  }
+  return a[skip];
+}
+
+// Passes the event at tt (the fixed stop and / or the images there).
+void SimulationRun::pass_event(double tt) {
+  if (next_stop_ < stops_.size() && stops_[next_stop_] - tt <= 1e-9 * tau_) ++next_stop_;
+  while (!images_.empty() && images_.front() - tt <= 1e-9 * tau_) images_.pop_front();
+}
+
+// A chip zero crossing at tr: count it and queue its delay images.
+void SimulationRun::on_root(double tr) {
+  ++root_stops_;
+  for (int k = 1; k <= root_images_; ++k) {
+    const double ti = tr + k * tau_;
+    if (ti >= t_end_ - 1e-9 * tau_) break;
+    const auto at = std::lower_bound(images_.begin(), images_.end(), ti - 1e-9 * tau_);
+    if (at != images_.end() && *at - ti <= 1e-9 * tau_) continue;  // already there (e.g. roots at tooth exit)
+    images_.insert(at, ti);
+  }
+}
+
+// A time inside the segment that starts at tt and ends at the next event
+// t_next (the arc test at an event itself would be ambiguous).
+double SimulationRun::segment_mid(double tt, double t_next) const {
+  return 0.5 * (tt + (t_next > tt + 1e-9 * tau_ ? std::min(t_next, tt + dt_) : tt + dt_));
+}
+
+void SimulationRun::restart(double tt) {
+  long ns = 0, nf = 0;
+  CVodeGetNumSteps(mem_, &ns);
+  CVodeGetNumRhsEvals(mem_, &nf);
+  steps_done_ += ns;
+  rhs_done_ += nf;
+  cv_->check(CVodeReInit(mem_, tt, *y_), "CVodeReInit");
+  cv_->check(CVodeSetStopTime(mem_, next_event(0)), "CVodeSetStopTime");
+  ++restarts_;
+}
+
+// t = 0: the segment, the right-limit acceleration of the newest (t = 0)
+// history entry, the first samples and the first stop time.
+void SimulationRun::start() {
+  m_.set_segment(stops_.empty() ? 0.5 * dt_ : 0.5 * std::min(stops_.front(), dt_));
+  m_.rhs(0.0, y_->data(), ydot_.data(), &dg_);
+  HistoryEntry& e0 = history_->newest_mutable();
+  double a[2] = {0, 0};
+  for (int i = 0; i < n_; ++i) {
+    a[0] += m_.modal().S(0, i) * ydot_[n_ + i];
+    a[1] += m_.modal().S(1, i) * ydot_[n_ + i];
+  }
+  e0.a_right[0] = a[0];
+  e0.a_right[1] = a[1];
+  if (s_.record_series) res_.series.push_back(make_sample(0.0, y_->data(), dg_));
+  res_.once_per_period.push_back(make_sample(0.0, y_->data(), dg_));
+  cv_->check(CVodeSetStopTime(mem_, stops_[0]), "CVodeSetStopTime");
+}
+
+// Integrates to grid point i (t = i τ / M), stopping at every event and root
+// on the way, and records the grid point.
+void SimulationRun::step_to_grid_point(long i) {
+  const double target = static_cast<double>(i) * tau_ / M_;
+  bool root_at_grid = false;
+  while (true) {
+    const int flag = CVode(mem_, target, *y_, &t_, CV_NORMAL);
+    cv_->check(flag, "CVode");
+    if (t_ >= target - 1e-12 * tau_) {  // at the grid point (possibly also a stop or a root)
+      if (flag == CV_ROOT_RETURN) {
+        on_root(t_);
+        root_at_grid = true;
+      }
+      break;
+    }
+    if (next_event(0) - t_ <= 1e-9 * tau_) {
+      // An event before the grid point (reached as a stop, or a root that
+      // fell on it): step onto it and change segment.
+      const double t_next = next_event(1);
+      store(t_, true, segment_mid(t_, t_next));
+      pass_event(t_);
+      if (flag == CV_ROOT_RETURN) on_root(t_);
+      restart(t_);
+      continue;
+    }
+    if (flag == CV_ROOT_RETURN) {
+      on_root(t_);
+      store(t_, false, 0.0);
+      if (++roots_this_period_ > root_cap_ && roots_on_) {
+        cv_->check(CVodeRootInit(mem_, 0, nullptr), "CVodeRootInit");
+        roots_on_ = false;
+      }
+      restart(t_);
+      continue;
+    }
+    throw NumericalError("time-domain: internal error: CVODE stopped at t = " + std::to_string(t_) +
+                         " s, neither a grid point, a stop nor a root");
+  }
+  t_ = target;
+  const bool at_stop = std::abs(next_event(0) - target) <= 1e-9 * tau_;
+  const double t_next = at_stop ? next_event(1) : t_end_;
+  const Diagnostics left = store(target, at_stop, segment_mid(target, t_next));
+  if (at_stop) pass_event(target);
+  const long period = (i - 1) / M_;  // 0-based period this sample ends or lies in
+  const long in_period = (i - 1) % M_;
+  period_r_(2 * in_period) = history_->newest().r[0];
+  period_r_(2 * in_period + 1) = history_->newest().r[1];
+  const SeriesSample smp = make_sample(target, y_->data(), left);
+  if (s_.record_series) res_.series.push_back(smp);
+  if (period >= first_analysed_) {
+    win_x_.push_back(smp.rel_x_m);
+    win_y_.push_back(smp.rel_y_m);
+    max_amp_ = std::max(max_amp_, std::hypot(smp.rel_x_m, smp.rel_y_m));
+    if (left.any_in_arc) air_.add(left.in_air, 2 * (period - first_analysed_) >= (s_.periods - first_analysed_));
+  }
+  if ((i % M_) == 0) {
+    res_.once_per_period.push_back(smp);
+    end_of_period(at_stop, root_at_grid);
+  }
+  if (at_stop || root_at_grid) restart(target);
+}
+
+// At t = kτ: the DMD snapshot, roots back on, and (linear mode) the exact
+// rescaling that keeps the state near its initial size.
+void SimulationRun::end_of_period(bool at_stop, bool& root_at_grid) {
+  double* y = y_->data();
+  Eigen::VectorXd z(zdim_);
+  z.head(2 * M_) = period_r_;
+  for (int k = 0; k < n_; ++k) {
+    z(2 * M_ + k) = y[k];
+    z(2 * M_ + n_ + k) = y[n_ + k] / m_.modal().omega(k);
+  }
+  snapshots_.states.push_back(z);
+  snapshots_.log_scale.push_back(log_scale_);
+  roots_this_period_ = 0;
+  bool need_restart = at_stop;
+  if (use_roots_ && !roots_on_) {
+    cv_->check(CVodeRootInit(mem_, teeth_, cvode_roots), "CVodeRootInit");
+    roots_on_ = true;
+    need_restart = true;
+  }
+  if (s_.linear) {
+    // Keep the state near the initial scale (linear: exact rescaling).
+    double norm = 0.0;
+    for (int k = 0; k < n_; ++k) norm = std::max(norm, std::abs(y[k]));
+    if (norm > 0.0 && (norm > 1e3 * scale_ || norm < 1e-3 * scale_)) {
+      const double f = scale_ / norm;
+      for (int k = 0; k < 2 * n_; ++k) y[k] *= f;
+      history_->scale(f);
+      log_scale_ -= std::log(f);
+      need_restart = true;
+    }
+  }
+  if (need_restart) root_at_grid = true;
+}
+
+SimulationResult SimulationRun::finish() {
+  long nsteps = 0;
+  CVodeGetNumSteps(mem_, &nsteps);
+  res_.steps = steps_done_ + nsteps;
+  long nrhs = 0;
+  CVodeGetNumRhsEvals(mem_, &nrhs);
+  res_.rhs_evaluations = rhs_done_ + nrhs;
+  res_.restarts = restarts_;
+  res_.root_stops = root_stops_;
+  res_.history_capacity = history_->capacity();
+  res_.history_max_entries = history_->max_count();
+  res_.max_amplitude_m = max_amp_;
+  res_.out_of_cut_fraction = air_.fraction();
+
+  const double rtol = options_.relative_tolerance;
+  const GrowthEstimate growth = growth_per_period(snapshots_, first_analysed_, s_.linear, rtol);
+  res_.dominant_multiplier = growth.multiplier;
+  res_.growth_per_period = std::abs(growth.multiplier);
+
+  const Spectrum sp = amplitude_spectrum(win_x_, win_y_, dt_);
+  res_.spectrum_hz = sp.f;
+  res_.spectrum_amplitude_m = sp.amp;
+  const double best_f = dominant_nonharmonic_hz(sp, 1.0 / tau_);
+  res_.dominant_nonharmonic_hz = best_f;
+  res_.harmonics = tooth_passing_harmonics(sp, 1.0 / tau_, 3.0 * f_max_);
+
+  VerdictInput vin;
+  vin.linear = s_.linear;
+  vin.growth = growth;
+  vin.air = air_;
+  vin.analysed_periods = s_.periods - first_analysed_;
+  vin.relative_tolerance = rtol;
+  const VerdictOutcome v = decide_verdict(vin);
+  res_.verdict = v.verdict;
+  res_.verdict_measure = v.measure;
+  res_.chatter_frequency_hz = res_.verdict == SimulationVerdict::kChatter ? best_f : kNaN;
+  if (history_->extrapolations() > 0)
+    throw NumericalError("time-domain: internal error: the delayed state was needed outside the stored history (" +
+                         std::to_string(history_->extrapolations()) + " times)");
+  return std::move(res_);
+}
+
+SimulationResult SimulationRun::run() {
+  start();
+  const long total = static_cast<long>(s_.periods) * M_;
+  for (long i = 1; i <= total; ++i) step_to_grid_point(i);
+  return finish();
 }
 
 }  // namespace
@@ -444,529 +779,9 @@ TimeDomainSimulator::TimeDomainSimulator(StructuralModel model, Process process,
 }
 
 SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) const {
-  if (!(s.spindle_rpm > 0.0 && std::isfinite(s.spindle_rpm)))
-    throw InputError("spindle speed " + std::to_string(s.spindle_rpm) + " rev/min: must be > 0");
-  if (!(s.depth_m >= 0.0 && std::isfinite(s.depth_m)))
-    throw InputError("depth " + std::to_string(s.depth_m * 1e3) + " mm: must be >= 0");
-  if (s.periods < 4) throw InputError("periods = " + std::to_string(s.periods) + ": must be >= 4");
-  if (!(s.feed_m >= 0.0 && std::isfinite(s.feed_m)))
-    throw InputError("feed " + std::to_string(s.feed_m * 1e3) + " mm: must be >= 0");
-  if (!(s.analysed_fraction > 0.0 && s.analysed_fraction <= 1.0))
-    throw InputError("analysed_fraction must be in (0, 1]");
-
-  const double tau = process_.delay_s(s.spindle_rpm);
-  Model m(model_, process_, s, tau);
-  const int n = m.n();
-  const int teeth = m.teeth();
-  if (!s.initial_state.empty() && static_cast<int>(s.initial_state.size()) != 2 * n)
-    throw InputError("initial state has " + std::to_string(s.initial_state.size()) + " values: needs 2 x " +
-                     std::to_string(n) + " modes");
-
-  double f_max = 0.0;
-  for (int i = 0; i < n; ++i) f_max = std::max(f_max, m.modal().omega(i) / (2.0 * kPi));
-  const double need = std::ceil(options_.samples_per_vibration_cycle * tau * f_max);
-  if (need > options_.max_samples_per_period)
-    throw InputError("time-domain: " + std::to_string(s.spindle_rpm) + " rev/min needs " +
-                     std::to_string(static_cast<long>(need)) + " history samples per delay (limit " +
-                     std::to_string(options_.max_samples_per_period) + "): raise the speed");
-  const int M = std::max(options_.samples_per_period, static_cast<int>(need));
-  const double dt = tau / M;
-
-  // Initial state and displacement scale (for the absolute tolerances).
-  std::vector<double> y0(2 * n, 0.0);
-  if (!s.initial_state.empty()) {
-    y0 = s.initial_state;
-  } else if (s.linear || s.feed_m == 0.0) {
-    for (int i = 0; i < n; ++i) {
-      y0[i] = 1e-6;
-      y0[n + i] = 0.5e-6 * m.modal().omega(i);
-    }
-  }
-  double scale = 0.0;
-  for (int i = 0; i < n; ++i) scale = std::max(scale, std::abs(y0[i]));
-  if (!s.linear && s.feed_m > 0.0) {
-    double kmin = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < n; ++i)
-      kmin = std::min(kmin, m.modal().mass_kg(i) * m.modal().omega(i) * m.modal().omega(i));
-    const double coeff = m.milling() ? process_.milling_parameters().tangential_coefficient_n_per_m2
-                                     : process_.turning_parameters().feed_force_coefficient_n_per_m2;
-    scale = std::max(scale, s.depth_m * coeff * s.feed_m / kmin);
-  }
-  if (!(scale > 0.0)) scale = 1e-9;
-  m.set_air_margin(1e-6 * std::max(scale, s.feed_m));
-
-  // History: constant at the initial displacement before t = 0.
-  // Entries held: about 1.5 delays of grid samples, the arc events and start
-  // images in that span, at most root_cap + 1 root stops per period and as
-  // many stops at each of their root_images delay images.
-  const int root_cap = 8 * teeth + 8;
-  const int root_images = s.linear ? 0 : (s.multiple_regeneration ? kRootImagesMultiple : kRootImagesSingle);
-  const std::size_t capacity =
-      static_cast<std::size_t>(M + M / 2 + 2 * (root_cap + 1) * (1 + root_images) + 4 * teeth + 16);
-  History history(capacity, teeth);
-  m.attach(&history);
-  std::vector<double> zero_gaps(teeth, 0.0);
-  {
-    HistoryEntry e;
-    m.relative(y0.data(), e.r);
-    e.t = -tau - 2.0 * dt;
-    history.push(e, zero_gaps.data());
-    e.t = 0.0;
-    history.push(e, zero_gaps.data());
-  }
-
-  // Stop points.
-  const double t_end = s.periods * tau;
-  std::vector<double> stops = m.arc_events(t_end);
-  for (int k = 1; k <= kStartImages && k <= s.periods; ++k) stops.push_back(k * tau);
-  stops.push_back(t_end);
-  std::sort(stops.begin(), stops.end());
-  {
-    std::vector<double> merged;
-    for (double t : stops) {
-      if (t <= 1e-9 * tau || t >= t_end - 1e-9 * tau) continue;
-      if (merged.empty() || t - merged.back() > 1e-9 * tau) merged.push_back(t);
-    }
-    merged.push_back(t_end);  // always the last stop, exactly
-    stops.swap(merged);
-  }
-
-  // SUNDIALS objects.
-  sundials::Context ctx;
-  sundials::SerialVector y(2 * n, ctx), atol(2 * n, ctx);
-  std::copy(y0.begin(), y0.end(), y.data());
-  const double rtol = options_.relative_tolerance;
-  for (int i = 0; i < n; ++i) {
-    const double sc = std::max(1e-300, scale);
-    atol.data()[i] = rtol * sc;
-    atol.data()[n + i] = rtol * sc * m.modal().omega(i);
-  }
-  sundials::Cvode cv(CV_ADAMS, ctx);
-  void* mem = cv.get();
-  cv.check(CVodeInit(mem, cvode_rhs, 0.0, y), "CVodeInit");
-  cv.check(CVodeSVtolerances(mem, rtol, atol), "CVodeSVtolerances");
-  sundials::FixedPointSolver nls(y, 0, ctx);
-  cv.check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
-  cv.check(CVodeSetUserData(mem, &m), "CVodeSetUserData");
-  cv.check(CVodeSetMaxOrd(mem, kMaxAdamsOrder), "CVodeSetMaxOrd");
-  cv.check(CVodeSetMaxStep(mem, 0.5 * tau), "CVodeSetMaxStep");
-  cv.check(CVodeSetMaxNumSteps(mem, options_.max_steps), "CVodeSetMaxNumSteps");
-  const bool use_roots = !s.linear;
-  if (use_roots) {
-    cv.check(CVodeRootInit(mem, teeth, cvode_roots), "CVodeRootInit");
-    cv.check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
-  }
-
-  SimulationResult res;
-  res.delay_s = tau;
-  res.tooth_passing_hz = 1.0 / tau;
-  res.periods = s.periods;
-  res.samples_per_period = M;
-  const int first_analysed = std::clamp(static_cast<int>(std::floor(s.periods * (1.0 - s.analysed_fraction))), 0,
-                                        s.periods - 2);
-  res.analysed_from_period = first_analysed;
-
-  // Per-period observables for the DMD: r at the M grid points of the period
-  // just ended, plus the modal state at its end (velocities / ω).
-  const int zdim = 2 * M + 2 * n;
-  std::vector<Eigen::VectorXd> snapshots;
-  std::vector<double> snapshot_log_scale;
-  Eigen::VectorXd period_r(2 * M);
-  double log_scale = 0.0;  // linear mode: true state = stored × exp(log_scale)
-
-  std::vector<double> win_x, win_y;  // uniform samples of r over the analysed window
-  std::size_t arc_samples = 0, air_samples = 0;
-  // The same in the first and second half of the analysed window.
-  std::size_t arc_early = 0, air_early = 0, arc_late = 0, air_late = 0;
-  double max_amp = 0.0;
-
-  std::vector<double> ydot(2 * n);
-  Diagnostics dg;
-  auto make_sample = [&](double t, const double* yy, const Diagnostics& d) {
-    SeriesSample smp;
-    smp.t_s = t;
-    const auto& mm = m.modal();
-    const double ex = std::exp(log_scale);
-    for (int i = 0; i < n; ++i) {
-      // S column = ±u_i; the body's own displacement is u_i q_i.
-      const double sign = i < m.tool_modes() ? 1.0 : -1.0;
-      const double dx = sign * mm.S(0, i) * yy[i] * ex, dy = sign * mm.S(1, i) * yy[i] * ex;
-      if (i < m.tool_modes()) {
-        smp.tool_x_m += dx;
-        smp.tool_y_m += dy;
-      } else {
-        smp.workpiece_x_m += dx;
-        smp.workpiece_y_m += dy;
-      }
-    }
-    smp.rel_x_m = smp.tool_x_m - smp.workpiece_x_m;
-    smp.rel_y_m = smp.tool_y_m - smp.workpiece_y_m;
-    smp.force_x_n = d.force[0] * ex;
-    smp.force_y_n = d.force[1] * ex;
-    smp.chip_m = d.chip_max * (s.linear ? ex : 1.0);
-    smp.in_cut = d.in_cut;
-    return smp;
-  };
-
-  // Stores a history entry at the current (t, y): a_left from the segment
-  // that ends here, a_right from the one that starts (same when no event).
-  auto store = [&](double t, bool segment_changes, double t_next_mid) {
-    HistoryEntry e;
-    e.t = t;
-    m.relative(y.data(), e.r);
-    m.rhs(t, y.data(), ydot.data(), &dg);
-    // ṙ and r̈ from q̇ and q̈.
-    double v[2] = {0, 0}, a[2] = {0, 0};
-    for (int i = 0; i < n; ++i) {
-      v[0] += m.modal().S(0, i) * ydot[i];
-      v[1] += m.modal().S(1, i) * ydot[i];
-      a[0] += m.modal().S(0, i) * ydot[n + i];
-      a[1] += m.modal().S(1, i) * ydot[n + i];
-    }
-    e.v[0] = v[0];
-    e.v[1] = v[1];
-    e.a_left[0] = e.a_right[0] = a[0];
-    e.a_left[1] = e.a_right[1] = a[1];
-    Diagnostics left = dg;
-    if (segment_changes) {
-      m.set_segment(t_next_mid);
-      m.rhs(t, y.data(), ydot.data(), &dg);
-      double ar[2] = {0, 0};
-      for (int i = 0; i < n; ++i) {
-        ar[0] += m.modal().S(0, i) * ydot[n + i];
-        ar[1] += m.modal().S(1, i) * ydot[n + i];
-      }
-      e.a_right[0] = ar[0];
-      e.a_right[1] = ar[1];
-    }
-    // Gaps in air (multiple regeneration), from the chips after the event.
-    std::vector<double> gaps(teeth, 0.0);
-    if (s.multiple_regeneration && !s.linear) {
-      std::vector<double> h(teeth);
-      m.chips(t, y.data(), h.data());
-      for (int j = 0; j < teeth; ++j) gaps[j] = m.in_arc()[j] ? std::max(0.0, -h[j]) : 0.0;
-    }
-    history.push(e, gaps.data());
-    history.drop_before(t - 1.5 * tau);
-    return left;
-  };
-
-  m.set_segment(stops.empty() ? 0.5 * dt : 0.5 * std::min(stops.front(), dt));
-  // Right-limit acceleration at t = 0 for the newest (t = 0) entry.
-  {
-    m.rhs(0.0, y.data(), ydot.data(), &dg);
-    HistoryEntry& e0 = history.newest_mutable();
-    double a[2] = {0, 0}, v[2] = {0, 0};
-    for (int i = 0; i < n; ++i) {
-      v[0] += m.modal().S(0, i) * ydot[i];
-      v[1] += m.modal().S(1, i) * ydot[i];
-      a[0] += m.modal().S(0, i) * ydot[n + i];
-      a[1] += m.modal().S(1, i) * ydot[n + i];
-    }
-    (void)v;
-    e0.a_right[0] = a[0];
-    e0.a_right[1] = a[1];
-    if (s.record_series) res.series.push_back(make_sample(0.0, y.data(), dg));
-    res.once_per_period.push_back(make_sample(0.0, y.data(), dg));
-  }
-
-  // Pending images of the chip zero crossings, sorted; they lie within
-  // root_images delays ahead, so at most about (root_cap + 1) x root_images
-  // are held, whatever the simulated time.
-  std::deque<double> images;
-  std::size_t next_stop = 0;
-  long restarts = 0, root_stops = 0;
-  // The next stop (skip = 0) or the one after it (skip = 1): the earlier of
-  // the fixed list and the pending images; two within 1e-9 τ are one.
-  auto next_event = [&](int skip) {
-    double a[2] = {t_end, t_end};
-    std::size_t i = next_stop, j = 0;
-    for (int k = 0; k < 2; ++k) {
-      const double si = i < stops.size() ? stops[i] : t_end, ij = j < images.size() ? images[j] : t_end;
-      a[k] = std::min(si, ij);
-      while (i < stops.size() && stops[i] - a[k] <= 1e-9 * tau) ++i;
-      while (j < images.size() && images[j] - a[k] <= 1e-9 * tau) ++j;
-    }
-    return a[skip];
-  };
-  // Passes the event at tt (the fixed stop and / or the images there).
-  auto pass_event = [&](double tt) {
-    if (next_stop < stops.size() && stops[next_stop] - tt <= 1e-9 * tau) ++next_stop;
-    while (!images.empty() && images.front() - tt <= 1e-9 * tau) images.pop_front();
-  };
-  // A chip zero crossing at tr: count it and queue its delay images.
-  auto on_root = [&](double tr) {
-    ++root_stops;
-    for (int k = 1; k <= root_images; ++k) {
-      const double ti = tr + k * tau;
-      if (ti >= t_end - 1e-9 * tau) break;
-      const auto at = std::lower_bound(images.begin(), images.end(), ti - 1e-9 * tau);
-      if (at != images.end() && *at - ti <= 1e-9 * tau) continue;  // already there (e.g. roots at tooth exit)
-      images.insert(at, ti);
-    }
-  };
-  // A time inside the segment that starts at tt and ends at the next event
-  // t_next (the arc test at an event itself would be ambiguous).
-  auto segment_mid = [&](double tt, double t_next) {
-    return 0.5 * (tt + (t_next > tt + 1e-9 * tau ? std::min(t_next, tt + dt) : tt + dt));
-  };
-  cv.check(CVodeSetStopTime(mem, stops[0]), "CVodeSetStopTime");
-  double t = 0.0;
-  int roots_this_period = 0;
-  bool roots_on = use_roots;
-  const long total = static_cast<long>(s.periods) * M;
-  long steps_done = 0, rhs_done = 0;  // CVodeReInit resets CVODE's counters
-  auto restart = [&](double tt) {
-    long ns = 0, nf = 0;
-    CVodeGetNumSteps(mem, &ns);
-    CVodeGetNumRhsEvals(mem, &nf);
-    steps_done += ns;
-    rhs_done += nf;
-    cv.check(CVodeReInit(mem, tt, y), "CVodeReInit");
-    cv.check(CVodeSetStopTime(mem, next_event(0)), "CVodeSetStopTime");
-    ++restarts;
-  };
-
-  for (long i = 1; i <= total; ++i) {
-    const double target = static_cast<double>(i) * tau / M;
-    bool root_at_grid = false;
-    while (true) {
-      const int flag = CVode(mem, target, y, &t, CV_NORMAL);
-      cv.check(flag, "CVode");
-      if (t >= target - 1e-12 * tau) {  // at the grid point (possibly also a stop or a root)
-        if (flag == CV_ROOT_RETURN) {
-          on_root(t);
-          root_at_grid = true;
-        }
-        break;
-      }
-      if (next_event(0) - t <= 1e-9 * tau) {
-        // An event before the grid point (reached as a stop, or a root that
-        // fell on it): step onto it and change segment.
-        const double t_next = next_event(1);
-        store(t, true, segment_mid(t, t_next));
-        pass_event(t);
-        if (flag == CV_ROOT_RETURN) on_root(t);
-        restart(t);
-        continue;
-      }
-      if (flag == CV_ROOT_RETURN) {
-        on_root(t);
-        store(t, false, 0.0);
-        if (++roots_this_period > root_cap && roots_on) {
-          cv.check(CVodeRootInit(mem, 0, nullptr), "CVodeRootInit");
-          roots_on = false;
-        }
-        restart(t);
-        continue;
-      }
-      throw NumericalError("time-domain: internal error: CVODE stopped at t = " + std::to_string(t) +
-                           " s, neither a grid point, a stop nor a root");
-    }
-    t = target;
-    const bool at_stop = std::abs(next_event(0) - target) <= 1e-9 * tau;
-    const double t_next = at_stop ? next_event(1) : t_end;
-    const Diagnostics left = store(target, at_stop, segment_mid(target, t_next));
-    if (at_stop) pass_event(target);
-    const long period = (i - 1) / M;  // 0-based period this sample ends or lies in
-    const long in_period = (i - 1) % M;
-    period_r(2 * in_period) = history.newest().r[0];
-    period_r(2 * in_period + 1) = history.newest().r[1];
-    const SeriesSample smp = make_sample(target, y.data(), left);
-    if (s.record_series) res.series.push_back(smp);
-    if (period >= first_analysed) {
-      win_x.push_back(smp.rel_x_m);
-      win_y.push_back(smp.rel_y_m);
-      max_amp = std::max(max_amp, std::hypot(smp.rel_x_m, smp.rel_y_m));
-      if (left.any_in_arc) {
-        ++arc_samples;
-        if (left.in_air) ++air_samples;
-        const bool late = 2 * (period - first_analysed) >= (s.periods - first_analysed);
-        (late ? arc_late : arc_early) += 1;
-        if (left.in_air) (late ? air_late : air_early) += 1;
-      }
-    }
-    const bool period_end = (i % M) == 0;
-    if (period_end) {
-      res.once_per_period.push_back(smp);
-      Eigen::VectorXd z(zdim);
-      z.head(2 * M) = period_r;
-      for (int k = 0; k < n; ++k) {
-        z(2 * M + k) = y.data()[k];
-        z(2 * M + n + k) = y.data()[n + k] / m.modal().omega(k);
-      }
-      snapshots.push_back(z);
-      snapshot_log_scale.push_back(log_scale);
-      roots_this_period = 0;
-      bool need_restart = at_stop;
-      if (use_roots && !roots_on) {
-        cv.check(CVodeRootInit(mem, teeth, cvode_roots), "CVodeRootInit");
-        roots_on = true;
-        need_restart = true;
-      }
-      if (s.linear) {
-        // Keep the state near the initial scale (linear: exact rescaling).
-        double norm = 0.0;
-        for (int k = 0; k < n; ++k) norm = std::max(norm, std::abs(y.data()[k]));
-        if (norm > 0.0 && (norm > 1e3 * scale || norm < 1e-3 * scale)) {
-          const double f = scale / norm;
-          for (int k = 0; k < 2 * n; ++k) y.data()[k] *= f;
-          history.scale(f);
-          log_scale -= std::log(f);
-          need_restart = true;
-        }
-      }
-      if (need_restart) root_at_grid = true;
-    }
-    if (at_stop || root_at_grid) restart(target);
-  }
-
-  long nsteps = 0;
-  CVodeGetNumSteps(mem, &nsteps);
-  res.steps = steps_done + nsteps;
-  long nrhs = 0;
-  CVodeGetNumRhsEvals(mem, &nrhs);
-  res.rhs_evaluations = rhs_done + nrhs;
-  res.restarts = restarts;
-  res.root_stops = root_stops;
-  res.history_capacity = history.capacity();
-  res.history_max_entries = history.max_count();
-  res.max_amplitude_m = max_amp;
-  res.out_of_cut_fraction = arc_samples ? static_cast<double>(air_samples) / static_cast<double>(arc_samples) : 0.0;
-
-  // --- growth per period from the analysed window ---
-  const int K = static_cast<int>(snapshots.size());  // snapshot k at t = (k+1)τ
-  const int k0 = std::max(0, first_analysed - 1);
-  std::vector<Eigen::VectorXd> seq;   // states (linear) or increments (nonlinear), true scale relative
-  std::vector<double> seq_log;
-  if (s.linear) {
-    for (int k = k0; k < K; ++k) {
-      seq.push_back(snapshots[k]);
-      seq_log.push_back(snapshot_log_scale[k]);
-    }
-  } else {
-    for (int k = k0; k + 1 < K; ++k) {
-      seq.push_back(snapshots[k + 1] - snapshots[k]);
-      seq_log.push_back(0.0);
-    }
-  }
-  double amp_ref = 0.0;
-  if (!snapshots.empty()) amp_ref = snapshots.back().norm();
-  const double floor = 1e4 * rtol * std::max(amp_ref, 1e-300);
-  bool converged = false;
-  std::vector<int> usable;
-  for (std::size_t k = 0; k + 1 < seq.size(); ++k) {
-    const double a0 = seq[k].norm(), a1 = seq[k + 1].norm() * std::exp(seq_log[k + 1] - seq_log[k]);
-    if (s.linear || (a0 > floor && a1 > floor)) usable.push_back(static_cast<int>(k));
-  }
-  if (!s.linear && !seq.empty() && seq.back().norm() <= floor) converged = true;
-  std::complex<double> mu{kNaN, 0.0};
-  if (usable.size() >= 4) {
-    Eigen::MatrixXd X(zdim, static_cast<Eigen::Index>(usable.size())), Y(zdim, static_cast<Eigen::Index>(usable.size()));
-    for (std::size_t c = 0; c < usable.size(); ++c) {
-      const int k = usable[c];
-      const double nk = seq[k].norm();
-      if (!(nk > 0.0)) continue;
-      X.col(static_cast<Eigen::Index>(c)) = seq[k] / nk;
-      Y.col(static_cast<Eigen::Index>(c)) = seq[k + 1] * (std::exp(seq_log[k + 1] - seq_log[k]) / nk);
-    }
-    const int last = usable.back() + 1;
-    // Singular values below the integration noise (≈ rtol × |z| on every
-    // snapshot, relative to the smallest fitted one) are not dynamics.
-    double smallest = std::numeric_limits<double>::infinity();
-    for (int k : usable) smallest = std::min(smallest, seq[k].norm());
-    const double noise = s.linear ? 30.0 * rtol : 30.0 * rtol * amp_ref / std::max(smallest, 1e-300);
-    mu = dominant_multiplier(X, Y, seq[last] / std::max(seq[last].norm(), 1e-300), std::clamp(noise, 1e-9, 0.05));
-  }
-  res.dominant_multiplier = mu;
-  res.growth_per_period = std::abs(mu);
-
-  // --- spectrum and the chatter frequency ---
-  const Spectrum sp = amplitude_spectrum(win_x, win_y, dt);
-  res.spectrum_hz = sp.f;
-  res.spectrum_amplitude_m = sp.amp;
-  const double ftp = 1.0 / tau;
-  auto harmonic_of = [&](double f) {
-    const double k = std::round(f / ftp);
-    return std::abs(f - k * ftp) <= 2.5 * sp.resolution_hz ? static_cast<int>(k) : -1;
-  };
-  double best_amp = 0.0, best_f = kNaN, amp_all = 0.0;
-  std::size_t best_k = 0;
-  for (std::size_t k = 1; k + 1 < sp.f.size(); ++k) {
-    amp_all = std::max(amp_all, sp.amp[k]);
-    if (harmonic_of(sp.f[k]) >= 0) continue;
-    if (sp.amp[k] > best_amp && sp.amp[k] >= sp.amp[k - 1] && sp.amp[k] >= sp.amp[k + 1]) {
-      best_amp = sp.amp[k];
-      best_k = k;
-    }
-  }
-  if (best_k > 0 && best_amp > 1e-9 * amp_all) {
-    // Parabolic refinement on the log amplitude.
-    const double l0 = std::log(std::max(sp.amp[best_k - 1], 1e-300)), l1 = std::log(sp.amp[best_k]),
-                 l2 = std::log(std::max(sp.amp[best_k + 1], 1e-300));
-    const double den = l0 - 2 * l1 + l2;
-    const double shift = den < 0 ? std::clamp(0.5 * (l0 - l2) / den, -0.5, 0.5) : 0.0;
-    best_f = sp.f[best_k] + shift * (sp.f[1] - sp.f[0]);
-  }
-  res.dominant_nonharmonic_hz = best_f;
-  for (int k = 1; sp.f.size() > 1 && k * ftp <= std::min(sp.f.back(), 3.0 * f_max) && k <= 60; ++k) {
-    SpectralPeak pk;
-    pk.frequency_hz = k * ftp;
-    pk.harmonic = k;
-    const auto c = static_cast<std::size_t>(std::llround(k * ftp / (sp.f[1] - sp.f[0])));
-    for (std::size_t j = c >= 3 ? c - 3 : 0; j <= c + 3 && j < sp.f.size(); ++j)
-      pk.amplitude_m = std::max(pk.amplitude_m, sp.amp[j]);
-    res.harmonics.push_back(pk);
-  }
-
-  // --- verdict ---
-  std::ostringstream why;
-  why.precision(4);
-  const int analysed = s.periods - first_analysed;
-  if (s.linear) {
-    if (std::isnan(res.growth_per_period)) {
-      res.verdict = SimulationVerdict::kStable;
-      why << "no motion to analyse";
-    } else {
-      res.verdict = res.growth_per_period < 1.0 ? SimulationVerdict::kStable : SimulationVerdict::kChatter;
-      why << "linear mode: growth per period |mu| = " << res.growth_per_period << " over the last " << analysed
-          << " periods (" << (res.growth_per_period < 1.0 ? "< 1: decays" : ">= 1: grows") << ")";
-    }
-  } else if (converged) {
-    res.verdict = SimulationVerdict::kStable;
-    why << "periodic: the once-per-period increments fell below " << 1e4 * rtol
-        << " of the amplitude (forced vibration only)";
-  } else if (std::isnan(res.growth_per_period)) {
-    res.verdict = res.out_of_cut_fraction > kAirFraction ? SimulationVerdict::kChatter : SimulationVerdict::kStable;
-    why << "the tool was in air during " << 100.0 * res.out_of_cut_fraction << " % of the cutting-arc time in the last "
-        << analysed << " periods";
-  } else {
-    // Saturated chatter (the tool leaves the cut) is a limit cycle or torus
-    // of the increments: |mu| = 1 up to the fit, so it counts from 1 − margin.
-    const bool air = res.out_of_cut_fraction > kAirFraction;
-    const double early = arc_early ? static_cast<double>(air_early) / static_cast<double>(arc_early) : 0.0;
-    const double late = arc_late ? static_cast<double>(air_late) / static_cast<double>(arc_late) : 0.0;
-    // Persisting contact loss: at least half as often in the second half of
-    // the window as in the first (a decaying transient loses contact less
-    // and less; a saturated chatter vibration keeps doing it).
-    const bool persisting = air && late > kAirFraction && late >= 0.5 * early;
-    const double threshold = persisting ? 1.0 - kSaturatedMargin : 1.0;
-    res.verdict = res.growth_per_period < threshold ? SimulationVerdict::kStable : SimulationVerdict::kChatter;
-    why << "once-per-period increments " << (res.growth_per_period < 1.0 ? "decay" : "grow") << " by |mu| = "
-        << res.growth_per_period << " per period over the last " << analysed << " periods";
-    if (air)
-      why << "; the tool was in air during " << 100.0 * res.out_of_cut_fraction << " % of the cutting-arc time ("
-          << 100.0 * early << " % then " << 100.0 * late << " % in the two halves"
-          << (persisting ? ": persisting, saturated chatter has |mu| = 1" : ": dying out") << ")";
-    else
-      why << "; the tool stayed in the cut";
-  }
-  res.verdict_measure = why.str();
-  res.chatter_frequency_hz = res.verdict == SimulationVerdict::kChatter ? best_f : kNaN;
-  if (history.extrapolations() > 0)
-    throw NumericalError("time-domain: internal error: the delayed state was needed outside the stored history (" +
-                         std::to_string(history.extrapolations()) + " times)");
-  return res;
+  validate_settings(s);
+  SimulationRun run(model_, process_, options_, s);
+  return run.run();
 }
 
 // ---------------------------------------------------------------------------
@@ -1000,54 +815,28 @@ StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
     if (g.bounded() && g.depth_limit_m > 0.0) guess = std::min(g.depth_limit_m, o.depth_max_m);
   } catch (const InputError&) {
   }
-  double lo = 0.0, hi = 0.0;
-  SimulationResult at_hi;
-  double a = guess / 16.0;
-  bool found = false;
-  SimulationResult r = verdict_run(rpm, a);
-  if (r.verdict == SimulationVerdict::kChatter) {
-    // Unstable already: go down.
-    hi = a;
-    at_hi = r;
-    for (int k = 0; k < 30; ++k) {
-      a /= 2.0;
-      r = verdict_run(rpm, a);
-      if (r.verdict == SimulationVerdict::kStable) {
-        lo = a;
-        found = true;
-        break;
-      }
-      hi = a;
-      at_hi = r;
-    }
-    if (!found) {
+  // Scan by factors of 2 from guess / 16 (down if already chatter), then
+  // bisection to depth_tolerance (depth_search.hpp, shared with sdm).
+  auto probe = [&](double depth) { return verdict_run(rpm, depth); };
+  auto chatter = [](const SimulationResult& r) { return r.verdict == SimulationVerdict::kChatter; };
+  constexpr double kScanRatio = 2.0;
+  constexpr int kMaxHalvings = 30;
+  const double a = guess / 16.0;
+  SimulationResult first = probe(a);
+  detail::DepthBracket<SimulationResult> b;
+  if (chatter(first)) {
+    b = detail::descend_to_stable(a, std::move(first), kScanRatio, kMaxHalvings, probe, chatter);
+    if (!b.found) {
       out.depth_limit_m = 0.0;
       return out;
     }
   } else {
-    lo = a;
-    while (true) {
-      if (a >= o.depth_max_m) return out;  // stable up to the searched depth
-      a = std::min(2.0 * a, o.depth_max_m);
-      r = verdict_run(rpm, a);
-      if (r.verdict == SimulationVerdict::kChatter) {
-        hi = a;
-        at_hi = r;
-        break;
-      }
-      lo = a;
-    }
+    b = detail::climb_to_unstable(a, std::move(first), kScanRatio, o.depth_max_m, probe, chatter);
+    if (!b.found) return out;  // stable up to the searched depth
   }
-  while (hi - lo > o.depth_tolerance * hi) {
-    const double mid = 0.5 * (lo + hi);
-    r = verdict_run(rpm, mid);
-    if (r.verdict == SimulationVerdict::kChatter) {
-      hi = mid;
-      at_hi = r;
-    } else {
-      lo = mid;
-    }
-  }
+  detail::bisect_bracket(b, o.depth_tolerance, probe, chatter);
+  const double lo = b.lo, hi = b.hi;
+  const SimulationResult& at_hi = b.at_hi;
   out.depth_limit_m = 0.5 * (lo + hi);
   out.chatter_frequency_hz = at_hi.chatter_frequency_hz;
   if (std::isnan(out.chatter_frequency_hz)) out.chatter_frequency_hz = at_hi.dominant_nonharmonic_hz;
