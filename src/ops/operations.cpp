@@ -17,6 +17,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/solvers.hpp"
+#include "../io/text.hpp"
 
 namespace chatter {
 namespace {
@@ -695,65 +696,29 @@ const std::vector<std::string> kRequiredColumns = {"id", "spindle_rpm", "depth_m
                                                    "feed_per_tooth_mm"};
 const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction"};
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
+using detail::text::trim;
 
 // Splits one CSV line; fields may be double-quoted with "" for a quote.
 // Returns false (and sets *error) on an unterminated quote.
 bool split_csv(std::string_view line, std::vector<std::string>& out, std::string* error) {
-  out.clear();
-  std::string cur;
-  bool quoted = false, was_quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"') {
-        if (i + 1 < line.size() && line[i + 1] == '"') {
-          cur += '"';
-          ++i;
-        } else {
-          quoted = false;
-        }
-      } else {
-        cur += c;
-      }
-    } else if (c == '"' && trim(cur).empty()) {
-      cur.clear();
-      quoted = was_quoted = true;
-    } else if (c == ',') {
-      out.emplace_back(was_quoted ? cur : std::string(trim(cur)));
-      cur.clear();
-      was_quoted = false;
-    } else {
-      cur += c;
-    }
-  }
-  if (quoted) {
-    *error = "unterminated quote";
-    return false;
-  }
-  out.emplace_back(was_quoted ? cur : std::string(trim(cur)));
-  return true;
+  if (detail::text::split_delimited(line, ',', /*quotes=*/true, out)) return true;
+  *error = "unterminated quote";
+  return false;
 }
 
 // Parses a finite number; "" if fine, else the reason.
 std::string parse_number(std::string_view s, double& x) {
-  std::string_view t = s;
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  if (t.empty() || ec != std::errc() || p != t.data() + t.size()) return "not a number";
+  const std::optional<double> v = detail::text::parse_double(s);
+  if (!v) return "not a number";
+  x = *v;
   if (!std::isfinite(x)) return "must be a finite number";
   return "";
 }
 
 std::string parse_integer(std::string_view s, int& x) {
-  std::string_view t = s;
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  if (t.empty() || ec != std::errc() || p != t.data() + t.size()) return "not an integer";
+  const std::optional<int> v = detail::text::parse_integer<int>(s);
+  if (!v) return "not an integer";
+  x = *v;
   return "";
 }
 
