@@ -18,6 +18,7 @@
 #include "chatter/error.hpp"
 #include "chatter/solvers.hpp"
 #include "../io/text.hpp"
+#include "../solvers/extremum.hpp"
 
 namespace chatter {
 namespace {
@@ -29,7 +30,8 @@ constexpr double kPi = std::numbers::pi;
 // Interval splitting stops at this fraction of the table's 1/rpm range: about
 // 21 halvings below a 400-point base grid, far below any lobe feature.
 constexpr double kMinRelativeWidth = 1e-9;
-// Golden-section searches stop when the bracket is narrower than this
+// Speed maximisations (Brent: golden section with parabolic steps,
+// src/solvers/extremum.hpp) stop when x is located to this
 // fraction of the speed (≈ 1e-4 rev/min at 10 000 rev/min: well below what a
 // spindle holds); at most kGoldenMaxIterations limit_at() calls.
 constexpr double kGoldenRelativeWidth = 1e-8;
@@ -279,31 +281,6 @@ QueryVerdict LobeTableQuery::classify(double rpm, double depth_m) const {
 
 namespace {
 
-// Golden-section search for the maximum of `f` on [a, b]; returns the best
-// point evaluated (including the ends' values passed in, if better).
-template <class F>
-double golden_maximize(F&& f, double a, double b) {
-  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-  double x1 = b - r * (b - a), x2 = a + r * (b - a);
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < kGoldenMaxIterations && (b - a) > kGoldenRelativeWidth * b; ++it) {
-    if (f1 >= f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - r * (b - a);
-      f1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + r * (b - a);
-      f2 = f(x2);
-    }
-  }
-  return f1 >= f2 ? x1 : x2;
-}
-
 }  // namespace
 
 StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table) {
@@ -328,7 +305,7 @@ StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table)
     if (l.depth_limit_m > top.depth_limit_m) top = l;  // +inf wins too
     return l.depth_limit_m;
   };
-  golden_maximize(f, a, b);
+  detail::maximize_on(f, a, b, kGoldenRelativeWidth * b, kGoldenMaxIterations);
   return top;
 }
 
@@ -477,24 +454,12 @@ class SpeedSearch {
     return m;
   }
 
-  // Golden-section maximisation of f on [a, b] down to `rel` of the speed;
-  // returns the best evaluated point.
+  // Maximisation of f on [a, b] down to `rel` of the speed (Brent's
+  // minimiser, golden section with parabolic steps); returns the best
+  // evaluated point.
   template <class F>
   double maximize(F&& f, double a, double b, double rel) {
-    const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-    double x1 = b - r * (b - a), x2 = a + r * (b - a);
-    double f1 = f(x1), f2 = f(x2);
-    double best_x = f1 >= f2 ? x1 : x2, best_f = std::max(f1, f2);
-    for (int it = 0; it < kGoldenMaxIterations && (b - a) > rel * b; ++it) {
-      if (f1 >= f2) {
-        b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
-      } else {
-        a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
-      }
-      if (f1 > best_f) best_f = f1, best_x = x1;
-      if (f2 > best_f) best_f = f2, best_x = x2;
-    }
-    return best_x;
+    return detail::maximize_on(f, a, b, rel * b, kGoldenMaxIterations).x;
   }
 
   // Edges of the connected interval around `rpm` (where limit > threshold is
