@@ -1,5 +1,5 @@
 // Direct tests of the internal numerics the solvers share (src/solvers/):
-// the bracketed root finders of roots.hpp and the phase search of
+// Brent's root finder of roots.hpp and the phase search of
 // phase_search.hpp. Answers are closed forms (roots of elementary functions,
 // the 1-DOF delay equation and its minimum 2kζ(1+ζ)/K_f) or residuals.
 #include <gtest/gtest.h>
@@ -28,7 +28,7 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 // A root asked to round-off (xtol = 1e-15·|root|) must come back within this
 // relative error: the tolerance plus a few ulps of the root.
 constexpr double kRoundOffRelative = 1e-14;
-// Both finders converge superlinearly: a smooth root to round-off from a unit
+// Brent converges superlinearly: a smooth root to round-off from a unit
 // bracket takes far fewer evaluations than this (bisection would need ~50).
 constexpr int kMaxSmoothEvaluations = 40;
 
@@ -109,22 +109,10 @@ void check_bracket_rules(Finder find, const char* finder) {
 auto brent = [](auto&& f, double a, double b, double fa, double fb, double xtol) {
   return detail::brent_root(f, a, b, fa, fb, xtol);
 };
-auto toms748 = [](auto&& f, double a, double b, double fa, double fb, double xtol) {
-  return detail::toms748_root(f, a, b, fa, fb, xtol);
-};
 
 TEST(Roots, BrentFindsKnownRootsToRoundOff) { check_known_roots(brent, "brent_root"); }
-TEST(Roots, Toms748FindsKnownRootsToRoundOff) { check_known_roots(toms748, "toms748_root"); }
 TEST(Roots, BrentHonoursItsTolerance) { check_tolerance_honoured(brent, "brent_root"); }
-TEST(Roots, Toms748HonoursItsTolerance) { check_tolerance_honoured(toms748, "toms748_root"); }
 TEST(Roots, BrentRefusesAnUnbracketedRoot) { check_bracket_rules(brent, "brent_root"); }
-TEST(Roots, Toms748RefusesAnUnbracketedRoot) { check_bracket_rules(toms748, "toms748_root"); }
-
-TEST(Roots, Toms748AcceptsAReversedBracket) {
-  auto f = [](double x) { return std::cos(x); };
-  const double x = detail::toms748_root(f, 2.0, 0.0, f(2.0), f(0.0), 1e-15);
-  EXPECT_NEAR(x, kPi / 2, kRoundOffRelative) << x;
-}
 
 // --------------------------------------------------------- phase search
 //

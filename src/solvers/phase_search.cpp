@@ -245,7 +245,7 @@ PhaseRoot PhaseSearch::lowest_root(double tau) const {
     };
     const double fa = omega_[i] * tau - unwrapped_[i][bi] - c.target;
     const double fb = omega_[i + 1] * tau - unwrapped_[i + 1][bi] - c.target;
-    const double w = toms748_root(f, omega_[i], omega_[i + 1], fa, fb, 1e-15 * omega_[i + 1]);
+    const double w = brent_root(f, omega_[i], omega_[i + 1], fa, fb, 1e-15 * omega_[i + 1]);
     const BranchValue v = continued(c.branch, w, i, nullptr);
     if (!(v.s >= best_s)) continue;
     best_s = v.s;
