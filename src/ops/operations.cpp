@@ -40,7 +40,7 @@ constexpr int kGoldenMaxIterations = 100;
 // at every speed up to round-off.
 constexpr double kTieRelative = 1e-9;
 // A depth cap within this relative distance of the chosen depth binds too.
-// The golden-section search stops at a bracket of 1e-8 of the speed; on a
+// The speed search locates the optimum to 1e-8 of the speed; on a
 // steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
 // optimum then differ by up to ~1e-5.
 constexpr double kBindingRelative = 1e-5;
@@ -326,7 +326,7 @@ constexpr int kScanMaxPoints = 2000;
 // pockets of nearly equal height are both refined).
 constexpr double kCandidateSpread = 0.1;
 constexpr std::size_t kMaxCandidates = 3;
-// Golden-section bracket for a robust optimum: 1e-4 of the speed (1 rev/min
+// Maximiser resolution for a robust optimum: 1e-4 of the speed (1 rev/min
 // at 10 000), far below a spindle's speed error; at tolerance 0 the optimum
 // is a cusp and the old kGoldenRelativeWidth (1e-8) applies.
 constexpr double kRobustRelativeWidth = 1e-4;
@@ -559,7 +559,7 @@ class SpeedSearch {
     solves_ += rpms.size();
   }
 
-  // Golden-section minimum of the limit on [a, b] (memoised per bracket).
+  // Minimum of the limit on [a, b] by Brent's minimiser (memoised per bracket).
   std::pair<double, double> bottom(double a, double b) {
     const auto key = std::make_pair(a, b);
     if (const auto it = bottoms_.find(key); it != bottoms_.end()) return it->second;
@@ -1162,7 +1162,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     // Bound by stability or power near a cusp, the optimum is where the band's
     // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
     // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
-    // with N up to where stability takes over: golden-section search.
+    // with N up to where stability takes over: Brent's minimiser.
     const bool stability_bound = at_point.depth == at_point.stab;
     const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
     if (x > 0.0) f(x);
