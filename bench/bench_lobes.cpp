@@ -64,6 +64,17 @@ void BM_ConstructAndEnvelope(benchmark::State& state) {
 }
 BENCHMARK(BM_ConstructAndEnvelope)->Unit(benchmark::kMillisecond);
 
+// The absolute limit (lowest depth over all speeds): the maximiser of
+// PhaseSearch::minimum_depth on a built solver.
+void BM_AbsoluteLimit(benchmark::State& state) {
+  const AnalyticSolver solver(three_mode_model(), Process::turning({2.4e9}), options());
+  for (auto _ : state) {
+    const AbsoluteLimit a = solver.absolute_limit();
+    benchmark::DoNotOptimize(a.depth_m);
+  }
+}
+BENCHMARK(BM_AbsoluteLimit)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   cmake make g++ pkg-config
   libeigen3-dev libsundials-dev libboost-program-options-dev
+  libboost-dev  # Boost.Math headers (brent_find_minima), header-only
   libgnuplot-iostream-dev gnuplot-nox libtomlplusplus-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
 )

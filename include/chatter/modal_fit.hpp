@@ -9,7 +9,8 @@
 //     both sides (noise cannot fake that); f from a parabola through the
 //     three top lines, ζ = (f₂ − f₁)/(2f) from the half-power crossings
 //     (interpolated), k = 1/(2ζ|G|max).
-//  2. Levenberg–Marquardt (Marquardt's diagonal scaling) on the complex
+//  2. Levenberg–Marquardt (Eigen's port of MINPACK lmder, Moré 1978: trust
+//     region on the scaled step) on the complex
 //     residual G_model − G_measured over the band, parameters
 //     (ln f_i, ln ζ_i, ln k_i) so that all stay positive, analytic Jacobian,
 //     optionally two residual terms for modes outside the band:
@@ -44,8 +45,9 @@ struct ModalFitOptions {
   /// Direction given to the fitted modes (unit vector in the X-Y plane). For
   /// a direct term (xx, yy) the fitted k is the stiffness along it.
   Eigen::Vector2d direction{1.0, 0.0};
-  /// Levenberg–Marquardt budget and stop rule: stop when an accepted step
-  /// lowers the cost by less than `tolerance` (relative).
+  /// Levenberg–Marquardt budget (evaluations of the residual) and stop rule:
+  /// stop when a step lowers the cost by less than `tolerance` (relative), or
+  /// moves the log parameters by less than 1e-10 (relative).
   int max_iterations = 200;
   double tolerance = 1e-12;
 };
@@ -60,7 +62,7 @@ struct ModalFitResult {
   /// sqrt(Σ|G_fit − G|² / Σ|G|²).
   double fit_error = 0.0;
   double initial_error = 0.0;       ///< the same for the peak-picking modes.
-  int iterations = 0;               ///< Levenberg–Marquardt iterations (accepted or not).
+  int iterations = 0;               ///< evaluations of the residual (accepted steps or not).
   bool converged = false;           ///< stop rule met within max_iterations.
   std::size_t lines = 0;            ///< lines in the band.
   double f_min_hz = 0.0, f_max_hz = 0.0;  ///< band actually used (first and last line).

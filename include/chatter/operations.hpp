@@ -167,10 +167,11 @@ class LobeTableQuery {
 };
 
 /// The speed in [table range] with the largest exact depth limit: the best
-/// table point, refined by golden-section search on solver.limit_at() between
-/// its two neighbours (the maximum of the envelope is a cusp between two
-/// lobes or a smooth peak; the search stops when the bracket is narrower than
-/// 1e-8 of the speed, ≈ 20–40 solves). The best of every evaluated point is
+/// table point, refined by Brent's minimiser (golden section with parabolic
+/// steps, Boost.Math brent_find_minima) on solver.limit_at() between its two
+/// neighbours (the maximum of the envelope is a cusp between two lobes or a
+/// smooth peak; the search stops once the speed is located to about 1e-8 of
+/// itself, ≈ 20–40 solves). The best of every evaluated point is
 /// returned. When no table
 /// point has a limit below depth_max, returns the table point nearest to
 /// (rpm_min + rpm_max)/2 with depth_limit_m = +inf.
@@ -208,9 +209,9 @@ struct SpeedPocket {
 /// then ≈ 8 per lobe, the lobe count from the lobe numbers of the first 24
 /// (at most 2 000 solves) — ranks the speeds by the worst limit in their band;
 /// the best (and any other within 10 %, at most 3) is refined by
-/// golden-section search on exact solves (bracket 1e-4 of the speed, 1e-8 at
+/// Brent's minimiser on exact solves (speed located to 1e-4 of itself, 1e-8 at
 /// tolerance 0). The worst limit in a band is the smaller end value or a
-/// lobe bottom inside (found by golden-section minimisation between scan
+/// lobe bottom inside (found by the same minimiser between scan
 /// points); pocket edges by bracketed regula falsi (Illinois) to 1e-5 of the
 /// speed. Cost: the scan plus ≈ 40–80 solves.
 /// @pre 0 < rpm_min < rpm_max, depth_m > 0, 0 <= speed_tolerance < 0.5.
@@ -433,7 +434,7 @@ struct Recommendation {
 /// For each speed the depth is the smallest cap, the stability cap being
 /// safety × the worst limit over the speed band N(1 ± speed_tolerance); MRR is
 /// maximised over the scan of robust_speed() (evenly spaced in 1/rpm, ≈ 8
-/// solves per lobe), then by golden-section search on exact solves between
+/// solves per lobe), then by Brent's minimiser on exact solves between
 /// the best scan points' neighbours. Ties in MRR (power-bound: MRR = P_max/K
 /// is then the same at every speed) go to the largest worst margin.
 /// @throws InputError on invalid options, or on a power/torque limit without

@@ -61,6 +61,11 @@ class Process {
   ///        [−(K_t sinφ − K_r cosφ) sinφ, −(K_t sinφ − K_r cosφ) cosφ]].
   Eigen::Matrix2d tooth_matrix(double phi) const;
 
+  /// An antiderivative in φ of tooth_matrix (closed form), N/m²·rad:
+  /// ∫_{φa}^{φb} tooth_matrix(φ) dφ = F(φb) − F(φa). Used for H₀ and for the
+  /// step averages of the semi-discretisation. Cost O(1). @pre operation() == kMilling.
+  Eigen::Matrix2d tooth_matrix_antiderivative(double phi) const;
+
   /// Directional matrix H(t) at time t (s) after tooth 0 passes φ = 0, for
   /// spindle speed `rpm`, N/m²: Σ_j g_j(φ_j) tooth_matrix(φ_j) with
   /// φ_j = Ωt + 2πj/N_t. Turning: the constant [[K_f, 0], [0, 0]].

@@ -29,6 +29,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/frf.hpp"
+#include "text.hpp"
 
 namespace chatter {
 namespace {
@@ -47,13 +48,8 @@ std::string read_bytes(const std::filesystem::path& file) {
   return bytes;
 }
 
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
-  return s;
-}
+using detail::text::is_blank;
+using detail::text::trim;
 
 std::string_view trim_right(std::string_view s) {
   while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
@@ -87,26 +83,12 @@ std::optional<double> parse_number(std::string_view field) {
   if (field.empty() || field.size() > 64) return std::nullopt;
   std::array<char, 80> buf{};
   std::size_t n = 0;
-  std::size_t start = 0;
-  if (field[0] == '+') start = 1;
-  for (std::size_t i = start; i < field.size(); ++i) {
-    char c = field[i];
+  for (char c : field) {
     if (c == 'D' || c == 'd') c = 'E';
     buf[n++] = c;
   }
-  auto attempt = [](const char* b, const char* e) -> std::optional<double> {
-    if (b == e) return std::nullopt;
-    double v = 0.0;
-    const auto [ptr, ec] = std::from_chars(b, e, v);
-    if (ptr != e) return std::nullopt;
-    if (ec == std::errc::result_out_of_range) {
-      // from_chars leaves v untouched: take strtod's ±HUGE_VAL (caught later
-      // as not finite) or its underflowed value.
-      const std::string z(b, e);
-      return std::strtod(z.c_str(), nullptr);
-    }
-    if (ec != std::errc()) return std::nullopt;
-    return v;
+  auto attempt = [](const char* b, const char* e) {
+    return detail::text::parse_double(std::string_view(b, static_cast<std::size_t>(e - b)));
   };
   if (auto v = attempt(buf.data(), buf.data() + n)) return v;
   // Fortran: mantissa followed directly by a signed exponent (no letter).
@@ -124,13 +106,7 @@ std::optional<double> parse_number(std::string_view field) {
 }
 
 std::optional<long long> parse_integer(std::string_view field) {
-  field = trim(field);
-  if (!field.empty() && field[0] == '+') field.remove_prefix(1);
-  if (field.empty()) return std::nullopt;
-  long long v = 0;
-  const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
-  if (ec != std::errc() || ptr != field.data() + field.size()) return std::nullopt;
-  return v;
+  return detail::text::parse_integer<long long>(trim(field));
 }
 
 std::vector<std::string_view> split_blanks(std::string_view s) {
@@ -234,15 +210,9 @@ bool is_comment(std::string_view l) {
 std::vector<std::string> split_fields(std::string_view l) {
   std::vector<std::string> out;
   auto split_on = [&](char sep, bool decimal_comma) {
-    std::size_t b = 0;
-    while (true) {
-      const std::size_t e = l.find(sep, b);
-      std::string f(trim(l.substr(b, e == std::string_view::npos ? std::string_view::npos : e - b)));
-      if (decimal_comma) std::replace(f.begin(), f.end(), ',', '.');
-      out.push_back(std::move(f));
-      if (e == std::string_view::npos) break;
-      b = e + 1;
-    }
+    detail::text::split_delimited(l, sep, /*quotes=*/false, out);
+    if (decimal_comma)
+      for (std::string& f : out) std::replace(f.begin(), f.end(), ',', '.');
   };
   if (l.find(';') != std::string_view::npos) {
     split_on(';', true);

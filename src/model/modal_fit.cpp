@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Dense>
+#include <unsupported/Eigen/NonLinearOptimization>
 
 #include "chatter/error.hpp"
 
@@ -22,6 +22,17 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kHalfPower = 0.70710678118654752440;  // 1/√2
 constexpr double kMaxDamping = 0.9;                    // ζ kept below this during the fit
+// A residual that cannot be evaluated (overflow) counts as this large, so the
+// step that led there is rejected.
+constexpr double kHugeResidual = 1e100;
+// Levenberg–Marquardt (MINPACK): stop once a step changes θ (log f, log ζ,
+// log k) by less than this relative amount: 1e-10, far below the 1e-6 a
+// printed mode shows.
+constexpr double kStepTolerance = 1e-10;
+// Initial trust-region radius as a multiple of the scaled ‖θ‖ (MINPACK's
+// `factor`; 100 by default, 0.1 to 100 recommended): peak picking starts near
+// the answer, so the first steps stay local (another peak is not reached).
+constexpr double kInitialStepBound = 1.0;
 
 std::string num(double v) {
   std::ostringstream os;
@@ -235,22 +246,41 @@ struct Model {
   }
 };
 
-/// Keeps each step inside a trust region in log space (f moves by at most
-/// 10 %, ζ and k by a factor e) and ζ below kMaxDamping.
-void limit_step(const Model& m, const Eigen::VectorXd& th, Eigen::VectorXd& step) {
-  double factor = 1.0;
-  for (std::size_t i = 0; i < m.n_modes; ++i) {
-    const auto b = static_cast<Eigen::Index>(3 * i);
-    factor = std::min(factor, 0.1 / std::max(0.1, std::abs(step[b])));
-    factor = std::min(factor, 1.0 / std::max(1.0, std::abs(step[b + 1])));
-    factor = std::min(factor, 1.0 / std::max(1.0, std::abs(step[b + 2])));
+/// The fit as Eigen's MINPACK-style Levenberg–Marquardt (unsupported module
+/// NonLinearOptimization, Moré 1978: trust region on the scaled step, QR of
+/// the Jacobian) sees it: residual and Jacobian of the log parameters, with ζ
+/// held at or below kMaxDamping (evaluated at min(ζ, kMaxDamping), no slope
+/// beyond) and a non-finite residual reported as a huge one, so such a step is
+/// rejected and the trust region shrinks.
+struct LmFunctor {
+  const Model& m;
+  mutable Eigen::VectorXd clamped;
+  int values() const { return static_cast<int>(m.rows()); }
+  int inputs() const { return static_cast<int>(m.parameters()); }
+  const Eigen::VectorXd& clamp(const Eigen::VectorXd& th) const {
+    clamped = th;
+    for (std::size_t i = 0; i < m.n_modes; ++i) {
+      const auto b = static_cast<Eigen::Index>(3 * i) + 1;
+      clamped[b] = std::min(clamped[b], std::log(kMaxDamping));
+    }
+    return clamped;
   }
-  step *= factor;
-  for (std::size_t i = 0; i < m.n_modes; ++i) {
-    const auto b = static_cast<Eigen::Index>(3 * i) + 1;
-    if (th[b] + step[b] > std::log(kMaxDamping)) step[b] = std::log(kMaxDamping) - th[b];
+  int operator()(const Eigen::VectorXd& th, Eigen::VectorXd& r) const {
+    m.evaluate(clamp(th), r, nullptr);
+    if (!r.allFinite()) r.setConstant(kHugeResidual);
+    return 0;
   }
-}
+  int df(const Eigen::VectorXd& th, Eigen::MatrixXd& J) const {
+    Eigen::VectorXd r;
+    m.evaluate(clamp(th), r, &J);
+    for (std::size_t i = 0; i < m.n_modes; ++i) {
+      const auto b = static_cast<Eigen::Index>(3 * i) + 1;
+      if (th[b] > std::log(kMaxDamping)) J.col(b).setZero();
+    }
+    if (!J.allFinite()) J = J.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+    return 0;
+  }
+};
 
 }  // namespace
 
@@ -312,56 +342,23 @@ ModalFitResult fit_modes(const FrfTable& receptance, const ModalFitOptions& opti
   for (const Peak& p : peaks) res.initial_modes.push_back(make_mode(p.f, p.zeta, p.k, options.direction, t.source));
   res.initial_error = m.relative_error(th);
 
-  // Levenberg–Marquardt with Marquardt's diagonal scaling.
-  Eigen::VectorXd r, r_new;
-  Eigen::MatrixXd J;
-  m.evaluate(th, r, &J);
-  double cost = 0.5 * r.squaredNorm();
-  double lambda = 1e-3;
-  bool rebuild = false;
-  Eigen::MatrixXd A = J.transpose() * J;
-  Eigen::VectorXd g = J.transpose() * r;
-  for (res.iterations = 0; res.iterations < options.max_iterations;) {
-    if (rebuild) {
-      m.evaluate(th, r, &J);
-      A = J.transpose() * J;
-      g = J.transpose() * r;
-      rebuild = false;
-    }
-    ++res.iterations;
-    if (cost == 0.0 || g.lpNorm<Eigen::Infinity>() == 0.0) {
-      res.converged = true;
-      break;
-    }
-    Eigen::MatrixXd M = A;
-    for (Eigen::Index i = 0; i < M.rows(); ++i) M(i, i) += lambda * std::max(A(i, i), 1e-30);
-    Eigen::VectorXd step = M.ldlt().solve(-g);
-    if (!step.allFinite()) {
-      lambda *= 10.0;
-      continue;
-    }
-    limit_step(m, th, step);
-    const Eigen::VectorXd th_new = th + step;
-    m.evaluate(th_new, r_new, nullptr);
-    const double cost_new = 0.5 * r_new.squaredNorm();
-    if (std::isfinite(cost_new) && cost_new < cost) {
-      const double decrease = (cost - cost_new) / cost;
-      th = th_new;
-      cost = cost_new;
-      lambda = std::max(lambda * 0.3, 1e-15);
-      rebuild = true;
-      if (decrease < options.tolerance) {
-        res.converged = true;
-        break;
-      }
-    } else {
-      lambda *= 10.0;
-      if (lambda > 1e16) {  // no step lowers the cost: at the minimum to round-off
-        res.converged = true;
-        break;
-      }
-    }
-  }
+  // Levenberg–Marquardt: Eigen's port of MINPACK lmder. Stops when a step
+  // lowers the cost by less than `tolerance` (relative: ftol), the step is
+  // below round-off of θ, or after max_iterations evaluations of the residual.
+  LmFunctor functor{m, {}};
+  Eigen::LevenbergMarquardt<LmFunctor> lm(functor);
+  lm.parameters.maxfev = options.max_iterations;
+  lm.parameters.ftol = options.tolerance;
+  lm.parameters.xtol = kStepTolerance;
+  lm.parameters.factor = kInitialStepBound;
+  const auto status = lm.minimize(th);
+  th = functor.clamp(th);
+  res.iterations = static_cast<int>(lm.nfev);
+  using LmStatus = Eigen::LevenbergMarquardtSpace::Status;
+  res.converged = status == LmStatus::RelativeReductionTooSmall || status == LmStatus::RelativeErrorTooSmall ||
+                  status == LmStatus::RelativeErrorAndReductionTooSmall || status == LmStatus::CosinusTooSmall ||
+                  status == LmStatus::FtolTooSmall || status == LmStatus::XtolTooSmall ||
+                  status == LmStatus::GtolTooSmall;
 
   std::vector<std::size_t> order(peaks.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

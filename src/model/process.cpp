@@ -13,18 +13,6 @@ void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
-// Antiderivative of tooth_matrix(φ) (see Process::tooth_matrix).
-Eigen::Matrix2d tooth_matrix_antiderivative(double kt, double kr, double phi) {
-  const double s2 = 0.5 * std::sin(phi) * std::sin(phi);  // ∫ sinφ cosφ
-  const double c = 0.25 * std::sin(2.0 * phi);
-  const double ss = 0.5 * phi - c;                         // ∫ sin²φ
-  const double cc = 0.5 * phi + c;                         // ∫ cos²φ
-  Eigen::Matrix2d m;
-  m << kt * s2 + kr * ss, kt * cc + kr * s2,
-       -kt * ss + kr * s2, -kt * s2 + kr * cc;
-  return m;
-}
-
 }  // namespace
 
 Process Process::turning(TurningParameters p) {
@@ -98,12 +86,23 @@ Eigen::Matrix2d Process::directional_matrix(double t_s, double rpm) const {
   return h;
 }
 
-Eigen::Matrix2d Process::average_directional_matrix() const {
-  if (operation_ == Operation::kTurning) return directional_matrix(0.0, 1.0);
+Eigen::Matrix2d Process::tooth_matrix_antiderivative(double phi) const {
   const double kt = milling_.tangential_coefficient_n_per_m2;
   const double kr = milling_.radial_coefficient_n_per_m2;
-  const Eigen::Matrix2d integral = tooth_matrix_antiderivative(kt, kr, exit_angle()) -
-                                   tooth_matrix_antiderivative(kt, kr, entry_angle());
+  const double s2 = 0.5 * std::sin(phi) * std::sin(phi);  // ∫ sinφ cosφ
+  const double c = 0.25 * std::sin(2.0 * phi);
+  const double ss = 0.5 * phi - c;                         // ∫ sin²φ
+  const double cc = 0.5 * phi + c;                         // ∫ cos²φ
+  Eigen::Matrix2d m;
+  m << kt * s2 + kr * ss, kt * cc + kr * s2,
+       -kt * ss + kr * s2, -kt * s2 + kr * cc;
+  return m;
+}
+
+Eigen::Matrix2d Process::average_directional_matrix() const {
+  if (operation_ == Operation::kTurning) return directional_matrix(0.0, 1.0);
+  const Eigen::Matrix2d integral = tooth_matrix_antiderivative(exit_angle()) -
+                                   tooth_matrix_antiderivative(entry_angle());
   return milling_.teeth / kTwoPi * integral;
 }
 

@@ -17,6 +17,8 @@
 
 #include "chatter/error.hpp"
 #include "chatter/solvers.hpp"
+#include "../io/text.hpp"
+#include "../solvers/extremum.hpp"
 
 namespace chatter {
 namespace {
@@ -28,7 +30,8 @@ constexpr double kPi = std::numbers::pi;
 // Interval splitting stops at this fraction of the table's 1/rpm range: about
 // 21 halvings below a 400-point base grid, far below any lobe feature.
 constexpr double kMinRelativeWidth = 1e-9;
-// Golden-section searches stop when the bracket is narrower than this
+// Speed maximisations (Brent: golden section with parabolic steps,
+// src/solvers/extremum.hpp) stop when x is located to this
 // fraction of the speed (≈ 1e-4 rev/min at 10 000 rev/min: well below what a
 // spindle holds); at most kGoldenMaxIterations limit_at() calls.
 constexpr double kGoldenRelativeWidth = 1e-8;
@@ -37,7 +40,7 @@ constexpr int kGoldenMaxIterations = 100;
 // at every speed up to round-off.
 constexpr double kTieRelative = 1e-9;
 // A depth cap within this relative distance of the chosen depth binds too.
-// The golden-section search stops at a bracket of 1e-8 of the speed; on a
+// The speed search locates the optimum to 1e-8 of the speed; on a
 // steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
 // optimum then differ by up to ~1e-5.
 constexpr double kBindingRelative = 1e-5;
@@ -278,31 +281,6 @@ QueryVerdict LobeTableQuery::classify(double rpm, double depth_m) const {
 
 namespace {
 
-// Golden-section search for the maximum of `f` on [a, b]; returns the best
-// point evaluated (including the ends' values passed in, if better).
-template <class F>
-double golden_maximize(F&& f, double a, double b) {
-  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-  double x1 = b - r * (b - a), x2 = a + r * (b - a);
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < kGoldenMaxIterations && (b - a) > kGoldenRelativeWidth * b; ++it) {
-    if (f1 >= f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - r * (b - a);
-      f1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + r * (b - a);
-      f2 = f(x2);
-    }
-  }
-  return f1 >= f2 ? x1 : x2;
-}
-
 }  // namespace
 
 StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table) {
@@ -327,7 +305,7 @@ StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table)
     if (l.depth_limit_m > top.depth_limit_m) top = l;  // +inf wins too
     return l.depth_limit_m;
   };
-  golden_maximize(f, a, b);
+  detail::maximize_on(f, a, b, kGoldenRelativeWidth * b, kGoldenMaxIterations);
   return top;
 }
 
@@ -348,7 +326,7 @@ constexpr int kScanMaxPoints = 2000;
 // pockets of nearly equal height are both refined).
 constexpr double kCandidateSpread = 0.1;
 constexpr std::size_t kMaxCandidates = 3;
-// Golden-section bracket for a robust optimum: 1e-4 of the speed (1 rev/min
+// Maximiser resolution for a robust optimum: 1e-4 of the speed (1 rev/min
 // at 10 000), far below a spindle's speed error; at tolerance 0 the optimum
 // is a cusp and the old kGoldenRelativeWidth (1e-8) applies.
 constexpr double kRobustRelativeWidth = 1e-4;
@@ -476,24 +454,12 @@ class SpeedSearch {
     return m;
   }
 
-  // Golden-section maximisation of f on [a, b] down to `rel` of the speed;
-  // returns the best evaluated point.
+  // Maximisation of f on [a, b] down to `rel` of the speed (Brent's
+  // minimiser, golden section with parabolic steps); returns the best
+  // evaluated point.
   template <class F>
   double maximize(F&& f, double a, double b, double rel) {
-    const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-    double x1 = b - r * (b - a), x2 = a + r * (b - a);
-    double f1 = f(x1), f2 = f(x2);
-    double best_x = f1 >= f2 ? x1 : x2, best_f = std::max(f1, f2);
-    for (int it = 0; it < kGoldenMaxIterations && (b - a) > rel * b; ++it) {
-      if (f1 >= f2) {
-        b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
-      } else {
-        a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
-      }
-      if (f1 > best_f) best_f = f1, best_x = x1;
-      if (f2 > best_f) best_f = f2, best_x = x2;
-    }
-    return best_x;
+    return detail::maximize_on(f, a, b, rel * b, kGoldenMaxIterations).x;
   }
 
   // Edges of the connected interval around `rpm` (where limit > threshold is
@@ -593,7 +559,7 @@ class SpeedSearch {
     solves_ += rpms.size();
   }
 
-  // Golden-section minimum of the limit on [a, b] (memoised per bracket).
+  // Minimum of the limit on [a, b] by Brent's minimiser (memoised per bracket).
   std::pair<double, double> bottom(double a, double b) {
     const auto key = std::make_pair(a, b);
     if (const auto it = bottoms_.find(key); it != bottoms_.end()) return it->second;
@@ -695,65 +661,29 @@ const std::vector<std::string> kRequiredColumns = {"id", "spindle_rpm", "depth_m
                                                    "feed_per_tooth_mm"};
 const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction"};
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
+using detail::text::trim;
 
 // Splits one CSV line; fields may be double-quoted with "" for a quote.
 // Returns false (and sets *error) on an unterminated quote.
 bool split_csv(std::string_view line, std::vector<std::string>& out, std::string* error) {
-  out.clear();
-  std::string cur;
-  bool quoted = false, was_quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"') {
-        if (i + 1 < line.size() && line[i + 1] == '"') {
-          cur += '"';
-          ++i;
-        } else {
-          quoted = false;
-        }
-      } else {
-        cur += c;
-      }
-    } else if (c == '"' && trim(cur).empty()) {
-      cur.clear();
-      quoted = was_quoted = true;
-    } else if (c == ',') {
-      out.emplace_back(was_quoted ? cur : std::string(trim(cur)));
-      cur.clear();
-      was_quoted = false;
-    } else {
-      cur += c;
-    }
-  }
-  if (quoted) {
-    *error = "unterminated quote";
-    return false;
-  }
-  out.emplace_back(was_quoted ? cur : std::string(trim(cur)));
-  return true;
+  if (detail::text::split_delimited(line, ',', /*quotes=*/true, out)) return true;
+  *error = "unterminated quote";
+  return false;
 }
 
 // Parses a finite number; "" if fine, else the reason.
 std::string parse_number(std::string_view s, double& x) {
-  std::string_view t = s;
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  if (t.empty() || ec != std::errc() || p != t.data() + t.size()) return "not a number";
+  const std::optional<double> v = detail::text::parse_double(s);
+  if (!v) return "not a number";
+  x = *v;
   if (!std::isfinite(x)) return "must be a finite number";
   return "";
 }
 
 std::string parse_integer(std::string_view s, int& x) {
-  std::string_view t = s;
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  if (t.empty() || ec != std::errc() || p != t.data() + t.size()) return "not an integer";
+  const std::optional<int> v = detail::text::parse_integer<int>(s);
+  if (!v) return "not an integer";
+  x = *v;
   return "";
 }
 
@@ -1232,7 +1162,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     // Bound by stability or power near a cusp, the optimum is where the band's
     // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
     // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
-    // with N up to where stability takes over: golden-section search.
+    // with N up to where stability takes over: Brent's minimiser.
     const bool stability_bound = at_point.depth == at_point.stab;
     const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
     if (x > 0.0) f(x);

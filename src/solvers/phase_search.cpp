@@ -1,5 +1,6 @@
 #include "phase_search.hpp"
 
+#include "extremum.hpp"
 #include "roots.hpp"
 
 #include <algorithm>
@@ -33,6 +34,9 @@ constexpr double kMinRelativeWidth = 1e-12;
 // Branch values below this fraction of the largest one are treated as zero
 // (e.g. the null eigenvalue of a rank-one H₀G): their phase is meaningless.
 constexpr double kNegligible = 1e-9;
+// Evaluation budget of the lowest-depth search (Brent needs ~30 on the two
+// grid intervals around the sampled maximum).
+constexpr std::uintmax_t kMaximumEvaluations = 200;
 
 double wrap_pi(double d) {  // into (−π, π]
   d = std::remainder(d, kTwoPi);
@@ -300,27 +304,17 @@ PhaseRoot PhaseSearch::minimum_depth() const {
     for (std::size_t i = 1; i < n; ++i)
       if (values_[i][bi].s > values_[imax][bi].s) imax = i;
     if (!(values_[imax][bi].s > 0.0)) continue;
-    // Golden-section search for the maximum of s on the two intervals around imax.
-    double lo = omega_[imax > 0 ? imax - 1 : 0], hi = omega_[std::min(imax + 1, n - 1)];
+    // Brent's maximiser of s on the two intervals around imax (located to
+    // √ε of their width: s is flat at its maximum, so its value is exact).
+    const double lo = omega_[imax > 0 ? imax - 1 : 0], hi = omega_[std::min(imax + 1, n - 1)];
     auto s_at = [&](double w) {
       const std::size_t i = static_cast<std::size_t>(
           std::max<std::ptrdiff_t>(0, std::upper_bound(omega_.begin(), omega_.end(), w) - omega_.begin() - 1));
       return continued(b, w, i, nullptr).s;
     };
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-    double f1 = s_at(x1), f2 = s_at(x2);
-    for (int it = 0; it < 200 && (hi - lo) > 4e-16 * hi; ++it) {
-      if (f1 > f2) {
-        hi = x2; x2 = x1; f2 = f1;
-        x1 = hi - g * (hi - lo); f1 = s_at(x1);
-      } else {
-        lo = x1; x1 = x2; f1 = f2;
-        x2 = lo + g * (hi - lo); f2 = s_at(x2);
-      }
-    }
-    const double w = f1 > f2 ? x1 : x2;
-    const double s = std::max(f1, f2);
+    const Maximum top = maximize_on(s_at, lo, hi, 0.0, kMaximumEvaluations);
+    const double w = top.x;
+    const double s = top.value;
     if (s > best_s) {
       best_s = s;
       best.omega = w;

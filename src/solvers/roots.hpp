@@ -1,6 +1,12 @@
-// Internal: Brent's root finder (zeroin: bisection, secant and inverse
-// quadratic interpolation), shared by the transfer-function root search and
-// the sdm depth search. Not part of the public API.
+// Internal: Brent's root finder (zeroin, Brent 1973 ch. 4: bisection, secant
+// and inverse quadratic interpolation), shared by the transfer-function root
+// search and the sdm depth search. Not part of the public API.
+//
+// Kept hand-written on purpose (measured, docs/performance.md): Boost.Math's
+// toms748_solve gives byte-identical lobe tables on the phase-search path but
+// makes the 1 000-speed envelope 5–9 % slower (it shrinks the bracket from
+// both sides, Brent stops from one); on the sdm depth search (tolerance 1e-4)
+// it moves the stored limits by up to 2.7e-5 relative.
 #pragma once
 
 #include <algorithm>

@@ -76,18 +76,6 @@ constexpr double kDecideError = 0.1;
 // While bracketing, Arnoldi stops once | |θ| − 1 | exceeds this many residuals.
 constexpr double kDecideFactor = 20.0;
 
-// Antiderivative in φ of Process::tooth_matrix (same closed form as the one
-// Process::average_directional_matrix uses).
-Eigen::Matrix2d tooth_antiderivative(double kt, double kr, double phi) {
-  const double s2 = 0.5 * std::sin(phi) * std::sin(phi);
-  const double c = 0.25 * std::sin(2.0 * phi);
-  const double ss = 0.5 * phi - c;
-  const double cc = 0.5 * phi + c;
-  Eigen::Matrix2d m;
-  m << kt * s2 + kr * ss, kt * cc + kr * s2, -kt * ss + kr * s2, -kt * s2 + kr * cc;
-  return m;
-}
-
 // One step of the delay period, independent of the depth.
 struct Step {
   double h = 0.0;     // s
@@ -585,7 +573,6 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     return g;
   }
   const MillingParameters& mp = p.milling_parameters();
-  const double kt = mp.tangential_coefficient_n_per_m2, kr = mp.radial_coefficient_n_per_m2;
   const double omega = kTwoPi * rpm / 60.0;          // rad/s
   const double theta_p = kTwoPi / mp.teeth;           // tooth pitch, rad
   const double en = p.entry_angle();
@@ -613,8 +600,8 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
       const double ta = s.a + (s.b - s.a) * i / ns, tb = s.a + (s.b - s.a) * (i + 1) / ns;
       Eigen::Matrix2d integral = Eigen::Matrix2d::Zero();
       for (int j = 0; j < s.teeth; ++j)
-        integral += tooth_antiderivative(kt, kr, en + tb + j * theta_p) -
-                    tooth_antiderivative(kt, kr, en + ta + j * theta_p);
+        integral += p.tooth_matrix_antiderivative(en + tb + j * theta_p) -
+                    p.tooth_matrix_antiderivative(en + ta + j * theta_p);
       g.steps.push_back({duration / ns, B * (integral / (tb - ta)) * U});
     }
   }
