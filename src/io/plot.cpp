@@ -29,6 +29,7 @@
 #include <utility>
 
 #include "chatter/io/table_writer.hpp"
+#include "chatter/solvers.hpp"
 
 extern char** environ;
 
@@ -939,9 +940,9 @@ PlotFiles plot_stability_map(const fs::path& image, const std::string& title, co
 
 namespace {
 
-// One style per method: analytic, coupled, sdm and time-domain always get the
-// first four (so a method looks the same on every chart), other names the next
-// unused one. The lines are drawn widest first, so that methods that agree
+// One style per method: every registered method has its own (solver registry,
+// PlotStyle: a method looks the same on every chart), other names take the
+// next unused one of kMethodStyles. The lines are drawn widest first, so that methods that agree
 // (analytic and coupled to round-off, sdm in turning) all stay visible: a wide
 // light band, a medium line on it, a thin dashed line on top. time-domain is
 // drawn as open circles, one per simulated speed, on top of everything (the
@@ -953,11 +954,21 @@ struct MethodStyle {
   const char* dash;  // "" = solid
   int point_type;    // 0 = a line; else gnuplot's point type, drawn as points
 };
-constexpr MethodStyle kMethodStyles[] = {
-    {"#8fbce6", 7.0, "", 0},          {"#0b3a6e", 1.6, " dt (6,4)", 0},      {"#d95f02", 3.0, "", 0},
-    {"#0f6b50", 1.6, "", 6},          {"#7570b3", 2.2, " dt (10,4,2,4)", 0}, {"#e7298a", 2.0, "", 0},
+// The styles of unregistered names, after those of the registry.
+constexpr MethodStyle kExtraStyles[] = {
+    {"#7570b3", 2.2, " dt (10,4,2,4)", 0}, {"#e7298a", 2.0, "", 0},
     {"#66a61e", 1.8, " dt (6,3,2,3)", 0}, {"#7a5a1d", 1.4, " dt (3,3)", 0},
 };
+// The registry's styles, in registry order, then kExtraStyles.
+const std::vector<MethodStyle>& method_styles() {
+  static const std::vector<MethodStyle> styles = [] {
+    std::vector<MethodStyle> s;
+    for (const auto& d : solver_registry()) s.push_back({d.plot.colour, d.plot.width, d.plot.dash, d.plot.point_type});
+    for (const auto& e : kExtraStyles) s.push_back(e);
+    return s;
+  }();
+  return styles;
+}
 
 // A method name as a column name: anything but letters, digits and _ becomes _.
 std::string column_word(const std::string& s) {
@@ -973,7 +984,8 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
                        double depth_max_m, const PlotOptions& options) {
   const Target t = make_target(image, options);
   const std::string where = image.string() + ": comparison: ";
-  constexpr std::size_t kMaxMethods = std::size(kMethodStyles);
+  const std::vector<MethodStyle>& kMethodStyles = method_styles();
+  const std::size_t kMaxMethods = kMethodStyles.size();
   if (methods.empty() || methods.size() > kMaxMethods)
     throw InputError(where + std::to_string(methods.size()) + " methods: must be 1 to " +
                      std::to_string(kMaxMethods));
@@ -1003,11 +1015,11 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
 
   // Styles: the known methods keep theirs, the others take the next unused.
   std::vector<std::size_t> style_of(methods.size(), kMaxMethods);
-  std::array<bool, kMaxMethods> taken{};
-  const char* const known[] = {"analytic", "coupled", "sdm", "time-domain"};
+  std::vector<bool> taken(kMaxMethods, false);
+  const auto& registry = solver_registry();
   for (std::size_t m = 0; m < methods.size(); ++m)
-    for (std::size_t k = 0; k < std::size(known); ++k)
-      if (methods[m].method == known[k]) {
+    for (std::size_t k = 0; k < registry.size(); ++k)
+      if (methods[m].method == registry[k].name) {
         style_of[m] = k;
         taken[k] = true;
       }
