@@ -146,4 +146,48 @@ TEST(Registry, UnknownMethodAndOptionNameNoFlag) {
   }
 }
 
+TEST(Registry, DiagnosticsAgreeWithTheLimit) {
+  // Milling at low immersion (flip lobes): the Floquet method's diagnostics
+  // at the limit, and its point verdict on either side of it.
+  const Config cfg = load_config(source("configs/milling_benchmark_ae005_down.toml"));
+  // At the reported limit the spectral radius is 1 to within what the depth
+  // tolerance (1e-4 relative) allows; ρ changes by well under 1 % per 1 %
+  // of depth near the limit here, so 1e-2 is a loose, safe bound.
+  constexpr double kRhoAtLimit = 1e-2;
+  // Points at half and 1.5 × the limit are far from it: the verdict must be clear.
+  constexpr double kBelow = 0.5, kAbove = 1.5;
+  int rho_checked = 0, verdicts_checked = 0;
+  for (const auto& d : solver_registry()) {
+    if (d.kind == SolverKind::kSimulation) continue;  // slow; covered by test_time_domain
+    const auto s = make_lobe_solver(d.name, cfg.model, cfg.process, 0.02);
+    EXPECT_EQ(s->known_absolute_limit().has_value(), d.kind == SolverKind::kAveraged) << d.name;
+    for (double rpm : {6000.0, 9000.0, 12000.0}) {
+      const DiagnosedLimit r = s->limit_with_diagnostics(rpm);
+      ASSERT_EQ(r.values.size(), d.columns.size()) << d.name;
+      for (std::size_t c = 0; c < d.columns.size(); ++c) {
+        const SolverValue& v = r.values[c];
+        if (!r.limit.bounded()) {
+          EXPECT_TRUE(std::holds_alternative<std::monostate>(v)) << d.name << " " << d.columns[c].name;
+          continue;
+        }
+        EXPECT_EQ(std::holds_alternative<double>(v), d.columns[c].numeric) << d.name << " " << d.columns[c].name;
+        if (d.columns[c].name == "spectral_radius_check" && ++rho_checked > 0)
+          EXPECT_NEAR(std::get<double>(v), 1.0, kRhoAtLimit) << d.name << " at " << rpm;
+      }
+      if (!r.limit.bounded()) continue;
+      const SolverValues below = s->point_diagnostics(rpm, kBelow * r.limit.depth_limit_m);
+      const SolverValues above = s->point_diagnostics(rpm, kAbove * r.limit.depth_limit_m);
+      if (below.empty()) continue;  // the method judges from limit_at alone
+      ASSERT_TRUE(below.count("stable") && above.count("stable")) << d.name;
+      ++verdicts_checked;
+      EXPECT_TRUE(std::get<bool>(below.at("stable"))) << d.name << " at " << rpm << " rev/min, "
+                                                      << kBelow * r.limit.depth_limit_m << " m";
+      EXPECT_FALSE(std::get<bool>(above.at("stable"))) << d.name << " at " << rpm << " rev/min, "
+                                                       << kAbove * r.limit.depth_limit_m << " m";
+    }
+  }
+  EXPECT_GE(rho_checked, 1) << "no bounded Floquet limit: the test checked nothing";
+  EXPECT_GE(verdicts_checked, 1) << "no point verdict checked";
+}
+
 }  // namespace
