@@ -72,6 +72,15 @@ int main(void) {
   /* Error paths: status, message, no crash. */
   CHECK(chatter_solver_create(model, "nonsense", 20.0, &solver) == CHATTER_INPUT_ERROR);
   CHECK(strstr(chatter_last_error(), "nonsense") != NULL);
+  CHECK(strstr(chatter_last_error(), "--") == NULL); /* library messages name no CLI flag */
+  /* The registry's methods: each builds on case A (turning, modes). */
+  CHECK(chatter_method_count() >= 4);
+  CHECK(chatter_method_name(chatter_method_count()) == NULL);
+  for (i = 0; i < (int)chatter_method_count(); ++i) {
+    CHECK(chatter_method_name((size_t)i) != NULL);
+    CHECK(chatter_solver_create(model, chatter_method_name((size_t)i), 20.0, &solver) == CHATTER_OK);
+    chatter_solver_free(solver);
+  }
   CHECK(chatter_solver_create(model, NULL, -1.0, &solver) == CHATTER_INPUT_ERROR);
   CHECK(strstr(chatter_last_error(), "depth_max_mm") != NULL);
   CHECK(chatter_solver_create(NULL, NULL, 1.0, &solver) == CHATTER_NULL_ARGUMENT);

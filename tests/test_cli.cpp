@@ -787,8 +787,9 @@ TEST_F(CliTest, RejectsBadSweepOptions) {
                   "--rpm-points 1");
   expect_rejected(run({"lobes", cfg, "--depth-max-mm", "0", "--table", T, "--json", J}), {"depth-max-mm"}, {t, js},
                   "--depth-max-mm 0");
-  expect_rejected(run({"lobes", cfg, "--method", "nonsense", "--table", T, "--json", J}), {"nonsense"}, {t, js},
-                  "--method nonsense");
+  expect_rejected(run({"lobes", cfg, "--method", "nonsense", "--table", T, "--json", J}),
+                  {"--method", "method \"nonsense\": unknown (this build has: analytic, coupled, sdm, time-domain)"},
+                  {t, js}, "--method nonsense");
   expect_rejected(run({"lobes", cfg, "--frobnicate", "--table", T, "--json", J}), {"frobnicate"}, {t, js},
                   "--frobnicate");
   expect_rejected(run({"lobes", cfg, "--rpm-points", "abc", "--table", T}), {"rpm-points", "expected a number"}, {t},
@@ -1046,6 +1047,12 @@ TEST_F(CliTest, CompareRejectsBadMethodsBeforeComputing) {
     expect_rejected(run({"compare", measured.string(), "--methods", list, "--rpm-min", "1000", "--rpm-max", "2000",
                          "--table", t.string()}),
                     {"--methods", "does not apply", "measured FRFs", "only analytic"}, {t}, list);
+  // lobes refuses the methods that need modes through the registry, naming
+  // the method and the feature it lacks.
+  for (const char* m : {"coupled", "sdm", "time-domain"})
+    expect_rejected(run({"lobes", measured.string(), "--method", m, "--rpm-min", "1000", "--rpm-max", "2000",
+                         "--table", t.string()}),
+                    {std::string("method \"") + m + "\" does not handle measured FRFs", "analytic"}, {t}, m);
   for (const char* list : {"", "all"}) {
     std::vector<std::string> a = {"compare", measured.string(), "--rpm-min", "1000", "--rpm-max", "2000",
                                   "--rpm-points", "3", "--table", t.string(), "--quiet"};

@@ -61,9 +61,16 @@ void chatter_model_free(chatter_model* model);
 size_t chatter_model_warning_count(const chatter_model* model);
 const char* chatter_model_warning(const chatter_model* model, size_t i);
 
-/* Builds a solver. method: "analytic", "coupled", "sdm" (semi-discretisation:
- * Floquet, flip lobes; ~2 ms per speed) or "time-domain" (simulation;
- * ~0.3 s per speed) (NULL = "analytic").
+/* The methods this build provides (the solver registry), in a fixed order:
+ * how many, and the i-th name (static storage; NULL when i >= the count). */
+size_t chatter_method_count(void);
+const char* chatter_method_name(size_t i);
+
+/* Builds a solver. method: one of chatter_method_name(), e.g. "analytic",
+ * "coupled", "sdm" (semi-discretisation: Floquet, flip lobes; ~2 ms per
+ * speed) or "time-domain" (simulation; ~0.3 s per speed) (NULL = the first,
+ * "analytic"). A method that does not handle the model (e.g. measured FRFs)
+ * fails with CHATTER_INPUT_ERROR naming the method and what it lacks.
  * depth_max_mm: deepest cut searched (> 0); limits above it are unbounded. */
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out);

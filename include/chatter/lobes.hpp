@@ -7,7 +7,10 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <map>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace chatter {
@@ -50,17 +53,66 @@ struct AbsoluteLimit {
   int branch = -1;
 };
 
+/// A value a solver reports or accepts by name: a solver option or a
+/// diagnostic. std::monostate = not applicable (null in JSON, empty in CSV).
+/// Units are SI unless the name says otherwise (e.g. "max_amplitude_mm").
+using SolverValue = std::variant<std::monostate, bool, int, double, std::string, std::vector<double>>;
+/// Named values, ordered by name.
+using SolverValues = std::map<std::string, SolverValue>;
+
+/// An extra per-speed column a solver adds after the four standard ones of a
+/// lobe table (e.g. sdm's "multiplier_type").
+struct DiagnosticColumn {
+  std::string name;
+  bool numeric = false;  ///< numbers (double) in JSON; else strings
+  bool operator==(const DiagnosticColumn&) const = default;
+};
+
+/// limit_at() plus the solver's per-speed diagnostics, one value per entry of
+/// LobeSolver::diagnostic_columns(), in that order (std::monostate where a
+/// value does not apply, e.g. at a speed with no limit).
+struct DiagnosedLimit {
+  StabilityLimit limit;
+  std::vector<SolverValue> values;
+};
+
 /// What every lobe solver offers. Implementations are immutable after
 /// construction: every const member is safe to call from several threads.
 class LobeSolver {
  public:
   virtual ~LobeSolver() = default;
-  /// Short method name as used on the command line ("analytic", "coupled").
+  /// Short method name, the key of the solver registry (solvers.hpp).
   virtual std::string method() const = 0;
   /// The exact envelope at one spindle speed (rev/min > 0).
   virtual StabilityLimit limit_at(double spindle_rpm) const = 0;
   /// Deepest cut (m) the solver searches; limits above it are reported as +inf.
   virtual double depth_max_m() const = 0;
+
+  /// The extra per-speed columns limit_with_diagnostics() fills; none by default.
+  virtual std::vector<DiagnosticColumn> diagnostic_columns() const { return {}; }
+  /// limit_at() with the diagnostics of diagnostic_columns(), from the same
+  /// search (no extra cost beyond what the solver keeps). The limit is
+  /// bitwise the one limit_at() returns. Default: limit_at(), no values.
+  virtual DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const { return {limit_at(spindle_rpm), {}}; }
+  /// The solver's own verdict at one point (rev/min > 0, depth m >= 0) as
+  /// named values, e.g. "stable" (bool) and what backs it; empty by default
+  /// (the caller then judges from limit_at()). Cost: one analysis at the
+  /// point (sdm: one Floquet map; time-domain: one simulation).
+  virtual SolverValues point_diagnostics(double spindle_rpm, double depth_m) const {
+    (void)spindle_rpm;
+    (void)depth_m;
+    return {};
+  }
+  /// The speed-independent minimum of every lobe when the method gives it
+  /// directly (transfer-function methods); nullopt by default.
+  virtual std::optional<AbsoluteLimit> known_absolute_limit() const { return std::nullopt; }
+  /// The individual lobes between two speeds (rev/min) when the method
+  /// traces them (transfer-function methods); empty by default.
+  virtual std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const {
+    (void)rpm_min;
+    (void)rpm_max;
+    return {};
+  }
 };
 
 /// `count` spindle speeds evenly spaced from rpm_min to rpm_max, both

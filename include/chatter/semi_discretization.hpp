@@ -130,6 +130,14 @@ class SemiDiscretizationSolver final : public LobeSolver {
   SemiDiscretizationSolver(StructuralModel model, Process process, SemiDiscretizationOptions options = {});
 
   std::string method() const override { return "sdm"; }
+  /// multiplier_type (hopf, flip, fold) and spectral_radius_check (ρ at the
+  /// reported limit, 1 to within the depth tolerance); empty at +inf limits.
+  /// Defined with the registry entry (factory.cpp).
+  std::vector<DiagnosticColumn> diagnostic_columns() const override;
+  DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const override;
+  /// analyse() at the point: stable, spectral_radius, multiplier_type,
+  /// chatter_frequency_hz, dominant_multiplier [re, im], steps_per_period.
+  SolverValues point_diagnostics(double spindle_rpm, double depth_m) const override;
   /// Depth limit (m) at `spindle_rpm`: the first depth from 0 up where the
   /// spectral radius reaches 1 (bracketing, then Brent's method on ln ρ to
   /// depth_tolerance); +inf if stable up to depth_max_m. `lobe` is the number

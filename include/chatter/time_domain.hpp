@@ -200,6 +200,11 @@ class TimeDomainSolver final : public LobeSolver {
  public:
   TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {});
   std::string method() const override { return "time-domain"; }
+  /// verdict_run() at the point: stable, verdict, verdict_measure,
+  /// growth_per_period (null if not measured), chatter_frequency_hz (if
+  /// found), max_amplitude_mm, out_of_cut_fraction, periods. Defined with the
+  /// registry entry (factory.cpp).
+  SolverValues point_diagnostics(double spindle_rpm, double depth_m) const override;
   /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
   StabilityLimit limit_at(double spindle_rpm) const override;
   double depth_max_m() const override { return simulator_.options().depth_max_m; }

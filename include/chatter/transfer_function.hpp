@@ -71,9 +71,10 @@ class TransferFunctionSolver : public LobeSolver {
 
   /// Lobe curves with speeds in [rpm_min, rpm_max], one per lobe number,
   /// branch and continuous piece; depths below depth_max only.
-  std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const;
+  std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const override;
   /// The speed-independent minimum over every lobe (depth in m).
   AbsoluteLimit absolute_limit() const;
+  std::optional<AbsoluteLimit> known_absolute_limit() const override { return absolute_limit(); }
   SearchBand band() const;
   const StructuralModel& model() const { return model_; }
   const Process& process() const { return process_; }
@@ -127,8 +128,9 @@ class CoupledSolver final : public TransferFunctionSolver {
   double sigma_ = 1.0;  // scale of c used to interpolate the determinant
 };
 
-/// Builds the solver named `method` ("analytic" or "coupled").
-/// @throws InputError on an unknown method name.
+/// Builds the transfer-function solver named `method` through the solver
+/// registry (solvers.hpp): "analytic" or "coupled".
+/// @throws InputError on an unknown or non-transfer-function method, or as make_lobe_solver.
 std::unique_ptr<TransferFunctionSolver> make_transfer_function_solver(const std::string& method,
                                                                       const StructuralModel& model,
                                                                       const Process& process,

@@ -90,6 +90,13 @@ const char* chatter_model_warning(const chatter_model* model, size_t i) {
   return model->config.warnings[i].c_str();
 }
 
+size_t chatter_method_count(void) { return chatter::solver_registry().size(); }
+
+const char* chatter_method_name(size_t i) {
+  const auto& r = chatter::solver_registry();
+  return i < r.size() ? r[i].name.c_str() : nullptr;
+}
+
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out) {
   if (!model || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_solver_create: model and out must not be NULL");
@@ -97,7 +104,8 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
       throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
-    auto s = chatter::make_lobe_solver(method ? method : "analytic", model->config.model, model->config.process,
+    auto s = chatter::make_lobe_solver(method ? method : chatter::solver_registry().front().name,
+                                       model->config.model, model->config.process,
                                        depth_max_mm * 1e-3);
     *out = new chatter_solver{std::move(s)};
   });

@@ -17,13 +17,13 @@ std::string fmt(double x, int digits) {
 }
 
 void add_common(po::options_description& d, Common& c) {
-  d.add_options()
-      ("method", po::value<std::string>(&c.method)->default_value("analytic"),
-       "solver: 'analytic' (transfer function, eigenvalues of H0*G), 'coupled' "
-       "(tool-workpiece characteristic determinant; must agree with analytic) or 'sdm' "
-       "(semi-discretisation / Floquet: sees the flip lobes of low-immersion milling; slower) or "
-       "'time-domain' (simulation with the real chip; the depth where the simulated cut starts to chatter; "
-       "about 0.3 s per speed)");
+  std::string help = "solver: ";
+  const auto& registry = solver_registry();
+  for (std::size_t i = 0; i < registry.size(); ++i)
+    help += (i == 0 ? "" : i + 1 == registry.size() ? " or " : ", ") + ("'" + registry[i].name + "' (") +
+            registry[i].summary + ")";
+  c.method = registry.front().name;
+  d.add_options()("method", po::value<std::string>(&c.method)->default_value(c.method), help.c_str());
 }
 
 // Parses a subcommand's arguments; returns false if --help was printed.
@@ -88,24 +88,54 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
 #include <unistd.h>
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 #include <numbers>
 #include <thread>
+#include <type_traits>
+#include <variant>
 
 namespace chatter::cli {
 
+std::string option_flag(const SolverOption& o) {
+  std::string f = "--" + o.name;
+  std::replace(f.begin(), f.end(), '_', '-');
+  return f;
+}
+
+namespace {
+
+// Every command-line solver option once (the first method that lists it
+// gives the help), with the methods that take it.
+struct CliOption {
+  const SolverOption* option;
+  std::vector<std::string> methods;
+};
+std::vector<CliOption> cli_options() {
+  std::vector<CliOption> out;
+  for (const auto& d : solver_registry())
+    for (const auto& o : d.options) {
+      if (!o.cli) continue;
+      auto it = std::find_if(out.begin(), out.end(), [&](const CliOption& c) { return c.option->name == o.name; });
+      if (it == out.end()) out.push_back({&o, {d.name}});
+      else it->methods.push_back(d.name);
+    }
+  return out;
+}
+
+}  // namespace
+
 void add_solver_options(po::options_description& d) {
+  for (const CliOption& c : cli_options()) {
+    const std::string name = option_flag(*c.option).substr(2);
+    std::string help;
+    for (const auto& m : c.methods) help += (help.empty() ? "" : ", ") + m;
+    help += ": " + c.option->help;
+    switch (c.option->kind) {
+      case SolverOption::Kind::kInt: d.add_options()(name.c_str(), po::value<int>(), help.c_str()); break;
+      case SolverOption::Kind::kReal: d.add_options()(name.c_str(), po::value<double>(), help.c_str()); break;
+      case SolverOption::Kind::kFlag: d.add_options()(name.c_str(), help.c_str()); break;
+    }
+  }
   d.add_options()
-      ("steps", po::value<int>(), "sdm: steps per delay period (default 64; the step is also at most 1/64 of the "
-                                  "shortest natural period); more steps: more accurate, slower")
-      ("periods", po::value<int>(), "time-domain: delay periods simulated per verdict (default 200; the last half is "
-                                    "analysed); more: sharper verdict near the limit, slower")
-      ("feed-per-tooth-mm", po::value<double>(), "time-domain: feed per tooth (milling) or per revolution (turning), "
-                                                 "mm (default: [process] feed_per_tooth_mm / feed_per_rev_mm, else 0.1); "
-                                                 "sets where the tool leaves the cut")
-      ("multiple-regeneration", "time-domain: the chip is cut from the surface left by all earlier passes")
-      ("linear", "time-domain: linear delay equation (no static chip, the tool never leaves the cut); the verdict "
-                 "is the growth factor per period")
       ("threads", po::value<int>()->default_value(0), "threads for the sweep (0 = every core); the result does not "
                                                       "depend on it")
       ("quiet,q", "no progress bar");
@@ -117,86 +147,86 @@ unsigned thread_count(const po::variables_map& vm) {
   return static_cast<unsigned>(t);
 }
 
+const SolverDescriptor& method_descriptor(const std::string& method, const std::string& flag) {
+  return with_flag(flag, [&]() -> const SolverDescriptor& { return find_lobe_method(method); });
+}
+
 void check_solver_options(const std::vector<std::string>& methods, const po::variables_map& vm,
                           const std::string& chooser) {
-  const auto refuse_without = [&](const char* opt, const std::string& method) {
-    if (vm.count(opt) == 0 || std::find(methods.begin(), methods.end(), method) != methods.end()) return;
-    throw InputError(std::string("--") + opt + ": only with " +
-                     (chooser == "--method" ? "--method " + method : method + " among " + chooser));
-  };
-  for (const char* opt : {"periods", "feed-per-tooth-mm", "multiple-regeneration", "linear"})
-    refuse_without(opt, "time-domain");
-  refuse_without("steps", "sdm");
+  for (const CliOption& c : cli_options()) {
+    const std::string flag = option_flag(*c.option);
+    if (vm.count(flag.substr(2)) == 0) continue;
+    if (std::any_of(methods.begin(), methods.end(),
+                    [&](const std::string& m) { return std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end(); }))
+      continue;
+    std::string owners;
+    for (const auto& m : c.methods) owners += (owners.empty() ? "" : " or ") + m;
+    throw InputError(flag + ": only with " +
+                     (chooser == "--method" ? "--method " + owners : owners + " among " + chooser));
+  }
+}
+
+nlohmann::json to_json(const SolverValue& v) {
+  return std::visit(
+      [](const auto& x) -> nlohmann::json {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, std::monostate>) return nullptr;
+        else return x;
+      },
+      v);
+}
+
+std::string cell_text(const SolverValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return *s;
+  if (const auto* x = std::get_if<double>(&v)) return table_number(*x);
+  if (const auto* i = std::get_if<int>(&v)) return std::to_string(*i);
+  if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  return "";
+}
+
+std::vector<ExtraColumn> extra_columns(const std::vector<DiagnosticColumn>& columns,
+                                       const std::vector<std::vector<SolverValue>>& values) {
+  std::vector<ExtraColumn> out;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    ExtraColumn e{columns[c].name, {}, columns[c].numeric};
+    for (const auto& row : values) e.values.push_back(c < row.size() ? cell_text(row[c]) : "");
+    out.push_back(std::move(e));
+  }
+  return out;
 }
 
 BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
                          const po::variables_map& vm, bool check_options) {
   BuiltSolver b;
+  b.descriptor = &method_descriptor(method);
   if (check_options) check_solver_options({method}, vm, "--method");
-  if (method == "sdm") {
-    SemiDiscretizationOptions o;
-    o.depth_max_m = depth_max_m;
-    if (vm.count("steps")) {
-      o.steps_per_period = vm["steps"].as<int>();
-      if (o.steps_per_period < 1)
-        throw InputError("--steps = " + std::to_string(o.steps_per_period) + ": must be >= 1");
-      o.steps_per_vibration_cycle = o.steps_per_period;
+  SolverValues options;
+  for (const SolverOption& o : b.descriptor->options) {
+    if (!o.cli) continue;
+    const std::string flag = option_flag(o);
+    const std::string key = flag.substr(2);
+    if (vm.count(key) == 0) {
+      // The feed of the time-domain chip defaults to the config's
+      // [process] feed_per_tooth_mm / feed_per_rev_mm (validated by the loader).
+      if (o.name == "feed_per_tooth_mm" && cfg.feed_mm) options[o.name] = *cfg.feed_mm;
+      continue;
     }
-    auto s = std::make_unique<SemiDiscretizationSolver>(cfg.model, cfg.process, o);
-    b.sdm = s.get();
-    b.solver = std::move(s);
-    b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
-                                    {"steps_per_period", o.steps_per_period},
-                                    {"steps_per_vibration_cycle", o.steps_per_vibration_cycle},
-                                    {"depth_tolerance", o.depth_tolerance}}
-                         .dump();
-    return b;
+    SolverValue v;
+    switch (o.kind) {
+      case SolverOption::Kind::kInt: v = vm[key].as<int>(); break;
+      case SolverOption::Kind::kReal: v = vm[key].as<double>(); break;
+      case SolverOption::Kind::kFlag: v = true; break;
+    }
+    if (const std::string why = option_violation(o, v); !why.empty()) {
+      const std::string given = std::holds_alternative<int>(v) ? std::to_string(std::get<int>(v))
+                                                               : fmt(std::get<double>(v));
+      throw InputError(flag + " = " + given + ": " + why);
+    }
+    options[o.name] = v;
   }
-  if (method == "time-domain") {
-    TimeDomainOptions o;
-    o.depth_max_m = depth_max_m;
-    if (vm.count("periods")) {
-      o.periods = vm["periods"].as<int>();
-      if (o.periods < 20 || o.periods > 100000)
-        throw InputError("--periods = " + std::to_string(o.periods) + ": must be in [20, 100000]");
-    }
-    if (vm.count("feed-per-tooth-mm")) {
-      const double f = vm["feed-per-tooth-mm"].as<double>();
-      if (!(std::isfinite(f) && f >= 0.0 && f <= 100.0))
-        throw InputError("--feed-per-tooth-mm = " + fmt(f) + ": must be in [0, 100] mm");
-      o.feed_m = f * 1e-3;
-    } else if (cfg.feed_mm) {
-      o.feed_m = *cfg.feed_mm * 1e-3;  // [process] feed_per_tooth_mm / feed_per_rev_mm, validated by the loader
-    }
-    o.multiple_regeneration = vm.count("multiple-regeneration") > 0;
-    o.linear = vm.count("linear") > 0;
-    auto s = std::make_unique<TimeDomainSolver>(cfg.model, cfg.process, o);
-    b.td = s.get();
-    b.solver = std::move(s);
-    b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
-                                    {"periods", o.periods},
-                                    {"feed_m", o.feed_m},
-                                    {"linear", o.linear},
-                                    {"multiple_regeneration", o.multiple_regeneration},
-                                    {"relative_tolerance", o.relative_tolerance},
-                                    {"depth_tolerance", o.depth_tolerance}}
-                         .dump();
-    return b;
-  }
-  TransferFunctionOptions o;
-  o.depth_max_m = depth_max_m;
-  auto s = make_transfer_function_solver(method, cfg.model, cfg.process, o);
-  const auto band = s->band();
-  b.options_json = nlohmann::json{{"depth_max_m", o.depth_max_m},
-                                  {"max_phase_step_rad", o.max_phase_step_rad},
-                                  {"search_band_hz",
-                                   {band.omega_min_rad_s / (2 * std::numbers::pi),
-                                    band.omega_max_rad_s / (2 * std::numbers::pi)}},
-                                  {"frequency_grid_points", band.grid_points},
-                                  {"frequency_resolution_hz", cfg.model.frequency_resolution_hz()}}
-                       .dump();
-  b.tf = s.get();
-  b.solver = std::move(s);
+  b.solver = make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, options);
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
+  b.options_json = j.dump();
   return b;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 
 namespace chatter::cli {
@@ -17,12 +18,23 @@ namespace po = boost::program_options;
 inline constexpr double kDefaultDepthMaxMm = 50.0;
 inline constexpr int kDefaultRpmPoints = 400;
 
+/// Runs f(); an InputError from the library is rethrown with "<flag>: " in
+/// front (library messages do not name command-line flags).
+template <class F>
+auto with_flag(const std::string& flag, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(flag + ": " + e.what());
+  }
+}
+
 /// A number for messages and summaries.
 std::string fmt(double x, int digits = 6);
 
 struct Common {
   std::string config_path;
-  std::string method = "analytic";
+  std::string method;  ///< --method; add_common() sets the default (the first registered method)
   bool strict = false;  ///< --strict: the config's plausibility warnings are errors
 };
 
@@ -53,29 +65,43 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg);
 #include <memory>
 #include <mutex>
 
+#include <nlohmann/json.hpp>
+
+#include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
-#include "chatter/semi_discretization.hpp"
-#include "chatter/time_domain.hpp"
-#include "chatter/transfer_function.hpp"
+#include "chatter/solvers.hpp"
 
 namespace chatter::cli {
 
-/// Adds the solver-tuning options: --threads, --quiet and, for sdm, --steps.
+/// Adds the solver-tuning options: --threads, --quiet and the command-line
+/// options of every registered method (SolverDescriptor::options, help
+/// prefixed by the method name).
 void add_solver_options(po::options_description& d);
 
-/// The solver chosen by --method, built with the sweep depth; exactly one of
-/// `tf` / `sdm` points into `solver`.
+/// The command-line flag of a solver option: "--" + name with '_' → '-'.
+std::string option_flag(const SolverOption& o);
+
+/// The solver chosen by --method, built with the sweep depth.
 struct BuiltSolver {
+  const SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<LobeSolver> solver;
-  const TransferFunctionSolver* tf = nullptr;
-  const SemiDiscretizationSolver* sdm = nullptr;
-  const TimeDomainSolver* td = nullptr;
-  std::string options_json;  ///< the solver's options, for the JSON provenance
+  std::string options_json;  ///< the solver's effective options, for the JSON provenance
 };
-/// Refuses a solver option that none of `methods` uses: --steps (sdm);
-/// --periods, --feed-per-tooth-mm, --multiple-regeneration, --linear
-/// (time-domain). `chooser` is the option that picked the methods ("--method"
-/// or "--methods"), for the message. @throws InputError.
+/// A solver value as JSON (std::monostate → null).
+nlohmann::json to_json(const SolverValue& v);
+/// A diagnostic as a table cell: "" for std::monostate, numbers as table_number.
+std::string cell_text(const SolverValue& v);
+/// The extra table columns of `columns` from per-row diagnostics
+/// (values[i] = the values of row i, in column order).
+std::vector<ExtraColumn> extra_columns(const std::vector<DiagnosticColumn>& columns,
+                                       const std::vector<std::vector<SolverValue>>& values);
+/// The descriptor named by --method (or --methods). @throws InputError
+/// `<flag>: method "x": unknown (...)`.
+const SolverDescriptor& method_descriptor(const std::string& method, const std::string& flag = "--method");
+/// Refuses a solver option that none of `methods` uses (each registered
+/// option belongs to the methods whose descriptor lists it). `chooser` is
+/// the option that picked the methods ("--method" or "--methods"), for the
+/// message. @throws InputError.
 void check_solver_options(const std::vector<std::string>& methods, const po::variables_map& vm,
                           const std::string& chooser);
 

@@ -7,12 +7,15 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/semi_discretization.hpp"
+#include "chatter/solvers.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 
@@ -20,12 +23,14 @@ namespace chatter::cli {
 
 namespace {
 
-// Every method compare knows, in its default order.
-const std::vector<std::string> kMethods = {"analytic", "coupled", "sdm", "time-domain"};
-const std::string kMethodsRule =
-    "a comma-separated list of distinct methods from analytic, coupled, sdm, time-domain, or 'all'";
-
 bool has(const std::vector<std::string>& v, const std::string& x) { return std::find(v.begin(), v.end(), x) != v.end(); }
+
+std::string methods_rule() {
+  std::string known;
+  const auto names = lobe_methods();
+  for (std::size_t i = 0; i < names.size(); ++i) known += (i == 0 ? "" : ", ") + names[i];
+  return "a comma-separated list of distinct methods from " + known + ", or 'all'";
+}
 
 // --methods as given: the names in order (empty for "all"). Syntax only; the
 // config decides later which methods apply. @throws InputError.
@@ -39,10 +44,10 @@ std::vector<std::string> parse_methods(const std::string& list, bool& all) {
     const std::size_t comma = list.find(',', start);
     const std::string name = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     if (name.empty())
-      throw InputError(given + (list.empty() ? "empty list" : "empty name") + "; must be " + kMethodsRule);
-    if (name == "all") throw InputError(given + "'all' must stand alone; must be " + kMethodsRule);
-    if (!has(kMethods, name)) throw InputError(given + "unknown method '" + name + "'; must be " + kMethodsRule);
-    if (has(out, name)) throw InputError(given + "'" + name + "' given twice; must be " + kMethodsRule);
+      throw InputError(given + (list.empty() ? "empty list" : "empty name") + "; must be " + methods_rule());
+    if (name == "all") throw InputError(given + "'all' must stand alone; must be " + methods_rule());
+    if (!has_lobe_method(name)) throw InputError(given + "unknown method '" + name + "'; must be " + methods_rule());
+    if (has(out, name)) throw InputError(given + "'" + name + "' given twice; must be " + methods_rule());
     out.push_back(name);
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -50,8 +55,221 @@ std::vector<std::string> parse_methods(const std::string& list, bool& all) {
   return out;
 }
 
-}  // namespace
+// The methods to run: those asked for (all must apply to the config), every
+// one that applies ('all'), or the registry's default ones that apply.
+std::vector<std::string> chosen_methods(std::vector<std::string> methods, bool all, const std::string& methods_list,
+                                        const Config& cfg) {
+  const FeatureSet needed = needed_features(cfg.model, cfg.process);
+  const auto applies = [&](const SolverDescriptor& d) { return d.accepts.missing(needed).empty(); };
+  if (all || methods.empty()) {
+    for (const auto& d : solver_registry())
+      if (applies(d) && (all || d.in_default_compare)) methods.push_back(d.name);
+    return methods;
+  }
+  std::string able;
+  for (const auto& d : solver_registry())
+    if (applies(d)) able += (able.empty() ? "" : ", ") + d.name;
+  for (const auto& m : methods) {
+    const SolverDescriptor& d = find_lobe_method(m);
+    if (applies(d)) continue;
+    const auto missing = d.accepts.missing(needed);
+    if (missing.front() == SolverFeature::kMeasuredFrf)
+      throw InputError("--methods '" + methods_list + "': " + m + " does not apply to " + cfg.source.string() +
+                       ": it has measured FRFs, and only " + able +
+                       " works from measured data (fit modes with chatter fit for the others)");
+    throw InputError("--methods '" + methods_list + "': " + m + " does not apply to " + cfg.source.string() +
+                     ": it does not handle " + to_string(missing.front()) + " (methods that do: " + able + ")");
+  }
+  return methods;
+}
 
+// One method's rows and per-speed diagnostics.
+struct MethodRun {
+  const SolverDescriptor* descriptor = nullptr;
+  BuiltSolver built;
+  SolverValues options;  // effective options
+  std::vector<DiagnosticColumn> columns;
+  std::vector<StabilityLimit> rows;
+  std::vector<std::vector<SolverValue>> values;  // per speed, in column order
+
+  // The value of diagnostic `name` at speed i (monostate if none).
+  SolverValue value(const std::string& name, std::size_t i) const {
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      if (columns[c].name == name && c < values[i].size()) return values[i][c];
+    return std::monostate{};
+  }
+  bool is_flip(std::size_t i) const {
+    const SolverValue v = value("multiplier_type", i);
+    return rows[i].bounded() && std::holds_alternative<std::string>(v) &&
+           std::get<std::string>(v) == to_string(MultiplierType::kFlip);
+  }
+};
+
+void run_method(MethodRun& r, const std::vector<double>& speeds, unsigned threads, const po::variables_map& vm) {
+  const LobeSolver& solver = *r.built.solver;
+  Progress progress(vm, speeds.size(), "compare (" + r.descriptor->name + ")");
+  r.rows.resize(speeds.size());
+  r.values.resize(speeds.size());
+  parallel_for(
+      speeds.size(), threads,
+      [&](std::size_t i) {
+        if (r.columns.empty()) {
+          r.rows[i] = solver.limit_at(speeds[i]);
+          return;
+        }
+        DiagnosedLimit d = solver.limit_with_diagnostics(speeds[i]);
+        r.rows[i] = d.limit;
+        r.values[i] = std::move(d.values);
+      },
+      [&](std::size_t done) { progress.tick(done); });
+}
+
+std::string compare_csv(const std::vector<double>& speeds, const std::vector<MethodRun>& runs) {
+  std::ostringstream csv;
+  csv << "spindle_rpm";
+  for (const auto& r : runs) csv << ",depth_limit_mm_" << r.descriptor->name;
+  for (const auto& r : runs)
+    for (const auto& c : r.descriptor->compare_columns) csv << ',' << c << '_' << r.descriptor->name;
+  csv << '\n';
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    csv << table_number(speeds[i]);
+    for (const auto& r : runs) csv << ',' << table_number(r.rows[i].depth_limit_m * 1e3);
+    for (const auto& r : runs)
+      for (const auto& c : r.descriptor->compare_columns)
+        csv << ',' << (r.rows[i].bounded() ? cell_text(r.value(c, i)) : "");
+    csv << '\n';
+  }
+  return csv.str();
+}
+
+// Largest relative difference per pair, over speeds where both are bounded;
+// speeds where only one of them finds a limit are counted apart.
+nlohmann::json compare_pairs(const std::vector<double>& speeds, const std::vector<MethodRun>& runs,
+                             const Sweep& s, std::ostream& report) {
+  nlohmann::json pairs = nlohmann::json::array();
+  for (std::size_t a = 0; a < runs.size(); ++a)
+    for (std::size_t b = a + 1; b < runs.size(); ++b) {
+      const std::string &ma = runs[a].descriptor->name, &mb = runs[b].descriptor->name;
+      double worst = 0.0, at = 0.0;
+      std::size_t only_a = 0, only_b = 0;
+      for (std::size_t i = 0; i < speeds.size(); ++i) {
+        const auto &la = runs[a].rows[i], &lb = runs[b].rows[i];
+        if (la.bounded() && lb.bounded()) {
+          const double r = std::abs(lb.depth_limit_m / la.depth_limit_m - 1.0);
+          if (r > worst) {
+            worst = r;
+            at = speeds[i];
+          }
+        } else if (la.bounded()) {
+          ++only_a;
+        } else if (lb.bounded()) {
+          ++only_b;
+        }
+      }
+      report << "  " << ma << " vs " << mb << ": largest relative difference " << fmt(worst, 3) << " (at "
+             << fmt(at) << " rev/min)";
+      if (only_a + only_b > 0)
+        report << "; a limit below " << fmt(s.depth_max_mm) << " mm found only by " << ma << " at " << only_a
+               << " speeds, only by " << mb << " at " << only_b;
+      report << '\n';
+      pairs.push_back({{"methods", {ma, mb}},
+                       {"largest_relative_difference", worst},
+                       {"at_spindle_rpm", at},
+                       {"bounded_only_by_first", only_a},
+                       {"bounded_only_by_second", only_b}});
+    }
+  return pairs;
+}
+
+// What a Floquet method finds that the averaged (zeroth-order) one cannot.
+void explain_floquet(const MethodRun& f, const MethodRun* averaged, bool turning, std::size_t speeds,
+                     std::ostream& report) {
+  const std::string& name = f.descriptor->name;
+  std::size_t flips = 0, flips_deeper_tf = 0;
+  for (std::size_t i = 0; i < speeds; ++i)
+    if (f.is_flip(i)) {
+      ++flips;
+      if (averaged && averaged->rows[i].depth_limit_m > 1.05 * f.rows[i].depth_limit_m) ++flips_deeper_tf;
+    }
+  if (flips > 0 && averaged) {
+    report << "  " << name << " finds period-doubling (flip) chatter at " << flips << " speeds; at "
+           << flips_deeper_tf << " of them the " << averaged->descriptor->name
+           << " limit is more than 5 % deeper: the transfer-function method averages\n"
+              "  the cutting force over the tooth period and cannot see flip lobes (low radial immersion).\n";
+  } else if (flips > 0) {
+    std::string averaged_names;
+    for (const auto& d : solver_registry())
+      if (d.kind == SolverKind::kAveraged) averaged_names += (averaged_names.empty() ? "" : ", ") + d.name;
+    report << "  " << name << " finds period-doubling (flip) chatter at " << flips
+           << " speeds: the transfer-function methods (" << averaged_names << ") cannot see flip lobes.\n";
+  } else if (turning && averaged) {
+    report << "  turning has constant coefficients: " << name << " differs from the exact "
+           << averaged->descriptor->name << " limit only by its\n  discretisation error.\n";
+  }
+}
+
+// How a simulation method's limits are found, from its effective options.
+void explain_simulation(const MethodRun& r, bool turning, std::ostream& report) {
+  const auto get = [&](const char* k) { return r.options.at(k); };
+  const double tol = std::get<double>(get("depth_tolerance"));
+  const int periods = std::get<int>(get("periods"));
+  const bool linear = std::get<bool>(get("linear"));
+  report << "  " << r.descriptor->name << ": each limit is the middle of a depth bracket " << fmt(tol * 100, 3)
+         << " % wide, every depth judged by simulating\n  " << periods << " delay periods"
+         << (linear ? " of the linear equation" : " with the nonlinear chip (the tool may leave the cut)");
+  if (turning)
+    report << "; turning has constant\n  coefficients: " << r.descriptor->name
+           << " should match the exact limit to about the bracket width.\n";
+  else
+    report << "; like sdm it sees the\n  intermittent cut of milling (flip lobes) that the averaged methods "
+              "miss.\n";
+}
+
+std::string compare_report(const Config& cfg, const Sweep& s, const std::vector<double>& speeds,
+                           const std::vector<MethodRun>& runs, nlohmann::json& pairs) {
+  std::ostringstream report;
+  report << cfg.name << ": " << speeds.size() << " speeds " << fmt(s.rpm_min) << "-" << fmt(s.rpm_max)
+         << " rev/min, depth searched to " << fmt(s.depth_max_mm) << " mm\n";
+  pairs = compare_pairs(speeds, runs, s, report);
+  // The zeroth-order (averaged) method the others are measured against: the
+  // first of that kind in registry order.
+  const MethodRun* averaged = nullptr;
+  for (const auto& d : solver_registry())
+    for (const auto& r : runs)
+      if (!averaged && r.descriptor == &d && d.kind == SolverKind::kAveraged) averaged = &r;
+  const bool turning = cfg.process.operation() == Operation::kTurning;
+  for (const auto& r : runs)
+    if (r.descriptor->kind == SolverKind::kFloquet) explain_floquet(r, averaged, turning, speeds.size(), report);
+  for (const auto& r : runs)
+    if (r.descriptor->kind == SolverKind::kSimulation) explain_simulation(r, turning, report);
+  return report.str();
+}
+
+void plot_runs(const std::string& plot_path, const Config& cfg, const Sweep& s, const std::vector<MethodRun>& runs,
+               std::ostream& info) {
+  std::vector<MethodLimits> lines(runs.size());
+  for (std::size_t m = 0; m < runs.size(); ++m) {
+    lines[m].method = runs[m].descriptor->name;
+    lines[m].limits = runs[m].rows;
+    const bool typed = std::any_of(runs[m].columns.begin(), runs[m].columns.end(),
+                                   [](const DiagnosticColumn& c) { return c.name == "multiplier_type"; });
+    if (!typed) continue;
+    for (std::size_t i = 0; i < runs[m].rows.size(); ++i) {
+      // The text back to the type (rows without a limit are not marked).
+      MultiplierType type = MultiplierType::kHopf;
+      const SolverValue v = runs[m].value("multiplier_type", i);
+      if (const auto* t = std::get_if<std::string>(&v))
+        for (MultiplierType k : {MultiplierType::kHopf, MultiplierType::kFlip, MultiplierType::kFold})
+          if (*t == to_string(k)) type = k;
+      lines[m].multiplier_type.push_back(type);
+    }
+  }
+  const auto plot = plot_compare(plot_path, cfg.name + ": depth limit by method", lines, s.depth_max_mm * 1e-3);
+  info << "wrote plot: " << plot.image.string() << " (gnuplot script " << plot.script.string() << ", data "
+       << plot.data.string() << ")\n";
+}
+
+}  // namespace
 int cmd_compare(const std::vector<std::string>& args) {
   Common common;
   std::string table_path, json_path, plot_path, methods_list;
@@ -93,138 +311,30 @@ int cmd_compare(const std::vector<std::string>& args) {
   if (vm.count("methods")) methods = parse_methods(methods_list, all);  // fail before reading the config
   if (!plot_path.empty()) check_plot_path(plot_path);  // fail before computing
   const Config cfg = load_checked(common);
-  const bool measured = cfg.model.has_measured();
-  const auto applies = [&](const std::string& m) { return m == "analytic" || !measured; };
-  if (all) {
-    for (const auto& m : kMethods)
-      if (applies(m)) methods.push_back(m);
-  } else if (methods.empty()) {
-    for (const auto& m : {"analytic", "coupled", "sdm"})
-      if (applies(m)) methods.emplace_back(m);
-  } else {
-    for (const auto& m : methods)
-      if (!applies(m))
-        throw InputError("--methods '" + methods_list + "': " + m + " does not apply to " + cfg.source.string() +
-                         ": it has measured FRFs, and only analytic works from measured data (fit modes with "
-                         "chatter fit for the others)");
-  }
+  methods = chosen_methods(std::move(methods), all, methods_list, cfg);
   check_solver_options(methods, vm, "--methods");
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
   const auto speeds = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
-  std::vector<std::vector<StabilityLimit>> rows(methods.size());
-  std::vector<FloquetResult> floquet(speeds.size());
   // Build every solver before running any: a bad option fails at once.
-  std::vector<BuiltSolver> built;
+  std::vector<MethodRun> runs(methods.size());
   nlohmann::json solver_options = nlohmann::json::object();
-  for (const auto& m : methods) {
-    built.push_back(build_solver(m, cfg, s.depth_max_mm * 1e-3, vm, /*check_options=*/false));
-    solver_options[m] = nlohmann::json::parse(built.back().options_json);
-  }
   for (std::size_t m = 0; m < methods.size(); ++m) {
-    const BuiltSolver& b = built[m];
-    Progress progress(vm, speeds.size(), "compare (" + methods[m] + ")");
-    rows[m].resize(speeds.size());
-    parallel_for(
-        speeds.size(), threads,
-        [&](std::size_t i) {
-          rows[m][i] = b.sdm ? b.sdm->limit_at(speeds[i], &floquet[i]) : b.solver->limit_at(speeds[i]);
-        },
-        [&](std::size_t done) { progress.tick(done); });
+    MethodRun& r = runs[m];
+    r.built = build_solver(methods[m], cfg, s.depth_max_mm * 1e-3, vm, /*check_options=*/false);
+    r.descriptor = r.built.descriptor;
+    r.options = r.descriptor->effective_options(*r.built.solver);
+    r.columns = r.built.solver->diagnostic_columns();
+    solver_options[methods[m]] = nlohmann::json::parse(r.built.options_json);
   }
+  for (MethodRun& r : runs) run_method(r, speeds, threads, vm);
 
-  std::ostringstream csv;
-  csv << "spindle_rpm";
-  for (const auto& m : methods) csv << ",depth_limit_mm_" << m;
-  const auto index_of = [&](const std::string& m) -> std::ptrdiff_t {
-    const auto it = std::find(methods.begin(), methods.end(), m);
-    return it == methods.end() ? -1 : it - methods.begin();
-  };
-  const std::ptrdiff_t sdm = index_of("sdm");
-  const bool has_sdm = sdm >= 0;
-  if (has_sdm) csv << ",multiplier_type_sdm";
-  csv << '\n';
-  for (std::size_t i = 0; i < speeds.size(); ++i) {
-    csv << table_number(speeds[i]);
-    for (std::size_t m = 0; m < methods.size(); ++m) csv << ',' << table_number(rows[m][i].depth_limit_m * 1e3);
-    if (has_sdm) csv << ',' << (rows[sdm][i].bounded() ? to_string(floquet[i].type) : "");
-    csv << '\n';
-  }
-
-  // Largest relative difference per pair, over speeds where both are bounded;
-  // speeds where only one of them finds a limit are counted apart.
-  nlohmann::json pairs = nlohmann::json::array();
-  std::ostringstream report;
-  report << cfg.name << ": " << speeds.size() << " speeds " << fmt(s.rpm_min) << "-" << fmt(s.rpm_max)
-         << " rev/min, depth searched to " << fmt(s.depth_max_mm) << " mm\n";
-  for (std::size_t a = 0; a < methods.size(); ++a)
-    for (std::size_t b = a + 1; b < methods.size(); ++b) {
-      double worst = 0.0, at = 0.0;
-      std::size_t only_a = 0, only_b = 0;
-      for (std::size_t i = 0; i < speeds.size(); ++i) {
-        const auto &la = rows[a][i], &lb = rows[b][i];
-        if (la.bounded() && lb.bounded()) {
-          const double r = std::abs(lb.depth_limit_m / la.depth_limit_m - 1.0);
-          if (r > worst) {
-            worst = r;
-            at = speeds[i];
-          }
-        } else if (la.bounded()) {
-          ++only_a;
-        } else if (lb.bounded()) {
-          ++only_b;
-        }
-      }
-      report << "  " << methods[a] << " vs " << methods[b] << ": largest relative difference " << fmt(worst, 3)
-             << " (at " << fmt(at) << " rev/min)";
-      if (only_a + only_b > 0)
-        report << "; a limit below " << fmt(s.depth_max_mm) << " mm found only by " << methods[a] << " at "
-               << only_a << " speeds, only by " << methods[b] << " at " << only_b;
-      report << '\n';
-      pairs.push_back({{"methods", {methods[a], methods[b]}},
-                       {"largest_relative_difference", worst},
-                       {"at_spindle_rpm", at},
-                       {"bounded_only_by_first", only_a},
-                       {"bounded_only_by_second", only_b}});
-    }
-  // The zeroth-order (averaged) method the others are measured against.
-  const std::ptrdiff_t averaged = index_of("analytic") >= 0 ? index_of("analytic") : index_of("coupled");
-  const bool turning = cfg.process.operation() == Operation::kTurning;
-  if (has_sdm) {
-    // Explain where sdm and the averaged (zeroth-order) method must differ.
-    std::size_t flips = 0, flips_deeper_tf = 0;
-    for (std::size_t i = 0; i < speeds.size(); ++i)
-      if (rows[sdm][i].bounded() && floquet[i].type == MultiplierType::kFlip) {
-        ++flips;
-        if (averaged >= 0 && rows[averaged][i].depth_limit_m > 1.05 * rows[sdm][i].depth_limit_m) ++flips_deeper_tf;
-      }
-    if (flips > 0 && averaged >= 0)
-      report << "  sdm finds period-doubling (flip) chatter at " << flips << " speeds; at " << flips_deeper_tf
-             << " of them the " << methods[averaged]
-             << " limit is more than 5 % deeper: the transfer-function method averages\n"
-                "  the cutting force over the tooth period and cannot see flip lobes (low radial immersion).\n";
-    else if (flips > 0)
-      report << "  sdm finds period-doubling (flip) chatter at " << flips
-             << " speeds: the transfer-function methods (analytic, coupled) cannot see flip lobes.\n";
-    else if (turning && averaged >= 0)
-      report << "  turning has constant coefficients: sdm differs from the exact " << methods[averaged]
-             << " limit only by its\n  discretisation error.\n";
-  }
-  if (const std::ptrdiff_t td = index_of("time-domain"); td >= 0) {
-    const auto& o = built[td].td->simulator().options();
-    report << "  time-domain: each limit is the middle of a depth bracket " << fmt(o.depth_tolerance * 100, 3)
-           << " % wide, every depth judged by simulating\n  " << o.periods << " delay periods"
-           << (o.linear ? " of the linear equation" : " with the nonlinear chip (the tool may leave the cut)");
-    if (turning)
-      report << "; turning has constant\n  coefficients: time-domain should match the exact limit to about "
-                "the bracket width.\n";
-    else
-      report << "; like sdm it sees the\n  intermittent cut of milling (flip lobes) that the averaged methods "
-                "miss.\n";
-  }
+  const std::string csv = compare_csv(speeds, runs);
+  nlohmann::json pairs;
+  const std::string report = compare_report(cfg, s, speeds, runs, pairs);
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!table_path.empty()) files.emplace_back(table_path, csv.str());
+  if (!table_path.empty()) files.emplace_back(table_path, csv);
   if (!json_path.empty()) {
     nlohmann::json j = {{"config", cfg.source.string()}, {"name", cfg.name}, {"methods", methods},
                         {"rpm_min", s.rpm_min},          {"rpm_max", s.rpm_max}, {"rpm_points", s.rpm_points},
@@ -233,21 +343,10 @@ int cmd_compare(const std::vector<std::string>& args) {
     files.emplace_back(json_path, j.dump(2) + "\n");
   }
   write_text_files(files);
-  if (table_path.empty()) std::cout << csv.str();
+  if (table_path.empty()) std::cout << csv;
   std::ostream& info = table_path.empty() ? std::cerr : std::cout;
-  info << report.str();
-  if (!plot_path.empty()) {
-    std::vector<MethodLimits> lines(methods.size());
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      lines[m].method = methods[m];
-      lines[m].limits = rows[m];
-      if (methods[m] == "sdm")
-        for (const auto& f : floquet) lines[m].multiplier_type.push_back(f.type);
-    }
-    const auto plot = plot_compare(plot_path, cfg.name + ": depth limit by method", lines, s.depth_max_mm * 1e-3);
-    info << "wrote plot: " << plot.image.string() << " (gnuplot script " << plot.script.string() << ", data "
-         << plot.data.string() << ")\n";
-  }
+  info << report;
+  if (!plot_path.empty()) plot_runs(plot_path, cfg, s, runs, info);
   return 0;
 }
 

@@ -165,7 +165,7 @@ int cmd_check(const std::vector<std::string>& args) {
   opt.threads = thread_count(vm);
   opt.speed_tolerance = speed_tolerance(vm);
   opt.flute_length_m = cfg.flute_length_m;
-  resolve_lobe_method(cfg.process, method, nullptr);  // unknown method: fail before reading the file
+  with_flag("--method", [&] { return resolve_lobe_method(cfg.process, method, nullptr); });  // fail before reading the file
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
   CheckReport report;
   {
@@ -355,6 +355,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
   if (vm.count("tangential-coefficient-n-per-m2"))
     opt.cutting_coefficient_n_per_m2 = positive("tangential-coefficient-n-per-m2");
   opt.method = method;
+  with_flag("--method", [&] { return resolve_lobe_method(cfg.process, method, nullptr); });
   opt.threads = thread_count(vm);
   opt.speed_tolerance = speed_tolerance(vm);
   if (milling) opt.flute_length_m = cfg.flute_length_m;

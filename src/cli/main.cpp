@@ -24,6 +24,7 @@
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace po = boost::program_options;
@@ -148,54 +149,50 @@ int cmd_lobes(const std::vector<std::string>& args) {
     speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
     rows.resize(speeds.size());
   }
+  // The solver's extra per-speed columns (e.g. sdm's multiplier type), from
+  // the same solves as the rows.
+  const std::vector<chatter::DiagnosticColumn> columns = solver.diagnostic_columns();
   if (adaptive) {
     Progress progress(vm, static_cast<std::size_t>(s.rpm_points), "lobes (" + solver.method() + ", adaptive)");
     const auto tick = [&](std::size_t done) { progress.tick(done); };
-    // sdm: keep the Floquet result of every solve for the extra columns.
-    std::map<double, chatter::FloquetResult> floquet;
-    std::mutex floquet_mutex;
+    // Keep the diagnostics of every solve, by speed, for the extra columns.
+    std::map<double, std::vector<chatter::SolverValue>> diagnostics;
+    std::mutex diagnostics_mutex;
     const auto limit = [&](double rpm) {
-      if (!built.sdm) return solver.limit_at(rpm);
-      chatter::FloquetResult f;
-      const chatter::StabilityLimit r = built.sdm->limit_at(rpm, &f);
-      std::lock_guard<std::mutex> lock(floquet_mutex);
-      floquet[rpm] = f;
-      return r;
+      if (columns.empty()) return solver.limit_at(rpm);
+      chatter::DiagnosedLimit r = solver.limit_with_diagnostics(rpm);
+      std::lock_guard<std::mutex> lock(diagnostics_mutex);
+      diagnostics[rpm] = std::move(r.values);
+      return r.limit;
     };
     const chatter::RefinedEnvelope r =
         chatter::adaptive_envelope(limit, s.rpm_min, s.rpm_max, s.rpm_points, table_refinement, threads, tick);
     rows = r.rows;
     tolerance_met = r.converged;
-    if (built.sdm) {
-      chatter::ExtraColumn type{"multiplier_type", {}, false}, rho{"spectral_radius_check", {}, true};
-      for (const auto& row : rows) {
-        const chatter::FloquetResult& f = floquet.at(row.spindle_rpm);
-        type.values.push_back(row.bounded() ? chatter::to_string(f.type) : "");
-        rho.values.push_back(row.bounded() ? chatter::table_number(f.spectral_radius) : "");
-      }
-      extra = {type, rho};
+    if (!columns.empty()) {
+      std::vector<std::vector<chatter::SolverValue>> values;
+      for (const auto& row : rows) values.push_back(diagnostics.at(row.spindle_rpm));
+      extra = extra_columns(columns, values);
     }
   } else {
     Progress progress(vm, speeds.size(), "lobes (" + solver.method() + ")");
     const auto tick = [&](std::size_t done) { progress.tick(done); };
-    if (built.sdm) {
-      // sdm: also the type of the dominant multiplier and the spectral radius
-      // at the reported limit (1 to within the depth tolerance).
-      std::vector<chatter::FloquetResult> fl(speeds.size());
+    if (!columns.empty()) {
+      std::vector<std::vector<chatter::SolverValue>> values(speeds.size());
       chatter::parallel_for(
-          speeds.size(), threads, [&](std::size_t i) { rows[i] = built.sdm->limit_at(speeds[i], &fl[i]); }, tick);
-      chatter::ExtraColumn type{"multiplier_type", {}, false}, rho{"spectral_radius_check", {}, true};
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        type.values.push_back(rows[i].bounded() ? chatter::to_string(fl[i].type) : "");
-        rho.values.push_back(rows[i].bounded() ? chatter::table_number(fl[i].spectral_radius) : "");
-      }
-      extra = {type, rho};
+          speeds.size(), threads,
+          [&](std::size_t i) {
+            chatter::DiagnosedLimit r = solver.limit_with_diagnostics(speeds[i]);
+            rows[i] = r.limit;
+            values[i] = std::move(r.values);
+          },
+          tick);
+      extra = extra_columns(columns, values);
     } else {
       rows = chatter::lobe_envelope(solver, speeds, threads, tick);
     }
   }
-  const std::optional<chatter::AbsoluteLimit> abs_lim =
-      built.tf ? std::optional<chatter::AbsoluteLimit>(built.tf->absolute_limit()) : std::nullopt;
+  const std::optional<chatter::AbsoluteLimit> abs_lim = solver.known_absolute_limit();
 
   std::ostringstream csv;
   chatter::write_lobe_csv(csv, rows, extra);
@@ -262,7 +259,9 @@ int cmd_lobes(const std::vector<std::string>& args) {
     chatter::EnvelopeRefinement plot_refinement;
     plot_refinement.depth_rel_tol = kEnvelopeDepthRelTol;
     plot_refinement.cusp_rel_tol = kPlotCuspRelTol;
-    plot_refinement.max_solves = built.tf ? kPlotSolvesTransferFunction : rows.size();
+    // Methods that give their absolute limit (transfer function) are cheap per solve.
+    const std::vector<chatter::LobeCurve> curves = solver.lobe_curves(s.rpm_min, s.rpm_max);
+    plot_refinement.max_solves = abs_lim ? kPlotSolvesTransferFunction : rows.size();
     std::vector<chatter::StabilityLimit> plotted;
     {
       Progress progress(vm, plot_refinement.max_solves, "plot envelope (" + solver.method() + ")");
@@ -272,7 +271,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     }
     const auto plot_files = chatter::plot_lobes(
         plot_path, cfg.name + " (" + solver.method() + ")", plotted,
-        built.tf ? built.tf->lobe_curves(s.rpm_min, s.rpm_max) : std::vector<chatter::LobeCurve>{},
+        curves,
         abs_lim.value_or(chatter::AbsoluteLimit{}), solver.depth_max_m(), po_);
     info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
          << plot_files.data.string() << ")\n";
@@ -323,29 +322,9 @@ int cmd_point(const std::vector<std::string>& args) {
   j["lobe"] = lim.bounded() ? nlohmann::json(lim.lobe) : nlohmann::json(nullptr);
   j["margin"] = (lim.bounded() && depth_m > 0.0) ? nlohmann::json(lim.depth_limit_m / depth_m) : nlohmann::json(nullptr);
   j["depth_max_mm"] = depth_max_mm;
-  if (built.sdm) {
-    // The Floquet verdict at the point itself.
-    const chatter::FloquetResult f = built.sdm->analyse(rpm, depth_m);
-    j["stable"] = f.stable();
-    j["spectral_radius"] = f.spectral_radius;
-    j["multiplier_type"] = chatter::to_string(f.type);
-    j["chatter_frequency_hz"] = f.chatter_frequency_hz;
-    j["dominant_multiplier"] = {f.dominant_multiplier.real(), f.dominant_multiplier.imag()};
-    j["steps_per_period"] = f.steps;
-  }
-  if (built.td) {
-    // The simulation verdict at the point itself.
-    const chatter::SimulationResult r = built.td->verdict_run(rpm, depth_m);
-    j["stable"] = r.verdict == chatter::SimulationVerdict::kStable;
-    j["verdict"] = chatter::to_string(r.verdict);
-    j["verdict_measure"] = r.verdict_measure;
-    j["growth_per_period"] =
-        std::isfinite(r.growth_per_period) ? nlohmann::json(r.growth_per_period) : nlohmann::json(nullptr);
-    if (std::isfinite(r.chatter_frequency_hz)) j["chatter_frequency_hz"] = r.chatter_frequency_hz;
-    j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
-    j["out_of_cut_fraction"] = r.out_of_cut_fraction;
-    j["periods"] = r.periods;
-  }
+  // The method's own verdict at the point itself (sdm: Floquet analysis;
+  // time-domain: one simulation), where it gives one.
+  for (const auto& [key, value] : built.solver->point_diagnostics(rpm, depth_m)) j[key] = to_json(value);
   std::cout << j.dump(2) << "\n";
   return 0;
 }
@@ -428,12 +407,16 @@ int cmd_frf(const std::vector<std::string>& args) {
 
 int cmd_map(const std::vector<std::string>& args) {
   Common common;
-  common.method = "sdm";
+  // Maps are the Floquet methods' (their spectral radius on a grid).
+  for (const auto& m : chatter::solver_registry())
+    if (m.kind == chatter::SolverKind::kFloquet && common.method.empty()) common.method = m.name;
+  const std::string floquet_method = common.method;
   std::string out_path, plot_path;
   int depth_points = 100;
   po::options_description d("Options");
   d.add_options()
-      ("method", po::value<std::string>(&common.method)->default_value("sdm"), "only 'sdm' draws maps")
+      ("method", po::value<std::string>(&common.method)->default_value(floquet_method),
+       ("only '" + floquet_method + "' draws maps").c_str())
       ("rpm-min", po::value<double>(), "lowest spindle speed, rev/min (default: sweep.rpm_min)")
       ("rpm-max", po::value<double>(), "highest spindle speed, rev/min (default: sweep.rpm_max)")
       ("rpm-points", po::value<int>(), "number of speeds (default: sweep.rpm_points or 400)")
@@ -453,13 +436,17 @@ int cmd_map(const std::vector<std::string>& args) {
                    "the type of the dominant multiplier at every unstable point (slower).\n",
              d, common, vm))
     return 0;
-  if (common.method != "sdm") throw InputError("--method " + common.method + ": map needs --method sdm");
+  if (common.method != floquet_method || floquet_method.empty())
+    throw InputError("--method " + common.method + ": map needs --method " + floquet_method);
   if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
-  const BuiltSolver built = build_solver("sdm", cfg, s.depth_max_mm * 1e-3, vm);
+  const BuiltSolver built = build_solver(floquet_method, cfg, s.depth_max_mm * 1e-3, vm);
+  // The spectral-radius map is the Floquet solver's own analysis.
+  const auto* sdm = dynamic_cast<const chatter::SemiDiscretizationSolver*>(built.solver.get());
+  if (!sdm) throw InputError("--method " + floquet_method + ": this method draws no spectral-radius map");
   const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
   std::vector<double> depths(static_cast<std::size_t>(depth_points));
   for (int k = 0; k < depth_points; ++k)
@@ -470,7 +457,7 @@ int cmd_map(const std::vector<std::string>& args) {
     chatter::parallel_for(
         speeds.size(), threads,
         [&](std::size_t i) {
-          const auto row = built.sdm->spectral_radius_map({speeds[i]}, depths);
+          const auto row = sdm->spectral_radius_map({speeds[i]}, depths);
           std::copy(row.begin(), row.end(), rho.begin() + static_cast<std::ptrdiff_t>(i * depths.size()));
         },
         [&](std::size_t done) { progress.tick(done); });
@@ -505,7 +492,7 @@ int cmd_map(const std::vector<std::string>& args) {
           [&](std::size_t i) {
             for (std::size_t k = 0; k < depths.size(); ++k)
               if (rho[i * depths.size() + k] >= 1.0)
-                grid.multiplier_type[i * depths.size() + k] = built.sdm->analyse(speeds[i], depths[k]).type;
+                grid.multiplier_type[i * depths.size() + k] = sdm->analyse(speeds[i], depths[k]).type;
           },
           [&](std::size_t done) { progress.tick(done); });
     }

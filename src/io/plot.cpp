@@ -29,6 +29,7 @@
 #include <utility>
 
 #include "chatter/io/table_writer.hpp"
+#include "chatter/solvers.hpp"
 
 extern char** environ;
 
@@ -275,17 +276,12 @@ void run_gnuplot(const fs::path& script) {
 // ---------------------------------------------------------------------------
 // Stability lobes
 
-PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std::vector<StabilityLimit>& envelope,
-                     const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
-                     const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  if (envelope.empty()) throw InputError(image.string() + ": no lobe envelope rows to plot");
-  if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
-    throw InputError(image.string() + ": depth_max = " + short_num(depth_max_m) + " m: must be > 0");
+namespace {
 
-  const double depth_max_mm = depth_max_m * 1e3;
-  double rpm_lo = envelope.front().spindle_rpm, rpm_hi = envelope.front().spindle_rpm;
-  for (const auto& r : envelope) {
+// The speed axis of a set of rows: their range, ±5 % around a single speed.
+std::pair<double, double> speed_axis(const std::vector<StabilityLimit>& rows) {
+  double rpm_lo = rows.front().spindle_rpm, rpm_hi = rows.front().spindle_rpm;
+  for (const auto& r : rows) {
     rpm_lo = std::min(rpm_lo, r.spindle_rpm);
     rpm_hi = std::max(rpm_hi, r.spindle_rpm);
   }
@@ -293,14 +289,14 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
     rpm_lo *= 0.95;
     rpm_hi *= 1.05;
   }
+  return {rpm_lo, rpm_hi};
+}
 
-  // y range: enough to show the pockets between lobes, not dominated by the
-  // narrow peaks (which reach depth_max).
-  std::vector<double> bounded;
-  for (const auto& r : envelope)
-    if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
-  const bool has_abs = std::isfinite(absolute_limit.depth_m) && absolute_limit.depth_m > 0.0;
-  const double abs_mm = has_abs ? absolute_limit.depth_m * 1e3 : 0.0;
+// Top of the depth axis (mm): enough to show the pockets between lobes, not
+// dominated by the narrow peaks (which reach depth_max). `bounded`: the
+// bounded depths (mm, clipped to depth_max_mm); 4 × the absolute limit (if
+// any, else the lowest depth) is always shown.
+double lobes_y_max(std::vector<double> bounded, double depth_max_mm, bool has_abs, double abs_mm) {
   double y_max = depth_max_mm;
   if (!bounded.empty()) {
     std::nth_element(bounded.begin(), bounded.begin() + static_cast<std::ptrdiff_t>(bounded.size() / 2),
@@ -310,15 +306,19 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
     const double want = std::max({4.0 * (has_abs ? abs_mm : lowest), 1.5 * median, 1.2 * lowest});
     y_max = std::min(depth_max_mm, nice_ceil(want));
   }
+  return y_max;
+}
 
-  // Lobe-number labels: each piece's minimum, if it is a true minimum (not an
-  // end point cut by the speed range) inside the plot, thinned so that labels
-  // are only written for lobes whose minimum has no other lobe minimum within
-  // 5 % of the width (the crowded low-speed lobes stay unlabelled).
-  struct Label {
-    double rpm, depth_mm;
-    int lobe;
-  };
+struct Label {
+  double rpm, depth_mm;
+  int lobe;
+};
+
+// Lobe-number labels: each piece's minimum, if it is a true minimum (not an
+// end point cut by the speed range) inside the plot, thinned so that labels
+// are only written for lobes whose minimum has no other lobe minimum within
+// 5 % of the width (the crowded low-speed lobes stay unlabelled).
+std::vector<Label> lobe_labels(const std::vector<LobeCurve>& curves, double rpm_lo, double rpm_hi, double y_max) {
   std::vector<Label> candidates;
   for (const auto& c : curves) {
     if (c.points.size() < 3) continue;
@@ -345,8 +345,14 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
     if (clear) labels.push_back(c);
   }
   std::sort(labels.begin(), labels.end(), [](const Label& a, const Label& b) { return a.rpm < b.rpm; });
+  return labels;
+}
 
-  // --- data ---
+// The .dat of plot_lobes: envelope (index 0), lobe pieces (1), labels (2).
+// `curve_points` = rows written to index 1.
+std::string lobes_data(const std::string& title, const std::vector<StabilityLimit>& envelope,
+                       const std::vector<LobeCurve>& curves, const std::vector<Label>& labels, double depth_max_mm,
+                       bool has_abs, double abs_mm, double y_max, std::size_t& curve_points) {
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": stability lobes (chatter " << version() << ")\n"
       << "# depth_max_mm = " << num(depth_max_mm) << " (deepest cut searched)\n"
@@ -368,7 +374,7 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
       << "# just beyond it so that lines reach the edge.\n"
       << "# spindle_rpm depth_mm chatter_frequency_hz lobe branch\n";
   bool first_block = true;
-  std::size_t curve_points = 0;
+  curve_points = 0;
   for (const auto& c : curves) {
     const auto& pts = c.points;
     auto inside = [&](std::size_t i) {
@@ -393,8 +399,33 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
   }
   dat << "\n\n# index 2: lobe-number labels at the minimum of a lobe\n# spindle_rpm depth_mm lobe\n";
   for (const auto& l : labels) dat << num(l.rpm) << ' ' << num(l.depth_mm) << ' ' << l.lobe << '\n';
+  return dat.str();
+}
 
-  // --- script ---
+// The lower panel of plot_lobes: the chatter frequency at the limit.
+std::string frequency_panel_script(bool any_bounded) {
+  std::ostringstream gp;
+  gp << "\n# Lower panel: chatter frequency at the limit\n"
+     << "unset label 1; unset label 3; unset title; unset key\n"
+     << "set tmargin at screen 0.36; set bmargin at screen 0.10\n"
+     << "set format x '%g'\n"
+     << "set xlabel 'spindle speed (rev/min)'\n"
+     << "set ylabel 'chatter frequency (Hz)'\n"
+     << "set ytics autofreq\n";
+  if (any_bounded)
+    gp << "set autoscale y\n"
+       << "plot data index 0 using 1:4 with points pt 7 ps 0.35 lc rgb c_envelope notitle\n";
+  else  // nothing to show: an empty panel that says why
+    gp << "set yrange [0:1]; set format y ''\n"
+       << "set label 2 sprintf('no chatter below %g mm at any speed', depth_max) at graph 0.5, graph 0.5 center\n"
+       << "plot -1 with lines notitle\n";
+  return gp.str();
+}
+
+// The gnuplot script of plot_lobes.
+std::string lobes_script(const Target& t, const std::string& title, const PlotOptions& options, double rpm_lo,
+                         double rpm_hi, double y_max, double depth_max_mm, bool has_abs, double abs_mm,
+                         bool any_bounded, std::size_t curve_points, bool any_labels) {
   const PlotOptions& o = options;
   const bool freq_panel = o.chatter_frequency_panel;
   std::ostringstream gp;
@@ -427,7 +458,7 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
     gp << "set label 1 sprintf('absolute limit %.4g mm: stable at any speed below it', abs_limit) "
           "at graph 0.012, first abs_limit "
           "left offset 0,-0.9 font ','.(fs-1) tc rgb c_abs front\n";
-  if (bounded.empty())
+  if (!any_bounded)
     gp << "set label 3 sprintf('no chatter below %g mm at any speed in the sweep', depth_max) "
           "at graph 0.5, graph 0.5 center front\n";
   gp << "set style textbox opaque fc rgb '#50ffffff' noborder margins 1,1   # behind the lobe numbers\n"
@@ -445,29 +476,41 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
   // The line breaks where there is no limit: NaN makes a point undefined
   // (a `?` row would be skipped and the line drawn across the gap).
   gp << "  data index 0 using 1:($6 > 0 ? $3 : NaN) with lines lw 3 lc rgb c_envelope title 'stability limit'";
-  if (!labels.empty())
+  if (any_labels)
     gp << ", \\\n  data index 2 using 1:2:(sprintf('k=%d', int($3))) with labels boxed offset 0,0.9 font ','.(fs-2) "
           "tc rgb "
        << quote(kLabel) << " notitle";
   gp << "\n";
-  if (freq_panel) {
-    gp << "\n# Lower panel: chatter frequency at the limit\n"
-       << "unset label 1; unset label 3; unset title; unset key\n"
-       << "set tmargin at screen 0.36; set bmargin at screen 0.10\n"
-       << "set format x '%g'\n"
-       << "set xlabel 'spindle speed (rev/min)'\n"
-       << "set ylabel 'chatter frequency (Hz)'\n"
-       << "set ytics autofreq\n";
-    if (!bounded.empty())
-      gp << "set autoscale y\n"
-         << "plot data index 0 using 1:4 with points pt 7 ps 0.35 lc rgb c_envelope notitle\n";
-    else  // nothing to show: an empty panel that says why
-      gp << "set yrange [0:1]; set format y ''\n"
-         << "set label 2 sprintf('no chatter below %g mm at any speed', depth_max) at graph 0.5, graph 0.5 center\n"
-         << "plot -1 with lines notitle\n";
-  }
+  if (freq_panel) gp << frequency_panel_script(any_bounded);
   gp << "unset multiplot\n";
-  write_and_render(t, dat.str(), gp.str());
+  return gp.str();
+}
+
+}  // namespace
+
+PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std::vector<StabilityLimit>& envelope,
+                     const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
+                     const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  if (envelope.empty()) throw InputError(image.string() + ": no lobe envelope rows to plot");
+  if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
+    throw InputError(image.string() + ": depth_max = " + short_num(depth_max_m) + " m: must be > 0");
+
+  const double depth_max_mm = depth_max_m * 1e3;
+  const auto [rpm_lo, rpm_hi] = speed_axis(envelope);
+  std::vector<double> bounded;
+  for (const auto& r : envelope)
+    if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
+  const bool has_abs = std::isfinite(absolute_limit.depth_m) && absolute_limit.depth_m > 0.0;
+  const double abs_mm = has_abs ? absolute_limit.depth_m * 1e3 : 0.0;
+  const double y_max = lobes_y_max(bounded, depth_max_mm, has_abs, abs_mm);
+  const std::vector<Label> labels = lobe_labels(curves, rpm_lo, rpm_hi, y_max);
+  std::size_t curve_points = 0;
+  const std::string dat =
+      lobes_data(title, envelope, curves, labels, depth_max_mm, has_abs, abs_mm, y_max, curve_points);
+  const std::string gp = lobes_script(t, title, options, rpm_lo, rpm_hi, y_max, depth_max_mm, has_abs, abs_mm,
+                                      !bounded.empty(), curve_points, !labels.empty());
+  write_and_render(t, dat, gp);
   return {t.image, t.script, t.data};
 }
 
@@ -939,9 +982,9 @@ PlotFiles plot_stability_map(const fs::path& image, const std::string& title, co
 
 namespace {
 
-// One style per method: analytic, coupled, sdm and time-domain always get the
-// first four (so a method looks the same on every chart), other names the next
-// unused one. The lines are drawn widest first, so that methods that agree
+// One style per method: every registered method has its own (solver registry,
+// PlotStyle: a method looks the same on every chart), other names take the
+// next unused one of kMethodStyles. The lines are drawn widest first, so that methods that agree
 // (analytic and coupled to round-off, sdm in turning) all stay visible: a wide
 // light band, a medium line on it, a thin dashed line on top. time-domain is
 // drawn as open circles, one per simulated speed, on top of everything (the
@@ -953,11 +996,21 @@ struct MethodStyle {
   const char* dash;  // "" = solid
   int point_type;    // 0 = a line; else gnuplot's point type, drawn as points
 };
-constexpr MethodStyle kMethodStyles[] = {
-    {"#8fbce6", 7.0, "", 0},          {"#0b3a6e", 1.6, " dt (6,4)", 0},      {"#d95f02", 3.0, "", 0},
-    {"#0f6b50", 1.6, "", 6},          {"#7570b3", 2.2, " dt (10,4,2,4)", 0}, {"#e7298a", 2.0, "", 0},
+// The styles of unregistered names, after those of the registry.
+constexpr MethodStyle kExtraStyles[] = {
+    {"#7570b3", 2.2, " dt (10,4,2,4)", 0}, {"#e7298a", 2.0, "", 0},
     {"#66a61e", 1.8, " dt (6,3,2,3)", 0}, {"#7a5a1d", 1.4, " dt (3,3)", 0},
 };
+// The registry's styles, in registry order, then kExtraStyles.
+const std::vector<MethodStyle>& method_styles() {
+  static const std::vector<MethodStyle> styles = [] {
+    std::vector<MethodStyle> s;
+    for (const auto& d : solver_registry()) s.push_back({d.plot.colour, d.plot.width, d.plot.dash, d.plot.point_type});
+    for (const auto& e : kExtraStyles) s.push_back(e);
+    return s;
+  }();
+  return styles;
+}
 
 // A method name as a column name: anything but letters, digits and _ becomes _.
 std::string column_word(const std::string& s) {
@@ -969,11 +1022,11 @@ std::string column_word(const std::string& s) {
 
 }  // namespace
 
-PlotFiles plot_compare(const fs::path& image, const std::string& title, const std::vector<MethodLimits>& methods,
-                       double depth_max_m, const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  const std::string where = image.string() + ": comparison: ";
-  constexpr std::size_t kMaxMethods = std::size(kMethodStyles);
+namespace {
+
+// Refuses an empty, inconsistent or too long list of methods. @throws InputError.
+void check_compare_input(const std::string& where, const std::vector<MethodLimits>& methods, double depth_max_m,
+                         std::size_t kMaxMethods) {
   if (methods.empty() || methods.size() > kMaxMethods)
     throw InputError(where + std::to_string(methods.size()) + " methods: must be 1 to " +
                      std::to_string(kMaxMethods));
@@ -1000,14 +1053,18 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
                          short_num(b, 10) + " rev/min, '" + methods.front().method + "' at " + short_num(a, 10));
     }
   }
+}
 
-  // Styles: the known methods keep theirs, the others take the next unused.
+// The style (index into method_styles()) of each method: registered methods
+// keep theirs, the others take the next unused.
+std::vector<std::size_t> compare_styles(const std::vector<MethodLimits>& methods) {
+  const std::size_t kMaxMethods = method_styles().size();
   std::vector<std::size_t> style_of(methods.size(), kMaxMethods);
-  std::array<bool, kMaxMethods> taken{};
-  const char* const known[] = {"analytic", "coupled", "sdm", "time-domain"};
+  std::vector<bool> taken(kMaxMethods, false);
+  const auto& registry = solver_registry();
   for (std::size_t m = 0; m < methods.size(); ++m)
-    for (std::size_t k = 0; k < std::size(known); ++k)
-      if (methods[m].method == known[k]) {
+    for (std::size_t k = 0; k < registry.size(); ++k)
+      if (methods[m].method == registry[k].name) {
         style_of[m] = k;
         taken[k] = true;
       }
@@ -1018,25 +1075,11 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
       style_of[m] = k;
       taken[k] = true;
     }
+  return style_of;
+}
 
-  const double depth_max_mm = depth_max_m * 1e3;
-  double rpm_lo = methods.front().limits.front().spindle_rpm, rpm_hi = rpm_lo;
-  for (const auto& r : methods.front().limits) {
-    rpm_lo = std::min(rpm_lo, r.spindle_rpm);
-    rpm_hi = std::max(rpm_hi, r.spindle_rpm);
-  }
-  if (!(rpm_hi > rpm_lo)) {  // one speed: show ±5 % around it
-    rpm_lo *= 0.95;
-    rpm_hi *= 1.05;
-  }
-  // y range: the pockets between lobes readable, the narrow peaks cut.
-  std::vector<double> bounded;
-  bool gaps = false;
-  for (const auto& ml : methods)
-    for (const auto& r : ml.limits) {
-      if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
-      else gaps = true;
-    }
+// Top of the depth axis (mm): the pockets between lobes readable, the narrow peaks cut.
+double compare_y_max(std::vector<double> bounded, double depth_max_mm) {
   double y_max = depth_max_mm;
   if (!bounded.empty()) {
     std::nth_element(bounded.begin(), bounded.begin() + static_cast<std::ptrdiff_t>(bounded.size() / 2),
@@ -1045,8 +1088,14 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
     const double lowest = *std::min_element(bounded.begin(), bounded.end());
     y_max = std::min(depth_max_mm, nice_ceil(std::max(1.5 * median, 3.0 * lowest)));
   }
+  return y_max;
+}
 
-  // --- data ---
+// The .dat of plot_compare: limits per speed (index 0), flip/fold runs (1).
+// marks[m][type] counts the rows of method m marked with that type.
+std::string compare_data(const std::string& title, const std::vector<MethodLimits>& methods, double depth_max_mm,
+                         std::vector<std::array<std::size_t, 3>>& marks) {
+  const std::size_t rows = methods.front().limits.size();
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": depth limit by method (chatter " << version() << ")\n"
       << "# depth_max_mm = " << num(depth_max_mm) << " (deepest cut searched)\n"
@@ -1075,7 +1124,7 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
       << "# multiplier (methods that report the multiplier type, e.g. sdm); one block per run of\n"
       << "# consecutive speeds (blocks separated by one blank line); method = its number above\n"
       << "# spindle_rpm depth_limit_mm method multiplier_type\n";
-  std::vector<std::array<std::size_t, 3>> marks(methods.size(), {0, 0, 0});
+  marks.assign(methods.size(), {0, 0, 0});
   bool first_run = true;
   for (std::size_t m = 0; m < methods.size(); ++m) {
     const MethodLimits& ml = methods[m];
@@ -1098,8 +1147,14 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
       ++marks[m][static_cast<std::size_t>(ty)];
     }
   }
+  return dat.str();
+}
 
-  // --- script ---
+// The variables, colours and axes of the plot_compare script, up to "plot".
+std::string compare_script_head(const Target& t, const PlotOptions& options, const std::string& title,
+                                const std::vector<MethodLimits>& methods, const std::vector<std::size_t>& style_of,
+                                double rpm_lo, double rpm_hi, double y_max, double depth_max_mm, bool any_bounded) {
+  const std::vector<MethodStyle>& kMethodStyles = method_styles();
   std::ostringstream gp;
   gp << script_preamble(t, options, "Depth limit by method (chatter compare)")
      << "# Values from the engine (mm, rev/min)\n"
@@ -1128,9 +1183,19 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
      << "set yrange [0:y_max]\n"
      << "set xlabel 'spindle speed (rev/min)'\n"
      << "set ylabel 'depth limit (mm)'\n";
-  if (bounded.empty())
+  if (!any_bounded)
     gp << "set label 3 sprintf('no method finds chatter below %g mm at any speed in the sweep', depth_max) "
           "at graph 0.5, graph 0.5 center front\n";
+  return gp.str();
+}
+
+// The plot command of plot_compare: the lines widest first, the key, the
+// flip/fold marks, then the methods drawn as points on top.
+std::string compare_plot_clauses(const std::vector<MethodLimits>& methods, const std::vector<std::size_t>& style_of,
+                                 const std::vector<std::array<std::size_t, 3>>& marks, bool gaps, bool any_bounded) {
+  const std::vector<MethodStyle>& kMethodStyles = method_styles();
+  const std::size_t rows = methods.front().limits.size();
+  std::ostringstream gp;
   gp << "plot";
   bool first = true;
   auto add = [&](const std::string& clause) {
@@ -1171,13 +1236,37 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
       }
   for (std::size_t m : order)
     if (drawn_as_points(m)) draw(m);
-  if (gaps && !bounded.empty())
+  if (gaps && any_bounded)
     add("keyentry with lines lt nodraw title sprintf('gap: no limit below %g mm', depth_max)");
-  gp << "\nunset multiplot\n";
-  write_and_render(t, dat.str(), gp.str());
-  return {t.image, t.script, t.data};
+  return gp.str();
 }
 
+}  // namespace
+
+PlotFiles plot_compare(const fs::path& image, const std::string& title, const std::vector<MethodLimits>& methods,
+                       double depth_max_m, const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  check_compare_input(image.string() + ": comparison: ", methods, depth_max_m, method_styles().size());
+  const std::vector<std::size_t> style_of = compare_styles(methods);
+  const double depth_max_mm = depth_max_m * 1e3;
+  const auto [rpm_lo, rpm_hi] = speed_axis(methods.front().limits);
+  std::vector<double> bounded;
+  bool gaps = false;
+  for (const auto& ml : methods)
+    for (const auto& r : ml.limits) {
+      if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
+      else gaps = true;
+    }
+  const double y_max = compare_y_max(bounded, depth_max_mm);
+  std::vector<std::array<std::size_t, 3>> marks;
+  const std::string dat = compare_data(title, methods, depth_max_mm, marks);
+  const std::string gp =
+      compare_script_head(t, options, title, methods, style_of, rpm_lo, rpm_hi, y_max, depth_max_mm,
+                          !bounded.empty()) +
+      compare_plot_clauses(methods, style_of, marks, gaps, !bounded.empty()) + "\nunset multiplot\n";
+  write_and_render(t, dat, gp);
+  return {t.image, t.script, t.data};
+}
 
 PlotFiles plot_simulation(const fs::path& image, const std::string& title, const SimulationResult& r, double f_max_hz,
                           const PlotOptions& options) {

@@ -93,15 +93,25 @@ std::string MachineLimits::validate() const {
 }
 
 std::string resolve_lobe_method(const Process& process, const std::string& requested, std::string* warning) {
+  const bool milling = process.operation() == Operation::kMilling;
   if (requested == "auto") {
-    if (process.operation() == Operation::kTurning) return "analytic";
-    if (has_lobe_method("sdm")) return "sdm";
-    if (warning) *warning = std::string(kFlipLobeWarning);
-    return "analytic";
+    // The first registered method of the wanted kind: turning → an averaged
+    // (exact) one; milling → a Floquet one if the build has it.
+    const auto first_of = [](SolverKind kind) -> const SolverDescriptor* {
+      for (const auto& d : solver_registry())
+        if (d.kind == kind) return &d;
+      return nullptr;
+    };
+    if (milling)
+      if (const SolverDescriptor* d = first_of(SolverKind::kFloquet)) return d->name;
+    const SolverDescriptor* d = first_of(SolverKind::kAveraged);
+    if (!d) throw InputError("method \"auto\": this build has no transfer-function method");
+    if (milling && warning) *warning = std::string(kFlipLobeWarning);
+    return d->name;
   }
   if (!has_lobe_method(requested))
-    throw InputError("--method " + requested + ": unknown method (this build has: auto, " + known_methods() + ")");
-  if (requested == "analytic" && process.operation() == Operation::kMilling && warning)
+    throw InputError("method \"" + requested + "\": unknown (this build has: auto, " + known_methods() + ")");
+  if (find_lobe_method(requested).kind == SolverKind::kAveraged && milling && warning)
     *warning = std::string(kFlipLobeWarning);
   return requested;
 }

@@ -8,6 +8,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/transfer_function.hpp"
+#include "chatter/solvers.hpp"
 #include "phase_search.hpp"
 
 namespace chatter {
@@ -153,9 +154,14 @@ std::unique_ptr<TransferFunctionSolver> make_transfer_function_solver(const std:
                                                                       const StructuralModel& model,
                                                                       const Process& process,
                                                                       const TransferFunctionOptions& options) {
-  if (method == "analytic") return std::make_unique<AnalyticSolver>(model, process, options);
-  if (method == "coupled") return std::make_unique<CoupledSolver>(model, process, options);
-  throw InputError("--method " + method + ": unknown method (use analytic or coupled)");
+  // Through the registry: the method must be one of its transfer-function
+  // (averaged) methods, which all take max_phase_step_rad.
+  const SolverDescriptor& d = find_lobe_method(method);
+  if (d.kind != SolverKind::kAveraged)
+    throw InputError("method \"" + method + "\": not a transfer-function method");
+  auto s = make_lobe_solver(method, model, process, options.depth_max_m,
+                            {{"max_phase_step_rad", options.max_phase_step_rad}});
+  return std::unique_ptr<TransferFunctionSolver>(static_cast<TransferFunctionSolver*>(s.release()));
 }
 
 }  // namespace chatter

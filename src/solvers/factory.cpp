@@ -1,40 +1,338 @@
+// The solver registry (see solvers.hpp): one descriptor per method, and the
+// diagnostics hooks of the solvers that report more than the limit.
 #include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
 
 #include "chatter/error.hpp"
-#include "chatter/solvers.hpp"
 #include "chatter/semi_discretization.hpp"
+#include "chatter/solvers.hpp"
 #include "chatter/time_domain.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace chatter {
 
-std::vector<std::string> lobe_methods() { return {"analytic", "coupled", "sdm", "time-domain"}; }
+namespace {
+
+using Kind = SolverOption::Kind;
+
+// A number in a message, as the CLI prints it (6 significant digits).
+std::string message_number(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+template <class T>
+T option_or(const SolverValues& o, const std::string& name, T fallback) {
+  const auto it = o.find(name);
+  return it == o.end() ? fallback : std::get<T>(it->second);
+}
+
+// ------------------------------------------------- transfer-function methods
+
+const SolverOption kMaxPhaseStep{"max_phase_step_rad", Kind::kReal,
+                                 "largest phase step of the frequency search (library only)", 0.0,
+                                 std::numeric_limits<double>::infinity(), "rad", false};
+
+TransferFunctionOptions tf_options(double depth_max_m, const SolverValues& o) {
+  TransferFunctionOptions t;
+  t.depth_max_m = depth_max_m;
+  t.max_phase_step_rad = option_or(o, kMaxPhaseStep.name, t.max_phase_step_rad);
+  return t;
+}
+
+SolverValues tf_effective_options(const LobeSolver& solver) {
+  const auto& s = static_cast<const TransferFunctionSolver&>(solver);
+  const SearchBand band = s.band();
+  return {{"depth_max_m", s.options().depth_max_m},
+          {"max_phase_step_rad", s.options().max_phase_step_rad},
+          {"search_band_hz",
+           std::vector<double>{band.omega_min_rad_s / (2 * std::numbers::pi),
+                               band.omega_max_rad_s / (2 * std::numbers::pi)}},
+          {"frequency_grid_points", static_cast<int>(band.grid_points)},
+          {"frequency_resolution_hz", s.model().frequency_resolution_hz()}};
+}
+
+SolverDescriptor analytic_descriptor() {
+  SolverDescriptor d;
+  d.name = "analytic";
+  d.summary = "transfer function, eigenvalues of H0*G";
+  d.kind = SolverKind::kAveraged;
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMeasuredFrf, SolverFeature::kMilling,
+               SolverFeature::kTurning};
+  d.in_default_compare = true;
+  d.options = {kMaxPhaseStep};
+  d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
+    return std::unique_ptr<LobeSolver>(std::make_unique<AnalyticSolver>(m, p, tf_options(depth_max_m, o)));
+  };
+  d.effective_options = tf_effective_options;
+  d.plot = {"#8fbce6", 7.0, "", 0};
+  return d;
+}
+
+SolverDescriptor coupled_descriptor() {
+  SolverDescriptor d;
+  d.name = "coupled";
+  d.summary = "tool-workpiece characteristic determinant; must agree with analytic";
+  d.kind = SolverKind::kAveraged;
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  d.in_default_compare = true;
+  d.options = {kMaxPhaseStep};
+  d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
+    return std::unique_ptr<LobeSolver>(std::make_unique<CoupledSolver>(m, p, tf_options(depth_max_m, o)));
+  };
+  d.effective_options = tf_effective_options;
+  d.plot = {"#0b3a6e", 1.6, " dt (6,4)", 0};
+  return d;
+}
+
+// --------------------------------------------------------------------- sdm
+
+SolverDescriptor sdm_descriptor() {
+  SolverDescriptor d;
+  d.name = "sdm";
+  d.summary = "semi-discretisation / Floquet: sees the flip lobes of low-immersion milling; slower";
+  d.kind = SolverKind::kFloquet;
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  d.in_default_compare = true;
+  d.options = {{"steps", Kind::kInt,
+                "steps per delay period (default 64; the step is also at most 1/64 of the shortest natural "
+                "period); more steps: more accurate, slower",
+                1.0, std::numeric_limits<double>::infinity(), "", true}};
+  d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
+    SemiDiscretizationOptions s;
+    s.depth_max_m = depth_max_m;
+    if (o.count("steps")) {
+      s.steps_per_period = std::get<int>(o.at("steps"));
+      s.steps_per_vibration_cycle = s.steps_per_period;
+    }
+    return std::unique_ptr<LobeSolver>(std::make_unique<SemiDiscretizationSolver>(m, p, s));
+  };
+  d.effective_options = [](const LobeSolver& solver) {
+    const auto& o = static_cast<const SemiDiscretizationSolver&>(solver).options();
+    return SolverValues{{"depth_max_m", o.depth_max_m},
+                        {"steps_per_period", o.steps_per_period},
+                        {"steps_per_vibration_cycle", o.steps_per_vibration_cycle},
+                        {"depth_tolerance", o.depth_tolerance}};
+  };
+  d.plot = {"#d95f02", 3.0, "", 0};
+  d.columns = {{"multiplier_type", false}, {"spectral_radius_check", true}};
+  d.compare_columns = {"multiplier_type"};
+  return d;
+}
+
+// ------------------------------------------------------------- time-domain
+
+SolverDescriptor time_domain_descriptor() {
+  SolverDescriptor d;
+  d.name = "time-domain";
+  d.summary = "simulation with the real chip; the depth where the simulated cut starts to chatter; about 0.3 s "
+              "per speed";
+  d.kind = SolverKind::kSimulation;
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  d.in_default_compare = false;  // slow: opt-in
+  d.options = {
+      {"periods", Kind::kInt,
+       "delay periods simulated per verdict (default 200; the last half is analysed); more: sharper verdict near "
+       "the limit, slower",
+       20.0, 100000.0, "", true},
+      {"feed_per_tooth_mm", Kind::kReal,
+       "feed per tooth (milling) or per revolution (turning), mm (default: [process] feed_per_tooth_mm / "
+       "feed_per_rev_mm, else 0.1); sets where the tool leaves the cut",
+       0.0, 100.0, "mm", true},
+      {"multiple_regeneration", Kind::kFlag, "the chip is cut from the surface left by all earlier passes", 0.0,
+       0.0, "", true},
+      {"linear", Kind::kFlag,
+       "linear delay equation (no static chip, the tool never leaves the cut); the verdict is the growth factor "
+       "per period",
+       0.0, 0.0, "", true}};
+  d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
+    TimeDomainOptions t;
+    t.depth_max_m = depth_max_m;
+    t.periods = option_or(o, "periods", t.periods);
+    if (o.count("feed_per_tooth_mm")) t.feed_m = std::get<double>(o.at("feed_per_tooth_mm")) * 1e-3;
+    t.multiple_regeneration = option_or(o, "multiple_regeneration", false);
+    t.linear = option_or(o, "linear", false);
+    return std::unique_ptr<LobeSolver>(std::make_unique<TimeDomainSolver>(m, p, t));
+  };
+  d.effective_options = [](const LobeSolver& solver) {
+    const auto& o = static_cast<const TimeDomainSolver&>(solver).simulator().options();
+    return SolverValues{{"depth_max_m", o.depth_max_m},
+                        {"periods", o.periods},
+                        {"feed_m", o.feed_m},
+                        {"linear", o.linear},
+                        {"multiple_regeneration", o.multiple_regeneration},
+                        {"relative_tolerance", o.relative_tolerance},
+                        {"depth_tolerance", o.depth_tolerance}};
+  };
+  d.plot = {"#0f6b50", 1.6, "", 6};
+  return d;
+}
+
+std::string known_methods() {
+  std::string known;
+  for (const auto& d : solver_registry()) known += (known.empty() ? "" : ", ") + d.name;
+  return known;
+}
+
+// Empty when `v` is a valid value of `o`, else the rule it breaks.
+std::string violation(const SolverOption& o, const SolverValue& v) {
+  const auto range = [&](double x, bool integer) -> std::string {
+    const auto bound = [&](double b) { return integer ? std::to_string(static_cast<long long>(b)) : message_number(b); };
+    const std::string unit = o.unit.empty() ? "" : " " + o.unit;
+    const bool has_max = std::isfinite(o.max);
+    if (std::isfinite(x) && x >= o.min && x <= o.max) return "";
+    if (has_max) return "must be in [" + bound(o.min) + ", " + bound(o.max) + "]" + unit;
+    return "must be >= " + bound(o.min) + unit;
+  };
+  switch (o.kind) {
+    case Kind::kInt:
+      if (!std::holds_alternative<int>(v)) return "must be an integer";
+      return range(std::get<int>(v), true);
+    case Kind::kReal:
+      if (!std::holds_alternative<double>(v)) return "must be a number";
+      return range(std::get<double>(v), false);
+    case Kind::kFlag:
+      return std::holds_alternative<bool>(v) ? "" : "must be true or false";
+  }
+  return "";
+}
+
+std::string value_text(const SolverValue& v) {
+  if (const int* i = std::get_if<int>(&v)) return std::to_string(*i);
+  if (const double* x = std::get_if<double>(&v)) return message_number(*x);
+  if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  return "?";
+}
+
+}  // namespace
+
+std::string to_string(SolverFeature f) {
+  switch (f) {
+    case SolverFeature::kModalModel: return "modal structural models";
+    case SolverFeature::kMeasuredFrf: return "measured FRFs";
+    case SolverFeature::kMilling: return "milling";
+    case SolverFeature::kTurning: return "turning";
+  }
+  return "feature " + std::to_string(static_cast<std::uint32_t>(f));
+}
+
+std::vector<SolverFeature> FeatureSet::missing(const FeatureSet& needed) const {
+  std::vector<SolverFeature> out;
+  for (std::uint32_t b = 0; b < 32; ++b) {
+    const auto f = static_cast<SolverFeature>(b);
+    if (needed.contains(f) && !contains(f)) out.push_back(f);
+  }
+  return out;
+}
+
+FeatureSet needed_features(const StructuralModel& model, const Process& process) {
+  FeatureSet s;
+  if (model.mode_count() > 0) s.insert(SolverFeature::kModalModel);
+  if (model.has_measured()) s.insert(SolverFeature::kMeasuredFrf);
+  s.insert(process.operation() == Operation::kTurning ? SolverFeature::kTurning : SolverFeature::kMilling);
+  return s;
+}
+
+const std::vector<SolverDescriptor>& solver_registry() {
+  static const std::vector<SolverDescriptor> registry = {analytic_descriptor(), coupled_descriptor(),
+                                                         sdm_descriptor(), time_domain_descriptor()};
+  return registry;
+}
+
+const SolverDescriptor& find_lobe_method(const std::string& method) {
+  for (const auto& d : solver_registry())
+    if (d.name == method) return d;
+  throw InputError("method \"" + method + "\": unknown (this build has: " + known_methods() + ")");
+}
+
+std::vector<std::string> lobe_methods() {
+  std::vector<std::string> out;
+  for (const auto& d : solver_registry()) out.push_back(d.name);
+  return out;
+}
 
 bool has_lobe_method(const std::string& method) {
-  const auto m = lobe_methods();
-  return std::find(m.begin(), m.end(), method) != m.end();
+  const auto& r = solver_registry();
+  return std::any_of(r.begin(), r.end(), [&](const SolverDescriptor& d) { return d.name == method; });
+}
+
+void check_accepts(const SolverDescriptor& d, const StructuralModel& model, const Process& process) {
+  const auto missing = d.accepts.missing(needed_features(model, process));
+  if (missing.empty()) return;
+  std::string able;
+  for (const auto& o : solver_registry())
+    if (o.accepts.missing(needed_features(model, process)).empty()) able += (able.empty() ? "" : ", ") + o.name;
+  throw InputError("method \"" + d.name + "\" does not handle " + to_string(missing.front()) +
+                   (able.empty() ? "" : " (methods that do: " + able + ")"));
 }
 
 std::unique_ptr<LobeSolver> make_lobe_solver(const std::string& method, const StructuralModel& model,
-                                             const Process& process, double depth_max_m) {
-  if (method == "analytic" || method == "coupled") {
-    TransferFunctionOptions o;
-    o.depth_max_m = depth_max_m;
-    return make_transfer_function_solver(method, model, process, o);
+                                             const Process& process, double depth_max_m,
+                                             const SolverValues& options) {
+  const SolverDescriptor& d = find_lobe_method(method);
+  const std::string where = "method \"" + method + "\": ";
+  if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
+    throw InputError(where + "depth_max_m = " + message_number(depth_max_m) + ": must be > 0 m");
+  for (const auto& [name, value] : options) {
+    const auto it = std::find_if(d.options.begin(), d.options.end(), [&](const SolverOption& o) { return o.name == name; });
+    if (it == d.options.end()) {
+      std::string takes;
+      for (const auto& o : d.options) takes += (takes.empty() ? "" : ", ") + o.name;
+      throw InputError(where + "unknown option \"" + name + "\" (it takes: " + (takes.empty() ? "none" : takes) + ")");
+    }
+    if (const std::string why = violation(*it, value); !why.empty())
+      throw InputError(where + name + " = " + value_text(value) + ": " + why);
   }
-  if (method == "sdm") {
-    SemiDiscretizationOptions o;
-    o.depth_max_m = depth_max_m;
-    return std::make_unique<SemiDiscretizationSolver>(model, process, o);
-  }
-  if (method == "time-domain") {
-    TimeDomainOptions o;
-    o.depth_max_m = depth_max_m;
-    return std::make_unique<TimeDomainSolver>(model, process, o);
-  }
-  std::string known;
-  for (const auto& m : lobe_methods()) known += (known.empty() ? "" : ", ") + m;
-  throw InputError("--method " + method + ": unknown method (this build has: " + known + ")");
+  check_accepts(d, model, process);
+  return d.make(model, process, depth_max_m, options);
+}
+
+std::string option_violation(const SolverOption& option, const SolverValue& value) { return violation(option, value); }
+
+// ------------------------------------------------------- diagnostics hooks
+
+std::vector<DiagnosticColumn> SemiDiscretizationSolver::diagnostic_columns() const {
+  return {{"multiplier_type", false}, {"spectral_radius_check", true}};
+}
+
+DiagnosedLimit SemiDiscretizationSolver::limit_with_diagnostics(double spindle_rpm) const {
+  // The type of the dominant multiplier and the spectral radius at the
+  // reported limit (1 to within the depth tolerance).
+  FloquetResult f;
+  DiagnosedLimit r{limit_at(spindle_rpm, &f), {}};
+  if (r.limit.bounded()) r.values = {to_string(f.type), f.spectral_radius};
+  else r.values = {std::monostate{}, std::monostate{}};
+  return r;
+}
+
+SolverValues SemiDiscretizationSolver::point_diagnostics(double spindle_rpm, double depth_m) const {
+  // The Floquet verdict at the point itself.
+  const FloquetResult f = analyse(spindle_rpm, depth_m);
+  return {{"stable", f.stable()},
+          {"spectral_radius", f.spectral_radius},
+          {"multiplier_type", to_string(f.type)},
+          {"chatter_frequency_hz", f.chatter_frequency_hz},
+          {"dominant_multiplier", std::vector<double>{f.dominant_multiplier.real(), f.dominant_multiplier.imag()}},
+          {"steps_per_period", f.steps}};
+}
+
+SolverValues TimeDomainSolver::point_diagnostics(double spindle_rpm, double depth_m) const {
+  // The simulation verdict at the point itself.
+  const SimulationResult r = verdict_run(spindle_rpm, depth_m);
+  SolverValues v = {{"stable", r.verdict == SimulationVerdict::kStable},
+                    {"verdict", to_string(r.verdict)},
+                    {"verdict_measure", r.verdict_measure},
+                    {"growth_per_period", std::isfinite(r.growth_per_period) ? SolverValue(r.growth_per_period)
+                                                                             : SolverValue(std::monostate{})},
+                    {"max_amplitude_mm", r.max_amplitude_m * 1e3},
+                    {"out_of_cut_fraction", r.out_of_cut_fraction},
+                    {"periods", r.periods}};
+  if (std::isfinite(r.chatter_frequency_hz)) v["chatter_frequency_hz"] = r.chatter_frequency_hz;
+  return v;
 }
 
 }  // namespace chatter
