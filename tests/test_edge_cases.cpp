@@ -120,8 +120,8 @@ TEST(EdgeCases, ImmersionNearZeroAndExactlyOne) {
   // a_e/D → 0: the average force vanishes, so no limit below 5 cm.
   const AnalyticSolver thin(m, Process::milling({2, 6e8, 2e8, 1e-9, MillingDirection::kDown}), depth_max(0.05));
   EXPECT_FALSE(thin.limit_at(10000).bounded());
-  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 0.0, MillingDirection::kDown}), std::invalid_argument);
-  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 1.0 + 1e-12, MillingDirection::kDown}), std::invalid_argument);
+  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 0.0, MillingDirection::kDown}), chatter::InputError);
+  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 1.0 + 1e-12, MillingDirection::kDown}), chatter::InputError);
 }
 
 TEST(EdgeCases, DelayMuchShorterThanAVibrationPeriodSdmAgreesWithAnalytic) {

@@ -35,6 +35,7 @@
 
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
+#include "chatter/results.hpp"  // MultiplierType
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -84,15 +85,6 @@ struct SemiDiscretizationOptions {
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;
 };
-
-/// How the dominant multiplier leaves the unit circle.
-enum class MultiplierType {
-  kHopf,  ///< complex pair: chatter at a non-harmonic frequency (secondary Hopf)
-  kFlip,  ///< real, negative (μ ≈ −1): period doubling
-  kFold,  ///< real, positive (μ ≈ +1)
-};
-/// "hopf", "flip" or "fold".
-std::string to_string(MultiplierType t);
 
 /// Floquet analysis at one (spindle speed, depth) point.
 struct FloquetResult {

@@ -66,6 +66,15 @@ double speed_tolerance(const po::variables_map& vm) {
 constexpr double kProgressAfterS = 1.0;
 constexpr std::size_t kProgressSteps = 1000;
 
+/// The library names the option ("method \"x\": ..."); the user gave a flag.
+void check_method_flag(const Process& process, const std::string& method) {
+  try {
+    resolve_lobe_method(process, method, nullptr);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--method: ") + e.what());
+  }
+}
+
 std::string fixed(double x, int digits) {
   if (std::isinf(x)) return "inf";
   if (std::isnan(x)) return "-";
@@ -165,7 +174,7 @@ int cmd_check(const std::vector<std::string>& args) {
   opt.threads = thread_count(vm);
   opt.speed_tolerance = speed_tolerance(vm);
   opt.flute_length_m = cfg.flute_length_m;
-  resolve_lobe_method(cfg.process, method, nullptr);  // unknown method: fail before reading the file
+  check_method_flag(cfg.process, method);  // unknown method: fail before reading the file
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
   CheckReport report;
   {
@@ -381,6 +390,10 @@ int cmd_recommend(const std::vector<std::string>& args) {
     }
     process = process_for(cfg.process, row);
   }
+  check_method_flag(process, method);
+  if ((std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m)) && !(opt.diameter_m > 0.0))
+    throw InputError(std::string("a power or torque limit needs the ") +
+                     (milling ? "tool diameter (--tool-diameter-mm)" : "workpiece diameter (--workpiece-diameter-mm)"));
   Recommendation r;
   {
     Progress bar(vm, kProgressSteps, "recommend", kProgressAfterS);

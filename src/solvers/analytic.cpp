@@ -155,7 +155,7 @@ std::unique_ptr<TransferFunctionSolver> make_transfer_function_solver(const std:
                                                                       const TransferFunctionOptions& options) {
   if (method == "analytic") return std::make_unique<AnalyticSolver>(model, process, options);
   if (method == "coupled") return std::make_unique<CoupledSolver>(model, process, options);
-  throw InputError("--method " + method + ": unknown method (use analytic or coupled)");
+  throw InputError("method \"" + method + "\": unknown transfer-function method (use analytic or coupled)");
 }
 
 }  // namespace chatter
