@@ -796,8 +796,10 @@ Mode read_mode(const Table& mode) {
   const auto dir = attempt([&] { return read_direction(mode); });
   stop_if_errors_since(doc, mark);
   if (!(f && zeta && dir && (k.si || m.si))) throw Skip{};
+  const double f_hz = *f, zeta_value = *zeta;
+  const auto u = *dir;
   const Mode md = model_checked(mode, [&] {
-    return k.si ? Mode::from_stiffness(*f, *zeta, *k.si, *dir) : Mode::from_mass(*f, *zeta, *m.si, *dir);
+    return k.si ? Mode::from_stiffness(f_hz, zeta_value, *k.si, u) : Mode::from_mass(f_hz, zeta_value, *m.si, u);
   });
   if (m.si && md.stiffness_n_per_m < kStiffnessBound.lo) {
     std::ostringstream rule;
@@ -809,7 +811,7 @@ Mode read_mode(const Table& mode) {
   if (k.si) {
     warn_band(mode, k, kStiffness, kStiffnessBand);
   } else {
-    const double w2 = std::pow(2 * kPi * *f, 2);
+    const double w2 = std::pow(2 * kPi * f_hz, 2);
     warn_band(mode, m, kMass, kStiffnessBand, [w2](double mass) { return mass * w2; }, "gives k = m (2 pi f)^2 = ");
   }
   return md;

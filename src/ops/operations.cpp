@@ -1153,8 +1153,8 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   const bool limits = std::isfinite(mc.max_power_w) || std::isfinite(mc.max_torque_n_m);
   if (limits && !(options.diameter_m > 0.0))
     throw InputError(std::string("recommend: a power or torque limit needs the ") +
-                     (process.operation() == Operation::kMilling ? "tool diameter (diameter_m)"
-                                                                 : "workpiece diameter (diameter_m)"));
+                     (process.operation() == Operation::kMilling ? "tool diameter (RecommendOptions::diameter_m)"
+                                                                 : "workpiece diameter (RecommendOptions::diameter_m)"));
   Recommendation rec;
   std::string warning;
   rec.method = resolve_lobe_method(process, options.method, &warning);
