@@ -86,6 +86,8 @@ struct SemiDiscretizationOptions {
   std::string validate() const;
 };
 
+// MultiplierType (hopf / flip / fold) is in chatter/results.hpp.
+
 /// Floquet analysis at one (spindle speed, depth) point.
 struct FloquetResult {
   double spindle_rpm = 0.0;

@@ -107,6 +107,10 @@ struct SimulationSettings {
   double analysed_fraction = 0.5;
 };
 
+// What a run returns (SimulationResult, SeriesSample, SpectralPeak,
+// SimulationVerdict) is plain data in chatter/results.hpp, so that the io
+// layer can write and draw it without this header.
+
 class TimeDomainSimulator {
  public:
   /// @throws InputError if the options are invalid or both bodies are rigid.
