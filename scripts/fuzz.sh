@@ -21,11 +21,11 @@ fi
 seconds=${1:-60}
 case "$target" in
   config)
-    srcs="src/io/config.cpp src/io/frf_reader.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
+    srcs="src/io/config.cpp src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
           src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp"
     max_len=4096 corpus=corpus prefix="" ;;
   frf)
-    srcs="src/io/frf_reader.cpp src/model/structural_model.cpp"
+    srcs="src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
     max_len=8192 corpus=corpus-frf prefix="frf-" ;;
   operations)
     srcs="src/ops/operations.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp

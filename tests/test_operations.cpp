@@ -917,6 +917,42 @@ TEST_F(OperationsCli, RecommendExplainsAndWritesJson) {
   EXPECT_TRUE(contains(bad.err, "--tool-diameter-mm: only for milling")) << bad.err;
 }
 
+TEST_F(OperationsCli, FlagNamesComeFromTheCliNotTheLibrary) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  // The library names the option; the CLI adds its flag.
+  const Run method = run({"recommend", cfg, "--feed-per-tooth-mm", "0.2", "--method", "bogus"});
+  EXPECT_EQ(method.code, 2);
+  EXPECT_TRUE(contains(method.err, "--method: method \"bogus\": unknown (this build has")) << method.err;
+  const Run diameter = run({"recommend", cfg, "--feed-per-tooth-mm", "0.2", "--max-power-kw", "2"});
+  EXPECT_EQ(diameter.code, 2);
+  EXPECT_TRUE(contains(diameter.err, "--workpiece-diameter-mm")) << diameter.err;
+  // The library alone: field names, no flag.
+  const Config c = load_config(cfg);
+  RecommendOptions o;
+  o.machine.rpm_min = 500;
+  o.machine.rpm_max = 2000;
+  o.method = "analytic";
+  o.feed_per_tooth_m = 2e-4;
+  o.machine.max_power_w = 2e3;
+  try {
+    recommend(c.model, c.process, o);
+    ADD_FAILURE() << "a power limit without a diameter was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_TRUE(contains(what, "diameter_m")) << what;
+    EXPECT_FALSE(contains(what, "--")) << what;
+  }
+  o.machine.max_power_w = std::numeric_limits<double>::infinity();
+  o.method = "bogus";
+  try {
+    recommend(c.model, c.process, o);
+    ADD_FAILURE() << "an unknown method was accepted";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "method \"bogus\"")) << e.what();
+    EXPECT_FALSE(contains(e.what(), "--")) << e.what();
+  }
+}
+
 
 TEST_F(OperationsCli, CheckEqualsPointOnShippedConfigs) {
   // One row per shipped config at a speed inside its range; `chatter point`

@@ -18,6 +18,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/semi_discretization.hpp"
+#include "chatter/time_domain.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace fs = std::filesystem;

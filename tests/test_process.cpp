@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "chatter/error.hpp"
 #include "chatter/process.hpp"
 
 namespace chatter {
@@ -98,11 +99,11 @@ TEST(Process, FullImmersionAverageIsTheAltintasClosedForm) {
 }
 
 TEST(Process, RefusesNonPhysicalParameters) {
-  EXPECT_THROW(Process::turning({0.0}), std::invalid_argument);
-  EXPECT_THROW(Process::milling({0, 6e8, 2e8, 0.5, MillingDirection::kDown}), std::invalid_argument);
-  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 0.0, MillingDirection::kDown}), std::invalid_argument);
-  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 1.5, MillingDirection::kDown}), std::invalid_argument);
-  EXPECT_THROW(Process::milling({2, -1.0, 2e8, 0.5, MillingDirection::kDown}), std::invalid_argument);
+  EXPECT_THROW(Process::turning({0.0}), chatter::InputError);
+  EXPECT_THROW(Process::milling({0, 6e8, 2e8, 0.5, MillingDirection::kDown}), chatter::InputError);
+  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 0.0, MillingDirection::kDown}), chatter::InputError);
+  EXPECT_THROW(Process::milling({2, 6e8, 2e8, 1.5, MillingDirection::kDown}), chatter::InputError);
+  EXPECT_THROW(Process::milling({2, -1.0, 2e8, 0.5, MillingDirection::kDown}), chatter::InputError);
 }
 
 }  // namespace

@@ -171,8 +171,9 @@ TEST(Registry, DiagnosticsAgreeWithTheLimit) {
           continue;
         }
         EXPECT_EQ(std::holds_alternative<double>(v), d.columns[c].numeric) << d.name << " " << d.columns[c].name;
-        if (d.columns[c].name == "spectral_radius_check" && ++rho_checked > 0)
+        if (d.columns[c].name == "spectral_radius_check" && ++rho_checked > 0) {
           EXPECT_NEAR(std::get<double>(v), 1.0, kRhoAtLimit) << d.name << " at " << rpm;
+        }
       }
       if (!r.limit.bounded()) continue;
       const SolverValues below = s->point_diagnostics(rpm, kBelow * r.limit.depth_limit_m);

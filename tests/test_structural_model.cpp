@@ -8,6 +8,7 @@
 
 #include <Eigen/LU>
 
+#include "chatter/error.hpp"
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -50,13 +51,13 @@ TEST(Mode, DirectionIsNormalised) {
 
 TEST(Mode, NonPhysicalValuesAreRefused) {
   const Eigen::Vector2d x{1.0, 0.0};
-  EXPECT_THROW(Mode::from_stiffness(0.0, 0.03, 1e7, x), std::invalid_argument);
-  EXPECT_THROW(Mode::from_stiffness(100, 0.0, 1e7, x), std::invalid_argument);
-  EXPECT_THROW(Mode::from_stiffness(100, 1.0, 1e7, x), std::invalid_argument);
-  EXPECT_THROW(Mode::from_stiffness(100, 0.03, -1.0, x), std::invalid_argument);
-  EXPECT_THROW(Mode::from_stiffness(100, 0.03, 1e7, {0.0, 0.0}), std::invalid_argument);
-  EXPECT_THROW(Mode::from_mass(100, 0.03, 0.0, x), std::invalid_argument);
-  EXPECT_THROW(Mode::from_stiffness(NAN, 0.03, 1e7, x), std::invalid_argument);
+  EXPECT_THROW(Mode::from_stiffness(0.0, 0.03, 1e7, x), chatter::InputError);
+  EXPECT_THROW(Mode::from_stiffness(100, 0.0, 1e7, x), chatter::InputError);
+  EXPECT_THROW(Mode::from_stiffness(100, 1.0, 1e7, x), chatter::InputError);
+  EXPECT_THROW(Mode::from_stiffness(100, 0.03, -1.0, x), chatter::InputError);
+  EXPECT_THROW(Mode::from_stiffness(100, 0.03, 1e7, {0.0, 0.0}), chatter::InputError);
+  EXPECT_THROW(Mode::from_mass(100, 0.03, 0.0, x), chatter::InputError);
+  EXPECT_THROW(Mode::from_stiffness(NAN, 0.03, 1e7, x), chatter::InputError);
 }
 
 TEST(Body, ReceptanceSumsOrientedModes) {
@@ -120,9 +121,9 @@ INSTANTIATE_TEST_SUITE_P(SeedTableIV1, CantileverTable,
                                            BarCase{0.25, 0.07, 40.732e6, 762.31}));
 
 TEST(Cantilever, RefusesNonPhysicalBars) {
-  EXPECT_THROW(first_bending_mode({0.0, 7600, 0.5, 0.1}, 0.02, {1, 0}), std::invalid_argument);
-  EXPECT_THROW(first_bending_mode({180e9, 7600, -0.5, 0.1}, 0.02, {1, 0}), std::invalid_argument);
-  EXPECT_THROW(first_bending_mode({180e9, 7600, 0.5, 0.1}, 1.2, {1, 0}), std::invalid_argument);
+  EXPECT_THROW(first_bending_mode({0.0, 7600, 0.5, 0.1}, 0.02, {1, 0}), chatter::InputError);
+  EXPECT_THROW(first_bending_mode({180e9, 7600, -0.5, 0.1}, 0.02, {1, 0}), chatter::InputError);
+  EXPECT_THROW(first_bending_mode({180e9, 7600, 0.5, 0.1}, 1.2, {1, 0}), chatter::InputError);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "chatter/io/frf.hpp"
+#include "chatter/frf_data.hpp"
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -83,13 +83,5 @@ std::vector<Mode> pick_peaks(const FrfTable& receptance, const ModalFitOptions& 
 ///         NumericalError if the fit leaves the physical range (ζ >= 1).
 ///         Not converging within the budget is reported in the result.
 ModalFitResult fit_modes(const FrfTable& receptance, const ModalFitOptions& options = {});
-
-/// A TOML fragment with one `[[<body>.modes]]` block per mode
-/// (frequency_hz, damping_ratio, stiffness_n_per_m, direction), 10
-/// significant digits, that the config loader accepts (docs/config.md).
-/// `comment` (may be several lines) goes first, each line prefixed by `# `.
-/// @pre body is "tool" or "workpiece".
-std::string modes_to_toml(const std::vector<Mode>& modes, const std::string& body = "tool",
-                          const std::string& comment = "");
 
 }  // namespace chatter

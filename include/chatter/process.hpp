@@ -32,9 +32,9 @@ struct MillingParameters {
 /// which validate their arguments.
 class Process {
  public:
-  /// @throws std::invalid_argument if K_f <= 0 or not finite.
+  /// @throws InputError if K_f <= 0 or not finite.
   static Process turning(TurningParameters p);
-  /// @throws std::invalid_argument if teeth < 1, K_t <= 0, K_r < 0,
+  /// @throws InputError if teeth < 1, K_t <= 0, K_r < 0,
   ///         radial immersion outside (0, 1].
   static Process milling(MillingParameters p);
 

@@ -35,6 +35,7 @@
 
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
+#include "chatter/results.hpp"  // MultiplierType
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -85,14 +86,7 @@ struct SemiDiscretizationOptions {
   std::string validate() const;
 };
 
-/// How the dominant multiplier leaves the unit circle.
-enum class MultiplierType {
-  kHopf,  ///< complex pair: chatter at a non-harmonic frequency (secondary Hopf)
-  kFlip,  ///< real, negative (μ ≈ −1): period doubling
-  kFold,  ///< real, positive (μ ≈ +1)
-};
-/// "hopf", "flip" or "fold".
-std::string to_string(MultiplierType t);
+// MultiplierType (hopf / flip / fold) is in chatter/results.hpp.
 
 /// Floquet analysis at one (spindle speed, depth) point.
 struct FloquetResult {

@@ -28,7 +28,7 @@ struct Mode {
   Eigen::Vector2d direction{1.0, 0.0};  ///< unit vector u_i (normalised by from_stiffness / from_mass).
 
   /// Builds a mode from stiffness, normalising `direction`.
-  /// @throws std::invalid_argument if a value is non-physical (f, k <= 0,
+  /// @throws InputError if a value is non-physical (f, k <= 0,
   ///         ζ outside (0,1), zero direction).
   static Mode from_stiffness(double frequency_hz, double damping_ratio, double stiffness_n_per_m,
                              Eigen::Vector2d direction);
@@ -54,7 +54,7 @@ struct CantileverBar {
   double length_m = 0.0;            ///< L > 0, m.
   double diameter_m = 0.0;          ///< D > 0, m.
 };
-/// @throws std::invalid_argument on a non-positive field or ζ outside (0,1).
+/// @throws InputError on a non-positive field or ζ outside (0,1).
 Mode first_bending_mode(const CantileverBar& bar, double damping_ratio, Eigen::Vector2d direction);
 
 /// One measured receptance term of a body (e.g. a tap test), m/N, tabulated

@@ -37,11 +37,13 @@
 
 #include <complex>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
+#include "chatter/results.hpp"  // SimulationResult
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -105,72 +107,9 @@ struct SimulationSettings {
   double analysed_fraction = 0.5;
 };
 
-/// One row of the time series (SI units).
-struct SeriesSample {
-  double t_s = 0.0;
-  double tool_x_m = 0.0, tool_y_m = 0.0;
-  double workpiece_x_m = 0.0, workpiece_y_m = 0.0;
-  double rel_x_m = 0.0, rel_y_m = 0.0;   ///< tool − workpiece.
-  double force_x_n = 0.0, force_y_n = 0.0;  ///< on the tool.
-  /// Largest chip thickness over the teeth inside the cutting arc, m
-  /// (0 when none is or all are in air). Linear mode: the unclipped value.
-  double chip_m = 0.0;
-  /// True when at least one tooth is removing material (h > 0 inside the arc).
-  bool in_cut = false;
-};
-
-/// A peak of the relative-displacement spectrum.
-struct SpectralPeak {
-  double frequency_hz = 0.0;
-  double amplitude_m = 0.0;
-  int harmonic = 0;  ///< k for k × tooth-passing (spindle, turning) frequency; 0 if not a harmonic.
-};
-
-enum class SimulationVerdict { kStable, kChatter };
-/// "stable" or "chatter".
-std::string to_string(SimulationVerdict v);
-
-struct SimulationResult {
-  SimulationVerdict verdict = SimulationVerdict::kStable;
-  /// The measure the verdict rests on, in words with its numbers.
-  std::string verdict_measure;
-  /// Estimate of the dominant Floquet multiplier |μ| per delay period from
-  /// the once-per-period states of the analysed window (exact dynamic mode
-  /// decomposition of the period-to-period map). Linear mode: of the states;
-  /// nonlinear mode: of the increments between consecutive periods, which
-  /// obey the linear map while the tool stays in the cut. NaN when the
-  /// increments had already fallen to the integration noise.
-  double growth_per_period = 0.0;
-  /// The corresponding multiplier (Im >= 0).
-  std::complex<double> dominant_multiplier{0.0, 0.0};
-  /// Chatter frequency (Hz): the largest spectral peak that is not a
-  /// tooth-passing harmonic, when the verdict is chatter; NaN otherwise.
-  double chatter_frequency_hz = 0.0;
-  /// That peak whatever the verdict (the least damped vibration); NaN if none.
-  double dominant_nonharmonic_hz = 0.0;
-  /// Largest |r| (relative displacement, m) over the analysed window.
-  double max_amplitude_m = 0.0;
-  /// Fraction of the analysed window's cutting-arc time in which the teeth in
-  /// the arc were all in air (h <= 0). 0 in linear mode.
-  double out_of_cut_fraction = 0.0;
-  double delay_s = 0.0;
-  double tooth_passing_hz = 0.0;  ///< 1/τ.
-  int periods = 0;
-  int analysed_from_period = 0;
-
-  std::vector<SeriesSample> series;          ///< empty unless record_series.
-  std::vector<SeriesSample> once_per_period; ///< at t = kτ, k = 0..periods.
-  /// Amplitude spectrum (m) of the relative displacement over the analysed
-  /// window (Hann window, |X| combined over x and y), from 0 to Nyquist.
-  std::vector<double> spectrum_hz, spectrum_amplitude_m;
-  std::vector<SpectralPeak> harmonics;  ///< tooth-passing harmonics up to the highest natural frequency × 3.
-
-  // Cost of the run.
-  long steps = 0, rhs_evaluations = 0, restarts = 0, root_stops = 0;
-  /// History ring buffer: capacity and the most entries held at once.
-  std::size_t history_capacity = 0, history_max_entries = 0;
-  int samples_per_period = 0;
-};
+// What a run returns (SimulationResult, SeriesSample, SpectralPeak,
+// SimulationVerdict) is plain data in chatter/results.hpp, so that the io
+// layer can write and draw it without this header.
 
 class TimeDomainSimulator {
  public:
@@ -198,7 +137,13 @@ class TimeDomainSimulator {
 /// 10–14 simulations of options.periods periods per speed.
 class TimeDomainSolver final : public LobeSolver {
  public:
-  TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {});
+  /// `starting_guess`: a cheaper solver whose limit at each speed places the
+  /// first depth of the search (only where the scan starts, not the answer).
+  /// Null: the zeroth-order analytic solver on the same model and process
+  /// (depth_max_m of these options) is built here, once; when the analytic
+  /// method does not apply to the model, the search has no guess.
+  TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {},
+                   std::shared_ptr<const LobeSolver> starting_guess = nullptr);
   std::string method() const override { return "time-domain"; }
   /// verdict_run() at the point: stable, verdict, verdict_measure,
   /// growth_per_period (null if not measured), chatter_frequency_hz (if
@@ -206,7 +151,13 @@ class TimeDomainSolver final : public LobeSolver {
   /// registry entry (factory.cpp).
   SolverValues point_diagnostics(double spindle_rpm, double depth_m) const override;
   /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
+  /// The search starts at 1/16 of the guess's bounded limit (capped at
+  /// depth_max_m), or of depth_max_m/4 without a guess, where the guess finds
+  /// no limit, or where it refuses the speed (its InputError, e.g. too many
+  /// lobes in one delay for the analytic phase search at very low speed).
   StabilityLimit limit_at(double spindle_rpm) const override;
+  /// The guess solver in use, null if none.
+  const LobeSolver* starting_guess() const { return starting_guess_.get(); }
   double depth_max_m() const override { return simulator_.options().depth_max_m; }
   const TimeDomainSimulator& simulator() const { return simulator_; }
   /// The verdict run used for one (speed, depth) point of the search.
@@ -214,6 +165,7 @@ class TimeDomainSolver final : public LobeSolver {
 
  private:
   TimeDomainSimulator simulator_;
+  std::shared_ptr<const LobeSolver> starting_guess_;
 };
 
 }  // namespace chatter

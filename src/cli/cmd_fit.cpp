@@ -22,6 +22,7 @@
 #include "chatter/io/frf.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/io/modes_toml.hpp"
 #include "chatter/modal_fit.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"

@@ -382,6 +382,9 @@ int cmd_recommend(const std::vector<std::string>& args) {
     }
     process = process_for(cfg.process, row);
   }
+  if ((std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m)) && !(opt.diameter_m > 0.0))
+    throw InputError(std::string("a power or torque limit needs the ") +
+                     (milling ? "tool diameter (--tool-diameter-mm)" : "workpiece diameter (--workpiece-diameter-mm)"));
   Recommendation r;
   {
     Progress bar(vm, kProgressSteps, "recommend", kProgressAfterS);

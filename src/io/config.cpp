@@ -8,8 +8,8 @@
 //   <origin>: <key.path>: unknown key (did you mean <key>?)
 //   <origin>:<line>:<col>: <TOML syntax error>
 //   <path>: cannot read file (<reason>)
-// No toml++ exception and no std::invalid_argument from the model
-// constructors escapes this file.
+// No toml++ exception escapes this file; an InputError of the model
+// constructors is given the file and table (model_checked).
 #include "chatter/io/config.hpp"
 #include "chatter/io/frf.hpp"
 
@@ -722,6 +722,19 @@ void warn_derived_mode(const Table& mode, const Mode& md) {
                                   std::string(kFrequencyBand.usual) + "; check the units of the bar");
 }
 
+/// Builds a model object (Mode, Process) from values validated above. The
+/// model constructors re-check them and throw InputError without a file name;
+/// should one fire, a rule above is missing: the user still gets the file and
+/// the table.
+template <class Make>
+auto model_checked(const Table& where, Make&& make) {
+  try {
+    return make();
+  } catch (const InputError& e) {
+    throw InputError(where.doc().origin() + ": " + where.path() + ": " + e.what());
+  }
+}
+
 Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
   const Document& doc = mode.doc();
   const std::size_t mark = doc.error_count();
@@ -743,7 +756,7 @@ Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
   bar.density_kg_per_m3 = *rho.si;
   bar.length_m = *len.si;
   bar.diameter_m = *dia.si;
-  const Mode md = first_bending_mode(bar, *zeta, *dir);
+  const Mode md = model_checked(bar_table, [&] { return first_bending_mode(bar, *zeta, *dir); });
   const std::size_t warnings_before = doc.warning_count();
   warn_band(bar_table, e, kYoungs, kYoungsBand);
   warn_band(bar_table, rho, kDensity, kDensityBand);
@@ -783,7 +796,11 @@ Mode read_mode(const Table& mode) {
   const auto dir = attempt([&] { return read_direction(mode); });
   stop_if_errors_since(doc, mark);
   if (!(f && zeta && dir && (k.si || m.si))) throw Skip{};
-  const Mode md = k.si ? Mode::from_stiffness(*f, *zeta, *k.si, *dir) : Mode::from_mass(*f, *zeta, *m.si, *dir);
+  const double f_hz = *f, zeta_value = *zeta;
+  const auto u = *dir;
+  const Mode md = model_checked(mode, [&] {
+    return k.si ? Mode::from_stiffness(f_hz, zeta_value, *k.si, u) : Mode::from_mass(f_hz, zeta_value, *m.si, u);
+  });
   if (m.si && md.stiffness_n_per_m < kStiffnessBound.lo) {
     std::ostringstream rule;
     rule << "gives a modal stiffness m(2 pi f)^2 = " << md.stiffness_n_per_m << " N/m: must be >= 1 N/m";
@@ -794,7 +811,7 @@ Mode read_mode(const Table& mode) {
   if (k.si) {
     warn_band(mode, k, kStiffness, kStiffnessBand);
   } else {
-    const double w2 = std::pow(2 * kPi * *f, 2);
+    const double w2 = std::pow(2 * kPi * f_hz, 2);
     warn_band(mode, m, kMass, kStiffnessBand, [w2](double mass) { return mass * w2; }, "gives k = m (2 pi f)^2 = ");
   }
   return md;
@@ -986,7 +1003,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     Band band = kCoefficientBand;
     band.symbol = "K_f";
     warn_band(*process, kf, kFeedForce, band);
-    return Process::turning(p);
+    return model_checked(*process, [&] { return Process::turning(p); });
   }
   if (*operation == "milling") {
     reject_keys_of(*process, kTurningKeys, "turning");
@@ -1025,7 +1042,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                      "titanium 0.3 to 0.8); are " +
                      std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
     }
-    return Process::milling(p);
+    return model_checked(*process, [&] { return Process::milling(p); });
   }
   doc.fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
 }
@@ -1210,11 +1227,6 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
                      std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
 #endif
-  } catch (const std::invalid_argument& e) {
-    // The model constructors re-check what was validated above; reaching
-    // here means a rule above is missing, but the user still gets an
-    // InputError naming the file.
-    throw InputError(origin + ": " + e.what());
   }
 }
 

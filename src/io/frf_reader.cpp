@@ -158,29 +158,6 @@ class LineReader {
 
 // ------------------------------------------------------------ validation
 
-using Where = std::function<std::string(std::size_t)>;  // index of a line -> "<file>: line 42"
-
-void check_table(const FrfTable& t, const std::string& whole, const Where& where) {
-  if (t.frequency_hz.size() != t.value.size())
-    throw InputError(whole + ": " + std::to_string(t.frequency_hz.size()) + " frequencies but " +
-                     std::to_string(t.value.size()) + " values");
-  if (t.frequency_hz.size() < 2)
-    throw InputError(whole + ": " + std::to_string(t.frequency_hz.size()) +
-                     " frequency line(s), an FRF needs at least 2");
-  for (std::size_t i = 0; i < t.frequency_hz.size(); ++i) {
-    const double f = t.frequency_hz[i];
-    if (!std::isfinite(f)) throw InputError(where(i) + ": frequency " + number_text(f) + " Hz is not finite");
-    if (f < 0.0) throw InputError(where(i) + ": negative frequency " + number_text(f) + " Hz (must be >= 0)");
-    if (!std::isfinite(t.value[i].real()) || !std::isfinite(t.value[i].imag()))
-      throw InputError(where(i) + ": value (" + number_text(t.value[i].real()) + ", " +
-                       number_text(t.value[i].imag()) + ") at " + number_text(f) + " Hz is not finite");
-    if (i > 0 && f <= t.frequency_hz[i - 1]) {
-      const std::string what = f < t.frequency_hz[i - 1] ? "decreasing frequency " : "repeated frequency ";
-      throw InputError(where(i) + ": " + what + number_text(f) + " Hz after " + number_text(t.frequency_hz[i - 1]) +
-                       " Hz (frequencies must increase strictly)");
-    }
-  }
-}
 
 void check_scale(const std::string& whole, double scale) {
   if (!std::isfinite(scale) || scale == 0.0)
@@ -265,7 +242,7 @@ FrfTable parse_delimited(std::string_view bytes, const std::string& name, const 
   }
   if (bytes.empty() || trim(bytes).empty()) throw InputError(name + ": empty file (no FRF lines)");
   if (t.frequency_hz.empty()) throw InputError(name + ": no numeric line (expected frequency_hz, real, imag)");
-  check_table(t, name, [&](std::size_t i) { return name + ": line " + std::to_string(line_of[i]); });
+  validate(t, name, [&](std::size_t i) { return name + ": line " + std::to_string(line_of[i]); });
   return finish(std::move(t), options.quantity.value_or(FrfQuantity::kReceptance), options, 1.0);
 }
 
@@ -684,7 +661,7 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
     line_of.push_back(vals.line[i * per_point]);
   }
   const std::string binary_note = h.binary ? " (binary data)" : "";
-  check_table(t, ctx.name + ": record " + std::to_string(ctx.record), [&](std::size_t i) {
+  validate(t, ctx.name + ": record " + std::to_string(ctx.record), [&](std::size_t i) {
     return ctx.at(line_of[i]) + binary_note + ", point " + std::to_string(i + 1);
   });
   rec.table = finish(std::move(rec.table), rec.quantity, options, st.units_scale);
@@ -727,10 +704,6 @@ FrfTable to_receptance(FrfTable t, FrfQuantity q) {
       t.value[i] /= -(w * w);
   }
   return t;
-}
-
-void validate(const FrfTable& t) {
-  check_table(t, t.source, [&](std::size_t i) { return t.source + ": frequency line " + std::to_string(i + 1); });
 }
 
 FrfTable parse_frf_csv(std::string_view text, const std::string& origin, const FrfReadOptions& options) {

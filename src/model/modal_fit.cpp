@@ -159,7 +159,7 @@ std::vector<Peak> select_peaks(const FrfTable& t, const ModalFitOptions& o, cons
 Mode make_mode(double f, double zeta, double k, const Eigen::Vector2d& u, const std::string& source) {
   try {
     return Mode::from_stiffness(f, zeta, k, u);
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) {
     throw NumericalError(source + ": modal fit left the physical range (f = " + num(f) + " Hz, zeta = " + num(zeta) +
                          ", k = " + num(k) + " N/m): " + e.what());
   }
@@ -375,36 +375,6 @@ ModalFitResult fit_modes(const FrfTable& receptance, const ModalFitOptions& opti
   }
   res.fit_error = m.relative_error(th);
   return res;
-}
-
-std::string modes_to_toml(const std::vector<Mode>& modes, const std::string& body, const std::string& comment) {
-  if (body != "tool" && body != "workpiece")
-    throw std::invalid_argument("modes_to_toml: body must be \"tool\" or \"workpiece\", not \"" + body + "\"");
-  std::string s;
-  std::istringstream lines(comment);
-  for (std::string l; std::getline(lines, l);) s += "# " + l + "\n";
-  char buf[64];
-  auto g10 = [&](double v) {
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    std::string x = buf;
-    if (x.find_first_of(".eEn") == std::string::npos) x += ".0";  // keep TOML floats floats
-    return x;
-  };
-  for (const Mode& md : modes) {
-    if (!s.empty()) s += "\n";
-    s += "[[" + body + ".modes]]\n";
-    s += "frequency_hz = " + g10(md.natural_frequency_hz) + "\n";
-    s += "damping_ratio = " + g10(md.damping_ratio) + "\n";
-    s += "stiffness_n_per_m = " + g10(md.stiffness_n_per_m) + "\n";
-    const Eigen::Vector2d& u = md.direction;
-    if (u.x() == 1.0 && u.y() == 0.0)
-      s += "direction = \"x\"\n";
-    else if (u.x() == 0.0 && u.y() == 1.0)
-      s += "direction = \"y\"\n";
-    else
-      s += "direction = [" + g10(u.x()) + ", " + g10(u.y()) + "]\n";
-  }
-  return s;
 }
 
 }  // namespace chatter

@@ -2,7 +2,7 @@
 
 #include <cmath>
 #include <numbers>
-#include <stdexcept>
+#include "chatter/error.hpp"
 
 namespace chatter {
 namespace {
@@ -10,7 +10,7 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 void require(bool ok, const char* what) {
-  if (!ok) throw std::invalid_argument(what);
+  if (!ok) throw InputError(what);
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
+#include "chatter/error.hpp"
 #include <string>
 
 namespace chatter {
@@ -13,7 +13,7 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument(what);
+  if (!ok) throw InputError(what);
 }
 
 Eigen::Vector2d unit_direction(const Eigen::Vector2d& d) {

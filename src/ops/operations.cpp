@@ -886,7 +886,7 @@ Process process_for(const Process& base, const OperationRow& row) {
   if (row.direction) p.direction = *row.direction;
   try {
     return Process::milling(p);
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) {
     throw InputError("operation " + in_quotes(row.id) + ": " + e.what());
   }
 }
@@ -1093,8 +1093,8 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   const bool limits = std::isfinite(mc.max_power_w) || std::isfinite(mc.max_torque_n_m);
   if (limits && !(options.diameter_m > 0.0))
     throw InputError(std::string("recommend: a power or torque limit needs the ") +
-                     (process.operation() == Operation::kMilling ? "tool diameter (--tool-diameter-mm)"
-                                                                 : "workpiece diameter (--workpiece-diameter-mm)"));
+                     (process.operation() == Operation::kMilling ? "tool diameter (RecommendOptions::diameter_m)"
+                                                                 : "workpiece diameter (RecommendOptions::diameter_m)"));
   Recommendation rec;
   std::string warning;
   rec.method = resolve_lobe_method(process, options.method, &warning);

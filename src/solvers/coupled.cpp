@@ -40,7 +40,7 @@ CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFun
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
   if (model_.has_measured())
     throw InputError("coupled needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
-                     "or use --method analytic");
+                     "or use the analytic method");
   const ModalMatrices mm = modal_matrices(model_);
   omega_n_ = mm.omega;
   zeta_ = mm.damping_ratio;

@@ -620,7 +620,7 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
     throw InputError("structural model: both bodies are rigid: give at least one mode");
   if (model_.has_measured())
     throw InputError("sdm needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
-                     "or use --method analytic");
+                     "or use the analytic method");
   const ModalMatrices mm = modal_matrices(model_);
   const Index n = mm.omega.size();
   // Scaled state x = [q; q̇/ω] keeps the exponentials well balanced.

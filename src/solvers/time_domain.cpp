@@ -785,8 +785,25 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
 }
 
 // ---------------------------------------------------------------------------
-TimeDomainSolver::TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options)
-    : simulator_(std::move(model), std::move(process), options) {}
+namespace {
+
+/// The zeroth-order analytic solver as the depth search's starting guess, or
+/// null when the analytic method does not apply to this model and process
+/// (its constructor's rules, e.g. a model with both bodies rigid).
+std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulator& sim) {
+  TransferFunctionOptions to;
+  to.depth_max_m = sim.options().depth_max_m;
+  if (!to.validate().empty() || sim.model().rigid()) return nullptr;
+  return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+}
+
+}  // namespace
+
+TimeDomainSolver::TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options,
+                                   std::shared_ptr<const LobeSolver> starting_guess)
+    : simulator_(std::move(model), std::move(process), options), starting_guess_(std::move(starting_guess)) {
+  if (!starting_guess_) starting_guess_ = default_starting_guess(simulator_);
+}
 
 SimulationResult TimeDomainSolver::verdict_run(double rpm, double depth_m) const {
   SimulationSettings st;
@@ -805,15 +822,16 @@ StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
   const TimeDomainOptions& o = simulator_.options();
   StabilityLimit out;
   out.spindle_rpm = rpm;
-  // Starting guess: the zeroth-order (averaged) limit, only to place the scan.
+  // Starting guess (header): only places the scan, never the answer.
   double guess = o.depth_max_m / 4.0;
-  try {
-    TransferFunctionOptions to;
-    to.depth_max_m = o.depth_max_m;
-    AnalyticSolver an(simulator_.model(), simulator_.process(), to);
-    const StabilityLimit g = an.limit_at(rpm);
-    if (g.bounded() && g.depth_limit_m > 0.0) guess = std::min(g.depth_limit_m, o.depth_max_m);
-  } catch (const InputError&) {
+  if (starting_guess_) {
+    std::optional<StabilityLimit> g;
+    try {
+      g = starting_guess_->limit_at(rpm);
+    } catch (const InputError&) {
+      // The guess refuses this speed (documented in the header): no guess.
+    }
+    if (g && g->bounded() && g->depth_limit_m > 0.0) guess = std::min(g->depth_limit_m, o.depth_max_m);
   }
   // Scan by factors of 2 from guess / 16 (down if already chatter), then
   // bisection to depth_tolerance (depth_search.hpp, shared with sdm).

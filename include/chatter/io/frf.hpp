@@ -29,18 +29,10 @@
 #include <string_view>
 #include <vector>
 
+#include "chatter/frf_data.hpp"  // FrfTable, validate()
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
-
-/// One measured direction term of a receptance.
-struct FrfTable {
-  std::vector<double> frequency_hz;  ///< frequency lines, Hz, finite, >= 0, strictly increasing.
-  std::vector<Complex> value;        ///< receptance at each line, m/N (same size as frequency_hz).
-  std::string source;                ///< where it came from: "<file>" or "<file> (record <n>)".
-
-  std::size_t size() const { return frequency_hz.size(); }
-};
 
 /// What an FRF file's values are per unit force.
 enum class FrfQuantity {
@@ -60,11 +52,6 @@ std::optional<FrfQuantity> parse_frf_quantity(const std::string& name);
 /// @throws InputError naming `t.source` if a mobility or accelerance table has
 ///         a 0 Hz line (no displacement follows from it: division by zero).
 FrfTable to_receptance(FrfTable t, FrfQuantity q);
-
-/// Checks the rules every reader applies (>= 2 lines, sizes equal,
-/// frequencies finite, >= 0, strictly increasing, values finite).
-/// @throws InputError naming `t.source` and the offending line index.
-void validate(const FrfTable& t);
 
 /// How to read a file's values.
 struct FrfReadOptions {

@@ -36,9 +36,8 @@
 
 #include "chatter/error.hpp"
 #include "chatter/lobes.hpp"
-#include "chatter/semi_discretization.hpp"
+#include "chatter/results.hpp"  // MultiplierType, SimulationResult: plain data, no solver
 #include "chatter/structural_model.hpp"
-#include "chatter/time_domain.hpp"
 
 namespace chatter {
 

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The include rules of the layers (docs/architecture.md), checked on the
+# sources: prints every #include that breaks one and fails if any does.
+#   core (src/model, src/solvers, include/chatter/*.hpp but operations.hpp):
+#        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
+#        link dependency) and other core headers only.
+#   io   (src/io, include/chatter/io): core data headers and the solver
+#        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
+#        nlohmann; no solver class header, no ops, no Boost.
+#   ops  (src/ops, include/chatter/operations.hpp): core only.
+# Usage: check_layers.sh SOURCE_DIR
+set -uo pipefail
+src=$1
+cd "$src" || exit 2
+bad=0
+# check <what> <extended regex of forbidden #include targets> <files...>
+check() {
+  local what=$1 pattern=$2
+  shift 2
+  local hits
+  hits=$(grep -HnE "^[[:space:]]*#[[:space:]]*include[[:space:]]*[<\"]($pattern)" "$@" 2>/dev/null)
+  if [[ -n $hits ]]; then
+    echo "$what:"
+    echo "$hits"
+    bad=1
+  fi
+}
+core_headers=$(ls include/chatter/*.hpp | grep -v '/operations\.hpp$')
+check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
+  'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
+  src/model/* src/solvers/* $core_headers
+check "io includes a solver class header, ops or Boost" \
+  'chatter/(semi_discretization|time_domain|transfer_function)\.hpp|chatter/operations\.hpp|boost|(\.\./)+(solvers|ops|cli)/' \
+  src/io/* include/chatter/io/*
+check "ops includes io, a file-format library or Boost" \
+  'chatter/io/|toml\+\+|nlohmann|boost' \
+  src/ops/* include/chatter/operations.hpp
+check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
+if [[ $bad -ne 0 ]]; then
+  echo "layer rules broken (docs/architecture.md)"
+  exit 1
+fi
+echo "layer include rules: ok"
