@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libsundials-dev libboost-program-options-dev
   libgnuplot-iostream-dev gnuplot-nox libtomlplusplus-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
+  libsndfile1-dev  # audio recordings (WAV/FLAC/AIFF) for `chatter detect`
 )
 
 missing=()
