@@ -9,6 +9,7 @@ packages=(
   libboost-dev  # Boost.Math headers (brent_find_minima), header-only
   libgnuplot-iostream-dev gnuplot-nox libtomlplusplus-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
+  libsndfile1-dev  # audio recordings (WAV/FLAC/AIFF) for `chatter detect`
 )
 
 missing=()

@@ -12,5 +12,7 @@ int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operati
 int cmd_fit(const std::vector<std::string>& args);        // src/cli/cmd_fit.cpp
 int cmd_compare(const std::vector<std::string>& args);    // src/cli/cmd_compare.cpp
 int cmd_simulate(const std::vector<std::string>& args);   // src/cli/cmd_simulate.cpp
+int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coefficients.cpp
+int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
 
 }  // namespace chatter::cli

@@ -68,6 +68,10 @@ Commands:
              test: CSV, .frf or UFF 58) and write them as config modes.
   frf        Receptance (m/N) of the tool, the workpiece and the relative motion,
              the frequency response the lobes are computed from.
+  coefficients  Cutting coefficients (K_tc, K_rc, edge) from test cuts: average
+             forces, dynamometer series or spindle power; writes a [process] table.
+  detect     Chatter in a recording of the cut (WAV/FLAC/AIFF/CSV): frequency,
+             and the spindle speeds that should cure it. Exit 3 on chatter.
 
 On the shop floor:
   1. Describe the tool and workpiece modes (from a tap test) and the cut in a
@@ -525,8 +529,10 @@ int main(int argc, char** argv) {
     }
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
-        cmd == "simulate" || cmd == "fit" || cmd == "compare")
+        cmd == "simulate" || cmd == "fit" || cmd == "compare" || cmd == "coefficients" || cmd == "detect")
       command = cmd;
+    if (cmd == "coefficients") return chatter::cli::cmd_coefficients(args);
+    if (cmd == "detect") return chatter::cli::cmd_detect(args);
     if (cmd == "lobes") return cmd_lobes(args);
     if (cmd == "point") return cmd_point(args);
     if (cmd == "frf") return cmd_frf(args);
@@ -537,7 +543,7 @@ int main(int argc, char** argv) {
     if (cmd == "fit") return cmd_fit(args);
     if (cmd == "compare") return cmd_compare(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     // A malformed value (e.g. --revolutions 0.5): say what it must look like.

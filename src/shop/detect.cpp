@@ -1,0 +1,271 @@
+// Chatter in a recording: amplitude spectrum (Hann window, Eigen's FFT
+// module with its kissfft back end), forced lines (spindle and tooth-passing
+// harmonics) masked, the strongest remaining line judged against the forced
+// response and the noise floor; the classic speed correction
+// N_k = 60 f_c / (N_t k). See include/chatter/shop.hpp and docs/shop_data.md.
+#include <unsupported/Eigen/FFT>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "chatter/error.hpp"
+#include "chatter/shop.hpp"
+
+namespace chatter {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The programmed speed is trusted to this fraction when locating the
+// tooth-passing line (a spindle under load runs within a few per mille).
+constexpr double kSpeedSearchRel = 0.01;
+// After refinement from the tooth-passing line, the spindle frequency is
+// known to about this fraction (the line's interpolated position).
+constexpr double kRefinedSpeedRel = 0.0005;
+// Half-width of the mask around a forced line, in frequency bins (fs / n):
+// the Hann main lobe is ±2 bins; one more for the interpolation error.
+constexpr double kMaskBins = 3.0;
+// Lowest frequency searched for chatter, as a fraction of the spindle
+// frequency (and never below kMinChatterHz: microphone rumble, drift).
+constexpr double kMinChatterSpindleFraction = 0.5;
+constexpr double kMinChatterHz = 10.0;
+// Fraction of samples at the extreme value above which the recording is
+// reported as clipped.
+constexpr double kClippedFraction = 0.002;
+// Windows for the growth / onset estimate.
+constexpr int kGrowthWindows = 8;
+
+std::string num(double x) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+// Peak position refined by a parabola through the log amplitudes of the
+// three bins around `k` (exact for a Gaussian; for the Hann window the error
+// is a few hundredths of a bin).
+double interpolate(const std::vector<double>& amp, std::size_t k, double df) {
+  if (k == 0 || k + 1 >= amp.size() || amp[k - 1] <= 0 || amp[k + 1] <= 0 || amp[k] <= 0) return static_cast<double>(k) * df;
+  const double a = std::log(amp[k - 1]), b = std::log(amp[k]), c = std::log(amp[k + 1]);
+  const double den = a - 2 * b + c;
+  if (!(den < 0)) return static_cast<double>(k) * df;
+  return (static_cast<double>(k) + 0.5 * (a - c) / den) * df;
+}
+
+// Amplitude of the line at f in samples [begin, end) (Hann window, direct DFT).
+double window_amplitude(const std::vector<double>& x, std::size_t begin, std::size_t end, double f, double fs) {
+  const std::size_t m = end - begin;
+  std::complex<double> acc = 0, rot = std::polar(1.0, -2 * kPi * f / fs), ph = 1;
+  double wsum = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double w = 0.5 - 0.5 * std::cos(2 * kPi * static_cast<double>(i) / static_cast<double>(m));
+    acc += w * x[begin + i] * ph;
+    wsum += w;
+    ph *= rot;
+    if ((i & 1023) == 1023) ph /= std::abs(ph);  // keep the rotator on the unit circle
+  }
+  return wsum > 0 ? 2 * std::abs(acc) / wsum : 0.0;
+}
+
+}  // namespace
+
+std::vector<SpeedSuggestion> speed_corrections(double fc, int teeth, double current_rpm, double rpm_min,
+                                               double rpm_max, int max_count) {
+  std::vector<SpeedSuggestion> s;
+  if (!(fc > 0) || teeth < 1 || !(rpm_max >= rpm_min) || !(rpm_min > 0)) return s;
+  for (int k = 1;; ++k) {
+    const double n = 60.0 * fc / (teeth * k);
+    if (n < rpm_min) break;
+    if (n <= rpm_max) s.push_back({n, k});
+  }
+  std::stable_sort(s.begin(), s.end(), [&](const SpeedSuggestion& a, const SpeedSuggestion& b) {
+    return std::abs(a.spindle_rpm - current_rpm) < std::abs(b.spindle_rpm - current_rpm);
+  });
+  if (max_count >= 0 && s.size() > static_cast<std::size_t>(max_count)) s.resize(max_count);
+  return s;
+}
+
+ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, const DetectOptions& o) {
+  if (!(o.spindle_rpm > 0 && std::isfinite(o.spindle_rpm)))
+    throw InputError("spindle speed = " + num(o.spindle_rpm) + " rev/min: must be > 0");
+  if (o.teeth < 1) throw InputError("teeth = " + std::to_string(o.teeth) + ": must be >= 1");
+  if (!(fs > 0 && std::isfinite(fs))) throw InputError("sample rate = " + num(fs) + " Hz: must be > 0");
+  if (!(o.peak_ratio_threshold > 0) || !(o.prominence_threshold > 1) || !(o.min_revolutions >= 1))
+    throw InputError("detector thresholds: peak ratio must be > 0, prominence > 1, minimum revolutions >= 1");
+  const std::size_t n = samples.size();
+  const double duration = static_cast<double>(n) / fs;
+  const double f_sp0 = o.spindle_rpm / 60.0;
+  const double revolutions = duration * f_sp0;
+  if (n < 64 || revolutions < o.min_revolutions)
+    throw InputError("the recording lasts " + num(duration) + " s (" + std::to_string(n) + " samples) = " +
+                     num(revolutions) + " spindle revolutions at " + num(o.spindle_rpm) + " rev/min; at least " +
+                     num(o.min_revolutions) +
+                     " revolutions are needed to tell the spindle harmonics from chatter: record longer");
+  const double nyquist = 0.5 * fs;
+  if (f_sp0 * o.teeth >= nyquist)
+    throw InputError("the tooth-passing frequency " + num(f_sp0 * o.teeth) + " Hz is above half the sample rate (" +
+                     num(nyquist) + " Hz): record at a higher sample rate");
+
+  ChatterDetection r;
+  r.duration_s = duration;
+  for (double v : samples)
+    if (!std::isfinite(v)) throw InputError("the recording holds a non-finite sample (NaN or inf)");
+
+  // Clipping: many samples sitting at the extreme value.
+  {
+    double peak = 0;
+    for (double v : samples) peak = std::max(peak, std::abs(v));
+    if (peak > 0) {
+      std::size_t at = 0;
+      for (double v : samples)
+        if (std::abs(v) >= peak * (1 - 1e-6)) ++at;
+      if (static_cast<double>(at) > kClippedFraction * static_cast<double>(n))
+        r.warnings.push_back("the recording looks clipped (" + num(100.0 * static_cast<double>(at) / static_cast<double>(n)) +
+                             " % of the samples at the extreme value " + num(peak) +
+                             "): lower the input gain; clipping adds harmonics of every line");
+    }
+  }
+
+  // Spectrum.
+  double mean = 0;
+  for (double v : samples) mean += v;
+  mean /= static_cast<double>(n);
+  std::size_t nfft = 1;
+  while (nfft < n) nfft <<= 1;
+  std::vector<double> x(nfft, 0.0);
+  double wsum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double w = 0.5 - 0.5 * std::cos(2 * kPi * static_cast<double>(i) / static_cast<double>(n));
+    x[i] = w * (samples[i] - mean);
+    wsum += w;
+  }
+  Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  std::vector<std::complex<double>> X;
+  fft.fwd(X, x);
+  const double df = fs / static_cast<double>(nfft);
+  const double bin = fs / static_cast<double>(n);  // resolution of the record itself
+  r.frequency_resolution_hz = bin;
+  std::vector<double> amp(X.size());
+  for (std::size_t k = 0; k < X.size(); ++k) amp[k] = 2 * std::abs(X[k]) / wsum;
+  r.spectrum_frequency_hz.resize(amp.size());
+  for (std::size_t k = 0; k < amp.size(); ++k) r.spectrum_frequency_hz[k] = static_cast<double>(k) * df;
+  auto index = [&](double f) { return static_cast<std::size_t>(std::clamp(std::lround(f / df), 0L, static_cast<long>(amp.size()) - 1)); };
+  auto argmax = [&](double lo, double hi) {
+    std::size_t a = index(lo), b = index(hi), best = a;
+    for (std::size_t k = a; k <= b; ++k)
+      if (amp[k] > amp[best]) best = k;
+    return best;
+  };
+
+  // Spindle frequency refined from the tooth-passing line.
+  const double ftp0 = f_sp0 * o.teeth;
+  double f_sp = f_sp0, speed_rel = kSpeedSearchRel;
+  {
+    const double lo = ftp0 * (1 - kSpeedSearchRel), hi = ftp0 * (1 + kSpeedSearchRel);
+    const std::size_t k = argmax(lo - bin, hi + bin);
+    const double f = interpolate(amp, k, df);
+    if (k > index(lo - bin) && k < index(hi + bin) && f >= lo && f <= hi) {
+      f_sp = f / o.teeth;
+      speed_rel = kRefinedSpeedRel;
+    }
+  }
+  r.spindle_hz = f_sp;
+  r.tooth_passing_hz = f_sp * o.teeth;
+
+  // Mask of the forced lines; the strongest forced line.
+  const double f_top = std::min(0.95 * nyquist, r.spectrum_frequency_hz.back());
+  std::vector<char> masked(amp.size(), 0);
+  double forced_max = 0;
+  std::vector<DetectedPeak> forced;
+  for (int h = 1; h * f_sp <= f_top; ++h) {
+    const double fh = h * f_sp;
+    const double hw = kMaskBins * bin + h * f_sp * speed_rel;
+    const std::size_t a = index(fh - hw), b = index(fh + hw);
+    std::size_t best = a;
+    for (std::size_t k = a; k <= b; ++k) {
+      masked[k] = 1;
+      if (amp[k] > amp[best]) best = k;
+    }
+    forced_max = std::max(forced_max, amp[best]);
+    DetectedPeak p;
+    p.frequency_hz = interpolate(amp, best, df);
+    p.amplitude = amp[best];
+    p.kind = h % o.teeth == 0 ? "tooth-passing" : "spindle";
+    p.harmonic = h % o.teeth == 0 ? h / o.teeth : h;
+    forced.push_back(p);
+  }
+  // Also mask DC and the band below the chatter search.
+  const double f_lo = std::max(kMinChatterHz, kMinChatterSpindleFraction * f_sp);
+  for (std::size_t k = 0; k < amp.size() && static_cast<double>(k) * df < f_lo; ++k) masked[k] = 1;
+
+  // Strongest unmasked line and the noise floor (median of unmasked bins).
+  std::vector<double> free;
+  std::size_t cand = 0;
+  bool have = false;
+  for (std::size_t k = 0; k < amp.size() && static_cast<double>(k) * df <= f_top; ++k) {
+    if (masked[k]) continue;
+    free.push_back(amp[k]);
+    if (!have || amp[k] > amp[cand]) {
+      cand = k;
+      have = true;
+    }
+  }
+  // Keep the forced lines that stand out of the floor, strongest first.
+  double floor = 0;
+  if (!free.empty()) {
+    std::nth_element(free.begin(), free.begin() + free.size() / 2, free.end());
+    floor = free[free.size() / 2];
+  }
+  for (const auto& p : forced)
+    if (p.amplitude > 10 * floor) r.peaks.push_back(p);
+  std::stable_sort(r.peaks.begin(), r.peaks.end(),
+                   [](const DetectedPeak& a, const DetectedPeak& b) { return a.amplitude > b.amplitude; });
+  if (r.peaks.size() > 40) r.peaks.resize(40);
+  if (!have) {
+    r.spectrum_amplitude = std::move(amp);
+    return r;
+  }
+
+  const double fc = interpolate(amp, cand, df);
+  r.candidate_frequency_hz = fc;
+  r.peak_ratio = forced_max > 0 ? amp[cand] / forced_max : std::numeric_limits<double>::infinity();
+  r.prominence = floor > 0 ? amp[cand] / floor : std::numeric_limits<double>::infinity();
+  r.chatter = r.peak_ratio >= o.peak_ratio_threshold && r.prominence >= o.prominence_threshold;
+
+  // Growth over time and onset, at the candidate frequency.
+  {
+    const std::size_t len = n / kGrowthWindows;
+    std::vector<double> a;
+    for (int w = 0; w < kGrowthWindows && len >= 16; ++w)
+      a.push_back(window_amplitude(samples, w * len, (w + 1) * len, fc, fs));
+    if (a.size() >= 2 && a.front() > 0) r.growth_ratio = a.back() / a.front();
+    if (r.chatter && !a.empty()) {
+      const double top = *std::max_element(a.begin(), a.end());
+      for (std::size_t w = 0; w < a.size(); ++w)
+        if (a[w] >= 0.5 * top) {
+          r.onset_s = static_cast<double>(w * len) / fs;
+          break;
+        }
+    }
+  }
+  if (r.chatter) {
+    r.chatter_frequency_hz = fc;
+    DetectedPeak p;
+    p.frequency_hz = fc;
+    p.amplitude = amp[cand];
+    p.kind = "chatter";
+    r.peaks.push_back(p);
+    const double lo = o.rpm_min > 0 ? o.rpm_min : 0.5 * o.spindle_rpm;
+    const double hi = o.rpm_max > 0 ? o.rpm_max : 1.5 * o.spindle_rpm;
+    r.suggestions = speed_corrections(fc, o.teeth, o.spindle_rpm, lo, hi, o.max_suggestions);
+  }
+  r.spectrum_amplitude = std::move(amp);
+  return r;
+}
+
+}  // namespace chatter

@@ -1,0 +1,360 @@
+// `chatter coefficients` and `chatter detect` through the binary (issue 18):
+// results against known answers, the [process] fragment loads, a recording
+// of `chatter simulate` (written as WAV here with libsndfile) is judged as
+// simulate judged it, and bad input exits 2 with nothing written.
+#include <gtest/gtest.h>
+#include <sndfile.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "chatter/io/config.hpp"
+#include "chatter/shop.hpp"
+#include "cli_harness.hpp"
+
+namespace {
+
+using namespace chatter;
+using chatter::test::contains;
+using chatter::test::slurp;
+using nlohmann::json;
+constexpr double kPi = std::numbers::pi;
+
+// Tolerances of the issue: cutting coefficients 1 %, edge 5 %.
+constexpr double kCuttingRelTol = 0.01, kEdgeRelTol = 0.05;
+constexpr std::array<double, 4> kTrue{8e8, 2.5e8, 2.5e4, 3.0e4};
+
+class ShopCli : public chatter::test::CliFixture {
+ protected:
+  void write(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }
+
+  // Average-force tests from the model with 0.1 % + 0.1 N scatter (seed fixed).
+  std::string force_table(const MillingEngagement& e) {
+    std::mt19937 rng(4);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    std::ostringstream s;
+    s << "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n,fz_mean_n\n";
+    for (double a : {1.0, 2.0, 4.0})
+      for (double f : {0.05, 0.1, 0.15, 0.2, 0.25}) {
+        const auto m = mean_forces(e, f * 1e-3, a * 1e-3, kTrue);
+        s << f << ',' << a << ',' << m[0] * (1 + 0.001 * n01(rng)) + 0.1 * n01(rng) << ','
+          << m[1] * (1 + 0.001 * n01(rng)) + 0.1 * n01(rng) << ",12.5\n";
+      }
+    return s.str();
+  }
+
+  // Writes a float WAV of `channels` interleaved channels.
+  void write_wav(const std::string& name, const std::vector<double>& interleaved, int channels, int rate) {
+    SF_INFO info{};
+    info.samplerate = rate;
+    info.channels = channels;
+    info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
+    SNDFILE* f = sf_open(path(name).c_str(), SFM_WRITE, &info);
+    ASSERT_NE(f, nullptr) << sf_strerror(nullptr);
+    sf_writef_double(f, interleaved.data(), static_cast<sf_count_t>(interleaved.size() / channels));
+    sf_close(f);
+  }
+
+  // Runs `chatter simulate` and returns its JSON; the series into `csv`.
+  json simulate(const std::string& rpm, const std::string& depth, const std::string& csv) {
+    const auto r = run({"simulate", std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml", "--rpm", rpm,
+                        "--depth-mm", depth, "--out", path(csv).string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return json::parse(r.out);
+  }
+
+  // One column of a simulate series CSV, scaled to peak 0.5, as a mono WAV;
+  // returns the sample rate used (1 / step, rounded: WAV rates are integers).
+  int series_to_wav(const std::string& csv, const std::string& column, const std::string& wav) {
+    std::ifstream in(path(csv));
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> head;
+    std::stringstream hs(line);
+    for (std::string c; std::getline(hs, c, ',');) head.push_back(c);
+    const auto col = std::find(head.begin(), head.end(), column) - head.begin();
+    std::vector<double> t, v;
+    while (std::getline(in, line)) {
+      std::stringstream ls(line);
+      std::string c;
+      for (int i = 0; std::getline(ls, c, ','); ++i) {
+        if (i == 0) t.push_back(std::stod(c));
+        if (i == col) v.push_back(std::stod(c));
+      }
+    }
+    const double peak = std::abs(*std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }));
+    for (double& x : v) x *= 0.5 / peak;
+    const int rate = static_cast<int>(std::lround((static_cast<double>(t.size()) - 1) / (t.back() - t.front())));
+    write_wav(wav, v, 1, rate);
+    return rate;
+  }
+};
+
+TEST_F(ShopCli, CoefficientsFromAveragesAndTheFragmentLoads) {
+  const MillingEngagement e{3, 0.5, MillingDirection::kDown};
+  write("tests.csv", force_table(e));
+  const auto r = run({"coefficients", path("tests.csv").string(), "--teeth", "3", "--radial-immersion", "0.5", "--milling-direction",
+                      "down", "--json", "-", "--out", path("coefficients.toml").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  auto rel = [&](const char* k, double want, double tol) {
+    const double got = j.at(k).get<double>();
+    EXPECT_LE(std::abs(got - want), tol * want) << k << ": got " << got << ", want " << want;
+  };
+  rel("tangential_coefficient_n_per_m2", kTrue[0], kCuttingRelTol);
+  rel("radial_coefficient_n_per_m2", kTrue[1], kCuttingRelTol);
+  rel("tangential_edge_coefficient_n_per_m", kTrue[2], kEdgeRelTol);
+  rel("radial_edge_coefficient_n_per_m", kTrue[3], kEdgeRelTol);
+  EXPECT_GT(j.at("r_squared").get<double>(), 0.99);
+  EXPECT_EQ(j.at("tests").size(), 15u);
+  EXPECT_TRUE(j.at("tests")[0].contains("residual_fx_n"));
+  EXPECT_TRUE(j.at("standard_error").at("radial_coefficient_n_per_m2").is_number());
+  // The fragment plus a mode is a config the loader accepts, with the fitted numbers.
+  const std::string text = slurp(path("coefficients.toml")) +
+                           "\n[[tool.modes]]\nfrequency_hz = 922\ndamping_ratio = 0.011\nmass_kg = 0.03993\n"
+                           "direction = \"x\"\n";
+  const Config c = parse_config(text, "coefficients.toml + mode");
+  ASSERT_EQ(c.process.operation(), Operation::kMilling);
+  const auto& m = c.process.milling_parameters();
+  EXPECT_EQ(m.teeth, 3);
+  EXPECT_NEAR(m.tangential_coefficient_n_per_m2, j.at("tangential_coefficient_n_per_m2").get<double>(),
+              1e-9 * kTrue[0]);  // written with 10 significant digits
+  EXPECT_NEAR(m.radial_immersion, 0.5, 1e-12);
+  EXPECT_EQ(m.direction, MillingDirection::kDown);
+}
+
+TEST_F(ShopCli, SeriesRouteEqualsTheAveragedRoute) {
+  const MillingEngagement e{2, 1.0, MillingDirection::kUp};
+  double pe = 0, px = 0;
+  engagement_angles(e, pe, px);
+  std::ostringstream table, avg;
+  table << "feed_per_tooth_mm,depth_mm,spindle_rpm,series\n";
+  avg << "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n\n";
+  const double rpm = 3000, a = 2e-3, rate = 20000;
+  for (int i = 0; i < 4; ++i) {
+    const double f = (0.05 + 0.05 * i) * 1e-3;
+    std::ostringstream s;
+    s << "time_s,fx_n,fy_n\n";
+    for (int k = 0; k < static_cast<int>(10.5 * 60 / rpm * rate); ++k) {  // 10.5 revolutions
+      const double t = k / rate;
+      double x = 0, y = 0;
+      for (int tooth = 0; tooth < 2; ++tooth) {
+        const double phi = std::fmod(rpm * kPi / 30 * t + kPi * tooth, 2 * kPi);
+        if (phi < pe || phi > px) continue;
+        const double ft = kTrue[0] * a * f * std::sin(phi) + kTrue[2] * a;
+        const double fr = kTrue[1] * a * f * std::sin(phi) + kTrue[3] * a;
+        x += -ft * std::cos(phi) - fr * std::sin(phi);
+        y += ft * std::sin(phi) - fr * std::cos(phi);
+      }
+      s << t << ',' << x << ',' << y << '\n';
+    }
+    std::string name = "s";  // appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive
+    name.append(std::to_string(i)).append(".csv");
+    write(name, s.str());
+    table << f * 1e3 << ",2," << rpm << ",s" << i << ".csv\n";
+    const auto m = mean_forces(e, f, a, kTrue);
+    avg << f * 1e3 << ",2," << m[0] << ',' << m[1] << '\n';
+  }
+  write("series.csv", table.str());
+  write("avg.csv", avg.str());
+  const std::vector<std::string> opt{"--teeth", "2", "--radial-immersion", "1", "--milling-direction", "up", "--json", "-"};
+  auto args = [&](const std::string& f) {
+    std::vector<std::string> v{"coefficients", path(f).string()};
+    v.insert(v.end(), opt.begin(), opt.end());
+    return v;
+  };
+  const auto rs = run(args("series.csv")), ra = run(args("avg.csv"));
+  ASSERT_EQ(rs.exit_code, 0) << rs.err;
+  ASSERT_EQ(ra.exit_code, 0) << ra.err;
+  const json js = json::parse(rs.out), ja = json::parse(ra.out);
+  EXPECT_EQ(js.at("route"), "series");
+  EXPECT_EQ(js.at("tests")[0].at("revolutions_averaged"), 10);
+  for (const char* k : {"tangential_coefficient_n_per_m2", "radial_coefficient_n_per_m2"})
+    EXPECT_NEAR(js.at(k).get<double>(), ja.at(k).get<double>(), kCuttingRelTol * ja.at(k).get<double>())
+        << k << ": series " << js.at(k) << ", averages " << ja.at(k);
+  for (const char* k : {"tangential_edge_coefficient_n_per_m", "radial_edge_coefficient_n_per_m"})
+    EXPECT_NEAR(js.at(k).get<double>(), ja.at(k).get<double>(), kEdgeRelTol * ja.at(k).get<double>())
+        << k << ": series " << js.at(k) << ", averages " << ja.at(k);
+}
+
+TEST_F(ShopCli, PowerRouteGivesTheTangentialCoefficient) {
+  const MillingEngagement e{4, 1.0, MillingDirection::kDown};
+  std::ostringstream s;
+  s << "feed_per_tooth_mm,depth_mm,spindle_rpm,power_w\n";
+  for (double f : {0.05, 0.1, 0.15, 0.2})
+    s << f << ",2,4000," << mean_power(e, f * 1e-3, 2e-3, 4000, 0.012, kTrue[0], kTrue[2]) << '\n';
+  write("power.csv", s.str());
+  auto r = run({"coefficients", path("power.csv").string(), "--teeth", "4", "--radial-immersion", "1", "--milling-direction", "down",
+                "--json", "-"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--diameter-mm")) << r.err;
+  r = run({"coefficients", path("power.csv").string(), "--teeth", "4", "--radial-immersion", "1", "--milling-direction", "down",
+           "--diameter-mm", "12", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_NEAR(j.at("tangential_coefficient_n_per_m2").get<double>(), kTrue[0], kCuttingRelTol * kTrue[0]);
+  EXPECT_TRUE(j.at("radial_coefficient_n_per_m2").is_null());
+}
+
+TEST_F(ShopCli, CoefficientsBadInputExits2AndWritesNothing) {
+  const std::vector<std::string> opt{"--teeth", "2", "--radial-immersion", "1", "--milling-direction", "down",
+                                     "--json", path("out.json").string(), "--out", path("out.toml").string()};
+  auto check = [&](const std::string& file, const std::string& text, const std::string& needle) {
+    write(file, text);
+    std::vector<std::string> a{"coefficients", path(file).string()};
+    a.insert(a.end(), opt.begin(), opt.end());
+    const auto r = run(a);
+    EXPECT_EQ(r.exit_code, 2) << file << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, file)) << r.err;
+    EXPECT_TRUE(contains(r.err, needle)) << "wanted '" << needle << "' in: " << r.err;
+    EXPECT_FALSE(chatter::test::fs::exists(path("out.json")));
+    EXPECT_FALSE(chatter::test::fs::exists(path("out.toml")));
+  };
+  check("few.csv", "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n\n0.1,2,-50,300\n0.2,2,-90,560\n", "at least 3");
+  check("cols.csv", "feed_per_tooth_mm,depth_mm,fx_mean_n\n0.1,2,-50\n", "line 1: missing column(s) fy_mean_n");
+  check("none.csv", "feed,depth\n0.1,2\n", "line 1: missing columns");
+  check("same.csv", "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n\n0.1,2,-50,300\n0.1,2,-51,301\n0.1,3,-70,450\n",
+        "same feed");
+  check("nan.csv", "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n\n0.1,2,-50,300\n0.2,2,abc,560\n",
+        "line 3: fx_mean_n = 'abc': not a number");
+  write("back.csv", "time_s,fx_n,fy_n\n0,1,2\n0.01,1,2\n0.005,1,2\n");
+  check("series_bad.csv", "feed_per_tooth_mm,depth_mm,spindle_rpm,series\n0.1,2,3000,back.csv\n",
+        "line 4: time_s = 0.005 is not after");
+  check("empty.csv", "", "empty");
+}
+
+TEST_F(ShopCli, DetectFindsSimulatedChatterAtSimulatesFrequency) {
+  // Case C (Insperger–Stépán benchmark), 12 000 rev/min: 3 mm chatters (a
+  // Hopf lobe), 0.2 mm is stable; the relative displacement as the "microphone".
+  const json unstable = simulate("12000", "3", "u.csv"), stable = simulate("12000", "0.2", "s.csv");
+  ASSERT_EQ(unstable.at("verdict"), "chatter");
+  ASSERT_EQ(stable.at("verdict"), "stable");
+  series_to_wav("u.csv", "rel_x_um", "u.wav");
+  series_to_wav("s.csv", "rel_x_um", "s.wav");
+  auto r = run({"detect", path("u.wav").string(), "--rpm", "12000", "--teeth", "2", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  json j = json::parse(r.out);
+  ASSERT_TRUE(j.at("chatter").get<bool>());
+  const double bin = j.at("evidence").at("frequency_resolution_hz").get<double>();
+  EXPECT_NEAR(j.at("chatter_frequency_hz").get<double>(), unstable.at("chatter_frequency_hz").get<double>(), bin)
+      << "detect " << j.at("chatter_frequency_hz") << " Hz, simulate " << unstable.at("chatter_frequency_hz")
+      << " Hz, bin " << bin << " Hz";
+  EXPECT_NEAR(j.at("tooth_passing_hz").get<double>(), 400.0, 0.5);
+  // Suggestions: 60 f_c / (2 k) inside [6000, 18000], nearest to 12000 first.
+  const auto& s = j.at("suggested_rpm");
+  ASSERT_FALSE(s.empty());
+  const double fc = j.at("chatter_frequency_hz").get<double>();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double n = s[i].get<double>();
+    const double k = 60 * fc / (2 * n);
+    EXPECT_NEAR(k, std::round(k), 1e-9) << n;
+    EXPECT_GE(n, 6000.0);
+    EXPECT_LE(n, 18000.0);
+    if (i) {
+      EXPECT_GE(std::abs(n - 12000), std::abs(s[i - 1].get<double>() - 12000));
+    }
+  }
+  r = run({"detect", path("s.wav").string(), "--rpm", "12000", "--teeth", "2", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = json::parse(r.out);
+  EXPECT_FALSE(j.at("chatter").get<bool>());
+  EXPECT_TRUE(j.at("chatter_frequency_hz").is_null());
+  EXPECT_TRUE(j.at("suggested_rpm").empty());
+}
+
+TEST_F(ShopCli, DetectChecksTheSuggestionsAgainstTheModel) {
+  simulate("12000", "3", "u.csv");
+  series_to_wav("u.csv", "rel_x_um", "u.wav");
+  const auto r = run({"detect", path("u.wav").string(), "--rpm", "12000", "--teeth", "2", "--json", "-", "--config",
+                      std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml", "--depth-mm",
+                      "0.5"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_FALSE(j.at("suggestions").empty());
+  for (const auto& s : j.at("suggestions")) {
+    ASSERT_TRUE(s.contains("margin"));
+    if (s.at("margin").is_null()) continue;
+    // margin = limit / depth, the limit as sdm reports it.
+    EXPECT_NEAR(s.at("margin").get<double>(), s.at("depth_limit_mm").get<double>() / 0.5, 1e-12);
+    EXPECT_EQ(s.at("stable_in_model").get<bool>(), s.at("margin").get<double>() > 1.0);
+  }
+  // --config without --depth-mm is refused.
+  const auto bad = run({"detect", path("u.wav").string(), "--rpm", "12000", "--teeth", "2", "--config",
+                        std::string(CHATTER_SOURCE_DIR) + "/configs/milling_benchmark_ae005_down.toml"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_TRUE(contains(bad.err, "--depth-mm")) << bad.err;
+}
+
+TEST_F(ShopCli, DetectStereoPicksTheChannel) {
+  // Channel 1: forced lines and runout only; channel 2: the same plus chatter at 1777 Hz.
+  const int rate = 44100;
+  std::mt19937 rng(2);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::vector<double> x;
+  for (int i = 0; i < 2 * rate; ++i) {
+    const double t = static_cast<double>(i) / rate;
+    const double forced = 0.2 * std::sin(2 * kPi * 300 * t) + 0.1 * std::sin(2 * kPi * 100 * t) +
+                          0.05 * std::sin(2 * kPi * 600 * t) + 0.01 * n01(rng);
+    x.push_back(forced);
+    x.push_back(forced + 0.3 * std::sin(2 * kPi * 1777 * t));
+  }
+  write_wav("stereo.wav", x, 2, rate);
+  auto r = run({"detect", path("stereo.wav").string(), "--rpm", "6000", "--teeth", "3", "--json", "-", "--channel", "1"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run({"detect", path("stereo.wav").string(), "--rpm", "6000", "--teeth", "3", "--json", "-", "--channel", "2"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_NEAR(j.at("chatter_frequency_hz").get<double>(), 1777.0, j.at("evidence").at("frequency_resolution_hz").get<double>());
+  EXPECT_EQ(j.at("channels"), 2);
+  r = run({"detect", path("stereo.wav").string(), "--rpm", "6000", "--teeth", "3", "--channel", "3"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "has 2 channel(s)")) << r.err;
+}
+
+TEST_F(ShopCli, DetectBadInputExits2AndWritesNothing) {
+  const std::string js = path("out.json").string();
+  auto check = [&](const std::string& file, const std::string& needle) {
+    const auto r = run({"detect", path(file).string(), "--rpm", "6000", "--teeth", "2", "--json", js});
+    EXPECT_EQ(r.exit_code, 2) << file << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, file)) << r.err;
+    EXPECT_TRUE(contains(r.err, needle)) << "wanted '" << needle << "' in: " << r.err;
+    EXPECT_FALSE(chatter::test::fs::exists(js));
+  };
+  write("empty.wav", "");
+  check("empty.wav", "cannot be read as audio");
+  write("text.wav", "this is not audio\n");
+  check("text.wav", "cannot be read as audio");
+  check("missing.wav", "no such file");
+  write("back.csv", "time_s,value\n0,1\n0.001,2\n0.0005,3\n");
+  check("back.csv", "line 4: time_s = 0.0005 is not after");
+  write("cols.csv", "time_s,value\n0,1\n0.001\n");
+  check("cols.csv", "line 3: expected time_s,value");
+  write_wav("silent.wav", {}, 1, 8000);
+  check("silent.wav", "no samples");
+  // 0.02 s at 6000 rev/min = 2 revolutions: refused, with the reason.
+  std::vector<double> shortrec(960, 0.1);
+  for (std::size_t i = 0; i < shortrec.size(); ++i) shortrec[i] = std::sin(0.3 * static_cast<double>(i));
+  write_wav("short.wav", shortrec, 1, 48000);
+  check("short.wav", "at least 5 revolutions");
+}
+
+TEST_F(ShopCli, PlotsAreDrawn) {
+  const MillingEngagement e{3, 0.5, MillingDirection::kDown};
+  write("tests.csv", force_table(e));
+  auto r = run({"coefficients", path("tests.csv").string(), "--teeth", "3", "--radial-immersion", "0.5", "--milling-direction", "down",
+                "--plot", path("fit.png").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(chatter::test::fs::file_size(path("fit.png")), 1000u);
+  simulate("12000", "3", "u.csv");
+  series_to_wav("u.csv", "rel_x_um", "u.wav");
+  r = run({"detect", path("u.wav").string(), "--rpm", "12000", "--teeth", "2", "--plot", path("spectrum.png").string()});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_GT(chatter::test::fs::file_size(path("spectrum.png")), 1000u);
+  EXPECT_TRUE(contains(slurp(path("spectrum.gp")), "chatter ")) << "the chatter line is labelled";
+}
+
+}  // namespace
