@@ -6,7 +6,6 @@
 // Reference: docs/frf.md.
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +23,7 @@
 #include "chatter/io/table_writer.hpp"
 #include "chatter/io/modes_toml.hpp"
 #include "chatter/modal_fit.hpp"
+#include "../io/text.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 
@@ -97,10 +97,10 @@ Eigen::Vector2d parse_direction(const std::string& text) {
     if (c != '[' && c != ']' && !std::isspace(static_cast<unsigned char>(c))) s += c;
   const std::size_t comma = s.find(',');
   auto number = [](const std::string& p, double& v) {
-    if (p.empty()) return false;
-    const char* b = p.data() + (p[0] == '+' ? 1 : 0);
-    const auto [ptr, ec] = std::from_chars(b, p.data() + p.size(), v);
-    return ec == std::errc() && ptr == p.data() + p.size() && std::isfinite(v);
+    const std::optional<double> x = detail::text::parse_double(p);
+    if (!x || !std::isfinite(*x)) return false;
+    v = *x;
+    return true;
   };
   double ux = 0.0, uy = 0.0;
   if (comma == std::string::npos || !number(s.substr(0, comma), ux) || !number(s.substr(comma + 1), uy))
@@ -324,8 +324,11 @@ std::pair<std::string, std::string> plot_files(const fs::path& image, const std:
 
 }  // namespace
 
-int cmd_fit(const std::vector<std::string>& args) {
-  FitArgs a;
+namespace {
+
+// Reads and checks every option (nothing is read or written before this
+// returns). Returns false when --help was asked (the usage is printed).
+bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
   po::options_description d("Options");
   d.add_options()
       ("format", po::value<std::string>(&a.format),
@@ -361,12 +364,11 @@ int cmd_fit(const std::vector<std::string>& args) {
   po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
   if (vm.count("help")) {
     std::cout << kFitUsage << "\n" << d << "  -h [ --help ]            show this help\n";
-    return 0;
+    return false;
   }
   if (!vm.count("frf-file")) throw po::error("missing FRF-FILE (a .csv, .frf or .uff file of a tap test)");
   po::notify(vm);
 
-  // ---- options (all checked before anything is read or written) ----
   if (vm.count("record")) a.record = vm["record"].as<int>();
   if (vm.count("modes")) {
     a.modes = vm["modes"].as<int>();
@@ -388,70 +390,69 @@ int cmd_fit(const std::vector<std::string>& args) {
   if (a.body != "tool" && a.body != "workpiece") throw InputError("--body '" + a.body + "': use tool or workpiece");
   if (!a.plot.empty()) check_plot_path(a.plot);
   if (!a.direction.empty()) parse_direction(a.direction);
+  return true;
+}
 
-  // ---- read and fit ----
-  std::vector<Job> jobs = read_jobs(a);
-  std::vector<ModalFitResult> fits;
-  std::ostringstream report, toml;
-  toml << "# Modes fitted by `chatter fit` (chatter " << version() << ") from " << a.file << ".\n"
-       << "# Paste the blocks below into a config (docs/config.md), or append a [process] table.\n";
-  std::vector<std::string> warnings;
-  for (std::size_t r = 0; r < jobs.size(); ++r) {
-    Job& j = jobs[r];
-    const FrfTable& t = j.table;
-    ModalFitOptions o;
-    o.modes = a.modes.value_or(0);
-    o.residuals = a.residuals;
-    o.direction = j.direction;
-    if (a.band) {
-      o.f_min_hz = a.band->first;
-      o.f_max_hz = a.band->second;
-      const double lo = t.frequency_hz.front(), hi = t.frequency_hz.back();
-      if (o.f_max_hz < lo || o.f_min_hz > hi)
-        throw InputError(j.label + ": --band " + fmt(o.f_min_hz) + " " + fmt(o.f_max_hz) +
-                         " Hz lies outside the measured lines (" + fmt(lo) + "-" + fmt(hi) + " Hz)");
-    }
-    ModalFitResult res;
-    try {
-      res = fit_modes(t, o);
-    } catch (const NumericalError& e) {
-      throw InputError(std::string(e.what()) +
-                       "; the data do not look like lightly damped modes in this band: narrow --band around the "
-                       "resonances, give --modes, or check --quantity");
-    }
-    report << j.label << ": " << t.size() << " lines " << fmt(t.frequency_hz.front()) << "-"
-           << fmt(t.frequency_hz.back()) << " Hz; fitted " << res.lines << " lines " << fmt(res.f_min_hz) << "-"
-           << fmt(res.f_max_hz) << " Hz, direction " << direction_text(j.direction) << "\n";
-    report << "  mode  frequency_hz  damping_ratio  stiffness_n_per_m\n";
-    for (std::size_t m = 0; m < res.modes.size(); ++m) {
-      const Mode& md = res.modes[m];
-      char line[160];
-      std::snprintf(line, sizeof line, "  %4zu  %12.6g  %13.5g  %17.6g\n", m + 1, md.natural_frequency_hz,
-                    md.damping_ratio, md.stiffness_n_per_m);
-      report << line;
-    }
-    if (a.residuals)
-      report << "  residual terms: upper " << g(res.residual_upper, 4) << " m/N, lower " << g(res.residual_lower, 4)
-             << " m/N at " << g(res.residual_omega / (2 * std::numbers::pi), 6)
-             << " Hz (not written: they stand for modes outside the band)\n";
-    report << "  fit error " << g(res.fit_error, 3) << " (relative RMS over the band; peak picking alone: "
-           << g(res.initial_error, 3) << "), " << res.iterations << " iterations"
-           << (res.converged ? "" : ", NOT converged") << "\n";
-    if (!res.converged)
-      warnings.push_back(j.label + ": the fit did not converge within " + std::to_string(o.max_iterations) +
-                         " iterations; the modes are the best found");
-    if (res.fit_error > 0.1)
-      warnings.push_back(j.label + ": fit error " + g(100 * res.fit_error, 3) +
-                         " %: the modes do not describe this FRF well; try --band around the resonances, --modes, "
-                         "or --residuals");
-    std::ostringstream comment;
-    comment << j.label << ": " << res.modes.size() << " mode(s), band " << fmt(res.f_min_hz) << "-"
-            << fmt(res.f_max_hz) << " Hz (" << res.lines << " lines), fit error " << g(res.fit_error, 3)
-            << " (relative RMS), " << res.iterations << " iterations" << (res.converged ? "" : ", not converged");
-    toml << "\n" << modes_to_toml(res.modes, a.body, comment.str());
-    fits.push_back(std::move(res));
+// Fits one FRF record; appends its lines to the report, its modes to the TOML
+// fragment and any warning. @throws InputError when the data cannot be fitted.
+ModalFitResult fit_job(const Job& j, const FitArgs& a, std::ostringstream& report, std::ostringstream& toml,
+                       std::vector<std::string>& warnings) {
+  const FrfTable& t = j.table;
+  ModalFitOptions o;
+  o.modes = a.modes.value_or(0);
+  o.residuals = a.residuals;
+  o.direction = j.direction;
+  if (a.band) {
+    o.f_min_hz = a.band->first;
+    o.f_max_hz = a.band->second;
+    const double lo = t.frequency_hz.front(), hi = t.frequency_hz.back();
+    if (o.f_max_hz < lo || o.f_min_hz > hi)
+      throw InputError(j.label + ": --band " + fmt(o.f_min_hz) + " " + fmt(o.f_max_hz) +
+                       " Hz lies outside the measured lines (" + fmt(lo) + "-" + fmt(hi) + " Hz)");
   }
-  // Two records along the same direction would put the same modes in twice.
+  ModalFitResult res;
+  try {
+    res = fit_modes(t, o);
+  } catch (const NumericalError& e) {
+    throw InputError(std::string(e.what()) +
+                     "; the data do not look like lightly damped modes in this band: narrow --band around the "
+                     "resonances, give --modes, or check --quantity");
+  }
+  report << j.label << ": " << t.size() << " lines " << fmt(t.frequency_hz.front()) << "-"
+         << fmt(t.frequency_hz.back()) << " Hz; fitted " << res.lines << " lines " << fmt(res.f_min_hz) << "-"
+         << fmt(res.f_max_hz) << " Hz, direction " << direction_text(j.direction) << "\n";
+  report << "  mode  frequency_hz  damping_ratio  stiffness_n_per_m\n";
+  for (std::size_t m = 0; m < res.modes.size(); ++m) {
+    const Mode& md = res.modes[m];
+    char line[160];
+    std::snprintf(line, sizeof line, "  %4zu  %12.6g  %13.5g  %17.6g\n", m + 1, md.natural_frequency_hz,
+                  md.damping_ratio, md.stiffness_n_per_m);
+    report << line;
+  }
+  if (a.residuals)
+    report << "  residual terms: upper " << g(res.residual_upper, 4) << " m/N, lower " << g(res.residual_lower, 4)
+           << " m/N at " << g(res.residual_omega / (2 * std::numbers::pi), 6)
+           << " Hz (not written: they stand for modes outside the band)\n";
+  report << "  fit error " << g(res.fit_error, 3) << " (relative RMS over the band; peak picking alone: "
+         << g(res.initial_error, 3) << "), " << res.iterations << " iterations"
+         << (res.converged ? "" : ", NOT converged") << "\n";
+  if (!res.converged)
+    warnings.push_back(j.label + ": the fit did not converge within " + std::to_string(o.max_iterations) +
+                       " iterations; the modes are the best found");
+  if (res.fit_error > 0.1)
+    warnings.push_back(j.label + ": fit error " + g(100 * res.fit_error, 3) +
+                       " %: the modes do not describe this FRF well; try --band around the resonances, --modes, "
+                       "or --residuals");
+  std::ostringstream comment;
+  comment << j.label << ": " << res.modes.size() << " mode(s), band " << fmt(res.f_min_hz) << "-"
+          << fmt(res.f_max_hz) << " Hz (" << res.lines << " lines), fit error " << g(res.fit_error, 3)
+          << " (relative RMS), " << res.iterations << " iterations" << (res.converged ? "" : ", not converged");
+  toml << "\n" << modes_to_toml(res.modes, a.body, comment.str());
+  return res;
+}
+
+// Two records along the same direction would put the same modes in twice.
+void warn_same_directions(const std::vector<Job>& jobs, const FitArgs& a, std::vector<std::string>& warnings) {
   for (std::size_t r = 1; r < jobs.size(); ++r)
     for (std::size_t q = 0; q < r; ++q)
       if ((jobs[r].direction - jobs[q].direction).norm() < 1e-12) {
@@ -460,9 +461,43 @@ int cmd_fit(const std::vector<std::string>& args) {
                            " holds the modes of both; keep one set (or pick a record with --record)");
         q = r;
       }
+}
+
+// Never overwrite the measurement, nor one output with another.
+// @throws InputError naming both uses of a path.
+void refuse_colliding_paths(const std::vector<std::pair<fs::path, std::string>>& uses) {
+  std::vector<fs::path> canon;
+  for (const auto& u : uses) {
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(u.first, ec);
+    canon.push_back(ec ? fs::absolute(u.first).lexically_normal() : c);
+  }
+  for (std::size_t i = 1; i < canon.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (canon[i] == canon[k])
+        throw InputError(uses[i].first.string() + ": would be both " + uses[k].second + " and " + uses[i].second +
+                         "; choose another name for --out or --plot");
+}
+
+}  // namespace
+
+int cmd_fit(const std::vector<std::string>& args) {
+  FitArgs a;
+  if (!parse_fit_args(args, a)) return 0;
+
+  // ---- read and fit ----
+  std::vector<Job> jobs = read_jobs(a);
+  std::vector<ModalFitResult> fits;
+  std::ostringstream report, toml;
+  toml << "# Modes fitted by `chatter fit` (chatter " << version() << ") from " << a.file << ".\n"
+       << "# Paste the blocks below into a config (docs/config.md), or append a [process] table.\n";
+  std::vector<std::string> warnings;
+  for (const Job& j : jobs) fits.push_back(fit_job(j, a, report, toml, warnings));
+  warn_same_directions(jobs, a, warnings);
 
   // ---- write (all or nothing), then render ----
   std::vector<std::pair<fs::path, std::string>> files{{a.out, toml.str()}};
+  std::vector<std::pair<fs::path, std::string>> uses{{a.file, "the FRF file being fitted"}, {a.out, "--out"}};
   fs::path image, script, data;
   if (!a.plot.empty()) {
     image = a.plot;
@@ -473,27 +508,11 @@ int cmd_fit(const std::vector<std::string>& args) {
     auto [dat_text, gp_text] = plot_files(image, a.file, jobs, fits);
     files.emplace_back(data, std::move(dat_text));
     files.emplace_back(script, std::move(gp_text));
+    uses.emplace_back(data, "the --plot data file");
+    uses.emplace_back(script, "the --plot gnuplot script");
+    uses.emplace_back(image, "the --plot image");
   }
-  // Never overwrite the measurement, nor one output with another.
-  {
-    std::vector<std::pair<fs::path, std::string>> uses{{a.file, "the FRF file being fitted"}, {a.out, "--out"}};
-    if (!image.empty()) {
-      uses.emplace_back(data, "the --plot data file");
-      uses.emplace_back(script, "the --plot gnuplot script");
-      uses.emplace_back(image, "the --plot image");
-    }
-    std::vector<fs::path> canon;
-    for (const auto& u : uses) {
-      std::error_code ec;
-      fs::path c = fs::weakly_canonical(u.first, ec);
-      canon.push_back(ec ? fs::absolute(u.first).lexically_normal() : c);
-    }
-    for (std::size_t i = 1; i < canon.size(); ++i)
-      for (std::size_t k = 0; k < i; ++k)
-        if (canon[i] == canon[k])
-          throw InputError(uses[i].first.string() + ": would be both " + uses[k].second + " and " + uses[i].second +
-                           "; choose another name for --out or --plot");
-  }
+  refuse_colliding_paths(uses);
   write_text_files(files);
   std::cout << report.str();
   for (const auto& w : warnings) std::cout << "warning: " << w << "\n";
