@@ -18,6 +18,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -719,6 +720,49 @@ TEST_F(CliTest, PointStableAndUnstableOnCaseA) {
           << r.out;
     }
   }
+}
+
+// --fail-on-chatter: exit 3 exactly when the printed verdict is chatter, so a
+// script can branch on it; without the flag a prediction is never an error.
+TEST_F(CliTest, FailOnChatterExitStatusFollowsTheVerdict) {
+  const fs::path a = config_path("seed_turning_1dof.toml");
+  // Case A: 1.5 mm at 1 200 rev/min lies above the lobe (1.376 mm), at 1 800 below it (2.97 mm).
+  for (const auto& [rpm, expect_stable] : std::vector<std::pair<std::string, bool>>{{"1200", false}, {"1800", true}}) {
+    const auto r = run({"point", a.string(), "--rpm", rpm, "--depth-mm", "1.5", "--fail-on-chatter"});
+    nlohmann::json j;
+    ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << r.out << r.err;
+    EXPECT_EQ(j["stable"].get<bool>(), expect_stable) << rpm;
+    EXPECT_EQ(r.exit_code, expect_stable ? 0 : 3) << rpm << ": " << r.err;
+    EXPECT_EQ(run({"point", a.string(), "--rpm", rpm, "--depth-mm", "1.5"}).exit_code, 0);
+  }
+  // Case C simulated: flip chatter at 17 000 rev/min, 4 mm; stable at 20 000, 0.5 mm.
+  const fs::path c = config_path("milling_benchmark_ae005_down.toml");
+  for (const auto& [rpm, depth, expect_stable] :
+       std::vector<std::tuple<std::string, std::string, bool>>{{"17000", "4", false}, {"20000", "0.5", true}}) {
+    const auto r = run({"simulate", c.string(), "--rpm", rpm, "--depth-mm", depth, "--fail-on-chatter"});
+    nlohmann::json j;
+    ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << r.out << r.err;
+    EXPECT_EQ(j["stable"].get<bool>(), expect_stable) << rpm;
+    EXPECT_EQ(r.exit_code, expect_stable ? 0 : 3) << rpm << ": " << r.err;
+  }
+}
+
+// Inputs a run could never finish with, or that mean nothing: refused with
+// the option, the value and the rule, exit 2, nothing written.
+TEST_F(CliTest, RefusesZeroDepthAndSweepsTooLargeToFinish) {
+  const fs::path a = config_path("seed_turning_1dof.toml");
+  auto r = run({"point", a.string(), "--rpm", "1000", "--depth-mm", "0"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--depth-mm = 0: must be > 0 mm")) << r.err;
+  r = run({"lobes", a.string(), "--rpm-points", "1000000000", "--table", path("l.csv").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--rpm-points = 1000000000: at most 1000000 speeds")) << r.err;
+  EXPECT_FALSE(fs::exists(path("l.csv")));
+  r = run({"map", config_path("milling_benchmark_ae005_down.toml").string(), "--rpm-points", "100000",
+           "--depth-points", "100000", "--out", path("m.csv").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "at most 4000000 grid points")) << r.err;
+  EXPECT_FALSE(fs::exists(path("m.csv")));
 }
 
 TEST_F(CliTest, PointAgreesWithLobeTableRow) {

@@ -148,7 +148,7 @@ TEST(OperationsFile, GoodAndBadRowsAreSeparatedWithLineAndReason) {
       {6, "op3", "depth_mm = -1: must be > 0 mm"},
       {7, "op4", "spindle_rpm = 5000: outside the machine range [50, 2000] rev/min"},
       {8, "op5", "spindle_rpm = 'fast': not a number"},
-      {9, "op1", "duplicate (first on line 3)"},
+      {9, "op1", "duplicate id (first on line 3)"},
       {10, "op6", "radial_immersion = '0.5': only for milling"},
       {12, "op8", "has 6 fields, the header has 5"},
       {13, "op9", "spindle_rpm = 'nan': must be a finite number"},

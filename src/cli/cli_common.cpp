@@ -78,6 +78,9 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   if (!(std::isfinite(s.rpm_max) && s.rpm_max > s.rpm_min))
     throw InputError("--rpm-max = " + fmt(s.rpm_max) + ": must be > --rpm-min (" + fmt(s.rpm_min) + ")");
   if (s.rpm_points < 2) throw InputError("--rpm-points = " + std::to_string(s.rpm_points) + ": must be >= 2");
+  if (s.rpm_points > kMaxRpmPoints)
+    throw InputError("--rpm-points = " + std::to_string(s.rpm_points) + ": at most " + std::to_string(kMaxRpmPoints) +
+                     " speeds (a table that size would not finish; refine a speed range instead)");
   if (!(std::isfinite(s.depth_max_mm) && s.depth_max_mm > 0.0))
     throw InputError("--depth-max-mm = " + fmt(s.depth_max_mm) + ": must be > 0 mm");
   return s;

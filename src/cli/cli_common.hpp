@@ -17,6 +17,13 @@ namespace po = boost::program_options;
 
 inline constexpr double kDefaultDepthMaxMm = 50.0;
 inline constexpr int kDefaultRpmPoints = 400;
+/// Exit status of a command that predicts chatter when asked to fail on it
+/// (--fail-on-chatter; check and detect always): 0 stable, 3 chatter, 2 bad input.
+inline constexpr int kExitChatter = 3;
+/// Largest sweep a command computes: speeds of a lobe table, and grid points
+/// of a map (rows held in memory, and the time: ~1e6 sdm solves is hours).
+inline constexpr long long kMaxRpmPoints = 1'000'000;
+inline constexpr long long kMaxMapPoints = 4'000'000;
 
 /// Runs f(); an InputError from the library is rethrown with "<flag>: " in
 /// front (library messages do not name command-line flags).

@@ -52,6 +52,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
+      ("fail-on-chatter", "exit with status 3 when the verdict is chatter (for scripts: 0 stable, 3 chatter, 2 bad "
+                          "input)")
       ("rtol", po::value<double>(&rtol)->default_value(1e-7, "1e-7"), "integrator relative tolerance (1e-12 .. 1e-2)")
       ("out", po::value<std::string>(&out_path), "write the time series (CSV: time, tool/workpiece/relative "
                                                  "displacement in um, force in N, chip in um, in-cut flag)")
@@ -189,7 +191,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     }
   }
   std::cout << j.dump(2) << "\n";
-  return 0;
+  return (vm.count("fail-on-chatter") && r.verdict != SimulationVerdict::kStable) ? kExitChatter : 0;
 }
 
 }  // namespace chatter::cli

@@ -291,7 +291,8 @@ int cmd_point(const std::vector<std::string>& args) {
   d.add_options()
       ("rpm", po::value<double>(&rpm)->required(), "spindle speed, rev/min (required)")
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
-      ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)");
+      ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)")
+      ("fail-on-chatter", "exit with status 3 when the point chatters (for scripts: 0 stable, 3 chatter, 2 bad input)");
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter point CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -304,8 +305,8 @@ int cmd_point(const std::vector<std::string>& args) {
     return 0;
   const chatter::Config cfg = load_checked(common);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
-  if (!(std::isfinite(depth_mm) && depth_mm >= 0.0))
-    throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be >= 0 mm");
+  if (!(std::isfinite(depth_mm) && depth_mm > 0.0))
+    throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be > 0 mm (a cut of no depth cannot chatter)");
   double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);
   if (vm.count("depth-max-mm")) {
     depth_max_mm = vm["depth-max-mm"].as<double>();
@@ -330,7 +331,7 @@ int cmd_point(const std::vector<std::string>& args) {
   // time-domain: one simulation), where it gives one.
   for (const auto& [key, value] : built.solver->point_diagnostics(rpm, depth_m)) j[key] = to_json(value);
   std::cout << j.dump(2) << "\n";
-  return 0;
+  return (vm.count("fail-on-chatter") && !(depth_m < lim.depth_limit_m)) ? kExitChatter : 0;
 }
 
 int cmd_frf(const std::vector<std::string>& args) {
@@ -451,6 +452,10 @@ int cmd_map(const std::vector<std::string>& args) {
   // The spectral-radius map is the Floquet solver's own analysis.
   const auto* sdm = dynamic_cast<const chatter::SemiDiscretizationSolver*>(built.solver.get());
   if (!sdm) throw InputError("--method " + floquet_method + ": this method draws no spectral-radius map");
+  if (static_cast<long long>(s.rpm_points) * depth_points > kMaxMapPoints)
+    throw InputError("--rpm-points x --depth-points = " + std::to_string(s.rpm_points) + " x " +
+                     std::to_string(depth_points) + ": at most " + std::to_string(kMaxMapPoints) +
+                     " grid points (memory and time); use fewer points or a smaller range");
   const auto speeds = chatter::evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
   std::vector<double> depths(static_cast<std::size_t>(depth_points));
   for (int k = 0; k < depth_points; ++k)

@@ -848,7 +848,7 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
     if (!row.id.empty()) {
       const auto [it, inserted] = first_line_of_id.emplace(row.id, line_no);
       if (!inserted)
-        reasons.push_back("id " + in_quotes(row.id) + ": duplicate (first on line " + std::to_string(it->second) + ")");
+        reasons.push_back("duplicate id (first on line " + std::to_string(it->second) + ")");
     }
     if (reasons.empty()) {
       out.rows.push_back(std::move(row));
