@@ -268,17 +268,7 @@ std::pair<std::string, std::string> plot_files(const fs::path& image, const std:
     << "# It reads " << dat.filename().string() << " and writes " << image.filename().string()
     << " (both by relative name).\n\n"
     << "fs = " << (format == ImageFormat::pdf ? 10 : 14) << "\n";
-  switch (format) {
-    case ImageFormat::png:
-      s << "set terminal pngcairo size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2\n";
-      break;
-    case ImageFormat::svg:
-      s << "set terminal svg size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2 background '#ffffff'\n";
-      break;
-    case ImageFormat::pdf:
-      s << "set terminal pdfcairo size 12in,8in enhanced font 'DejaVu Sans,'.fs linewidth 1\n";
-      break;
-  }
+  s << fixed_size_terminal(format);
   s << "set output " << gp_quote(image.filename().string()) << "\n"
     << "set encoding utf8\nset datafile missing '?'\n"
     << "data = " << gp_quote(dat.filename().string()) << "\n"

@@ -49,6 +49,18 @@ std::string gnuplot_quote(const std::string& s) {
 
 namespace fs = std::filesystem;
 
+std::string fixed_size_terminal(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::png:
+      return "set terminal pngcairo size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2\n";
+    case ImageFormat::svg:
+      return "set terminal svg size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2 background '#ffffff'\n";
+    case ImageFormat::pdf:
+      return "set terminal pdfcairo size 12in,8in enhanced font 'DejaVu Sans,'.fs linewidth 1\n";
+  }
+  return "";
+}
+
 namespace {
 
 constexpr const char* kInstallHint =

@@ -41,17 +41,7 @@ std::string terminal(const Files& f, const std::string& what) {
     << "# Reproduce or restyle: cd into this directory, edit, then run\n#   gnuplot " << f.script.filename().string()
     << "\n# It reads " << f.data.filename().string() << " and writes " << f.image.filename().string() << ".\n\n"
     << "fs = " << (fmt == ImageFormat::pdf ? 10 : 14) << "\n";
-  switch (fmt) {
-    case ImageFormat::png:
-      s << "set terminal pngcairo size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2\n";
-      break;
-    case ImageFormat::svg:
-      s << "set terminal svg size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2 background '#ffffff'\n";
-      break;
-    case ImageFormat::pdf:
-      s << "set terminal pdfcairo size 12in,8in enhanced font 'DejaVu Sans,'.fs linewidth 1\n";
-      break;
-  }
+  s << fixed_size_terminal(fmt);
   s << "set output " << gnuplot_quote(f.image.filename().string()) << "\nset encoding utf8\n"
     << "set datafile missing '?'\ndata = " << gnuplot_quote(f.data.filename().string()) << "\n"
     << "set border lw 1 lc rgb '#404040'\nset grid back lw 1 lc rgb '#d0d0d0'\n";

@@ -57,6 +57,12 @@ class PlotError : public std::runtime_error {
 
 enum class ImageFormat { png, svg, pdf };
 
+/// The `set terminal` line (with its newline) of a 1200 × 800 px image
+/// (12 × 8 in for PDF) in the house style, for scripts that define the
+/// gnuplot variable `fs` (font size) before it: pngcairo, svg on white, or
+/// pdfcairo. Shared by every fixed-size plot script (fit, shop data).
+std::string fixed_size_terminal(ImageFormat format);
+
 /// The format chosen by the image extension (.png, .svg, .pdf; any case).
 /// @throws InputError "<path>: unknown image type '<ext>' (use .png, .svg or .pdf)".
 ImageFormat check_plot_path(const std::filesystem::path& image);
