@@ -173,9 +173,8 @@ class SemiDiscretizationSolver final : public LobeSolver {
   Eigen::MatrixXd B_;       // 2n × 2 force input
   Eigen::MatrixXd Wx_;      // n_r × 2n, z = Wx x
   Eigen::MatrixXd U_;       // n_L × n_r
-  std::vector<double> natural_hz_;
   double f_max_hz_ = 0.0;
-  double slowest_decay_per_s_ = 0.0;  // min ζ_i ω_i: ln ρ at zero depth is −τ times this
+  double slowest_decay_per_s_ = 0.0;  // min −Re λ_i (= min ζ_i ω_i): ln ρ at zero depth is −τ times this
   std::vector<std::complex<double>> free_poles_;  // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
 };
 

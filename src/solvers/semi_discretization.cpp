@@ -632,17 +632,17 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
     A_(n + i, i) = -w;
     A_(n + i, n + i) = -2.0 * mm.damping_ratio(i) * w;
     B_.row(n + i) = mm.S.col(i).transpose() / (mm.mass_kg(i) * w);
-    natural_hz_.push_back(w / kTwoPi);
     const double z = mm.damping_ratio(i);
-    const double decay = z * w;
-    slowest_decay_per_s_ = i == 0 ? decay : std::min(slowest_decay_per_s_, decay);
     if (z < 1.0) {
-      free_poles_.emplace_back(-decay, w * std::sqrt(1.0 - z * z));
+      free_poles_.emplace_back(-z * w, w * std::sqrt(1.0 - z * z));
     } else {  // overdamped: two real poles
       free_poles_.emplace_back(-w * (z - std::sqrt(z * z - 1.0)), 0.0);
       free_poles_.emplace_back(-w * (z + std::sqrt(z * z - 1.0)), 0.0);
     }
   }
+  // The slowest free decay, from the same poles (so the two cannot disagree).
+  slowest_decay_per_s_ = kInf;
+  for (const Cplx& l : free_poles_) slowest_decay_per_s_ = std::min(slowest_decay_per_s_, -l.real());
   f_max_hz_ = model_.max_omega() / kTwoPi;
   // H(t) = Ĥ(t) L: L = e_xᵀ for turning, I for milling. L S = U W by SVD.
   MatrixXd LS = process_.operation() == Operation::kTurning ? MatrixXd(mm.S.topRows(1)) : MatrixXd(mm.S);
