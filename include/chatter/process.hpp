@@ -1,11 +1,35 @@
-// The cutting process: turning or straight-tooth milling (docs/physics.md §3).
+// The cutting process: turning or milling, with the real cutter of
+// docs/physics.md §8 (helix, variable pitch and helix, runout, process
+// damping). This is the one description of the cut every solver reads.
 //
-// Every operation reduces to the regenerative force on the tool
+// Straight, equally spaced, true-running teeth (§3): every operation reduces
+// to the regenerative force on the tool
 //   F(t) = −a · H(t) · (r(t) − r(t − τ)),
 // with a the depth of cut (m), H(t) the 2×2 directional cutting-coefficient
 // matrix (N/m²), r the relative tool − workpiece displacement (m) and τ the
-// delay (s). Units are SI; spindle speeds in rev/min only where a name says so.
+// delay (s). A real cutter (§8): tooth j, slice z (0 ≤ z ≤ a) is at
+//   φ_j(t, z) = Ω t − Θ_j − z tan β_j / R,   Θ_j = θ_1 + … + θ_j,
+// and cuts the surface tooth j−1 left τ_j(z) = [θ_j + z (tan β_j −
+// tan β_{j−1})/R] / Ω earlier; the force is the slice force integrated over z:
+//   F(t) = −Σ_j ∫₀ᵃ H₁(φ_j(t,z)) (r(t) − r(t − τ_j(z))) dz
+// (H₁: the per-tooth matrix for unit depth, zero out of the cut), plus the
+// process damping −C_pd (a/V) (n·ṙ) n of each cutting slice.
+//
+// What a solver asks of it:
+//  - uniform_cutter(): one delay, period = delay_s() (one tooth period); else
+//    period_s() is one revolution with one delay per tooth (and per slice for
+//    a variable helix);
+//  - tooth_force_integral(): the exact time–height integral of H₁ over a step
+//    (sdm step averages, the averaged H₀), tooth_damping_integral() likewise
+//    for the process-damping direction n nᵀ;
+//  - engagement_events_s(): the times a tooth tip or the top of the cut enters
+//    or leaves the arc (step grids and integrator stops);
+//  - static_chip_m(): the static chip with runout (time domain).
+// Units are SI; spindle speeds in rev/min only where a name says so; angles
+// in rad, measured clockwise from +Y.
 #pragma once
+
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -18,24 +42,50 @@ struct TurningParameters {
   /// K_f: feed-direction specific cutting force, N/m² (> 0). Chip thickness and
   /// feed force both along X, H = [[K_f, 0], [0, 0]].
   double feed_force_coefficient_n_per_m2 = 0.0;
+  /// C_pd >= 0, N/m: process damping (§8), the flank force −C_pd (a/V) ẋ
+  /// along X, V = π D_w N / 60. 0 = none.
+  double process_damping_coefficient_n_per_m = 0.0;
+  /// D_w, m: workpiece diameter, for the cutting speed V. Required (> 0)
+  /// when C_pd > 0; else 0 (= not given).
+  double workpiece_diameter_m = 0.0;
 };
 
 struct MillingParameters {
-  int teeth = 0;                                     ///< N_t >= 1, equally spaced straight teeth.
+  int teeth = 0;                                     ///< N_t >= 1.
   double tangential_coefficient_n_per_m2 = 0.0;      ///< K_t > 0, N/m².
   double radial_coefficient_n_per_m2 = 0.0;          ///< K_r >= 0, N/m².
   double radial_immersion = 1.0;                     ///< a_e / D in (0, 1].
   MillingDirection direction = MillingDirection::kDown;
+  // The cutter (§8). The defaults are the straight, equally spaced,
+  // true-running cutter of §3.
+  /// D, m: tool diameter. Required (> 0) by a helix and by process damping;
+  /// 0 = not given.
+  double tool_diameter_m = 0.0;
+  /// θ_j, rad: the angle from tooth j−1 (cyclic: θ_0 from tooth N_t−1) to
+  /// tooth j. Empty = equal pitch 2π/N_t; else N_t values > 0 summing to 2π.
+  std::vector<double> pitch_angles_rad{};
+  /// β_j, rad, each in [0, π/2): empty = straight teeth; one value = every
+  /// tooth; N_t values = variable helix.
+  std::vector<double> helix_angles_rad{};
+  /// ρ_j, m: radial offset of tooth j (cuts at radius R + ρ_j). Empty = none;
+  /// else N_t values. Changes the static chip only (nonlinear time domain).
+  std::vector<double> runout_m{};
+  /// C_pd >= 0, N/m: process damping per tooth and slice in the cut. 0 = none.
+  double process_damping_coefficient_n_per_m = 0.0;
 };
 
 /// The process description. Build with Process::turning / Process::milling,
 /// which validate their arguments.
 class Process {
  public:
-  /// @throws InputError if K_f <= 0 or not finite.
+  /// @throws InputError if K_f <= 0 or not finite, C_pd < 0, or C_pd > 0
+  ///         without a workpiece diameter > 0.
   static Process turning(TurningParameters p);
-  /// @throws InputError if teeth < 1, K_t <= 0, K_r < 0,
-  ///         radial immersion outside (0, 1].
+  /// @throws InputError if teeth < 1, K_t <= 0, K_r < 0, radial immersion
+  ///         outside (0, 1], pitch angles not N_t values > 0 summing to 2π
+  ///         (to 1e-6 rad), helix angles not 1 or N_t values in [0, π/2),
+  ///         a helix or process damping without a diameter > 0, runout not
+  ///         N_t finite values with |ρ_j| < R (when D is given), C_pd < 0.
   static Process milling(MillingParameters p);
 
   Operation operation() const { return operation_; }
@@ -43,12 +93,72 @@ class Process {
   const MillingParameters& milling_parameters() const { return milling_; }
 
   /// Delay τ (s) at spindle speed `rpm` (rev/min): one revolution for turning,
-  /// one tooth period 60/(N·N_t) for milling. @pre rpm > 0.
+  /// one (mean) tooth period 60/(N·N_t) for milling. For a uniform cutter it
+  /// is the delay and the period of H(t). @pre rpm > 0.
   double delay_s(double rpm) const;
   /// Inverse of delay_s: the spindle speed (rev/min) whose delay is `tau_s`.
   double rpm_from_delay(double tau_s) const;
-  /// Number of delay periods per spindle revolution: 1 (turning) or N_t.
+  /// Number of (mean) tooth periods per spindle revolution: 1 (turning) or N_t.
   int delays_per_revolution() const;
+
+  // ---- the real cutter (§8) ----
+  /// Number of teeth (1 for turning).
+  int teeth() const;
+  /// True when the cut has one delay and H(t) repeats every delay_s():
+  /// turning, or milling with equal pitch and one helix angle for all teeth.
+  bool uniform_cutter() const;
+  /// Period (s) of the delay equation: delay_s(rpm) for a uniform cutter,
+  /// one revolution 60/rpm otherwise. @pre rpm > 0.
+  double period_s(double rpm) const;
+  /// True with a helix angle > 0 on some tooth (milling).
+  bool has_helix() const;
+  /// True with unequal pitch angles, or unequal helix angles (milling).
+  bool has_variable_pitch() const;
+  bool has_variable_helix() const;
+  /// True with a runout offset != 0 on some tooth (milling).
+  bool has_runout() const;
+  /// True with C_pd > 0.
+  bool has_process_damping() const;
+  /// θ_j (rad), Θ_j = θ_1 + … + θ_j (Θ_0 = 0), β_j (rad), ρ_j (m) of tooth
+  /// j in [0, N_t). @pre operation() == kMilling.
+  double pitch_angle_rad(int j) const;
+  double tooth_offset_rad(int j) const;
+  double helix_angle_rad(int j) const;
+  double runout_m(int j) const;
+  /// tan β_j / R (rad per m of height): how far a slice lags the tooth tip.
+  double helix_lag_rad_per_m(int j) const;
+  /// φ_j(t, z) = Ω t − Θ_j − z tan β_j / R (rad, not wrapped).
+  double tooth_angle_rad(int j, double t_s, double z_m, double rpm) const;
+  /// τ_j(z) = [θ_j + z (tan β_j − tan β_{j−1}) / R] / Ω, s.
+  double tooth_delay_s(int j, double z_m, double rpm) const;
+  /// True when φ (any real, wrapped to [0, 2π)) lies in [φ_en, φ_ex].
+  bool in_cut(double phi) const;
+  /// ∫_{t_a}^{t_b} ∫_0^a g(φ) H₁(φ) dz dt with φ = φ_j(t, z) and g the
+  /// cutting window (in_cut), in closed form (N/m² · m · s; exact for any
+  /// helix; for β_j = 0 it is a times the time integral). Cost O(1).
+  /// @pre operation() == kMilling, t_b >= t_a, a >= 0, rpm > 0.
+  Eigen::Matrix2d tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
+  /// The same integral of the process-damping direction n nᵀ, n = (sin φ,
+  /// cos φ) (m · s).
+  Eigen::Matrix2d tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
+  /// n nᵀ at φ (dimensionless; the process-damping direction of a slice).
+  static Eigen::Matrix2d damping_direction(double phi);
+  /// Process damping per unit depth, C_pd / V (N·s/m²); 0 without it.
+  /// V = π D N / 60 (tool diameter in milling, workpiece in turning).
+  double process_damping_per_depth(double rpm) const;
+  /// Average over one revolution of the process-damping direction of all
+  /// teeth in the cut: milling N_t/(2π) ∫_{φ_en}^{φ_ex} n nᵀ dφ, turning
+  /// [[1, 0], [0, 0]]. The averaged (§4) methods use a·(C_pd/V)·this.
+  Eigen::Matrix2d average_damping_direction() const;
+  /// The times in [0, period_s(rpm)) at which a tooth tip (z = 0) or the
+  /// top of the cut (z = a) enters or leaves the arc, sorted, duplicates
+  /// (within 1e-12 of the period) merged. Empty for turning.
+  std::vector<double> engagement_events_s(double rpm, double depth_m) const;
+  /// Static (feed) chip of tooth j at angle φ with runout (§8): the smallest
+  /// over earlier teeth j−k (k = 1 … N_t) of N_t f_z (θ_j + … + θ_{j−k+1})/2π ·
+  /// sin φ + ρ_j − ρ_{j−k}, floored at 0 (m). Without runout: f_z sin φ
+  /// (equal pitch) floored at 0.
+  double static_chip_m(int j, double phi, double feed_per_tooth_m) const;
 
   /// Entry and exit angles φ_en, φ_ex (rad, clockwise from +Y) of a milling
   /// tooth: down-milling [arccos(2a_e/D − 1), π], up-milling [0, arccos(1 − 2a_e/D)].
@@ -68,18 +178,23 @@ class Process {
 
   /// Directional matrix H(t) at time t (s) after tooth 0 passes φ = 0, for
   /// spindle speed `rpm`, N/m²: Σ_j g_j(φ_j) tooth_matrix(φ_j) with
-  /// φ_j = Ωt + 2πj/N_t. Turning: the constant [[K_f, 0], [0, 0]].
+  /// φ_j = Ωt + 2πj/N_t (straight, equally spaced teeth: the §3 cutter).
+  /// Turning: the constant [[K_f, 0], [0, 0]].
   Eigen::Matrix2d directional_matrix(double t_s, double rpm) const;
 
   /// Average of H over one delay, H₀ (N/m²): turning H itself; milling
   /// (N_t/2π) ∫_{φ_en}^{φ_ex} tooth_matrix(φ) dφ, integrated in closed form
   /// (zeroth-order approximation, Altintas & Budak 1995).
+  /// Neither helix nor pitch changes it (§8: the average over a revolution
+  /// of every tooth's H₁ is the same).
   Eigen::Matrix2d average_directional_matrix() const;
 
  private:
   Operation operation_ = Operation::kTurning;
   TurningParameters turning_;
   MillingParameters milling_;
+  // Filled by milling(): per tooth θ_j, Θ_j, tan β_j / R, ρ_j.
+  std::vector<double> pitch_, offset_, lag_, runout_;
 };
 
 }  // namespace chatter

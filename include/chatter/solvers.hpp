@@ -30,14 +30,20 @@
 
 namespace chatter {
 
-/// An input a solver may or may not handle. Issue 16 (real cutters) adds
-/// its cutter features here (e.g. variable pitch, helix, runout); a solver
-/// that does not list a feature refuses a config that needs it.
+/// An input a solver may or may not handle; a solver that does not list a
+/// feature refuses a config that needs it (check_accepts). Runout is the
+/// exception: it changes the static chip only, so a linear method ignores it
+/// with a warning (ignored_features) instead of refusing.
 enum class SolverFeature : std::uint32_t {
-  kModalModel = 0,   ///< structure given by modes
-  kMeasuredFrf = 1,  ///< structure given by measured FRFs (tabulated receptances)
-  kMilling = 2,      ///< intermittent cut of a rotating cutter
-  kTurning = 3,      ///< continuous single-point cut
+  kModalModel = 0,      ///< structure given by modes
+  kMeasuredFrf = 1,     ///< structure given by measured FRFs (tabulated receptances)
+  kMilling = 2,         ///< intermittent cut of a rotating cutter
+  kTurning = 3,         ///< continuous single-point cut
+  kHelix = 4,           ///< helical teeth (one helix angle for all)
+  kVariablePitch = 5,   ///< unequal pitch angles: one delay per tooth over a revolution
+  kVariableHelix = 6,   ///< unequal helix angles: delays that vary along the flute
+  kRunout = 7,          ///< teeth at unequal radii (static chip only)
+  kProcessDamping = 8,  ///< flank rubbing damping C_pd a / V
 };
 
 /// Name of a feature for messages ("measured FRFs", "milling", ...).
@@ -61,7 +67,8 @@ class FeatureSet {
   std::uint32_t bits_ = 0;
 };
 
-/// The features a (model, process) pair needs.
+/// The features a (model, process) pair needs (runout excluded: see
+/// ignored_features).
 FeatureSet needed_features(const StructuralModel& model, const Process& process);
 
 /// A tuning option of one solver (beyond the search depth every solver takes).
@@ -138,6 +145,12 @@ bool has_lobe_method(const std::string& method);
 /// Refuses a (model, process) the method does not handle. @throws InputError
 /// `method "x" does not handle <feature> (<what>)`, naming the first missing feature.
 void check_accepts(const SolverDescriptor& d, const StructuralModel& model, const Process& process);
+
+/// Notes for the cutter features method `d` accepts but does not see: runout
+/// for a method without kRunout ("runout ... is ignored by method ..."), a
+/// helix for an averaged method (the average over a revolution does not
+/// change). Empty when there is nothing to say. For warnings and JSON notes.
+std::vector<std::string> ignored_feature_notes(const SolverDescriptor& d, const Process& process);
 
 /// Builds the solver named `method` with the given search depth (m, > 0) and
 /// tuning options (names from its descriptor; defaults for those absent).

@@ -1,7 +1,11 @@
 #include "chatter/process.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include "chatter/error.hpp"
 
 namespace chatter {
@@ -9,8 +13,103 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-void require(bool ok, const char* what) {
+void require(bool ok, const std::string& what) {
   if (!ok) throw InputError(what);
+}
+
+std::string deg_text(double rad) {
+  std::ostringstream os;
+  os.precision(10);
+  os << rad * 180.0 / std::numbers::pi << " deg";
+  return os.str();
+}
+
+// Pitch angles must sum to 2π to this (rad): 1e-6 rad is 6e-5 deg, far
+// below any drawing tolerance, far above the round-off of degrees → rad.
+constexpr double kPitchSumTolerance = 1e-6;
+// Helix angles below 90° by at least this (rad): tan β stays finite.
+constexpr double kHelixMax = 0.5 * std::numbers::pi - 1e-6;
+// Below this lag κa (rad) across the cut, the helix integral uses the
+// midpoint slice (error (κa)²/24 relative, < 1e-9) instead of the exact
+// four-term difference, which cancels there.
+constexpr double kSmallHelixLag = 1e-4;
+
+// A 2×2 matrix-valued trigonometric polynomial of degree 2,
+//   f(φ) = A0 + A1 sin 2φ + A2 cos 2φ,
+// with its first and second antiderivatives. Both H₁ (§3) and n nᵀ are of
+// this form, so one closed form serves the force and the damping integrals.
+struct Trig2 {
+  Eigen::Matrix2d a0, a1, a2;
+  Eigen::Matrix2d f1(double phi) const {
+    return a0 * phi - a1 * (0.5 * std::cos(2.0 * phi)) + a2 * (0.5 * std::sin(2.0 * phi));
+  }
+  Eigen::Matrix2d f2(double phi) const {
+    return a0 * (0.5 * phi * phi) - a1 * (0.25 * std::sin(2.0 * phi)) - a2 * (0.25 * std::cos(2.0 * phi));
+  }
+};
+
+Trig2 force_trig(double kt, double kr) {
+  Trig2 t;
+  t.a0 << 0.5 * kr, 0.5 * kt, -0.5 * kt, 0.5 * kr;
+  t.a1 << 0.5 * kt, 0.5 * kr, 0.5 * kr, -0.5 * kt;
+  t.a2 << -0.5 * kr, 0.5 * kt, 0.5 * kt, 0.5 * kr;
+  return t;
+}
+
+Trig2 damping_trig() {
+  Trig2 t;
+  t.a0 << 0.5, 0.0, 0.0, 0.5;
+  t.a1 << 0.0, 0.5, 0.5, 0.0;
+  t.a2 << -0.5, 0.0, 0.0, 0.5;
+  return t;
+}
+
+// The windowed, 2π-periodic integrand w(φ) = f(φ) g(φ) (g = 1 on [en, ex]
+// + 2πn) and its antiderivatives W1, W2 with W1(0) = W2(0) = 0:
+//   W1(2πn + ψ) = n I + w1(ψ),  w1(ψ) = F1(clamp(ψ)) − F1(en),  I = w1(2π);
+//   W2(2πn + ψ) = π I n(n − 1) + n J + n I ψ + w2(ψ),  J = w2(2π),
+// with w2(ψ) = 0 before en, F2(ψ) − F2(en) − F1(en)(ψ − en) in the arc and
+// w2(ex) + I (ψ − ex) after it. (W2' = W1 and continuity at every 2πn.)
+class Windowed {
+ public:
+  Windowed(const Trig2& f, double en, double ex) : f_(f), en_(en), ex_(ex) {
+    f1en_ = f.f1(en);
+    f2en_ = f.f2(en);
+    I_ = f.f1(ex) - f1en_;
+    w2ex_ = f.f2(ex) - f2en_ - f1en_ * (ex - en);
+    J_ = w2ex_ + I_ * (kTwoPi - ex);
+  }
+  Eigen::Matrix2d w1(double phi) const {
+    const double n = std::floor(phi / kTwoPi);
+    const double psi = phi - kTwoPi * n;
+    return I_ * n + (f_.f1(std::clamp(psi, en_, ex_)) - f1en_);
+  }
+  Eigen::Matrix2d w2(double phi) const {
+    const double n = std::floor(phi / kTwoPi);
+    const double psi = phi - kTwoPi * n;
+    Eigen::Matrix2d local;
+    if (psi <= en_) local.setZero();
+    else if (psi <= ex_) local = f_.f2(psi) - f2en_ - f1en_ * (psi - en_);
+    else local = w2ex_ + I_ * (psi - ex_);
+    return I_ * (std::numbers::pi * n * (n - 1.0)) + J_ * n + I_ * (n * psi) + local;
+  }
+
+ private:
+  Trig2 f_;
+  double en_, ex_;
+  Eigen::Matrix2d f1en_, f2en_, I_, w2ex_, J_;
+};
+
+// ∫_{ta}^{tb} ∫_0^a w(Ω t − Θ − κ z) dz dt for the windowed integrand.
+Eigen::Matrix2d time_height_integral(const Windowed& w, double omega, double theta, double kappa, double ta,
+                                     double tb, double a) {
+  const double pa = omega * ta - theta, pb = omega * tb - theta;
+  const double lag = kappa * a;
+  if (lag < kSmallHelixLag) {  // straight (or nearly): a times the time integral at the mid slice
+    const double mid = 0.5 * lag;
+    return (w.w1(pb - mid) - w.w1(pa - mid)) * (a / omega);
+  }
+  return (w.w2(pb) - w.w2(pb - lag) - w.w2(pa) + w.w2(pa - lag)) / (omega * kappa);
 }
 
 }  // namespace
@@ -18,6 +117,12 @@ void require(bool ok, const char* what) {
 Process Process::turning(TurningParameters p) {
   require(std::isfinite(p.feed_force_coefficient_n_per_m2) && p.feed_force_coefficient_n_per_m2 > 0.0,
           "feed force coefficient K_f must be > 0 N/m^2");
+  require(std::isfinite(p.process_damping_coefficient_n_per_m) && p.process_damping_coefficient_n_per_m >= 0.0,
+          "process damping coefficient C_pd must be >= 0 N/m");
+  require(std::isfinite(p.workpiece_diameter_m) && p.workpiece_diameter_m >= 0.0,
+          "workpiece diameter must be >= 0 m (0 = not given)");
+  require(p.process_damping_coefficient_n_per_m == 0.0 || p.workpiece_diameter_m > 0.0,
+          "process damping needs the workpiece diameter (> 0 m) for the cutting speed V = pi D N / 60");
   Process pr;
   pr.operation_ = Operation::kTurning;
   pr.turning_ = p;
@@ -32,10 +137,190 @@ Process Process::milling(MillingParameters p) {
           "radial coefficient K_r must be >= 0 N/m^2");
   require(std::isfinite(p.radial_immersion) && p.radial_immersion > 0.0 && p.radial_immersion <= 1.0,
           "radial immersion a_e/D must be in (0, 1]");
+  require(std::isfinite(p.tool_diameter_m) && p.tool_diameter_m >= 0.0, "tool diameter must be >= 0 m (0 = not given)");
+  const auto nt = static_cast<std::size_t>(p.teeth);
+  const double radius = 0.5 * p.tool_diameter_m;
   Process pr;
   pr.operation_ = Operation::kMilling;
+  pr.pitch_.assign(nt, kTwoPi / p.teeth);
+  if (!p.pitch_angles_rad.empty()) {
+    require(p.pitch_angles_rad.size() == nt, "pitch angles: " + std::to_string(p.pitch_angles_rad.size()) +
+                                                 " given, need one per tooth (" + std::to_string(nt) + ")");
+    double sum = 0.0;
+    for (std::size_t j = 0; j < nt; ++j) {
+      const double th = p.pitch_angles_rad[j];
+      require(std::isfinite(th) && th > 0.0, "pitch angle of tooth " + std::to_string(j + 1) + " = " + deg_text(th) +
+                                                 ": must be > 0");
+      sum += th;
+    }
+    require(std::abs(sum - kTwoPi) <= kPitchSumTolerance,
+            "pitch angles sum to " + deg_text(sum) + ": must sum to 360 deg (one revolution)");
+    pr.pitch_ = p.pitch_angles_rad;
+  }
+  std::vector<double> helix(nt, 0.0);
+  if (!p.helix_angles_rad.empty()) {
+    require(p.helix_angles_rad.size() == 1 || p.helix_angles_rad.size() == nt,
+            "helix angles: " + std::to_string(p.helix_angles_rad.size()) + " given, need 1 (every tooth) or one per tooth (" +
+                std::to_string(nt) + ")");
+    for (std::size_t j = 0; j < nt; ++j) {
+      const double b = p.helix_angles_rad.size() == 1 ? p.helix_angles_rad[0] : p.helix_angles_rad[j];
+      require(std::isfinite(b) && b >= 0.0 && b < kHelixMax,
+              "helix angle " + deg_text(b) + ": must be in [0, 90) deg");
+      helix[j] = b;
+    }
+  }
+  const bool any_helix = std::any_of(helix.begin(), helix.end(), [](double b) { return b > 0.0; });
+  require(!any_helix || radius > 0.0, "a helix needs the tool diameter (> 0 m)");
+  require(std::isfinite(p.process_damping_coefficient_n_per_m) && p.process_damping_coefficient_n_per_m >= 0.0,
+          "process damping coefficient C_pd must be >= 0 N/m");
+  require(p.process_damping_coefficient_n_per_m == 0.0 || radius > 0.0,
+          "process damping needs the tool diameter (> 0 m) for the cutting speed V = pi D N / 60");
+  pr.runout_.assign(nt, 0.0);
+  if (!p.runout_m.empty()) {
+    require(p.runout_m.size() == nt, "runout: " + std::to_string(p.runout_m.size()) + " offsets given, need one per tooth (" +
+                                         std::to_string(nt) + ")");
+    for (std::size_t j = 0; j < nt; ++j) {
+      const double r = p.runout_m[j];
+      require(std::isfinite(r) && (radius == 0.0 || std::abs(r) < radius),
+              "runout of tooth " + std::to_string(j + 1) + ": must be finite and smaller than the tool radius");
+    }
+    pr.runout_ = p.runout_m;
+  }
+  pr.offset_.assign(nt, 0.0);
+  for (std::size_t j = 1; j < nt; ++j) pr.offset_[j] = pr.offset_[j - 1] + pr.pitch_[j];
+  pr.lag_.assign(nt, 0.0);
+  for (std::size_t j = 0; j < nt; ++j) pr.lag_[j] = helix[j] > 0.0 ? std::tan(helix[j]) / radius : 0.0;
+  p.helix_angles_rad = helix;
+  if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
   return pr;
+}
+
+int Process::teeth() const { return operation_ == Operation::kTurning ? 1 : milling_.teeth; }
+
+bool Process::has_helix() const {
+  return std::any_of(lag_.begin(), lag_.end(), [](double k) { return k > 0.0; });
+}
+
+bool Process::has_variable_pitch() const {
+  return std::any_of(pitch_.begin(), pitch_.end(), [&](double th) { return th != pitch_.front(); });
+}
+
+bool Process::has_variable_helix() const {
+  return std::any_of(lag_.begin(), lag_.end(), [&](double k) { return k != lag_.front(); });
+}
+
+bool Process::has_runout() const {
+  return std::any_of(runout_.begin(), runout_.end(), [](double r) { return r != 0.0; });
+}
+
+bool Process::has_process_damping() const {
+  return (operation_ == Operation::kTurning ? turning_.process_damping_coefficient_n_per_m
+                                            : milling_.process_damping_coefficient_n_per_m) > 0.0;
+}
+
+bool Process::uniform_cutter() const {
+  return operation_ == Operation::kTurning || (!has_variable_pitch() && !has_variable_helix());
+}
+
+double Process::period_s(double rpm) const { return uniform_cutter() ? delay_s(rpm) : 60.0 / rpm; }
+
+double Process::pitch_angle_rad(int j) const { return pitch_[static_cast<std::size_t>(j)]; }
+double Process::tooth_offset_rad(int j) const { return offset_[static_cast<std::size_t>(j)]; }
+double Process::helix_angle_rad(int j) const {
+  const auto& h = milling_.helix_angles_rad;
+  return h.empty() ? 0.0 : h[static_cast<std::size_t>(j)];
+}
+double Process::runout_m(int j) const { return runout_[static_cast<std::size_t>(j)]; }
+double Process::helix_lag_rad_per_m(int j) const { return lag_[static_cast<std::size_t>(j)]; }
+
+double Process::tooth_angle_rad(int j, double t_s, double z_m, double rpm) const {
+  return kTwoPi * rpm / 60.0 * t_s - tooth_offset_rad(j) - z_m * helix_lag_rad_per_m(j);
+}
+
+double Process::tooth_delay_s(int j, double z_m, double rpm) const {
+  const int prev = (j + milling_.teeth - 1) % milling_.teeth;
+  return (pitch_angle_rad(j) + z_m * (helix_lag_rad_per_m(j) - helix_lag_rad_per_m(prev))) / (kTwoPi * rpm / 60.0);
+}
+
+bool Process::in_cut(double phi) const {
+  phi = std::fmod(phi, kTwoPi);
+  if (phi < 0.0) phi += kTwoPi;
+  return phi >= entry_angle() && phi <= exit_angle();
+}
+
+Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
+  const Windowed w(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
+                   entry_angle(), exit_angle());
+  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+}
+
+Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
+  const Windowed w(damping_trig(), entry_angle(), exit_angle());
+  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+}
+
+Eigen::Matrix2d Process::damping_direction(double phi) {
+  const double s = std::sin(phi), c = std::cos(phi);
+  Eigen::Matrix2d m;
+  m << s * s, s * c, s * c, c * c;
+  return m;
+}
+
+double Process::process_damping_per_depth(double rpm) const {
+  const bool turning = operation_ == Operation::kTurning;
+  const double c = turning ? turning_.process_damping_coefficient_n_per_m : milling_.process_damping_coefficient_n_per_m;
+  if (c == 0.0) return 0.0;
+  const double d = turning ? turning_.workpiece_diameter_m : milling_.tool_diameter_m;
+  return c / (std::numbers::pi * d * rpm / 60.0);
+}
+
+Eigen::Matrix2d Process::average_damping_direction() const {
+  if (operation_ == Operation::kTurning) {
+    Eigen::Matrix2d m = Eigen::Matrix2d::Zero();
+    m(0, 0) = 1.0;
+    return m;
+  }
+  const Trig2 t = damping_trig();
+  return milling_.teeth / kTwoPi * (t.f1(exit_angle()) - t.f1(entry_angle()));
+}
+
+std::vector<double> Process::engagement_events_s(double rpm, double depth_m) const {
+  std::vector<double> out;
+  if (operation_ == Operation::kTurning) return out;
+  const double omega = kTwoPi * rpm / 60.0, period = period_s(rpm);
+  for (int j = 0; j < milling_.teeth; ++j) {
+    for (const double edge : {entry_angle(), exit_angle()}) {
+      for (const double z : {0.0, depth_m}) {
+        // φ_j(t, z) = edge (mod 2π) → t = (edge + Θ_j + κ z) / Ω (mod period)
+        double t = std::fmod((edge + tooth_offset_rad(j) + z * helix_lag_rad_per_m(j)) / omega, period);
+        if (t < 0.0) t += period;
+        if (period - t <= 1e-12 * period) t = 0.0;  // = the next period's start
+        out.push_back(t);
+        if (helix_lag_rad_per_m(j) == 0.0) break;
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  std::vector<double> merged;
+  for (const double t : out)
+    if (merged.empty() || t - merged.back() > 1e-12 * period) merged.push_back(t);
+  return merged;
+}
+
+double Process::static_chip_m(int j, double phi, double feed_per_tooth_m) const {
+  const int nt = teeth();
+  if (operation_ == Operation::kTurning) return std::max(0.0, feed_per_tooth_m);
+  const double s = std::sin(phi);
+  double best = std::numeric_limits<double>::infinity();
+  double swept = 0.0;  // θ_j + … + θ_{j−k+1}
+  for (int k = 1; k <= nt; ++k) {
+    const int cur = ((j - k + 1) % nt + nt) % nt, prev = ((j - k) % nt + nt) % nt;
+    swept += pitch_angle_rad(cur);
+    const double advance = nt * feed_per_tooth_m * swept / kTwoPi;
+    best = std::min(best, advance * s + runout_m(j) - runout_m(prev));
+  }
+  return std::max(0.0, best);
 }
 
 int Process::delays_per_revolution() const {

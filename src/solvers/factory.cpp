@@ -216,6 +216,11 @@ std::string to_string(SolverFeature f) {
     case SolverFeature::kMeasuredFrf: return "measured FRFs";
     case SolverFeature::kMilling: return "milling";
     case SolverFeature::kTurning: return "turning";
+    case SolverFeature::kHelix: return "a helix (process.helix_angle_deg)";
+    case SolverFeature::kVariablePitch: return "variable pitch (process.pitch_angles_deg)";
+    case SolverFeature::kVariableHelix: return "a variable helix (one process.helix_angle_deg per tooth)";
+    case SolverFeature::kRunout: return "runout (process.runout_um)";
+    case SolverFeature::kProcessDamping: return "process damping (process.process_damping_coefficient_n_per_m)";
   }
   return "feature " + std::to_string(static_cast<std::uint32_t>(f));
 }
@@ -234,7 +239,23 @@ FeatureSet needed_features(const StructuralModel& model, const Process& process)
   if (model.mode_count() > 0) s.insert(SolverFeature::kModalModel);
   if (model.has_measured()) s.insert(SolverFeature::kMeasuredFrf);
   s.insert(process.operation() == Operation::kTurning ? SolverFeature::kTurning : SolverFeature::kMilling);
+  if (process.has_helix()) s.insert(SolverFeature::kHelix);
+  if (process.has_variable_pitch()) s.insert(SolverFeature::kVariablePitch);
+  if (process.has_variable_helix()) s.insert(SolverFeature::kVariableHelix);
+  if (process.has_process_damping()) s.insert(SolverFeature::kProcessDamping);
   return s;
+}
+
+std::vector<std::string> ignored_feature_notes(const SolverDescriptor& d, const Process& process) {
+  std::vector<std::string> out;
+  if (process.has_runout() && !d.accepts.contains(SolverFeature::kRunout))
+    out.push_back("runout (process.runout_um) is ignored by method \"" + d.name +
+                  "\": it changes the static chip only, which a linear method does not see (the nonlinear "
+                  "time-domain method does)");
+  if (process.has_helix() && d.kind == SolverKind::kAveraged)
+    out.push_back("the helix does not change the result of method \"" + d.name +
+                  "\": the average of the cutting force over a revolution is the same for any helix");
+  return out;
 }
 
 const std::vector<SolverDescriptor>& solver_registry() {
