@@ -442,8 +442,9 @@ TEST(ConfigError, WrongTypeTeethString) {
             "mem/case.toml: process.tangential_coefficient_n_per_m2: missing (required, N/m^2, > 0); or give "
             "tangential_coefficient_n_per_mm2 (N/mm^2)\n"
             "mem/case.toml: process.radial_coefficient_n_per_m2: missing (required, N/m^2, >= 0); or give "
-            "radial_coefficient_n_per_mm2 (N/mm^2)\n"
-            "mem/case.toml: process.radial_immersion: missing (required, a_e/D, in (0, 1])");
+            "radial_coefficient_n_per_mm2 (N/mm^2) or radial_coefficient_ratio (K_r/K_t)\n"
+            "mem/case.toml: process.radial_immersion: missing (required, a_e/D, in (0, 1]); or give radial_depth_mm "
+            "with tool_diameter_mm");
 }
 
 TEST(ConfigError, WrongTypeNumberAsString) {
@@ -679,8 +680,9 @@ TEST(ConfigError, NegativeRadialCoefficient) {
 }
 
 TEST(ConfigError, BadMillingDirection) {
-  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "milling_direction = \"climb\"\n"),
-                               {"mem/case.toml: process.milling_direction = \"climb\": must be \"down\" or \"up\""}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kMillingKeys + "milling_direction = \"sideways\"\n"),
+                               {"mem/case.toml: process.milling_direction = \"sideways\": must be \"down\" (= \"climb\") "
+                                "or \"up\" (= \"conventional\")"}));
 }
 
 // ============================================================ sweep values
@@ -978,7 +980,9 @@ rpm_max = 100
             "mem/case.toml: process.colour: unknown key (expected one of: operation, feed_force_coefficient_n_per_m2, "
             "feed_force_coefficient_n_per_mm2, feed_per_rev_mm, feed_per_tooth_mm, teeth, "
             "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
-            "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, flute_length_mm)\n"
+            "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, flute_length_mm, tool_diameter_mm, "
+            "radial_depth_mm, helix_angle_deg, pitch_angles_deg, runout_um, radial_coefficient_ratio, "
+            "process_damping_coefficient_n_per_m, workpiece_diameter_mm)\n"
             "mem/case.toml: process.feed_force_coefficient_n_per_m2 = -1: must be > 0\n"
             "mem/case.toml: tool.modes[0].stiffness: unknown key (did you mean stiffness_n_per_m?)\n"
             "mem/case.toml: tool.modes[0].damping_ratio = 1.5: must be in (0, 1) (a ratio, not a percentage: 1.5 % is "
@@ -996,6 +1000,100 @@ TEST(ConfigErrors, ListIsCappedAtTwentyWithACount) {
   for (char c : msg) lines += c == '\n';
   EXPECT_EQ(lines, 21u) << msg;
   EXPECT_NE(msg.find("mem/case.toml: 55 more errors not listed (the first 20 are)"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace chatter
+
+// ============================================================ real cutters
+
+namespace chatter {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+const std::string kCutterHead = R"(teeth = 4
+tangential_coefficient_n_per_mm2 = 600
+tool_diameter_mm = 12
+)";
+
+TEST(ConfigCutter, ShopTermsAreReadInSi) {
+  const Config c = parse_config(Milling(kCutterHead + R"(radial_coefficient_ratio = 0.3
+radial_depth_mm = 3
+milling_direction = "conventional"
+helix_angle_deg = 30
+pitch_angles_deg = [80, 100, 80, 100]
+runout_um = [5, 0, -3, 0]
+process_damping_coefficient_n_per_m = 2e5
+)"),
+                                    "mem/case.toml");
+  const MillingParameters& m = c.process.milling_parameters();
+  EXPECT_NEAR(m.radial_coefficient_n_per_m2, 0.3 * 6e8, 1e-6);
+  EXPECT_NEAR(m.radial_immersion, 0.25, 1e-15);
+  EXPECT_EQ(m.direction, MillingDirection::kUp);
+  EXPECT_NEAR(m.tool_diameter_m, 0.012, 1e-15);
+  EXPECT_NEAR(c.process.helix_angle_rad(3), 30 * kDegToRad, 1e-15);
+  EXPECT_NEAR(c.process.pitch_angle_rad(1), 100 * kDegToRad, 1e-15);
+  EXPECT_NEAR(c.process.tooth_offset_rad(3), 280 * kDegToRad, 1e-12);  // θ_1 + θ_2 + θ_3 = 100 + 80 + 100
+  EXPECT_NEAR(c.process.runout_m(2), -3e-6, 1e-18);
+  EXPECT_NEAR(m.process_damping_coefficient_n_per_m, 2e5, 1e-9);
+  EXPECT_TRUE(c.process.has_variable_pitch());
+  EXPECT_FALSE(c.process.has_variable_helix());
+  // "climb" is down-milling; one helix per tooth.
+  const Config d = parse_config(Milling(kCutterHead + R"(radial_coefficient_n_per_m2 = 2e8
+radial_immersion = 0.5
+milling_direction = "climb"
+helix_angle_deg = [30, 35, 30, 35]
+)"),
+                                    "mem/case.toml");
+  EXPECT_EQ(d.process.milling_parameters().direction, MillingDirection::kDown);
+  EXPECT_TRUE(d.process.has_variable_helix());
+  EXPECT_NEAR(d.process.helix_angle_rad(1), 35 * kDegToRad, 1e-15);
+}
+
+TEST(ConfigCutter, PitchAnglesAreScaledToOneRevolution) {
+  // 90.0002 × 4 = 360.0008: within the 1e-3 deg written tolerance; scaled.
+  const Config c = parse_config(Milling(kCutterHead + R"(radial_coefficient_ratio = 0.3
+radial_immersion = 1
+pitch_angles_deg = [90.0002, 90.0002, 90.0002, 90.0002]
+)"),
+                                    "mem/case.toml");
+  double sum = 0.0;
+  for (int j = 0; j < 4; ++j) sum += c.process.pitch_angle_rad(j);
+  EXPECT_NEAR(sum, 2.0 * 3.14159265358979323846, 1e-14);
+}
+
+TEST(ConfigCutter, ImpossibleCuttersAreRefusedWithKeyAndRule) {
+  const std::string ok = "radial_coefficient_ratio = 0.3\n";
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\npitch_angles_deg = [90, 90, 90, 80]\n"),
+                               {"mem/case.toml: process.pitch_angles_deg = [90, 90, 90, 80]: sums to 350 deg: the pitch "
+                                "angles must sum to 360 deg (one revolution)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\npitch_angles_deg = [120, 120, 120]\n"),
+                               {"process.pitch_angles_deg = [120, 120, 120]: has 3 values: need one per tooth (teeth = 4)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\npitch_angles_deg = [0, 180, 90, 90]\n"),
+                               {"process.pitch_angles_deg[0] = 0: must be > 0"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\nhelix_angle_deg = 90\n"),
+                               {"process.helix_angle_deg = 90: must be in [0, 90) (deg)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\nhelix_angle_deg = -5\n"),
+                               {"process.helix_angle_deg = -5: must be in [0, 90) (deg)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_depth_mm = 13\n"),
+                               {"process.radial_depth_mm = 13: must be <= tool_diameter_mm (12 mm)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_depth_mm = 3\nradial_immersion = 0.25\n"),
+                               {"process.radial_depth_mm = 3: not with radial_immersion"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\nrunout_um = [10, 0]\n"),
+                               {"process.runout_um = [10, 0]: has 2 values: need one radial offset per tooth (teeth = 4)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + "radial_coefficient_ratio = 0.3\nradial_coefficient_n_per_m2 = 2e8\n"
+                                                     "radial_immersion = 1\n"),
+                               {"process.radial_coefficient_n_per_m2 = 2e8: not with radial_coefficient_ratio"}));
+  // A helix or process damping without the diameter; radial depth without it.
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_ratio = 0.3\n"
+                                       "radial_depth_mm = 3\nhelix_angle_deg = 30\n"),
+                               {"process.radial_depth_mm = 3: needs process.tool_diameter_mm",
+                                "process.helix_angle_deg = 30: needs process.tool_diameter_mm"}));
+  EXPECT_TRUE(ThrowsInputError(Turning("process_damping_coefficient_n_per_m = 1e5\n" + kOneToolMode),
+                               {"process.process_damping_coefficient_n_per_m = 1e5: needs process.workpiece_diameter_mm"}));
+  EXPECT_TRUE(ThrowsInputError(Turning("helix_angle_deg = 30\n" + kOneToolMode),
+                               {"process.helix_angle_deg = 30: only for operation = \"milling\""}));
 }
 
 }  // namespace

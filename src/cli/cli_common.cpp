@@ -230,6 +230,8 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options_json = j.dump();
+  b.notes = ignored_feature_notes(*b.descriptor, cfg.process);
+  for (const std::string& n : b.notes) std::cerr << "note: " << n << "\n";
   return b;
 }
 

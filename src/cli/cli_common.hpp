@@ -93,6 +93,9 @@ struct BuiltSolver {
   const SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<LobeSolver> solver;
   std::string options_json;  ///< the solver's effective options, for the JSON provenance
+  /// What the method does not see of the cutter (ignored_feature_notes),
+  /// printed as "note: ..." on stderr by build_solver and kept for the JSON.
+  std::vector<std::string> notes;
 };
 /// A solver value as JSON (std::monostate → null).
 nlohmann::json to_json(const SolverValue& v);

@@ -216,6 +216,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     p.depth_max_mm = s.depth_max_mm;
     p.absolute_limit = abs_lim;
     p.options_json = built.options_json;
+    p.notes = built.notes;
     std::ostringstream js;
     chatter::write_lobe_json(js, rows, p, extra);
     json_text = js.str();
@@ -319,6 +320,7 @@ int cmd_point(const std::vector<std::string>& args) {
   nlohmann::json j;
   j["method"] = built.solver->method();
   j["warnings"] = cfg.warnings;
+  j["notes"] = built.notes;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;

@@ -394,6 +394,45 @@ class Table {
     return v;
   }
 
+  /// One number or an array of numbers, each in `range`; nullopt if absent
+  /// or bad (every bad element recorded with its index).
+  std::optional<std::vector<double>> number_list(std::string_view key, const Range& range) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    auto one = [&](const toml::node& c, const Path& where) -> std::optional<double> {
+      double v = 0.0;
+      if (const auto* i = c.as_integer()) v = static_cast<double>(i->get());
+      else if (const auto* f = c.as_floating_point()) v = f->get();
+      else {
+        doc_.error(where, c, "must be a number");
+        return std::nullopt;
+      }
+      if (!std::isfinite(v) || !range.contains(v)) {
+        doc_.error(where, c, "must be " + std::string(range.text));
+        return std::nullopt;
+      }
+      return v;
+    };
+    std::vector<double> out;
+    if (const toml::array* a = n->as_array()) {
+      if (a->empty()) {
+        doc_.error(path_of(key), *n, "must not be empty");
+        return std::nullopt;
+      }
+      bool ok = true;
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        const auto v = one(*a->get(i), element(path_of(key), i));
+        if (v) out.push_back(*v);
+        else ok = false;
+      }
+      if (!ok) return std::nullopt;
+      return out;
+    }
+    const auto v = one(*n, path_of(key));
+    if (!v) return std::nullopt;
+    return std::vector<double>{*v};
+  }
+
   /// A required number; `unit` ("Hz", "" for a ratio) goes into the
   /// missing-key message. nullopt (recorded) if absent or bad.
   std::optional<double> required_number(std::string_view key, const Range& range, std::string_view unit) const {
@@ -938,7 +977,7 @@ Body read_body(const Table& root, std::string_view name) {
 // ------------------------------------------------------------------ process
 
 constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_force_coefficient_n_per_mm2",
-                                             "feed_per_rev_mm"};
+                                             "feed_per_rev_mm", "workpiece_diameter_mm"};
 constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "tangential_coefficient_n_per_m2",
                                              "tangential_coefficient_n_per_mm2",
@@ -947,7 +986,13 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "radial_immersion",
                                              "milling_direction",
                                              "feed_per_tooth_mm",
-                                             "flute_length_mm"};
+                                             "flute_length_mm",
+                                             "tool_diameter_mm",
+                                             "radial_depth_mm",
+                                             "helix_angle_deg",
+                                             "pitch_angles_deg",
+                                             "runout_um",
+                                             "radial_coefficient_ratio"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
@@ -963,7 +1008,20 @@ constexpr std::string_view kProcessKeys[] = {"operation",
                                              "radial_coefficient_n_per_mm2",
                                              "radial_immersion",
                                              "milling_direction",
-                                             "flute_length_mm"};
+                                             "flute_length_mm",
+                                             "tool_diameter_mm",
+                                             "radial_depth_mm",
+                                             "helix_angle_deg",
+                                             "pitch_angles_deg",
+                                             "runout_um",
+                                             "radial_coefficient_ratio",
+                                             "process_damping_coefficient_n_per_m",
+                                             "workpiece_diameter_mm"};
+// Pitch angles as written must sum to 360° to this (deg); they are then
+// scaled to sum to exactly one revolution.
+constexpr double kPitchSumToleranceDeg = 1e-3;
+const Range kHelixDeg{"in [0, 90) (deg)", 0.0, false, 90.0, true};
+const Range kAnyNumber{"a finite number", -kInf, true, kInf, true};
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
@@ -996,10 +1054,17 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     reject_keys_of(*process, kMillingKeys, "milling");
     const Given kf = read_coefficient(*process, kFeedForce, kPositive);
     *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
+    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+    const auto dw = process->number("workpiece_diameter_mm", kPositive);
+    if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
+      doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
+                "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
     stop_if_errors_since(doc, mark);
     if (!kf.si) throw Skip{};
     TurningParameters p;
     p.feed_force_coefficient_n_per_m2 = *kf.si;
+    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
+    p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
     Band band = kCoefficientBand;
     band.symbol = "K_f";
     warn_band(*process, kf, kFeedForce, band);
@@ -1011,28 +1076,129 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     const auto teeth = process->integer("teeth", 1);
     if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
     const Given kt = read_coefficient(*process, kTangential, kPositive);
-    const Given kr = read_coefficient(*process, kRadial, kNonNegative);
-    const auto immersion = process->required_number("radial_immersion", kUnitInterval, "a_e/D");
-    constexpr std::string_view kDirectionRuleMilling = R"(must be "down" or "up")";
+    // K_r: in N/m² (or N/mm²), or as the ratio K_r/K_t; exactly one.
+    const auto ratio_given = process->number("radial_coefficient_ratio", kNonNegative);
+    Given kr;
+    if (process->has("radial_coefficient_ratio")) {
+      kr = process->quantity(kRadial, kNonNegative);
+      if (kr.present()) {
+        doc.error(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+                  "not with radial_coefficient_ratio (give K_r once: " + std::string(kr.unit->key) +
+                      " or radial_coefficient_ratio = K_r/K_t)");
+        kr.si.reset();
+      } else if (ratio_given && kt.si) {
+        kr.si = *ratio_given * *kt.si;
+        kr.unit = &kRadialKeys[0];
+      }
+    } else {
+      kr = process->quantity(kRadial, kNonNegative);
+      if (!kr.present() && !process->meant("radial_coefficient_n_per_m2"))
+        doc.error_key(process->path_of("radial_coefficient_n_per_m2"),
+                      "missing (required, N/m^2, >= 0); or give radial_coefficient_n_per_mm2 (N/mm^2) or "
+                      "radial_coefficient_ratio (K_r/K_t)");
+      if (kr.si && !process->plausible(kr.unit->key, *kr.si, kCoefficientBound, kr.unit)) kr.si.reset();
+    }
+    // Tool diameter and radial engagement: a_e/D, or a_e in mm with D.
+    const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
+    std::optional<double> immersion;
+    const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
+    if (has_ae && has_ratio) {
+      doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
+                "radial_depth_mm with tool_diameter_mm)");
+    } else if (has_ae) {
+      const auto ae = process->number("radial_depth_mm", kPositive);
+      if (!process->has("tool_diameter_mm"))
+        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                  "needs process.tool_diameter_mm (a_e/D = radial_depth_mm / tool_diameter_mm)");
+      else if (ae && diameter_mm && *ae > *diameter_mm)
+        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                  "must be <= tool_diameter_mm (" + number_text(*diameter_mm) + " mm): the cutter cannot engage more than its diameter");
+      else if (ae && diameter_mm)
+        immersion = *ae / *diameter_mm;
+    } else {
+      if (!process->has("radial_immersion") && !process->meant("radial_immersion"))
+        doc.error_key(process->path_of("radial_immersion"),
+                      "missing (required, a_e/D, in (0, 1]); or give radial_depth_mm with tool_diameter_mm");
+      else
+        immersion = process->number("radial_immersion", kUnitInterval);
+    }
+    constexpr std::string_view kDirectionRuleMilling = R"(must be "down" (= "climb") or "up" (= "conventional"))";
     const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
-    if (direction == "down")
+    if (direction == "down" || direction == "climb")
       p.direction = MillingDirection::kDown;
-    else if (direction == "up")
+    else if (direction == "up" || direction == "conventional")
       p.direction = MillingDirection::kUp;
     else
       doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
     if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
+    // The cutter (docs/config.md, "Real cutters").
+    const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
+    const auto pitch = process->number_list("pitch_angles_deg", kPositive);
+    const auto runout = process->number_list("runout_um", kAnyNumber);
+    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+    auto need_diameter = [&](std::string_view key, std::string_view why) {
+      if (process->has(key) && !process->has("tool_diameter_mm"))
+        doc.error(process->path_of(key), *process->find(key), "needs process.tool_diameter_mm (" + std::string(why) + ")");
+    };
+    if (helix && std::any_of(helix->begin(), helix->end(), [](double b) { return b > 0.0; }))
+      need_diameter("helix_angle_deg", "the helix lag of a slice at height z is z tan(beta) / R");
+    if (cpd && *cpd > 0.0)
+      need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
+    if (teeth) {
+      const auto nt = static_cast<std::size_t>(*teeth);
+      if (helix && helix->size() != 1 && helix->size() != nt)
+        doc.error(process->path_of("helix_angle_deg"), *process->find("helix_angle_deg"),
+                  "has " + std::to_string(helix->size()) + " values: give one number (every tooth) or one per tooth (teeth = " +
+                      std::to_string(nt) + ")");
+      if (pitch) {
+        double sum = 0.0;
+        for (const double th : *pitch) sum += th;
+        if (pitch->size() != nt)
+          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                    "has " + std::to_string(pitch->size()) + " values: need one per tooth (teeth = " + std::to_string(nt) +
+                        "), the angle from the previous tooth to this one");
+        else if (std::abs(sum - 360.0) > kPitchSumToleranceDeg)
+          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                    "sums to " + number_text(sum) + " deg: the pitch angles must sum to 360 deg (one revolution)");
+      }
+      if (runout) {
+        if (runout->size() != nt)
+          doc.error(process->path_of("runout_um"), *process->find("runout_um"),
+                    "has " + std::to_string(runout->size()) + " values: need one radial offset per tooth (teeth = " +
+                        std::to_string(nt) + "), in um");
+        else if (diameter_mm)
+          for (std::size_t j = 0; j < nt; ++j)
+            if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm)
+              doc.error(element(process->path_of("runout_um"), j), *process->find("runout_um")->as_array()->get(j),
+                        "must be smaller than the tool radius (" + number_text(0.5 * *diameter_mm * 1e3) + " um)");
+      }
+    }
     stop_if_errors_since(doc, mark);
     if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
     p.teeth = *teeth;
     p.tangential_coefficient_n_per_m2 = *kt.si;
     p.radial_coefficient_n_per_m2 = *kr.si;
     p.radial_immersion = *immersion;
+    p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
+    constexpr double kDegToRad = kPi / 180.0;
+    if (helix) {
+      for (const double b : *helix) p.helix_angles_rad.push_back(b * kDegToRad);
+      if (std::all_of(helix->begin(), helix->end(), [](double b) { return b == 0.0; })) p.helix_angles_rad.clear();
+    }
+    if (pitch) {
+      double sum = 0.0;
+      for (const double th : *pitch) sum += th;
+      for (const double th : *pitch) p.pitch_angles_rad.push_back(th / sum * 2.0 * kPi);  // exactly one revolution
+    }
+    if (runout)
+      for (const double r : *runout) p.runout_m.push_back(r * 1e-6);
+    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
     Band band = kCoefficientBand;
     band.symbol = "K_t";
     warn_band(*process, kt, kTangential, band);
-    if (*kr.si > 0.0) {  // K_r = 0 is a deliberate idealisation: no radial force
+    if (*kr.si > 0.0 && !process->has("radial_coefficient_ratio")) {  // K_r = 0 is a deliberate idealisation: no radial force
       warn_band(*process, kr, kRadial, kRadialBand);
       const double ratio = *kr.si / *kt.si;
       if (ratio < kRatioLo || ratio > kRatioHi)
@@ -1041,6 +1207,11 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                      ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
                      "titanium 0.3 to 0.8); are " +
                      std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
+    } else if (ratio_given && *ratio_given > 0.0 && (*ratio_given < kRatioLo || *ratio_given > kRatioHi)) {
+      doc.warn(process->path_of("radial_coefficient_ratio"), *process->find("radial_coefficient_ratio"),
+               "K_r/K_t = " + number_text(*ratio_given) +
+                   ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                   "titanium 0.3 to 0.8)");
     }
     return model_checked(*process, [&] { return Process::milling(p); });
   }

@@ -36,16 +36,43 @@ nlohmann::json body_json(const Body& b) {
 }
 
 nlohmann::json process_json(const Process& p) {
-  if (p.operation() == Operation::kTurning)
-    return {{"operation", "turning"},
-            {"feed_force_coefficient_n_per_m2", p.turning_parameters().feed_force_coefficient_n_per_m2}};
+  if (p.operation() == Operation::kTurning) {
+    const TurningParameters& t = p.turning_parameters();
+    nlohmann::json j = {{"operation", "turning"}, {"feed_force_coefficient_n_per_m2", t.feed_force_coefficient_n_per_m2}};
+    if (p.has_process_damping()) {
+      j["process_damping_coefficient_n_per_m"] = t.process_damping_coefficient_n_per_m;
+      j["workpiece_diameter_mm"] = t.workpiece_diameter_m * 1e3;
+    }
+    return j;
+  }
   const MillingParameters& m = p.milling_parameters();
-  return {{"operation", "milling"},
-          {"teeth", m.teeth},
-          {"tangential_coefficient_n_per_m2", m.tangential_coefficient_n_per_m2},
-          {"radial_coefficient_n_per_m2", m.radial_coefficient_n_per_m2},
-          {"radial_immersion", m.radial_immersion},
-          {"milling_direction", m.direction == MillingDirection::kDown ? "down" : "up"}};
+  nlohmann::json j = {{"operation", "milling"},
+                      {"teeth", m.teeth},
+                      {"tangential_coefficient_n_per_m2", m.tangential_coefficient_n_per_m2},
+                      {"radial_coefficient_n_per_m2", m.radial_coefficient_n_per_m2},
+                      {"radial_immersion", m.radial_immersion},
+                      {"milling_direction", m.direction == MillingDirection::kDown ? "down" : "up"}};
+  // The cutter (docs/physics.md §8), only what was given: a straight,
+  // equally spaced, true-running cutter writes the same JSON as before.
+  constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+  if (m.tool_diameter_m > 0.0) j["tool_diameter_mm"] = m.tool_diameter_m * 1e3;
+  if (p.has_helix()) {
+    std::vector<double> deg;
+    for (int t = 0; t < m.teeth; ++t) deg.push_back(p.helix_angle_rad(t) * kRadToDeg);
+    j["helix_angle_deg"] = deg;
+  }
+  if (!m.pitch_angles_rad.empty()) {
+    std::vector<double> deg;
+    for (int t = 0; t < m.teeth; ++t) deg.push_back(p.pitch_angle_rad(t) * kRadToDeg);
+    j["pitch_angles_deg"] = deg;
+  }
+  if (p.has_runout()) {
+    std::vector<double> um;
+    for (int t = 0; t < m.teeth; ++t) um.push_back(p.runout_m(t) * 1e6);
+    j["runout_um"] = um;
+  }
+  if (p.has_process_damping()) j["process_damping_coefficient_n_per_m"] = m.process_damping_coefficient_n_per_m;
+  return j;
 }
 
 }  // namespace
@@ -82,6 +109,7 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
                    {"workpiece", body_json(p.config->model.workpiece)}};
   }
   j["warnings"] = p.config ? p.config->warnings : std::vector<std::string>{};
+  j["notes"] = p.notes;
   j["sweep"] = {{"rpm_min", p.rpm_min}, {"rpm_max", p.rpm_max}, {"rpm_points", p.rpm_points},
                 {"depth_max_mm", p.depth_max_mm}, {"rpm_spacing", p.rpm_spacing}};
   if (p.rpm_spacing == "adaptive") {

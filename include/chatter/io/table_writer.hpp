@@ -43,6 +43,7 @@ struct TableProvenance {
   double depth_max_mm = 0.0;
   std::optional<AbsoluteLimit> absolute_limit;
   std::string options_json = "{}";    ///< solver options as a JSON object text
+  std::vector<std::string> notes;     ///< what the method does not see of the cutter (ignored_feature_notes)
 };
 
 /// @pre every extra column has rows.size() values.
