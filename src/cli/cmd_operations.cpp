@@ -298,8 +298,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
       ("safety", po::value<double>(&safety)->default_value(0.8, "0.8"), "use at most this fraction of the depth limit, in (0, 1]")
       ("depth-max-mm", po::value<double>(), "deepest cut the tool allows, mm (default: sweep.depth_max_mm or 50); milling: also process.flute_length_mm caps the depth")
       ("speed-tolerance-pct", po::value<double>()->default_value(2.0, "2"), "speed error the recommendation must tolerate, % in [0, 50): depth <= safety x the worst limit over the band")
-      ("tool-diameter-mm", po::value<double>(), "milling: tool diameter, mm (needed for power, torque and MRR)")
-      ("workpiece-diameter-mm", po::value<double>(), "turning: workpiece diameter at the cut, mm (needed for power, torque and MRR)")
+      ("tool-diameter-mm", po::value<double>(), "milling: tool diameter, mm (needed for power, torque and MRR; default: process.tool_diameter_mm)")
+      ("workpiece-diameter-mm", po::value<double>(), "turning: workpiece diameter at the cut, mm (needed for power, torque and MRR; default: process.workpiece_diameter_mm)")
       ("tangential-coefficient-n-per-m2", po::value<double>(), "turning: specific cutting force K_c for power and torque, N/m^2 (default: the config's K_f, which underestimates them)")
       ("radial-immersion", po::value<double>(), "milling: a_e/D in (0, 1] (default: the config's)")
       ("teeth", po::value<int>(), "milling: number of teeth (default: the config's)")
@@ -350,6 +350,10 @@ int cmd_recommend(const std::vector<std::string>& args) {
   opt.safety = safety;
   opt.depth_max_m = (vm.count("depth-max-mm") ? positive("depth-max-mm")
                                               : cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm)) * 1e-3;
+  // The diameter defaults to the config's (process.tool_diameter_mm or
+  // process.workpiece_diameter_mm); the flag overrides it.
+  opt.diameter_m = milling ? cfg.process.milling_parameters().tool_diameter_m
+                           : cfg.process.turning_parameters().workpiece_diameter_m;
   if (vm.count("tool-diameter-mm")) opt.diameter_m = positive("tool-diameter-mm") * 1e-3;
   if (vm.count("workpiece-diameter-mm")) opt.diameter_m = positive("workpiece-diameter-mm") * 1e-3;
   if (vm.count("tangential-coefficient-n-per-m2"))

@@ -941,9 +941,11 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
       g.process = process_for(process, r);
       std::string warning;
       g.method = resolve_lobe_method(g.process, options.method, &warning);
-      if (!warning.empty() &&
-          std::find(report.warnings.begin(), report.warnings.end(), warning) == report.warnings.end())
-        report.warnings.push_back(warning);
+      std::vector<std::string> notes = ignored_feature_notes(find_lobe_method(g.method), g.process);
+      if (!warning.empty()) notes.insert(notes.begin(), warning);
+      for (const std::string& n : notes)
+        if (std::find(report.warnings.begin(), report.warnings.end(), n) == report.warnings.end())
+          report.warnings.push_back(n);
     }
     g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
     g.rows.push_back(i);
@@ -1099,6 +1101,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   std::string warning;
   rec.method = resolve_lobe_method(process, options.method, &warning);
   if (!warning.empty()) rec.warnings.push_back(warning);
+  for (const std::string& n : ignored_feature_notes(find_lobe_method(rec.method), process)) rec.warnings.push_back(n);
   std::vector<std::string> model_warnings;
   const CutModel cm = cut_model(process, options, model_warnings);
   if (options.diameter_m > 0.0)
