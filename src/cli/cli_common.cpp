@@ -86,6 +86,14 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   return s;
 }
 
+double plot_depth_max_mm(const po::variables_map& vm, bool plotting) {
+  if (vm.count("plot-depth-max-mm") == 0) return 0.0;
+  const double v = vm["plot-depth-max-mm"].as<double>();
+  if (!plotting) throw InputError("--plot-depth-max-mm: only with --plot (it sets the plot's depth axis)");
+  if (!(std::isfinite(v) && v > 0.0)) throw InputError("--plot-depth-max-mm = " + fmt(v) + ": must be > 0 mm");
+  return v;
+}
+
 }  // namespace chatter::cli
 
 #include <unistd.h>

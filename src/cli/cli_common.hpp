@@ -66,6 +66,14 @@ struct Sweep {
 };
 Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg);
 
+/// The help of --plot-depth-max-mm (lobes, compare).
+inline constexpr const char* kPlotDepthMaxHelp =
+    "with --plot: top of the depth axis, mm (> 0; default: 1.1 x the deepest finite limit, rounded up, "
+    "at most --depth-max-mm, so every stable pocket is visible)";
+/// --plot-depth-max-mm: 0 when not given (automatic axis). @throws InputError
+/// if it is not finite and > 0, or given without --plot (`plotting` false).
+double plot_depth_max_mm(const po::variables_map& vm, bool plotting);
+
 }  // namespace chatter::cli
 
 #include <chrono>

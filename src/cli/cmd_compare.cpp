@@ -245,8 +245,8 @@ std::string compare_report(const Config& cfg, const Sweep& s, const std::vector<
   return report.str();
 }
 
-void plot_runs(const std::string& plot_path, const Config& cfg, const Sweep& s, const std::vector<MethodRun>& runs,
-               std::ostream& info) {
+void plot_runs(const std::string& plot_path, double depth_axis_max_mm, const Config& cfg, const Sweep& s,
+               const std::vector<MethodRun>& runs, std::ostream& info) {
   std::vector<MethodLimits> lines(runs.size());
   for (std::size_t m = 0; m < runs.size(); ++m) {
     lines[m].method = runs[m].descriptor->name;
@@ -264,7 +264,10 @@ void plot_runs(const std::string& plot_path, const Config& cfg, const Sweep& s, 
       lines[m].multiplier_type.push_back(type);
     }
   }
-  const auto plot = plot_compare(plot_path, cfg.name + ": depth limit by method", lines, s.depth_max_mm * 1e-3);
+  PlotOptions options;
+  options.depth_axis_max_mm = depth_axis_max_mm;
+  const auto plot =
+      plot_compare(plot_path, cfg.name + ": depth limit by method", lines, s.depth_max_mm * 1e-3, options);
   info << "wrote plot: " << plot.image.string() << " (gnuplot script " << plot.script.string() << ", data "
        << plot.data.string() << ")\n";
 }
@@ -285,7 +288,8 @@ int cmd_compare(const std::vector<std::string>& args) {
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: sweep.depth_max_mm or 50)")
       ("table", po::value<std::string>(&table_path), "write the comparison CSV here (default: standard output)")
       ("json", po::value<std::string>(&json_path), "also write the pairwise differences as JSON")
-      ("plot", po::value<std::string>(&plot_path), "draw every method's depth limit on one chart to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
+      ("plot", po::value<std::string>(&plot_path), "draw every method's depth limit on one chart to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
+      ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter compare CONFIG [--methods LIST] [options]\n\n"
@@ -310,6 +314,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   std::vector<std::string> methods;
   if (vm.count("methods")) methods = parse_methods(methods_list, all);  // fail before reading the config
   if (!plot_path.empty()) check_plot_path(plot_path);  // fail before computing
+  const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const Config cfg = load_checked(common);
   methods = chosen_methods(std::move(methods), all, methods_list, cfg);
   check_solver_options(methods, vm, "--methods");
@@ -346,7 +351,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   if (table_path.empty()) std::cout << csv;
   std::ostream& info = table_path.empty() ? std::cerr : std::cout;
   info << report;
-  if (!plot_path.empty()) plot_runs(plot_path, cfg, s, runs, info);
+  if (!plot_path.empty()) plot_runs(plot_path, plot_depth_axis_mm, cfg, s, runs, info);
   return 0;
 }
 

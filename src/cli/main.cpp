@@ -115,7 +115,8 @@ int cmd_lobes(const std::vector<std::string>& args) {
       ("table", po::value<std::string>(&table_path), "write the CSV table here (default: standard output)")
       ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
-      ("plot-frequency", "with --plot: add a panel with the chatter frequency");
+      ("plot-frequency", "with --plot: add a panel with the chatter frequency")
+      ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
@@ -137,6 +138,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     throw InputError("--rpm-spacing = '" + spacing + "': must be even or adaptive");
   const bool adaptive = spacing == "adaptive";
   if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
+  const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
@@ -259,6 +261,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (!plot_path.empty()) {
     chatter::PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
+    po_.depth_axis_max_mm = plot_depth_axis_mm;
     // The plotted envelope: the table's rows refined where the line through
     // them leaves the exact envelope, cusps between lobes located.
     chatter::EnvelopeRefinement plot_refinement;

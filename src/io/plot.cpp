@@ -215,6 +215,8 @@ std::string PlotOptions::validate() const {
   if (width_px < 200 || width_px > 10000) return "width_px must be in [200, 10000]";
   if (height_px < 150 || height_px > 10000) return "height_px must be in [150, 10000]";
   if (font_size < 4 || font_size > 72) return "font_size must be in [4, 72]";
+  if (!(std::isfinite(depth_axis_max_mm) && depth_axis_max_mm >= 0.0))
+    return "depth_axis_max_mm must be > 0 mm (or 0: automatic)";
   return {};
 }
 
@@ -304,18 +306,19 @@ std::pair<double, double> speed_axis(const std::vector<StabilityLimit>& rows) {
   return {rpm_lo, rpm_hi};
 }
 
-// Top of the depth axis (mm): enough to show the pockets between lobes, not
-// dominated by the narrow peaks (which reach depth_max). `bounded`: the
-// bounded depths (mm, clipped to depth_max_mm); 4 × the absolute limit (if
-// any, else the lowest depth) is always shown.
-double lobes_y_max(std::vector<double> bounded, double depth_max_mm, bool has_abs, double abs_mm) {
+// Top of the depth axis (mm): every finite limit visible with a 10 % margin
+// (the deepest stable pocket, e.g. a flip/Hopf pocket of sdm at low
+// immersion, must not be cut off), and at least 4 × the absolute limit (if
+// any, else the lowest depth) so that the pockets stand out from it; rounded
+// up to a nice value and capped at depth_max_mm. `bounded`: the bounded
+// depths (mm, clipped to depth_max_mm).
+constexpr double kDepthAxisMargin = 1.1;
+double lobes_y_max(const std::vector<double>& bounded, double depth_max_mm, bool has_abs, double abs_mm) {
   double y_max = depth_max_mm;
   if (!bounded.empty()) {
-    std::nth_element(bounded.begin(), bounded.begin() + static_cast<std::ptrdiff_t>(bounded.size() / 2),
-                     bounded.end());
-    const double median = bounded[bounded.size() / 2];
     const double lowest = *std::min_element(bounded.begin(), bounded.end());
-    const double want = std::max({4.0 * (has_abs ? abs_mm : lowest), 1.5 * median, 1.2 * lowest});
+    const double highest = *std::max_element(bounded.begin(), bounded.end());
+    const double want = std::max(4.0 * (has_abs ? abs_mm : lowest), kDepthAxisMargin * highest);
     y_max = std::min(depth_max_mm, nice_ceil(want));
   }
   return y_max;
@@ -515,7 +518,8 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
     if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
   const bool has_abs = std::isfinite(absolute_limit.depth_m) && absolute_limit.depth_m > 0.0;
   const double abs_mm = has_abs ? absolute_limit.depth_m * 1e3 : 0.0;
-  const double y_max = lobes_y_max(bounded, depth_max_mm, has_abs, abs_mm);
+  const double y_max =
+      options.depth_axis_max_mm > 0.0 ? options.depth_axis_max_mm : lobes_y_max(bounded, depth_max_mm, has_abs, abs_mm);
   const std::vector<Label> labels = lobe_labels(curves, rpm_lo, rpm_hi, y_max);
   std::size_t curve_points = 0;
   const std::string dat =
@@ -1090,15 +1094,14 @@ std::vector<std::size_t> compare_styles(const std::vector<MethodLimits>& methods
   return style_of;
 }
 
-// Top of the depth axis (mm): the pockets between lobes readable, the narrow peaks cut.
-double compare_y_max(std::vector<double> bounded, double depth_max_mm) {
+// Top of the depth axis (mm): every bounded limit of every method visible
+// with a margin (as lobes_y_max), at least 3 × the smallest one.
+double compare_y_max(const std::vector<double>& bounded, double depth_max_mm) {
   double y_max = depth_max_mm;
   if (!bounded.empty()) {
-    std::nth_element(bounded.begin(), bounded.begin() + static_cast<std::ptrdiff_t>(bounded.size() / 2),
-                     bounded.end());
-    const double median = bounded[bounded.size() / 2];
     const double lowest = *std::min_element(bounded.begin(), bounded.end());
-    y_max = std::min(depth_max_mm, nice_ceil(std::max(1.5 * median, 3.0 * lowest)));
+    const double highest = *std::max_element(bounded.begin(), bounded.end());
+    y_max = std::min(depth_max_mm, nice_ceil(std::max(kDepthAxisMargin * highest, 3.0 * lowest)));
   }
   return y_max;
 }
@@ -1269,7 +1272,7 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
       if (r.bounded()) bounded.push_back(std::min(r.depth_limit_m * 1e3, depth_max_mm));
       else gaps = true;
     }
-  const double y_max = compare_y_max(bounded, depth_max_mm);
+  const double y_max = options.depth_axis_max_mm > 0.0 ? options.depth_axis_max_mm : compare_y_max(bounded, depth_max_mm);
   std::vector<std::array<std::size_t, 3>> marks;
   const std::string dat = compare_data(title, methods, depth_max_mm, marks);
   const std::string gp =

@@ -85,6 +85,9 @@ struct PlotOptions {
   /// plot_lobes only: a lower panel with the chatter frequency (Hz) at the
   /// limit against spindle speed.
   bool chatter_frequency_panel = false;
+  /// plot_lobes and plot_compare: top of the depth axis, mm (> 0), or 0 for
+  /// the automatic range (see plot_lobes). Not capped: the caller chose it.
+  double depth_axis_max_mm = 0.0;
 
   /// Empty when valid, else the violated rule.
   std::string validate() const;
@@ -104,7 +107,9 @@ struct PlotFiles {
 /// thin line, numbered k near its minimum when that minimum lies inside the
 /// plot; the absolute limit as a dashed line labelled with its value (omitted
 /// when infinite). The y range is 0 to a rounded value around 4× the absolute
-/// limit and 1.5× the median envelope depth, capped at depth_max_m.
+/// limit and 1.1× the largest bounded envelope depth (so that every finite
+/// limit, the deepest stable pocket included, is drawn with a margin),
+/// capped at depth_max_m; PlotOptions::depth_axis_max_mm overrides it.
 /// @param envelope  rows of lobe_envelope() in increasing speed (>= 1 row).
 /// @param curves    lobe_curves() over the same speed range (may be empty).
 /// @param depth_max_m  deepest cut searched (the solver's depth_max_m()).
@@ -179,8 +184,9 @@ struct MethodLimits {
 /// so that curves that coincide all stay visible), the stretches where a
 /// method with multiplier types is limited by a flip (or fold) multiplier
 /// drawn over its line, a legend naming the methods; speeds with no limit
-/// below depth_max_m leave a gap. The y range is 0 to a rounded value around 1.5× the
-/// median and 3× the smallest bounded limit, capped at depth_max_m.
+/// below depth_max_m leave a gap. The y range is 0 to a rounded value at or
+/// above 1.1× the largest bounded limit of all methods and 3× the smallest,
+/// capped at depth_max_m; PlotOptions::depth_axis_max_mm overrides it.
 /// @param methods  1 to 8 methods, each with the same (>= 1) speeds.
 /// @param depth_max_m  deepest cut searched, m (> 0).
 /// @throws InputError (bad path, extension or options; no method, an empty
