@@ -110,4 +110,94 @@ TEST_F(OutputsCli, ComparePlotDepthAxis) {
   EXPECT_EQ(script_y_max(slurp(path("f.gp"))), 7.0);
 }
 
+// ---------------------------------------------------------------------------
+// 2. The table reaches the terminal only when it is the only output, or with '-'.
+
+TEST_F(OutputsCli, LobesPlotAloneDoesNotPrintTheTable) {
+  const auto r = run({"lobes", kTurning, "--rpm-points", "200", "--quiet", "--plot", path("l.png").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(contains(r.out, "spindle_rpm,")) << r.out.substr(0, 200);
+  EXPECT_LT(lines(r.out).size(), 5u) << "stdout has " << lines(r.out).size() << " lines";
+  EXPECT_TRUE(contains(r.out, "wrote plot")) << r.out;
+
+  const auto json_only = run({"lobes", kTurning, "--rpm-points", "200", "--json", path("l.json").string()});
+  ASSERT_EQ(json_only.exit_code, 0) << json_only.err;
+  EXPECT_FALSE(contains(json_only.out, "spindle_rpm,"));
+
+  // Nothing else asked: the table is the output (unchanged behaviour).
+  const auto plain = run({"lobes", kTurning, "--rpm-points", "200"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(lines(plain.out).size(), 201u);  // header + 200 rows
+
+  // '-' asks for it beside the plot.
+  const auto dash = run({"lobes", kTurning, "--rpm-points", "200", "--quiet", "--table", "-", "--plot",
+                         path("d.png").string()});
+  ASSERT_EQ(dash.exit_code, 0) << dash.err;
+  EXPECT_EQ(lines(dash.out).size(), 201u);
+  EXPECT_TRUE(contains(dash.err, "wrote plot")) << dash.err;
+  EXPECT_FALSE(chatter::test::fs::exists(path("-")));
+}
+
+TEST_F(OutputsCli, MapFrfComparePlotAloneDoNotPrintTheTable) {
+  const auto map = run({"map", kCaseC, "--rpm-points", "20", "--depth-points", "10", "--quiet", "--plot",
+                        path("m.png").string()});
+  ASSERT_EQ(map.exit_code, 0) << map.err;
+  EXPECT_FALSE(contains(map.out, "spindle_rpm,"));
+  EXPECT_LT(lines(map.out).size(), 5u);
+  const auto map_plain = run({"map", kCaseC, "--rpm-points", "20", "--depth-points", "10", "--quiet"});
+  ASSERT_EQ(map_plain.exit_code, 0) << map_plain.err;
+  EXPECT_EQ(lines(map_plain.out).size(), 201u);  // header + 20 x 10
+
+  const auto frf = run({"frf", kTurning, "--points", "300", "--plot", path("f.png").string()});
+  ASSERT_EQ(frf.exit_code, 0) << frf.err;
+  EXPECT_FALSE(contains(frf.out, "frequency_hz,"));
+  const auto frf_dash = run({"frf", kTurning, "--points", "300", "--out", "-", "--plot", path("g.png").string()});
+  ASSERT_EQ(frf_dash.exit_code, 0) << frf_dash.err;
+  EXPECT_EQ(lines(frf_dash.out).size(), 301u);
+
+  const auto cmp = run({"compare", kTurning, "--rpm-points", "30", "--quiet", "--plot", path("c.png").string()});
+  ASSERT_EQ(cmp.exit_code, 0) << cmp.err;
+  EXPECT_FALSE(contains(cmp.out, "spindle_rpm,"));
+}
+
+// ---------------------------------------------------------------------------
+// 3. Every output path checked before computing: exit 2, flag and path named,
+// nothing written.
+
+TEST_F(OutputsCli, BadOutputPathsFailBeforeAnythingIsWritten) {
+  const std::string missing = path("no_such_dir/x").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string flag;
+  };
+  const std::string ok_csv = path("ok.csv").string(), ok_png = path("ok.png").string();
+  const std::vector<Case> cases = {
+      {{"lobes", kTurning, "--table", ok_csv, "--plot", missing + ".png"}, "--plot"},
+      {{"lobes", kTurning, "--table", missing + ".csv", "--plot", ok_png}, "--table"},
+      {{"lobes", kTurning, "--table", ok_csv, "--json", missing + ".json"}, "--json"},
+      {{"map", kCaseC, "--rpm-points", "5", "--depth-points", "3", "--out", ok_csv, "--plot", missing + ".png"},
+       "--plot"},
+      {{"compare", kTurning, "--table", ok_csv, "--json", missing + ".json"}, "--json"},
+      {{"frf", kTurning, "--out", missing + ".csv", "--plot", ok_png}, "--out"},
+      {{"simulate", kTurning, "--rpm", "1000", "--depth-mm", "1", "--out", ok_csv, "--spectrum", missing + ".csv"},
+       "--spectrum"},
+      {{"simulate", kTurning, "--rpm", "1000", "--depth-mm", "1", "--periodic", "/proc/chatter_cannot.csv"},
+       "--periodic"},
+      {{"lobes", kTurning, "--table", dir_.string()}, "--table"},                  // a directory
+      {{"lobes", kTurning, "--table", ok_csv, "--json", ok_csv}, "--json"},          // the same file twice
+      {{"lobes", kTurning, "--table", path("ok.dat").string(), "--plot", ok_png}, "--plot"},  // the plot's data
+  };
+  for (const Case& c : cases) {
+    const auto r = run(c.args);
+    std::string cmd;
+    for (const auto& a : c.args) cmd += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, c.flag + " ")) << cmd << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, "nothing written")) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << cmd;
+    const auto left = files();
+    EXPECT_TRUE(left.empty()) << cmd << ": left " << left.front();
+  }
+}
+
 }  // namespace

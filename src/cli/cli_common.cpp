@@ -5,7 +5,15 @@
 #include <optional>
 #include <sstream>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
 #include "chatter/error.hpp"
+#include "chatter/io/plot.hpp"
 
 namespace chatter::cli {
 
@@ -84,6 +92,59 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   if (!(std::isfinite(s.depth_max_mm) && s.depth_max_mm > 0.0))
     throw InputError("--depth-max-mm = " + fmt(s.depth_max_mm) + ": must be > 0 mm");
   return s;
+}
+
+namespace {
+
+// Why `file` (named by `flag` on the command line) cannot be written, or "".
+std::string unwritable(const std::filesystem::path& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(file, ec);
+  if (fs::is_directory(st)) return "is a directory; give a file name";
+  if (fs::exists(st) && !fs::is_regular_file(st))  // /dev/null, a pipe: written in place
+    return ::access(file.c_str(), W_OK) == 0 ? "" : "cannot write (" + std::string(std::strerror(errno)) + ")";
+  const fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  if (!fs::exists(dir, ec)) return "directory " + dir.string() + " does not exist";
+  if (!fs::is_directory(dir, ec)) return dir.string() + " is not a directory";
+  // The writer creates <file>.partial and renames it: probe exactly that.
+  fs::path probe = file;
+  probe += ".partial";
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) return "";
+    return "cannot create a file in " + dir.string() + " (" + std::strerror(errno) + ")";
+  }
+  ::close(fd);
+  fs::remove(probe, ec);
+  return "";
+}
+
+}  // namespace
+
+void check_outputs(const std::vector<Output>& outputs) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<fs::path, std::string>> seen;  // absolute path, flag
+  for (const Output& o : outputs) {
+    if (o.path.empty()) continue;
+    const std::string given = o.flag + " " + o.path + ": ";
+    std::vector<fs::path> files{o.path};
+    if (o.plot) {
+      with_flag(o.flag, [&] { return check_plot_path(o.path); });
+      if (fs::path(o.path).stem().empty()) throw InputError(given + "not an image file name");
+      for (const char* ext : {".gp", ".dat"}) files.push_back(fs::path(o.path).replace_extension(ext));
+    }
+    for (const fs::path& f : files) {
+      if (const std::string why = unwritable(f); !why.empty())
+        throw InputError(given + (f == fs::path(o.path) ? "" : f.string() + ": ") + why + " (nothing written)");
+      std::error_code ec;
+      const fs::path key = fs::weakly_canonical(fs::absolute(f), ec);
+      for (const auto& [p, flag] : seen)
+        if (p == key && !(f.string().rfind("/dev/", 0) == 0))
+          throw InputError(given + "the same file as " + flag + " (nothing written)");
+      seen.emplace_back(key, o.flag);
+    }
+  }
 }
 
 double plot_depth_max_mm(const po::variables_map& vm, bool plotting) {

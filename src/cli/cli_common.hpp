@@ -66,6 +66,24 @@ struct Sweep {
 };
 Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg);
 
+/// One output file of a command: the flag that named it and the path ("" =
+/// not asked or standard output: skipped by check_outputs). A plot
+/// also writes <stem>.gp and <stem>.dat beside the image.
+struct Output {
+  std::string flag;  ///< e.g. "--table"
+  std::string path;
+  bool plot = false;
+};
+/// Checks, before anything is computed, that every output can be written:
+/// the image type of a plot (check_plot_path), the directory exists and a
+/// file can be created in it (probed by creating and removing
+/// <path>.partial, the name the writer uses), the path is not a directory,
+/// an existing special file (/dev/null, a pipe) is writable, and no two
+/// outputs (plot siblings included) are the same file. Cost: a few system
+/// calls per output. @throws InputError "<flag> <path>: <why> (nothing
+/// written)".
+void check_outputs(const std::vector<Output>& outputs);
+
 /// The help of --plot-depth-max-mm (lobes, compare).
 inline constexpr const char* kPlotDepthMaxHelp =
     "with --plot: top of the depth axis, mm (> 0; default: 1.1 x the deepest finite limit, rounded up, "

@@ -286,8 +286,10 @@ int cmd_compare(const std::vector<std::string>& args) {
       ("rpm-max", po::value<double>(), "highest spindle speed, rev/min (default: sweep.rpm_max)")
       ("rpm-points", po::value<int>(), "number of evenly spaced speeds (default: sweep.rpm_points or 400)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: sweep.depth_max_mm or 50)")
-      ("table", po::value<std::string>(&table_path), "write the comparison CSV here (default: standard output)")
-      ("json", po::value<std::string>(&json_path), "also write the pairwise differences as JSON")
+      ("table", po::value<std::string>(&table_path), "write the comparison CSV here ('-': standard output; by "
+                                                     "default standard output only when neither --json nor --plot "
+                                                     "is given)")
+      ("json", po::value<std::string>(&json_path), "write the pairwise differences as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw every method's depth limit on one chart to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
   add_solver_options(d);
@@ -313,7 +315,9 @@ int cmd_compare(const std::vector<std::string>& args) {
   bool all = false;
   std::vector<std::string> methods;
   if (vm.count("methods")) methods = parse_methods(methods_list, all);  // fail before reading the config
-  if (!plot_path.empty()) check_plot_path(plot_path);  // fail before computing
+  const bool table_to_stdout = table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty());
+  if (table_path == "-") table_path.clear();
+  check_outputs({{"--table", table_path}, {"--json", json_path}, {"--plot", plot_path, true}});  // before computing
   const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const Config cfg = load_checked(common);
   methods = chosen_methods(std::move(methods), all, methods_list, cfg);
@@ -348,8 +352,8 @@ int cmd_compare(const std::vector<std::string>& args) {
     files.emplace_back(json_path, j.dump(2) + "\n");
   }
   write_text_files(files);
-  if (table_path.empty()) std::cout << csv;
-  std::ostream& info = table_path.empty() ? std::cerr : std::cout;
+  if (table_to_stdout) std::cout << csv;
+  std::ostream& info = table_to_stdout ? std::cerr : std::cout;
   info << report;
   if (!plot_path.empty()) plot_runs(plot_path, plot_depth_axis_mm, cfg, s, runs, info);
   return 0;

@@ -74,7 +74,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
              "      --out series.csv --plot sim.png\n",
              d, common, vm))
     return 0;
-  if (!plot_path.empty()) check_plot_path(plot_path);
+  check_outputs({{"--out", out_path}, {"--periodic", periodic_path}, {"--spectrum", spectrum_path},
+                 {"--plot", plot_path, true}});  // before computing
   const Config cfg = load_checked(common);
   if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");

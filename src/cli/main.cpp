@@ -112,8 +112,9 @@ int cmd_lobes(const std::vector<std::string>& args) {
                                                         "--rpm-points evenly spaced, the rest halving the intervals where the "
                                                         "envelope bends (0.5 % depth midpoint test, cusps between lobes located)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm; deeper limits print as inf (default: sweep.depth_max_mm or 50)")
-      ("table", po::value<std::string>(&table_path), "write the CSV table here (default: standard output)")
-      ("json", po::value<std::string>(&json_path), "also write the table with its provenance as JSON")
+      ("table", po::value<std::string>(&table_path), "write the CSV table here ('-': standard output; by default "
+                                                     "standard output only when neither --json nor --plot is given)")
+      ("json", po::value<std::string>(&json_path), "write the table with its provenance as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-frequency", "with --plot: add a panel with the chatter frequency")
       ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
@@ -137,7 +138,10 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (spacing != "even" && spacing != "adaptive")
     throw InputError("--rpm-spacing = '" + spacing + "': must be even or adaptive");
   const bool adaptive = spacing == "adaptive";
-  if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
+  // The table goes to standard output when asked ('-') or when nothing else is.
+  const bool table_to_stdout = table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty());
+  if (table_path == "-") table_path.clear();
+  check_outputs({{"--table", table_path}, {"--json", json_path}, {"--plot", plot_path, true}});  // before computing
   const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
@@ -253,8 +257,8 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (!table_path.empty()) files.emplace_back(table_path, csv.str());
   if (!json_path.empty()) files.emplace_back(json_path, json_text);
   chatter::write_text_files(files);  // all or nothing
-  if (table_path.empty()) std::cout << csv.str();
-  std::ostream& info = table_path.empty() ? std::cerr : std::cout;
+  if (table_to_stdout) std::cout << csv.str();
+  std::ostream& info = table_to_stdout ? std::cerr : std::cout;
   info << summary.str() << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
   if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
@@ -349,7 +353,8 @@ int cmd_frf(const std::vector<std::string>& args) {
       ("fmax", po::value<double>(), "highest frequency, Hz (default: twice the highest natural frequency)")
       ("points", po::value<int>(&points)->default_value(1000), "number of frequencies (>= 2)")
       ("log", "space the frequencies logarithmically (default: evenly)")
-      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)")
+      ("out", po::value<std::string>(&out_path), "write the CSV here ('-': standard output; by default standard "
+                                                 "output only when --plot is not given)")
       ("plot", po::value<std::string>(&plot_path), "draw magnitude and phase to this .png, .svg or .pdf (script and data beside it)")
       ("re-im", "with --plot: draw real and imaginary parts instead of magnitude and phase");
   po::variables_map vm;
@@ -359,7 +364,9 @@ int cmd_frf(const std::vector<std::string>& args) {
                    "The lobes come from the relative receptance: compare it with a tap test.\n",
              d, common, vm))
     return 0;
-  if (!plot_path.empty()) chatter::check_plot_path(plot_path);
+  const bool table_to_stdout = out_path == "-" || (out_path.empty() && plot_path.empty());
+  if (out_path == "-") out_path.clear();
+  check_outputs({{"--out", out_path}, {"--plot", plot_path, true}});  // before computing
   const chatter::Config cfg = load_checked(common);
   const double f_lo_default = 0.5 * cfg.model.min_omega() / (2 * std::numbers::pi);
   const double f_hi_default = 2.0 * cfg.model.max_omega() / (2 * std::numbers::pi);
@@ -398,9 +405,8 @@ int cmd_frf(const std::vector<std::string>& args) {
       }
     os << '\n';
   }
-  if (out_path.empty()) {
-    std::cout << os.str();
-  } else {
+  if (table_to_stdout) std::cout << os.str();
+  if (!out_path.empty()) {
     chatter::write_text_file(out_path, os.str());
     std::cout << "wrote receptance table (" << points << " frequencies, " << fmt(fmin) << "-" << fmt(fmax)
               << " Hz): " << out_path << "\n";
@@ -409,7 +415,7 @@ int cmd_frf(const std::vector<std::string>& args) {
     chatter::PlotOptions po_;
     if (vm.count("re-im")) po_.frf_parts = chatter::FrfParts::real_imaginary;
     const auto files = chatter::plot_frf(plot_path, cfg.name, cfg.model, fmin, fmax, points, log_spacing, po_);
-    (out_path.empty() ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
+    (table_to_stdout ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
                                                << files.script.string() << ")\n";
   }
   return 0;
@@ -432,7 +438,8 @@ int cmd_map(const std::vector<std::string>& args) {
       ("rpm-points", po::value<int>(), "number of speeds (default: sweep.rpm_points or 400)")
       ("depth-max-mm", po::value<double>(), "deepest cut, mm (default: sweep.depth_max_mm or 50)")
       ("depth-points", po::value<int>(&depth_points)->default_value(100), "number of depths from 0 to --depth-max-mm (>= 2)")
-      ("out", po::value<std::string>(&out_path), "write the CSV here (default: standard output)")
+      ("out", po::value<std::string>(&out_path), "write the CSV here ('-': standard output; by default standard "
+                                                 "output only when --plot is not given)")
       ("plot", po::value<std::string>(&plot_path), "draw the map to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
   add_solver_options(d);
   po::variables_map vm;
@@ -449,7 +456,9 @@ int cmd_map(const std::vector<std::string>& args) {
   if (common.method != floquet_method || floquet_method.empty())
     throw InputError("--method " + common.method + ": map needs --method " + floquet_method);
   if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");
-  if (!plot_path.empty()) chatter::check_plot_path(plot_path);  // fail before computing
+  const bool table_to_stdout = out_path == "-" || (out_path.empty() && plot_path.empty());
+  if (out_path == "-") out_path.clear();
+  check_outputs({{"--out", out_path}, {"--plot", plot_path, true}});  // before computing
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
   const unsigned threads = thread_count(vm);
@@ -482,14 +491,14 @@ int cmd_map(const std::vector<std::string>& args) {
     for (std::size_t k = 0; k < depths.size(); ++k)
       os << chatter::table_number(speeds[i]) << ',' << chatter::table_number(depths[k] * 1e3) << ','
          << chatter::table_number(rho[i * depths.size() + k]) << '\n';
-  if (out_path.empty()) {
-    std::cout << os.str();
-  } else {
-    chatter::write_text_file(out_path, os.str());
+  if (table_to_stdout) std::cout << os.str();
+  if (!out_path.empty()) chatter::write_text_file(out_path, os.str());
+  {
     std::size_t unstable = 0;
     for (double r : rho) unstable += r >= 1.0;
-    std::cout << cfg.name << " (sdm): " << speeds.size() << " x " << depths.size() << " points, " << unstable
-              << " unstable; wrote map: " << out_path << "\n";
+    (table_to_stdout ? std::cerr : std::cout) << cfg.name << " (sdm): " << speeds.size() << " x " << depths.size()
+                                              << " points, " << unstable << " unstable"
+                                              << (out_path.empty() ? "" : "; wrote map: " + out_path) << "\n";
   }
   if (!plot_path.empty()) {
     // The plot tells Hopf from flip: the type of the dominant multiplier at
@@ -511,7 +520,7 @@ int cmd_map(const std::vector<std::string>& args) {
           [&](std::size_t done) { progress.tick(done); });
     }
     const auto files = chatter::plot_stability_map(plot_path, cfg.name + ": spectral radius (sdm)", grid);
-    (out_path.empty() ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
+    (table_to_stdout ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
                                                << files.script.string() << ", data " << files.data.string()
                                                << ")\n";
   }
