@@ -139,9 +139,12 @@ void check_outputs(const std::vector<Output>& outputs) {
         throw InputError(given + (f == fs::path(o.path) ? "" : f.string() + ": ") + why + " (nothing written)");
       std::error_code ec;
       const fs::path key = fs::weakly_canonical(fs::absolute(f), ec);
+      const std::string what = f == fs::path(o.path) ? std::string()
+                               : "the " + o.flag + (f.extension() == ".gp" ? " script " : " data file ") +
+                                     f.string() + " is ";
       for (const auto& [p, flag] : seen)
         if (p == key && !(f.string().rfind("/dev/", 0) == 0))
-          throw InputError(given + "the same file as " + flag + " (nothing written)");
+          throw InputError(given + what + "the same file as " + flag + " (nothing written)");
       seen.emplace_back(key, o.flag);
     }
   }

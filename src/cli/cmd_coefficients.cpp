@@ -113,7 +113,7 @@ int cmd_coefficients(const std::vector<std::string>& args) {
   else throw InputError("--milling-direction '" + direction + "': use down or up");
   if (vm.count("diameter-mm") && !(std::isfinite(diameter_mm) && diameter_mm > 0.0))
     throw InputError("--diameter-mm = " + fmt(diameter_mm) + ": must be > 0 mm");
-  if (!plot_path.empty()) check_plot_path(plot_path);
+  check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--out", out_path}, {"--plot", plot_path, true}});
 
   // ---- read and fit ----
   const CoefficientTests tests = read_coefficient_tests(tests_path);

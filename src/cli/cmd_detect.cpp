@@ -117,7 +117,7 @@ int cmd_detect(const std::vector<std::string>& args) {
                                         : "--depth-mm: give --config too (the model to check the speeds against)");
   if (vm.count("depth-mm") && !(std::isfinite(depth_mm) && depth_mm > 0.0 && depth_mm <= 1000.0))
     throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be in (0, 1000] mm");
-  if (!plot_path.empty()) check_plot_path(plot_path);
+  check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--plot", plot_path, true}});  // before computing
   std::optional<Config> cfg;
   if (!config_path.empty()) {
     Common c;

@@ -378,7 +378,7 @@ bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
   }
   a.body = lower(a.body);
   if (a.body != "tool" && a.body != "workpiece") throw InputError("--body '" + a.body + "': use tool or workpiece");
-  if (!a.plot.empty()) check_plot_path(a.plot);
+  check_outputs({{"--out", a.out}, {"--plot", a.plot, true}});  // before reading or fitting
   if (!a.direction.empty()) parse_direction(a.direction);
   return true;
 }

@@ -158,6 +158,7 @@ int cmd_check(const std::vector<std::string>& args) {
       ("quiet,q", "no progress bar");
   po::variables_map vm;
   if (!parse(args, kCheckUsage, d, common, vm)) return 0;
+  check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
   const Config cfg = load_checked(common);
   CheckOptions opt;
   opt.machine = machine_range(vm, cfg);
@@ -323,6 +324,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
              "Exit status: 0 a recommendation was made, 2 bad input or usage, 1 internal failure.\n",
              d, common, vm))
     return 0;
+  check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
   const Config cfg = load_checked(common);
   const bool milling = cfg.process.operation() == Operation::kMilling;
   RecommendOptions opt;
