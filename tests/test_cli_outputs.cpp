@@ -200,4 +200,53 @@ TEST_F(OutputsCli, BadOutputPathsFailBeforeAnythingIsWritten) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// 4. lobes --fail-on-chatter --depth-mm D: exit 3 when D chatters at a speed of
+// the table, the count checked against the table itself.
+
+TEST_F(OutputsCli, LobesFailOnChatterJudgesTheDepthAtEverySpeed) {
+  // Case A: absolute limit 1.278 mm (closed form 2k zeta (1 + zeta) / K_f), so
+  // 0.5 mm is stable everywhere and 3 mm chatters at most speeds.
+  const auto stable = run({"lobes", kTurning, "--rpm-points", "100", "--depth-mm", "0.5", "--fail-on-chatter",
+                           "--table", path("s.csv").string()});
+  EXPECT_EQ(stable.exit_code, 0) << stable.err;
+  EXPECT_TRUE(contains(stable.err, "stable at all 100 speeds")) << stable.err;
+
+  const auto deep = run({"lobes", kTurning, "--rpm-points", "100", "--depth-mm", "3", "--fail-on-chatter",
+                         "--table", path("d.csv").string()});
+  EXPECT_EQ(deep.exit_code, 3) << deep.err;
+  // The speeds of the table whose limit is not above 3 mm.
+  std::size_t expected = 0;
+  std::string first;
+  const auto rows = lines(slurp(path("d.csv")));
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const std::size_t c1 = rows[i].find(','), c2 = rows[i].find(',', c1 + 1);
+    const std::string limit = rows[i].substr(c1 + 1, c2 - c1 - 1);
+    if (limit != "inf" && std::stod(limit) <= 3.0) {
+      if (expected++ == 0) first = rows[i].substr(0, c1);
+    }
+  }
+  ASSERT_GT(expected, 0u);
+  EXPECT_TRUE(contains(deep.err, "chatter at " + std::to_string(expected) + " of 100 speeds")) << deep.err;
+  EXPECT_TRUE(contains(deep.err, "(" + first)) << "first chatter speed " << first << ": " << deep.err;
+
+  // Without --fail-on-chatter the same line, exit 0.
+  const auto told = run({"lobes", kTurning, "--rpm-points", "100", "--depth-mm", "3", "--table",
+                         path("t.csv").string()});
+  EXPECT_EQ(told.exit_code, 0) << told.err;
+  EXPECT_TRUE(contains(told.err, "chatter at " + std::to_string(expected) + " of 100")) << told.err;
+}
+
+TEST_F(OutputsCli, LobesFailOnChatterNeedsAValidDepth) {
+  const auto none = run({"lobes", kTurning, "--fail-on-chatter", "--table", path("n.csv").string()});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_TRUE(contains(none.err, "--fail-on-chatter: give --depth-mm")) << none.err;
+  for (const char* bad : {"0", "-1", "60"}) {  // 60 > the default --depth-max-mm 50
+    const auto r = run({"lobes", kTurning, "--fail-on-chatter", "--depth-mm", bad, "--table", path("b.csv").string()});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_TRUE(contains(r.err, "--depth-mm = ")) << r.err;
+  }
+  EXPECT_TRUE(files().empty());
+}
+
 }  // namespace

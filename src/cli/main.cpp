@@ -95,7 +95,8 @@ Options: --help, --version. Every command that reads a config prints its
 plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
 and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
-(check: 3 when some operations are unstable).
+(check: 3 when some operations are unstable; lobes --depth-mm D, point and
+simulate with --fail-on-chatter: 3 on chatter).
 )";
 
 int cmd_lobes(const std::vector<std::string>& args) {
@@ -117,7 +118,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
       ("json", po::value<std::string>(&json_path), "write the table with its provenance as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-frequency", "with --plot: add a panel with the chatter frequency")
-      ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
+      ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp)
+      ("depth-mm", po::value<double>(), "a planned depth of cut, mm (< --depth-max-mm): say on standard error at how "
+                                        "many speeds of the table it chatters")
+      ("fail-on-chatter", "with --depth-mm: exit with status 3 when that depth chatters at any speed of the table "
+                          "(for scripts: 0 stable everywhere, 3 chatter, 2 bad input)");
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
@@ -138,6 +143,8 @@ int cmd_lobes(const std::vector<std::string>& args) {
   if (spacing != "even" && spacing != "adaptive")
     throw InputError("--rpm-spacing = '" + spacing + "': must be even or adaptive");
   const bool adaptive = spacing == "adaptive";
+  if (vm.count("fail-on-chatter") && !vm.count("depth-mm"))
+    throw InputError("--fail-on-chatter: give --depth-mm D too (the depth of cut to judge at every speed)");
   // The table goes to standard output when asked ('-') or when nothing else is.
   const bool table_to_stdout = table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty());
   if (table_path == "-") table_path.clear();
@@ -145,6 +152,13 @@ int cmd_lobes(const std::vector<std::string>& args) {
   const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
+  std::optional<double> planned_mm;  // --depth-mm
+  if (vm.count("depth-mm")) {
+    planned_mm = vm["depth-mm"].as<double>();
+    if (!(std::isfinite(*planned_mm) && *planned_mm > 0.0 && *planned_mm < s.depth_max_mm))
+      throw InputError("--depth-mm = " + fmt(*planned_mm) + ": must be > 0 and < --depth-max-mm (" +
+                       fmt(s.depth_max_mm) + " mm; deeper cuts are not searched)");
+  }
   const unsigned threads = thread_count(vm);
   const BuiltSolver built = build_solver(common.method, cfg, s.depth_max_mm * 1e-3, vm);
   const chatter::LobeSolver& solver = *built.solver;
@@ -287,6 +301,23 @@ int cmd_lobes(const std::vector<std::string>& args) {
         abs_lim.value_or(chatter::AbsoluteLimit{}), solver.depth_max_m(), po_);
     info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
          << plot_files.data.string() << ")\n";
+  }
+  if (planned_mm) {
+    // The planned depth against every row of the table: one line on stderr.
+    constexpr std::size_t kSpeedsListed = 5;
+    std::vector<double> chatter_rpm;
+    for (const auto& r : rows)
+      if (!(*planned_mm * 1e-3 < r.depth_limit_m)) chatter_rpm.push_back(r.spindle_rpm);
+    if (chatter_rpm.empty()) {
+      std::cerr << "depth " << fmt(*planned_mm) << " mm: stable at all " << rows.size() << " speeds of the table\n";
+    } else {
+      std::cerr << "depth " << fmt(*planned_mm) << " mm: chatter at " << chatter_rpm.size() << " of " << rows.size()
+                << " speeds of the table";
+      for (std::size_t i = 0; i < chatter_rpm.size() && i < kSpeedsListed; ++i)
+        std::cerr << (i == 0 ? " (" : ", ") << fmt(chatter_rpm[i]);
+      std::cerr << (chatter_rpm.size() > kSpeedsListed ? ", ..." : "") << " rev/min)\n";
+      if (vm.count("fail-on-chatter")) return kExitChatter;
+    }
   }
   return 0;
 }
