@@ -249,4 +249,50 @@ TEST_F(OutputsCli, LobesFailOnChatterNeedsAValidDepth) {
   EXPECT_TRUE(files().empty());
 }
 
+// ---------------------------------------------------------------------------
+// 5. compare's explanations only where their condition holds.
+
+TEST_F(OutputsCli, CompareSaysLowImmersionOnlyWhenItIsLow) {
+  // Case C, a_e/D = 0.05: sdm finds flip-limited speeds well below analytic.
+  const auto low = run({"compare", kCaseC, "--rpm-points", "100", "--quiet", "--table", path("c.csv").string()});
+  ASSERT_EQ(low.exit_code, 0) << low.err;
+  EXPECT_TRUE(contains(low.out, "cannot see flip lobes (low radial immersion, a_e/D = 0.05)")) << low.out;
+  EXPECT_FALSE(contains(low.out, "turning has constant coefficients")) << low.out;
+
+  // a_e/D = 0.5 (up-milling, 2-DOF tool): whatever sdm finds, immersion is
+  // not the reason given.
+  const auto half = run({"compare", kHalfImmersion, "--rpm-points", "100", "--quiet", "--table",
+                         path("h.csv").string()});
+  ASSERT_EQ(half.exit_code, 0) << half.err;
+  EXPECT_FALSE(contains(half.out, "low radial immersion")) << half.out;
+  EXPECT_FALSE(contains(half.out, "turning has constant coefficients")) << half.out;
+
+  // Turning: no flip talk at all, the constant-coefficient explanation instead.
+  const auto turning = run({"compare", kTurning, "--rpm-points", "100", "--quiet", "--table",
+                            path("t.csv").string()});
+  ASSERT_EQ(turning.exit_code, 0) << turning.err;
+  EXPECT_FALSE(contains(turning.out, "flip")) << turning.out;
+  EXPECT_TRUE(contains(turning.out, "turning has constant coefficients")) << turning.out;
+}
+
+TEST_F(OutputsCli, CompareFlipExplanationFollowsTheFlipRows) {
+  // Case C (a_e/D = 0.05) over two speed ranges: 19000-24000 rev/min where
+  // sdm's limits are Hopf-type, 15000-18000 where they are flip-type. The
+  // flip sentence appears exactly when sdm's table has flip rows, with their
+  // count, however low the immersion.
+  for (const auto& [lo, hi] : {std::pair{"19000", "24000"}, std::pair{"15000", "18000"}}) {
+    const auto r = run({"compare", kCaseC, "--methods", "analytic,sdm", "--rpm-min", lo, "--rpm-max", hi,
+                        "--rpm-points", "20", "--quiet", "--table", path("c.csv").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto rows = lines(slurp(path("c.csv")));
+    std::size_t flips = 0;
+    for (std::size_t i = 1; i < rows.size(); ++i) flips += contains(rows[i], ",flip");
+    SCOPED_TRACE(std::string(lo) + "-" + hi + " rev/min: " + std::to_string(flips) + " flip rows\n" + r.out);
+    if (std::string(lo) == "19000") EXPECT_EQ(flips, 0u);
+    else EXPECT_GT(flips, 0u);
+    if (flips == 0) EXPECT_FALSE(contains(r.out, "flip"));
+    else EXPECT_TRUE(contains(r.out, "(flip) chatter at " + std::to_string(flips) + " speed"));
+  }
+}
+
 }  // namespace

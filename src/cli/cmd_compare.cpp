@@ -181,35 +181,65 @@ nlohmann::json compare_pairs(const std::vector<double>& speeds, const std::vecto
   return pairs;
 }
 
-// What a Floquet method finds that the averaged (zeroth-order) one cannot.
-void explain_floquet(const MethodRun& f, const MethodRun* averaged, bool turning, std::size_t speeds,
-                     std::ostream& report) {
+// Below this radial immersion a_e/D the cut is intermittent enough for flip
+// (period-doubling) lobes to be wide and set the limit over whole speed
+// ranges (Insperger & Stepan 2004; case C at 0.05); above it they are few
+// and narrow, so "low radial immersion" is not said as the reason.
+constexpr double kLowImmersion = 0.25;
+// A flip-limited speed counts as missed by the averaged method when the
+// averaged limit there is this much deeper.
+constexpr double kFlipMissedRel = 0.05;
+
+std::string speeds_word(std::size_t n) { return std::to_string(n) + (n == 1 ? " speed" : " speeds"); }
+
+// The radial immersion a_e/D of a milling config (1 for turning).
+double immersion(const Config& cfg) {
+  return cfg.process.operation() == Operation::kMilling ? cfg.process.milling_parameters().radial_immersion : 1.0;
+}
+
+// What a Floquet method finds that the averaged (zeroth-order) one cannot;
+// each sentence only where the compared numbers (or the config) support it.
+// Returns the number of flip-limited speeds.
+std::size_t explain_floquet(const MethodRun& f, const MethodRun* averaged, const Config& cfg, std::size_t speeds,
+                            std::ostream& report) {
   const std::string& name = f.descriptor->name;
+  const bool turning = cfg.process.operation() == Operation::kTurning;
   std::size_t flips = 0, flips_deeper_tf = 0;
   for (std::size_t i = 0; i < speeds; ++i)
     if (f.is_flip(i)) {
       ++flips;
-      if (averaged && averaged->rows[i].depth_limit_m > 1.05 * f.rows[i].depth_limit_m) ++flips_deeper_tf;
+      if (averaged && averaged->rows[i].depth_limit_m > (1.0 + kFlipMissedRel) * f.rows[i].depth_limit_m)
+        ++flips_deeper_tf;
     }
-  if (flips > 0 && averaged) {
-    report << "  " << name << " finds period-doubling (flip) chatter at " << flips << " speeds; at "
+  const double ae_d = immersion(cfg);
+  const std::string why_flip = ae_d < kLowImmersion ? " (low radial immersion, a_e/D = " + fmt(ae_d, 3) + ")" : "";
+  if (flips > 0 && averaged && flips_deeper_tf > 0) {
+    report << "  " << name << " finds period-doubling (flip) chatter at " << speeds_word(flips) << "; at "
            << flips_deeper_tf << " of them the " << averaged->descriptor->name
            << " limit is more than 5 % deeper: the transfer-function method averages\n"
-              "  the cutting force over the tooth period and cannot see flip lobes (low radial immersion).\n";
+              "  the cutting force over the tooth period and cannot see flip lobes"
+           << why_flip << ".\n";
+  } else if (flips > 0 && averaged) {
+    report << "  " << name << " finds period-doubling (flip) chatter at " << speeds_word(flips) << "; there the "
+           << averaged->descriptor->name << " limit is within 5 %: no flip lobe cuts below the averaged\n"
+              "  lobes in this sweep.\n";
   } else if (flips > 0) {
     std::string averaged_names;
     for (const auto& d : solver_registry())
       if (d.kind == SolverKind::kAveraged) averaged_names += (averaged_names.empty() ? "" : ", ") + d.name;
-    report << "  " << name << " finds period-doubling (flip) chatter at " << flips
-           << " speeds: the transfer-function methods (" << averaged_names << ") cannot see flip lobes.\n";
+    report << "  " << name << " finds period-doubling (flip) chatter at " << speeds_word(flips)
+           << ": the transfer-function methods (" << averaged_names << ") cannot see flip lobes" << why_flip
+           << ".\n";
   } else if (turning && averaged) {
     report << "  turning has constant coefficients: " << name << " differs from the exact "
            << averaged->descriptor->name << " limit only by its\n  discretisation error.\n";
   }
+  return flips;
 }
 
 // How a simulation method's limits are found, from its effective options.
-void explain_simulation(const MethodRun& r, bool turning, std::ostream& report) {
+// `flips`: flip-limited speeds found by the Floquet methods compared (0 if none ran).
+void explain_simulation(const MethodRun& r, bool turning, std::size_t flips, std::ostream& report) {
   const auto get = [&](const char* k) { return r.options.at(k); };
   const double tol = std::get<double>(get("depth_tolerance"));
   const int periods = std::get<int>(get("periods"));
@@ -220,9 +250,12 @@ void explain_simulation(const MethodRun& r, bool turning, std::ostream& report) 
   if (turning)
     report << "; turning has constant\n  coefficients: " << r.descriptor->name
            << " should match the exact limit to about the bracket width.\n";
+  else if (flips > 0)
+    report << "; like sdm it sees the\n  intermittent cut of milling (the flip lobes sdm finds at " << speeds_word(flips)
+           << ") that the averaged methods miss.\n";
   else
-    report << "; like sdm it sees the\n  intermittent cut of milling (flip lobes) that the averaged methods "
-              "miss.\n";
+    report << "; it follows the\n  intermittent cut of milling tooth by tooth, which the averaged methods "
+              "average out.\n";
 }
 
 std::string compare_report(const Config& cfg, const Sweep& s, const std::vector<double>& speeds,
@@ -238,10 +271,12 @@ std::string compare_report(const Config& cfg, const Sweep& s, const std::vector<
     for (const auto& r : runs)
       if (!averaged && r.descriptor == &d && d.kind == SolverKind::kAveraged) averaged = &r;
   const bool turning = cfg.process.operation() == Operation::kTurning;
+  std::size_t flips = 0;
   for (const auto& r : runs)
-    if (r.descriptor->kind == SolverKind::kFloquet) explain_floquet(r, averaged, turning, speeds.size(), report);
+    if (r.descriptor->kind == SolverKind::kFloquet)
+      flips = std::max(flips, explain_floquet(r, averaged, cfg, speeds.size(), report));
   for (const auto& r : runs)
-    if (r.descriptor->kind == SolverKind::kSimulation) explain_simulation(r, turning, report);
+    if (r.descriptor->kind == SolverKind::kSimulation) explain_simulation(r, turning, flips, report);
   return report.str();
 }
 
