@@ -295,4 +295,52 @@ TEST_F(OutputsCli, CompareFlipExplanationFollowsTheFlipRows) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// 6. simulate --out-every N and the size warning.
+
+TEST_F(OutputsCli, SimulateOutEveryThinsTheSeries) {
+  const std::vector<std::string> base = {"simulate", kTurning, "--rpm", "1000", "--depth-mm", "1"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return run(a);
+  };
+  const auto all = with({"--out", path("all.csv").string()});
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_FALSE(contains(all.err, "warning")) << all.err;  // ~2.7 MB: under the 50 MB default
+  const auto tenth = with({"--out", path("tenth.csv").string(), "--out-every", "10"});
+  ASSERT_EQ(tenth.exit_code, 0) << tenth.err;
+  const auto full = lines(slurp(path("all.csv"))), thin = lines(slurp(path("tenth.csv")));
+  ASSERT_GT(full.size(), 1000u);
+  // Samples 0, 10, 20, ...: ceil(n / 10) data rows, each a row of the full series.
+  const std::size_t n = full.size() - 1;
+  EXPECT_EQ(thin.size() - 1, (n + 9) / 10) << n << " samples";
+  EXPECT_EQ(thin[0], full[0]);
+  EXPECT_EQ(thin[1], full[1]);
+  EXPECT_EQ(thin[2], full[11]);
+  EXPECT_EQ(thin.back(), full[1 + 10 * (thin.size() - 2)]);
+
+  // The warning, with the size and the advice, once the file passes the limit.
+  const auto big = with({"--out", path("big.csv").string(), "--warn-size-mb", "0.5"});
+  ASSERT_EQ(big.exit_code, 0) << big.err;
+  const double mb = static_cast<double>(chatter::test::fs::file_size(path("big.csv"))) / 1e6;
+  ASSERT_GT(mb, 0.5);
+  EXPECT_TRUE(contains(big.err, "warning: --out")) << big.err;
+  EXPECT_TRUE(contains(big.err, "--out-every")) << big.err;
+  std::ostringstream size;
+  size.precision(3);
+  size << mb << " MB";
+  EXPECT_TRUE(contains(big.err, size.str())) << "file " << mb << " MB: " << big.err;
+
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--out", path("x.csv").string(), "--out-every", "0"},
+        std::vector<std::string>{"--out-every", "5"},  // nothing to thin
+        std::vector<std::string>{"--out", path("x.csv").string(), "--warn-size-mb", "0"}}) {
+    const auto r = with(bad);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, bad[bad.size() - 2])) << r.err;
+    EXPECT_FALSE(chatter::test::fs::exists(path("x.csv")));
+  }
+}
+
 }  // namespace

@@ -20,9 +20,15 @@ namespace {
 
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
-void write_series_csv(std::ostream& os, const std::vector<SeriesSample>& rows) {
+// Size (MB) of a series file above which simulate warns (a 50 MB CSV is
+// about 400 000 samples: more than a spreadsheet or a plot wants).
+constexpr double kSeriesWarnMb = 50.0;
+
+// Every `every`-th sample (the first included).
+void write_series_csv(std::ostream& os, const std::vector<SeriesSample>& rows, int every = 1) {
   os << "time_s,tool_x_um,tool_y_um,workpiece_x_um,workpiece_y_um,rel_x_um,rel_y_um,force_x_n,force_y_n,chip_um,in_cut\n";
-  for (const SeriesSample& r : rows) {
+  for (std::size_t i = 0; i < rows.size(); i += static_cast<std::size_t>(every)) {
+    const SeriesSample& r = rows[i];
     os << table_number(r.t_s) << ',' << table_number(r.tool_x_m * 1e6) << ',' << table_number(r.tool_y_m * 1e6) << ','
        << table_number(r.workpiece_x_m * 1e6) << ',' << table_number(r.workpiece_y_m * 1e6) << ','
        << table_number(r.rel_x_m * 1e6) << ',' << table_number(r.rel_y_m * 1e6) << ',' << table_number(r.force_x_n)
@@ -36,7 +42,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   Common common;
   common.method = "time-domain";
   double rpm = 0.0, depth_mm = 0.0, feed_mm = 0.1, rtol = 1e-7;
-  int revolutions = 0, periods = 0;
+  int revolutions = 0, periods = 0, out_every = 1;
+  double warn_mb = kSeriesWarnMb;
   std::string out_path, periodic_path, spectrum_path, plot_path;
   po::options_description d("Options");
   d.add_options()
@@ -57,6 +64,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("rtol", po::value<double>(&rtol)->default_value(1e-7, "1e-7"), "integrator relative tolerance (1e-12 .. 1e-2)")
       ("out", po::value<std::string>(&out_path), "write the time series (CSV: time, tool/workpiece/relative "
                                                  "displacement in um, force in N, chip in um, in-cut flag)")
+      ("out-every", po::value<int>(&out_every)->default_value(1), "with --out: write every N-th sample of the "
+                                                                  "series (N >= 1; the first sample always)")
+      ("warn-size-mb", po::value<double>(&warn_mb)->default_value(kSeriesWarnMb, "50"),
+       "warn on standard error when the --out file is larger than this, MB (> 0)")
       ("periodic", po::value<std::string>(&periodic_path), "write the once-per-period samples (CSV, same columns)")
       ("spectrum", po::value<std::string>(&spectrum_path), "write the spectrum of the relative displacement (CSV: "
                                                            "frequency_hz, amplitude_um, harmonic)")
@@ -76,6 +87,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
     return 0;
   check_outputs({{"--out", out_path}, {"--periodic", periodic_path}, {"--spectrum", spectrum_path},
                  {"--plot", plot_path, true}});  // before computing
+  if (out_every < 1) throw InputError("--out-every = " + std::to_string(out_every) + ": must be >= 1");
+  if (!vm["out-every"].defaulted() && out_path.empty())
+    throw InputError("--out-every: only with --out (it thins the time series written there)");
+  if (!(std::isfinite(warn_mb) && warn_mb > 0.0)) throw InputError("--warn-size-mb = " + fmt(warn_mb) + ": must be > 0");
   const Config cfg = load_checked(common);
   if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
@@ -152,8 +167,16 @@ int cmd_simulate(const std::vector<std::string>& args) {
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {
     std::ostringstream os;
-    write_series_csv(os, r.series);
+    write_series_csv(os, r.series, out_every);
     files.emplace_back(out_path, os.str());
+    const double mb = static_cast<double>(files.back().second.size()) / 1e6;
+    if (mb > warn_mb) {
+      const double suggest = std::ceil(mb / warn_mb) * out_every;
+      std::cerr << "warning: --out " << out_path << ": the time series is " << fmt(mb, 3) << " MB ("
+                << (r.series.size() + static_cast<std::size_t>(out_every) - 1) / static_cast<std::size_t>(out_every)
+                << " samples), above " << fmt(warn_mb, 3) << " MB; --out-every " << fmt(suggest, 6)
+                << " writes it under that (or use --periodic for one sample per period)\n";
+    }
   }
   if (!periodic_path.empty()) {
     std::ostringstream os;
