@@ -343,4 +343,61 @@ TEST_F(OutputsCli, SimulateOutEveryThinsTheSeries) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// 7. Hints: ';' separators, a near-miss CSV header, a near-miss option.
+
+TEST_F(OutputsCli, OperationsFileHints) {
+  const std::string json = path("out.json").string();
+  {
+    std::ofstream(path("semi.csv")) << "id;spindle_rpm;depth_mm;radial_immersion;feed_per_tooth_mm\n"
+                                       "a;1000;1;;0,1\n";
+  }
+  const auto semi = run({"check", kTurning, "--operations", path("semi.csv").string(), "--json", json});
+  EXPECT_EQ(semi.exit_code, 2) << semi.err;
+  EXPECT_TRUE(contains(semi.err, "semi.csv:1:")) << semi.err;
+  EXPECT_TRUE(contains(semi.err, "the file seems to use ';' as separator; chatter reads ','")) << semi.err;
+  EXPECT_FALSE(chatter::test::fs::exists(json));
+
+  {
+    std::ofstream(path("typo.csv")) << "id,spindle_rpm,depth,radial_immersion,feed_per_tooth_mm\n"
+                                       "a,1000,1,,0.1\n";
+  }
+  const auto typo = run({"check", kTurning, "--operations", path("typo.csv").string(), "--json", json});
+  EXPECT_EQ(typo.exit_code, 2) << typo.err;
+  EXPECT_TRUE(contains(typo.err, "header column 'depth': unknown column (did you mean depth_mm?")) << typo.err;
+  EXPECT_FALSE(chatter::test::fs::exists(json));
+
+  // Nothing close: the list of known columns, no guess.
+  { std::ofstream(path("far.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,xyzzy\n"; }
+  const auto far = run({"check", kTurning, "--operations", path("far.csv").string()});
+  EXPECT_EQ(far.exit_code, 2) << far.err;
+  EXPECT_TRUE(contains(far.err, "'xyzzy': unknown column (known:")) << far.err;
+  EXPECT_FALSE(contains(far.err, "did you mean")) << far.err;
+}
+
+TEST_F(OutputsCli, UnknownOptionGetsTheNearestOfItsCommand) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string hint;  // "" = no close option
+  };
+  const std::vector<Case> cases = {
+      {{"lobes", kTurning, "--rpm-pionts", "30"}, "did you mean --rpm-points?"},
+      {{"lobes", kTurning, "--deph-max-mm", "3"}, "did you mean --depth-max-mm?"},
+      {{"simulate", kTurning, "--rpm", "1000", "--depth-mm", "1", "--out-evry", "3"}, "did you mean --out-every?"},
+      {{"map", kCaseC, "--depth-pionts", "3"}, "did you mean --depth-points?"},
+      {{"fit", "x.csv", "--modez", "2"}, "did you mean --modes?"},
+      {{"point", kTurning, "--rpm", "1000", "--depth-mm", "1", "--fail-on-chater"}, "did you mean --fail-on-chatter?"},
+      {{"lobes", kTurning, "--zzzzzz"}, ""},
+  };
+  for (const Case& c : cases) {
+    const auto r = run(c.args);
+    std::string cmd;
+    for (const auto& a : c.args) cmd += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << cmd << r.err;
+    EXPECT_TRUE(contains(r.err, "unrecognised option")) << cmd << r.err;
+    if (c.hint.empty()) EXPECT_FALSE(contains(r.err, "did you mean")) << cmd << r.err;
+    else EXPECT_TRUE(contains(r.err, c.hint)) << cmd << r.err;
+  }
+}
+
 }  // namespace

@@ -8,12 +8,14 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
+#include "../io/text.hpp"
 
 namespace chatter::cli {
 
@@ -34,6 +36,29 @@ void add_common(po::options_description& d, Common& c) {
   d.add_options()("method", po::value<std::string>(&c.method)->default_value(c.method), help.c_str());
 }
 
+void store_command_line(const std::vector<std::string>& args, const po::options_description& all,
+                        const po::positional_options_description& pos, po::variables_map& vm) {
+  try {
+    po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  } catch (const po::unknown_option& e) {
+    std::string given = e.get_option_name();
+    given.erase(0, given.find_first_not_of('-'));
+    given = given.substr(0, given.find('='));
+    // Every long option but the hidden positional ones (CONFIG, FRF-FILE, ...).
+    std::vector<std::string> positional;
+    for (unsigned i = 0; i < std::min(pos.max_total_count(), 8u); ++i) positional.push_back(pos.name_for_position(i));
+    std::vector<std::string> names;
+    for (const auto& o : all.options())
+      if (!o->long_name().empty() &&
+          std::find(positional.begin(), positional.end(), o->long_name()) == positional.end())
+        names.push_back(o->long_name());
+    const std::vector<std::string_view> views(names.begin(), names.end());
+    const std::string_view meant = detail::text::near_miss(given, views);
+    if (meant.empty()) throw;
+    throw po::error(std::string(e.what()) + " (did you mean --" + std::string(meant) + "?)");
+  }
+}
+
 // Parses a subcommand's arguments; returns false if --help was printed.
 bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
            Common& common, po::variables_map& vm) {
@@ -45,7 +70,7 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
   all.add_options()("help,h", "show this help");
   po::positional_options_description pos;
   pos.add("config", 1);
-  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  store_command_line(args, all, pos, vm);
   if (vm.count("help")) {
     std::cout << usage << "\n" << visible << "  -h [ --help ]            show this help\n";
     return false;

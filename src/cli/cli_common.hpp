@@ -48,6 +48,12 @@ struct Common {
 /// Adds --method to `d`.
 void add_common(po::options_description& d, Common& c);
 
+/// po::store of a command line against `all`; an unknown long option is
+/// rethrown as a po::error that adds the nearest option of `all` ("did you
+/// mean --rpm-points?", by edit distance), when one is close.
+void store_command_line(const std::vector<std::string>& args, const po::options_description& all,
+                        const po::positional_options_description& pos, po::variables_map& vm);
+
 /// Parses a subcommand's arguments (positional CONFIG, --strict); returns
 /// false if --help was printed. @throws po::error on a usage error.
 bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,

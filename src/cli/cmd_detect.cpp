@@ -94,7 +94,7 @@ int cmd_detect(const std::vector<std::string>& args) {
   po::positional_options_description pos;
   pos.add("recording", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  store_command_line(args, all, pos, vm);
   if (vm.count("help")) {
     std::cout << kUsage << "\n" << d << "  -h [ --help ]            show this help\n";
     return 0;

@@ -351,7 +351,7 @@ bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
   po::positional_options_description pos;
   pos.add("frf-file", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  store_command_line(args, all, pos, vm);
   if (vm.count("help")) {
     std::cout << kFitUsage << "\n" << d << "  -h [ --help ]            show this help\n";
     return false;

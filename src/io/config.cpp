@@ -40,6 +40,7 @@
 #include <toml++/toml.h>
 
 #include "chatter/error.hpp"
+#include "text.hpp"
 
 namespace chatter {
 namespace {
@@ -80,39 +81,9 @@ Path element(const Path& parent, std::size_t index) { return parent + "[" + std:
 
 // ------------------------------------------------------ unknown-key advice
 
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-// The allowed key a near miss was meant to be (a typo, or a key written
-// without its unit suffix such as `stiffness` for `stiffness_n_per_m`);
-// empty if none is close.
-std::string_view near_miss(std::string_view key, std::span<const std::string_view> allowed) {
-  std::string_view best;
-  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
-  for (const std::string_view candidate : allowed) {
-    const bool unit_missing = candidate.size() > key.size() && candidate.starts_with(key) &&
-                              candidate[key.size()] == '_' && !key.empty();
-    const std::size_t d = unit_missing ? 1 : edit_distance(key, candidate);
-    if (d < best_distance) {
-      best_distance = d;
-      best = candidate;
-    }
-  }
-  const std::size_t tolerance = std::max<std::size_t>(2, key.size() / 4);
-  return best_distance <= tolerance ? best : std::string_view();
-}
+// edit_distance and near_miss: src/io/text.hpp (shared with the CLI's
+// option hints and the operations reader's header hints).
+using detail::text::near_miss;
 
 // "did you mean" for a near miss, else the allowed list.
 std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {

@@ -1,10 +1,14 @@
 // Internal: the one set of text helpers the file readers share (FRF tables,
 // operations lists): trimming, splitting a delimited line, parsing a whole
-// field as a number. Not part of the public API. Header-only, no allocation
+// field as a number, and the "did you mean" of an unknown name (config keys,
+// CSV headers, command-line options). Not part of the public API. Header-only, no allocation
 // beyond the output fields; cost linear in the line length.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
+#include <limits>
+#include <span>
 #include <cstdlib>
 #include <optional>
 #include <string>
@@ -88,4 +92,41 @@ std::optional<Int> parse_integer(std::string_view field) {
   return v;
 }
 
+/// Levenshtein distance (insertions, deletions, substitutions of bytes).
+/// Cost O(|a| |b|) time, O(|b|) memory.
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+/// The allowed name a near miss was meant to be (a typo, or a name written
+/// without its unit suffix such as `stiffness` for `stiffness_n_per_m`);
+/// empty if none is within max(2, |key| / 4) edits.
+inline std::string_view near_miss(std::string_view key, std::span<const std::string_view> allowed) {
+  std::string_view best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (const std::string_view candidate : allowed) {
+    const bool unit_missing = candidate.size() > key.size() && candidate.starts_with(key) &&
+                              candidate[key.size()] == '_' && !key.empty();
+    const std::size_t d = unit_missing ? 1 : edit_distance(key, candidate);
+    if (d < best_distance) {
+      best_distance = d;
+      best = candidate;
+    }
+  }
+  const std::size_t tolerance = std::max<std::size_t>(2, key.size() / 4);
+  return best_distance <= tolerance ? best : std::string_view();
+}
+
 }  // namespace chatter::detail::text
+

@@ -736,10 +736,22 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
         const bool known = std::find(kRequiredColumns.begin(), kRequiredColumns.end(), h) != kRequiredColumns.end() ||
                            std::find(kOptionalColumns.begin(), kOptionalColumns.end(), h) != kOptionalColumns.end();
         if (!known) {
+          // A spreadsheet exported with ';' (a decimal-comma locale): one
+          // unknown column holding the separators.
+          if (h.find(';') != std::string::npos)
+            throw InputError(where + "header " + in_quotes(trim(line)) +
+                             ": the file seems to use ';' as separator; chatter reads ',' (export as CSV with "
+                             "commas)");
           std::string names;
+          std::vector<std::string_view> known_names;
           for (const auto* list : {&kRequiredColumns, &kOptionalColumns})
-            for (const auto& c : *list) names += (names.empty() ? "" : ",") + c;
-          throw InputError(where + "header column " + in_quotes(h) + ": unknown column (known: " + names +
+            for (const auto& c : *list) {
+              names += (names.empty() ? "" : ",") + c;
+              known_names.emplace_back(c);
+            }
+          const std::string_view meant = detail::text::near_miss(h, known_names);
+          throw InputError(where + "header column " + in_quotes(h) + ": unknown column (" +
+                           (meant.empty() ? "" : "did you mean " + std::string(meant) + "? ") + "known: " + names +
                            "; a header line is required)");
         }
         if (column.count(h)) throw InputError(where + "header column " + in_quotes(h) + ": given twice");
