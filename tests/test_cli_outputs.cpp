@@ -400,4 +400,53 @@ TEST_F(OutputsCli, UnknownOptionGetsTheNearestOfItsCommand) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// 8. frf -> fit round trip.
+
+// A fitted mode frequency within 1 % of the config's (the tolerance;
+// the table is exact to 10 digits, so the fit is far inside it).
+constexpr double kRoundTripFrequencyRelTol = 0.01;
+
+// Every `frequency_hz = X` of a fitted TOML fragment.
+std::vector<double> fitted_frequencies(const std::string& toml) {
+  std::vector<double> out;
+  for (const std::string& l : [&] {
+         std::vector<std::string> v;
+         std::istringstream in(toml);
+         for (std::string x; std::getline(in, x);) v.push_back(x);
+         return v;
+       }())
+    if (l.rfind("frequency_hz = ", 0) == 0) out.push_back(std::stod(l.substr(15)));
+  return out;
+}
+
+TEST_F(OutputsCli, FrfTableFitsBackToTheModes) {
+  const std::string csv = path("frf.csv").string(), toml = path("modes.toml").string();
+  ASSERT_EQ(run({"frf", kTurning, "--out", csv}).exit_code, 0);
+  const auto fit = run({"fit", csv, "--out", toml});
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const auto f = fitted_frequencies(slurp(toml));
+  ASSERT_EQ(f.size(), 1u) << slurp(toml);
+  constexpr double kCaseAHz = 94.22;  // configs/seed_turning_1dof.toml, workpiece mode
+  EXPECT_NEAR(f[0], kCaseAHz, kRoundTripFrequencyRelTol * kCaseAHz) << "fitted " << f[0] << " Hz";
+
+  // Case B's tool term alone: its one mode (100.66 Hz in the config).
+  const std::string csv_b = path("frf_b.csv").string(), toml_b = path("tool.toml").string();
+  ASSERT_EQ(run({"frf", kSource + "/configs/coupled_tool1_workpiece1.toml", "--out", csv_b}).exit_code, 0);
+  const auto tool = run({"fit", csv_b, "--term", "tool_xx", "--out", toml_b});
+  ASSERT_EQ(tool.exit_code, 0) << tool.err;
+  const auto fb = fitted_frequencies(slurp(toml_b));
+  ASSERT_EQ(fb.size(), 1u) << slurp(toml_b);
+  constexpr double kCaseBToolHz = 100.66;
+  EXPECT_NEAR(fb[0], kCaseBToolHz, kRoundTripFrequencyRelTol * kCaseBToolHz) << "fitted " << fb[0] << " Hz";
+
+  // A cross term or an unknown one: exit 2, nothing written.
+  for (const char* term : {"relative_xy", "spindle_xx"}) {
+    const auto bad = run({"fit", csv_b, "--term", term, "--out", path("bad.toml").string()});
+    EXPECT_EQ(bad.exit_code, 2) << term;
+    EXPECT_TRUE(contains(bad.err, "--term '")) << bad.err;
+    EXPECT_FALSE(chatter::test::fs::exists(path("bad.toml")));
+  }
+}
+
 }  // namespace

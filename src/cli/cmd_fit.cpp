@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <optional>
@@ -40,7 +41,9 @@ that lobes, point, check, sdm and time-domain runs can use.
 
 FRF-FILE holds one direct term (xx or yy) of a receptance, or several records
 (UFF):
-  .csv                 frequency_hz, real, imag per line (one header line allowed)
+  .csv                 frequency_hz, real, imag per line (one header line allowed),
+                       or the table of chatter frf --out (pick the term with
+                       --term; default relative_xx)
   .frf, .tab, .txt     tab-separated frequency, real, imaginary after any header
   .uff, .unv, .58      Universal File dataset 58 / 58b: every FRF record is
                        fitted, one fit per record (or pick one with --record);
@@ -66,7 +69,7 @@ Examples:
 )";
 
 struct FitArgs {
-  std::string file, format, quantity, body = "tool", direction, out, plot;
+  std::string file, format, quantity, body = "tool", direction, out, plot, term;
   double scale = 1.0;
   std::optional<int> record, modes;
   bool auto_modes = false, residuals = false;
@@ -134,6 +137,65 @@ struct Job {
   Eigen::Vector2d direction{1.0, 0.0};
 };
 
+// The header of the table `chatter frf --out` writes: frequency_hz, then
+// <body>_<term>_real_m_per_n, <body>_<term>_imag_m_per_n for body tool,
+// workpiece, relative and term xx, xy, yy.
+constexpr std::string_view kFrfTableHeader = "frequency_hz,tool_xx_real_m_per_n,tool_xx_imag_m_per_n";
+
+// True if `file` starts (after comment lines) with the header of `chatter frf`.
+bool is_chatter_frf_table(const fs::path& file) {
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) {
+    const std::string_view t = detail::text::trim(line);
+    if (t.empty() || t.front() == '#') continue;
+    return t.substr(0, kFrfTableHeader.size()) == kFrfTableHeader;
+  }
+  return false;
+}
+
+// One term (--term, e.g. relative_xx) of a `chatter frf` table, scaled by
+// opt.scale and converted from opt.quantity like the other readers.
+// @throws InputError naming the file, line or --term.
+FrfTable read_chatter_frf_term(const fs::path& file, const std::string& term, const FrfReadOptions& opt) {
+  std::ifstream in(file);
+  std::vector<std::string> header, f;
+  std::size_t re = 0, im = 0;
+  FrfTable t;
+  t.source = file.string() + " (" + term + ")";
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string_view tl = detail::text::trim(line);
+    if (tl.empty() || tl.front() == '#') continue;
+    if (header.empty()) {
+      detail::text::split_delimited(tl, ',', false, header);
+      const auto at = [&](const std::string& name) {
+        return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+      };
+      re = at(term + "_real_m_per_n");
+      im = at(term + "_imag_m_per_n");
+      if (re >= header.size() || im >= header.size())
+        throw InputError("--term '" + term + "': not a term of " + file.string() +
+                         " (a chatter frf table: tool_xx, tool_yy, workpiece_xx, workpiece_yy, relative_xx, "
+                         "relative_yy)");
+      continue;
+    }
+    detail::text::split_delimited(tl, ',', false, f);
+    const auto fr = f.empty() ? std::nullopt : detail::text::parse_double(f[0]);
+    const auto vr = re < f.size() ? detail::text::parse_double(f[re]) : std::nullopt;
+    const auto vi = im < f.size() ? detail::text::parse_double(f[im]) : std::nullopt;
+    if (!fr || !vr || !vi)
+      throw InputError(file.string() + ": line " + std::to_string(line_no) + ": expected " +
+                       std::to_string(header.size()) + " numbers (a chatter frf table)");
+    if (*fr == 0.0 && opt.drop_zero_hz && opt.quantity && *opt.quantity != FrfQuantity::kReceptance) continue;
+    t.frequency_hz.push_back(*fr);
+    t.value.emplace_back(*vr * opt.scale, *vi * opt.scale);
+  }
+  validate(t);
+  return opt.quantity ? to_receptance(std::move(t), *opt.quantity) : t;
+}
+
 std::vector<Job> read_jobs(const FitArgs& a) {
   const fs::path file = a.file;
   {
@@ -159,6 +221,24 @@ std::vector<Job> read_jobs(const FitArgs& a) {
   const Eigen::Vector2d given_direction = given ? parse_direction(a.direction) : Eigen::Vector2d(1.0, 0.0);
 
   std::vector<Job> jobs;
+  const bool frf_table = format == "csv" && is_chatter_frf_table(file);
+  if (!a.term.empty() && !frf_table)
+    throw InputError("--term: only for a table written by chatter frf --out (" + a.file + " is not one)");
+  if (frf_table) {
+    // `chatter frf --out` holds 9 receptance terms: fit one (default relative_xx,
+    // what the lobes are computed from); its direction follows the term.
+    if (a.record) throw InputError("--record: only for UFF files (use --term for a chatter frf table)");
+    const std::string term = a.term.empty() ? "relative_xx" : a.term;
+    if (term.size() < 3 || term.substr(term.size() - 3) == "_xy")
+      throw InputError("--term '" + term + "': a cross term (xy) has no modes of its own; fit an xx or yy term");
+    Job j;
+    j.table = read_chatter_frf_term(file, term, opt);
+    j.label = a.file + " (" + term + ")";
+    j.direction = given ? given_direction
+                        : term.substr(term.size() - 3) == "_yy" ? Eigen::Vector2d(0.0, 1.0) : Eigen::Vector2d(1.0, 0.0);
+    jobs.push_back(std::move(j));
+    return jobs;
+  }
   if (format != "uff") {
     if (a.record) throw InputError("--record: only for UFF files (a " + format + " file holds one FRF)");
     Job j;
@@ -328,6 +408,9 @@ bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
        "(default: receptance; UFF: as each record says)")
       ("scale", po::value<double>(&a.scale)->default_value(1.0),
        "factor from the file's unit to SI: 1e-6 for um/N, 1e-3 for mm/N or (mm/s^2)/N")
+      ("term", po::value<std::string>(&a.term),
+       "a table written by chatter frf --out: the term to fit, tool_xx, tool_yy, workpiece_xx, workpiece_yy, "
+       "relative_xx or relative_yy (default: relative_xx, what the lobes use)")
       ("record", po::value<int>(),
        "UFF: fit only this FRF record (1-based, counting FRF records only; default: every record, one fit each)")
       ("modes", po::value<int>(), "number of modes to fit (>= 1) in the band: the N highest resonance peaks")
