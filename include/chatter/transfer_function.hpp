@@ -33,8 +33,10 @@
 // floor(f_c · T), T the mean tooth period 60/(N N_t) (turning: one
 // revolution). Cost per speed O(band · τ_max / max_phase_step_rad) 2×2
 // eigenproblems (measured in docs/performance.md). The helix does not change
-// the averaged equation (accepted, ignored with a note); a variable helix is
-// refused. The uniform straight cutter keeps the path above.
+// the averaged equation (accepted, ignored with a note); a variable helix
+// averages each tooth's delay over the height, which makes M depend on a:
+// solved by a fixed point on a (a few searches per speed). The uniform
+// cutter keeps the path above.
 //
 // Thread safety: solvers are immutable after construction; all const members
 // may be called from several threads at once.

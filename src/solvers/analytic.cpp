@@ -138,8 +138,8 @@ SearchBand TransferFunctionSolver::band() const {
 
 AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferFunctionOptions options)
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
-  // Variable pitch or process damping: the general per-speed search (the
-  // uniform straight cutter keeps the phase search below, unchanged).
+  // Variable pitch or helix, or process damping: the general per-speed search
+  // (the uniform cutter keeps the phase search below, unchanged).
   if (process_.has_variable_pitch() || process_.has_variable_helix() || process_.has_process_damping()) {
     build_general_search();
     return;

@@ -62,11 +62,11 @@ SolverDescriptor analytic_descriptor() {
   d.summary = "transfer function, eigenvalues of H0*G";
   d.kind = SolverKind::kAveraged;
   // Real cutters: the helix is accepted and ignored (note from
-  // ignored_feature_notes); variable pitch and process damping go to the
-  // general per-speed search; a variable helix is refused.
+  // ignored_feature_notes); variable pitch, variable helix and process
+  // damping go to the general per-speed search.
   d.accepts = {SolverFeature::kModalModel, SolverFeature::kMeasuredFrf, SolverFeature::kMilling,
                SolverFeature::kTurning, SolverFeature::kHelix, SolverFeature::kVariablePitch,
-               SolverFeature::kProcessDamping};
+               SolverFeature::kVariableHelix, SolverFeature::kProcessDamping};
   d.in_default_compare = true;
   d.options = {kMaxPhaseStep};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <utility>
 
 #include "chatter/error.hpp"
@@ -15,7 +16,6 @@ namespace chatter::detail {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Base grid: largest ln(ω_{i+1}/ω_i), as the phase search.
 constexpr double kMaxLogStep = 0.02;
 // Smallest base interval, relative to ω (a kink of a measured FRF must not
@@ -30,6 +30,11 @@ constexpr double kCandidateMargin = 0.05;
 // Refuse speeds whose sub-grid would need more samples than this (a spindle
 // at a fraction of a rev/min on a kHz mode).
 constexpr double kMaxSamples = 2e7;
+// Variable helix: the fixed point on the depth of the height average stops
+// when the depth moves by less than this (relative), after at most so many
+// iterations (each a full per-speed search).
+constexpr double kHelixDepthTolerance = 1e-12;
+constexpr int kMaxHelixIterations = 200;
 
 // Larger eigenvalue first, the other from the product (no cancellation), as
 // AnalyticSolver::eigenvalues.
@@ -52,17 +57,40 @@ void match(const std::array<Complex, 2>& ref, std::array<Complex, 2>& v) {
 }  // namespace
 
 struct MultiDelaySearch::Speed {
-  std::vector<double> tau;  // τ_j, s
-  double tau_max = 0.0;
-  double tau_mean = 0.0;    // mean tooth period (turning: one revolution), s
-  double c = 0.0;           // C_pd / V, N·s/m²
+  std::vector<double> tau;    // τ_j(0), s
+  std::vector<double> slope;  // dτ_j/dz, s/m (variable helix; else 0)
+  double depth = 0.0;         // a of the height average (variable helix), m
+  double tau_max = 0.0;       // largest τ_j(z) over 0 <= z <= depth, s
+  double tau_mean = 0.0;      // mean tooth period (turning: one revolution), s
+  double c = 0.0;             // C_pd / V, N·s/m²
+  double rpm = 0.0;           // spindle speed, rev/min
 };
+
+namespace {
+
+// (1 − e^{−x})/x for x = jy (y real), with its series near 0.
+Complex phi1(double y) {
+  if (std::abs(y) < 1e-4) return Complex(1.0 - y * y / 6.0, -y / 2.0 + y * y * y / 24.0);
+  const Complex x(0.0, y);
+  return (1.0 - std::exp(-x)) / x;
+}
+
+// Σ_j of the height average (1/a)∫₀ᵃ (1 − e^{−jωτ_j(z)}) dz, τ_j(z) = τ_j + z·slope_j:
+// 1 − e^{−jωτ_j} (1 − e^{−jωa·slope_j})/(jωa·slope_j).
+template <class Sp>
+Complex regeneration(double omega, const Sp& sp) {
+  Complex m(0.0);
+  for (std::size_t j = 0; j < sp.tau.size(); ++j) {
+    const Complex e = std::polar(1.0, -omega * sp.tau[j]);
+    m += sp.slope[j] == 0.0 ? 1.0 - e : 1.0 - e * phi1(omega * sp.depth * sp.slope[j]);
+  }
+  return m;
+}
+
+}  // namespace
 
 MultiDelaySearch::MultiDelaySearch(StructuralModel model, Process process, MultiDelayOptions options)
     : model_(std::move(model)), process_(std::move(process)), opt_(options) {
-  if (process_.has_variable_helix())
-    throw InputError("a variable helix (one process.helix_angle_deg per tooth): the averaged method does not "
-                     "handle it (its delays change along the flute)");
   const Eigen::Matrix2d H0 = process_.average_directional_matrix();
   H0_tooth_ = H0 / static_cast<double>(process_.teeth());
   P0_ = process_.average_damping_direction();
@@ -98,41 +126,91 @@ MultiDelaySearch::MultiDelaySearch(StructuralModel model, Process process, Multi
   }
 }
 
-MultiDelaySearch::Speed MultiDelaySearch::speed(double rpm) const {
+MultiDelaySearch::Speed MultiDelaySearch::speed(double rpm, double depth_m) const {
   Speed sp;
   if (process_.operation() == Operation::kTurning) {
     sp.tau = {process_.delay_s(rpm)};
+    sp.slope = {0.0};
   } else {
-    for (int j = 0; j < process_.teeth(); ++j) sp.tau.push_back(process_.tooth_delay_s(j, 0.0, rpm));
+    for (int j = 0; j < process_.teeth(); ++j) {
+      sp.tau.push_back(process_.tooth_delay_s(j, 0.0, rpm));
+      // τ_j(z) is linear in z: its slope from the process (0 unless the
+      // helix angles differ between neighbouring teeth).
+      sp.slope.push_back(process_.has_variable_helix() ? process_.tooth_delay_s(j, 1.0, rpm) - sp.tau.back() : 0.0);
+    }
   }
-  sp.tau_max = *std::max_element(sp.tau.begin(), sp.tau.end());
+  sp.depth = depth_m;
+  for (std::size_t j = 0; j < sp.tau.size(); ++j)
+    sp.tau_max = std::max(sp.tau_max, sp.tau[j] + std::max(0.0, sp.slope[j] * depth_m));
   sp.tau_mean = process_.delay_s(rpm);
   sp.c = process_.process_damping_per_depth(rpm);
+  sp.rpm = rpm;
   return sp;
 }
 
-Matrix2c MultiDelaySearch::characteristic_matrix(double omega, double rpm) const {
-  const Speed sp = speed(rpm);
-  Complex m(0.0);
-  for (double t : sp.tau) m += 1.0 - std::polar(1.0, -omega * t);
-  return m * H0_tooth_.cast<Complex>() + Complex(0.0, omega * sp.c) * P0_.cast<Complex>();
+Matrix2c MultiDelaySearch::characteristic_matrix(double omega, double rpm, double depth_m) const {
+  const Speed sp = speed(rpm, depth_m);
+  return regeneration(omega, sp) * H0_tooth_.cast<Complex>() + Complex(0.0, omega * sp.c) * P0_.cast<Complex>();
 }
 
 std::array<Complex, 2> MultiDelaySearch::eigenvalues(double omega, const Speed& sp) const {
-  Complex m(0.0);
-  for (double t : sp.tau) m += 1.0 - std::polar(1.0, -omega * t);
-  const Matrix2c M = m * H0_tooth_.cast<Complex>() + Complex(0.0, omega * sp.c) * P0_.cast<Complex>();
+  const Matrix2c M =
+      regeneration(omega, sp) * H0_tooth_.cast<Complex>() + Complex(0.0, omega * sp.c) * P0_.cast<Complex>();
   return eig2(M * model_.receptance(omega));
 }
 
-std::array<Complex, 2> MultiDelaySearch::eigenvalues(double omega, double rpm) const {
-  return eigenvalues(omega, speed(rpm));
+std::array<Complex, 2> MultiDelaySearch::eigenvalues(double omega, double rpm, double depth_m) const {
+  return eigenvalues(omega, speed(rpm, depth_m));
 }
 
 StabilityLimit MultiDelaySearch::limit_at(double rpm) const {
-  const Speed sp = speed(rpm);
+  if (!process_.has_variable_helix()) return limit_at(speed(rpm, 0.0));
+  // Variable helix: M depends on the depth through the height average of the
+  // delays. F(a) = the limit with M frozen at a; the boundary is the smallest
+  // a with F(a) = a, where h(a) = F(a) − a changes sign (h(0) = F(0) > 0;
+  // F = +inf, no limit below depth_max, counts as h > 0). March up from a = 0
+  // with the fixed-point step a → F(a), never shorter than the step before
+  // (a plain fixed point crawls where h nearly touches 0), until h <= 0
+  // brackets the root; then Brent's method on h.
+  auto limit_with = [&](double a) { return limit_at(speed(rpm, a)); };
+  auto h_of = [&](const StabilityLimit& l, double a) {
+    return (l.bounded() ? l.depth_limit_m : opt_.depth_max_m + 1.0) - a;  // finite, > 0 when unbounded
+  };
+  double lo = 0.0, h_lo = 0.0, hi = 0.0, h_hi = 0.0, stride = 0.0, a = 0.0;
+  bool bracketed = false;
+  for (int it = 0; it < kMaxHelixIterations && !bracketed; ++it) {
+    const StabilityLimit l = limit_with(a);
+    const double h = h_of(l, a);
+    if (l.bounded() && std::abs(h) <= kHelixDepthTolerance * l.depth_limit_m) return l;
+    if (h <= 0.0) {
+      hi = a;
+      h_hi = h;
+      bracketed = true;
+      break;
+    }
+    if (a >= opt_.depth_max_m) return StabilityLimit{rpm};  // no self-consistent limit below depth_max
+    lo = a;
+    h_lo = h;
+    stride = std::max(stride, std::min(h, opt_.depth_max_m - a));
+    a = std::min(opt_.depth_max_m, a + stride);
+  }
+  if (!bracketed)
+    throw NumericalError("variable helix at " + std::to_string(rpm) +
+                         " rev/min: the depth iteration of the height-averaged delays did not converge");
+  const double root = brent_root([&](double x) { return h_of(limit_with(x), x); }, lo, hi, h_lo, h_hi,
+                                 kHelixDepthTolerance * hi);
+  // At a root of h, F(root) = root; where h jumps between lobes instead, the
+  // limit is the jump depth (F above it on one side, below on the other),
+  // reported with the frequency and lobe of the side just above.
+  StabilityLimit l = limit_with(root);
+  if (!l.bounded() || l.depth_limit_m > root) l = limit_with(std::min(hi, root * (1.0 + 4.0 * kHelixDepthTolerance)));
+  if (l.bounded()) l.depth_limit_m = std::min(l.depth_limit_m, root);
+  return l;
+}
+
+StabilityLimit MultiDelaySearch::limit_at(const Speed& sp) const {
   StabilityLimit lim;
-  lim.spindle_rpm = rpm;
+  lim.spindle_rpm = sp.rpm;
 
   // The sub-grid: each active base interval split so that ω τ_max moves by at
   // most max_phase_step_rad; runs of active intervals keep branch identity.

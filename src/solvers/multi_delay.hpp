@@ -13,6 +13,12 @@
 // Process::process_damping_per_depth(N) (Altintas, Eynian & Onozuka 2008).
 // It is linear in a: for each eigenvalue λ(ω) of M(ω)G(jω) a real positive
 // depth exists where λ is real and negative, a = −1/λ.
+// Variable helix: the delay of tooth j changes along the flute, τ_j(z) =
+// τ_j + z s_j, and each slice carries H₀ⱼ dz/a, so its term becomes the height
+// average (1/a)∫₀ᵃ (1 − e^{−jωτ_j(z)}) dz = 1 − e^{−jωτ_j}(1 − e^{−jωa s_j})/(jωa s_j):
+// M depends on a. Solved by the fixed point a_{n+1} = limit with M(a_n),
+// started from depth_max (converges in a few iterations when a s_j ω is small;
+// NumericalError after 60).
 //
 // Algorithm: a base frequency grid resolving G (built once: log steps
 // <= 0.02, bisected until G changes by < max_phase_step_rad relative per
@@ -53,8 +59,6 @@ struct MultiDelayOptions {
 class MultiDelaySearch {
  public:
   /// @pre model has at least one mode or measured FRF; options valid.
-  /// @throws InputError for a variable helix (its delays depend on the
-  ///         height: not handled by this solver).
   MultiDelaySearch(StructuralModel model, Process process, MultiDelayOptions options);
 
   /// The envelope at one speed (rev/min > 0): the smallest depth over all
@@ -63,10 +67,11 @@ class MultiDelaySearch {
   /// branch = the tracked eigenvalue branch (0 or 1).
   StabilityLimit limit_at(double spindle_rpm) const;
 
-  /// M(ω) at speed `spindle_rpm`, N/m² (see above).
-  Matrix2c characteristic_matrix(double omega_rad_s, double spindle_rpm) const;
+  /// M(ω) at speed `spindle_rpm`, N/m² (see above); with a variable helix the
+  /// delays are averaged over the height 0 <= z <= depth_m (m).
+  Matrix2c characteristic_matrix(double omega_rad_s, double spindle_rpm, double depth_m = 0.0) const;
   /// Eigenvalues of M(ω)G(jω), 1/m (larger modulus first).
-  std::array<Complex, 2> eigenvalues(double omega_rad_s, double spindle_rpm) const;
+  std::array<Complex, 2> eigenvalues(double omega_rad_s, double spindle_rpm, double depth_m = 0.0) const;
 
   double omega_lo() const { return grid_.front(); }
   double omega_hi() const { return grid_.back(); }
@@ -74,8 +79,9 @@ class MultiDelaySearch {
 
  private:
   struct Speed;  // per-speed constants (delays, process damping)
-  Speed speed(double rpm) const;
+  Speed speed(double rpm, double depth_m) const;
   std::array<Complex, 2> eigenvalues(double omega, const Speed& sp) const;
+  StabilityLimit limit_at(const Speed& sp) const;
 
   StructuralModel model_;
   Process process_;
