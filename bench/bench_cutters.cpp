@@ -1,7 +1,8 @@
 // Speed of the general per-speed search of `analytic` (real cutters, issue
 // 16): 4 teeth with variable pitch on 2 oblique modes, 200 speeds; the same
-// cutter with equal pitch on the phase search for comparison; process
-// damping in turning at low speed (many vibration cycles per revolution).
+// cutter with equal pitch on the phase search for comparison; a variable
+// helix; process damping in turning at low speed (many vibration cycles per
+// revolution).
 #include <benchmark/benchmark.h>
 
 #include <numbers>
@@ -59,6 +60,23 @@ void BM_EqualPitch4Teeth2Modes200Speeds(benchmark::State& state) {
   run(state, solver, evenly_spaced_speeds(2000.0, 14000.0, 200));
 }
 BENCHMARK(BM_EqualPitch4Teeth2Modes200Speeds)->Unit(benchmark::kMillisecond);
+
+// Variable helix 30°/35° alternating, equal pitch, D = 12 mm: the depth
+// iteration (a few per-speed searches per speed).
+void BM_VariableHelix4Teeth2Modes200Speeds(benchmark::State& state) {
+  MillingParameters p;
+  p.teeth = 4;
+  p.tangential_coefficient_n_per_m2 = 6e8;
+  p.radial_coefficient_n_per_m2 = 2e8;
+  p.radial_immersion = 0.5;
+  p.direction = MillingDirection::kUp;
+  p.tool_diameter_m = 0.012;
+  const double deg = std::numbers::pi / 180.0;
+  p.helix_angles_rad = {30 * deg, 35 * deg, 30 * deg, 35 * deg};
+  const AnalyticSolver solver(two_modes(), Process::milling(p), options(0.02));
+  run(state, solver, evenly_spaced_speeds(2000.0, 14000.0, 200));
+}
+BENCHMARK(BM_VariableHelix4Teeth2Modes200Speeds)->Unit(benchmark::kMillisecond);
 
 // Case A turning with process damping C_pd = 4e5 N/m, D_w = 0.1 m, 200
 // speeds 50–1 000 rev/min (up to 113 vibration cycles per revolution).
