@@ -35,7 +35,7 @@
 // eigenproblems (measured in docs/performance.md). The helix does not change
 // the averaged equation (accepted, ignored with a note); a variable helix
 // averages each tooth's delay over the height, which makes M depend on a:
-// solved by a fixed point on a (a few searches per speed). The uniform
+// solved by an iteration on a (about 9 searches per speed). The uniform
 // cutter keeps the path above.
 //
 // Thread safety: solvers are immutable after construction; all const members

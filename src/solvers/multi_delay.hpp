@@ -16,9 +16,10 @@
 // Variable helix: the delay of tooth j changes along the flute, τ_j(z) =
 // τ_j + z s_j, and each slice carries H₀ⱼ dz/a, so its term becomes the height
 // average (1/a)∫₀ᵃ (1 − e^{−jωτ_j(z)}) dz = 1 − e^{−jωτ_j}(1 − e^{−jωa s_j})/(jωa s_j):
-// M depends on a. Solved by the fixed point a_{n+1} = limit with M(a_n),
-// started from depth_max (converges in a few iterations when a s_j ω is small;
-// NumericalError after 60).
+// M depends on a. With F(a) the limit for M frozen at a, the boundary is the
+// smallest root of F(a) = a: a march up from a = 0 with fixed-point steps
+// (never shorter than the step before) brackets it, Brent's method refines it
+// (about 9 searches per speed; NumericalError if 200 steps find no bracket).
 //
 // Algorithm: a base frequency grid resolving G (built once: log steps
 // <= 0.02, bisected until G changes by < max_phase_step_rad relative per
