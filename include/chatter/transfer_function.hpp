@@ -25,7 +25,7 @@
 // O(grid) plus a handful of exact evaluations.
 //
 // Real cutters (docs/physics.md §8): `analytic` solves variable pitch and
-// process damping with a general per-speed search instead,
+// helix and process damping with a general per-speed search instead,
 //   det(I + a M(ω) G(jω)) = 0,  M = Σ_j (1 − e^{−jωτ_j}) H₀/N_t + jω (C_pd/V) P₀
 // (Altintas, Engin & Budak 1999; Altintas, Eynian & Onozuka 2008): the
 // eigenvalues λ of M G are tracked over a frequency grid refined per speed,
@@ -86,18 +86,19 @@ class TransferFunctionSolver : public LobeSolver {
 
   /// Lobe curves with speeds in [rpm_min, rpm_max], one per lobe number,
   /// branch and continuous piece; depths below depth_max only. Empty for a
-  /// cutter with several delays or process damping (the per-speed search
+  /// cutter with several delays (variable pitch or helix) or process damping (the per-speed search
   /// traces no lobes: its lobes are not curves of one frequency parameter).
   std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const override;
   /// The speed-independent minimum over every lobe (depth in m).
-  /// @throws InputError for a cutter with several delays or process damping
+  /// @throws InputError for a cutter with several delays (variable pitch or
+  ///         helix) or process damping
   ///         (the limit then depends on the speed in more than the lobe
   ///         phase: no speed-independent minimum; use limit_at).
   AbsoluteLimit absolute_limit() const;
   /// absolute_limit(), or nullopt where it is not defined (see above).
   std::optional<AbsoluteLimit> known_absolute_limit() const override;
   /// True when limit_at uses the general per-speed search (variable pitch or
-  /// process damping), false for the phase search of the uniform cutter.
+  /// helix, process damping), false for the phase search of the uniform cutter.
   bool per_speed_search() const { return general_ != nullptr; }
   SearchBand band() const;
   const StructuralModel& model() const { return model_; }

@@ -119,8 +119,8 @@ std::optional<AbsoluteLimit> TransferFunctionSolver::known_absolute_limit() cons
 
 AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
   if (general_)
-    throw InputError("absolute limit: not defined with variable pitch or process damping (the limit depends on "
-                     "the speed beyond the lobe phase); use limit_at");
+    throw InputError("absolute limit: not defined with variable pitch or helix or process damping (the limit "
+                     "depends on the speed beyond the lobe phase); use limit_at");
   const detail::PhaseRoot r = search_->minimum_depth();
   AbsoluteLimit a;
   if (std::isfinite(r.depth_m)) {
