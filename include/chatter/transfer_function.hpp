@@ -24,6 +24,20 @@
 // n) (grid of a few hundred to a few thousand points), then per speed
 // O(grid) plus a handful of exact evaluations.
 //
+// Real cutters (docs/physics.md §8): `analytic` solves variable pitch and
+// helix and process damping with a general per-speed search instead,
+//   det(I + a M(ω) G(jω)) = 0,  M = Σ_j (1 − e^{−jωτ_j}) H₀/N_t + jω (C_pd/V) P₀
+// (Altintas, Engin & Budak 1999; Altintas, Eynian & Onozuka 2008): the
+// eigenvalues λ of M G are tracked over a frequency grid refined per speed,
+// and a = −1/λ where λ is real and negative. Its lobe number is
+// floor(f_c · T), T the mean tooth period 60/(N N_t) (turning: one
+// revolution). Cost per speed O(band · τ_max / max_phase_step_rad) 2×2
+// eigenproblems (measured in docs/performance.md). The helix does not change
+// the averaged equation (accepted, ignored with a note); a variable helix
+// averages each tooth's delay over the height, which makes M depend on a:
+// solved by an iteration on a (about 9 searches per speed). The uniform
+// cutter keeps the path above.
+//
 // Thread safety: solvers are immutable after construction; all const members
 // may be called from several threads at once.
 #pragma once
@@ -41,6 +55,7 @@ namespace chatter {
 
 namespace detail {
 class PhaseSearch;
+class MultiDelaySearch;
 struct BranchValue;
 }
 
@@ -70,11 +85,21 @@ class TransferFunctionSolver : public LobeSolver {
   double depth_max_m() const override { return options_.depth_max_m; }
 
   /// Lobe curves with speeds in [rpm_min, rpm_max], one per lobe number,
-  /// branch and continuous piece; depths below depth_max only.
+  /// branch and continuous piece; depths below depth_max only. Empty for a
+  /// cutter with several delays (variable pitch or helix) or process damping (the per-speed search
+  /// traces no lobes: its lobes are not curves of one frequency parameter).
   std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const override;
   /// The speed-independent minimum over every lobe (depth in m).
+  /// @throws InputError for a cutter with several delays (variable pitch or
+  ///         helix) or process damping
+  ///         (the limit then depends on the speed in more than the lobe
+  ///         phase: no speed-independent minimum; use limit_at).
   AbsoluteLimit absolute_limit() const;
-  std::optional<AbsoluteLimit> known_absolute_limit() const override { return absolute_limit(); }
+  /// absolute_limit(), or nullopt where it is not defined (see above).
+  std::optional<AbsoluteLimit> known_absolute_limit() const override;
+  /// True when limit_at uses the general per-speed search (variable pitch or
+  /// helix, process damping), false for the phase search of the uniform cutter.
+  bool per_speed_search() const { return general_ != nullptr; }
   SearchBand band() const;
   const StructuralModel& model() const { return model_; }
   const Process& process() const { return process_; }
@@ -85,6 +110,8 @@ class TransferFunctionSolver : public LobeSolver {
   TransferFunctionSolver(StructuralModel model, Process process, TransferFunctionOptions options);
   /// Derived constructors call this once they can evaluate their branches.
   void build_search(int branches);
+  /// Or this, for the general per-speed search of a real cutter.
+  void build_general_search();
   /// Fills the branch values at ω (see src/solvers/phase_search.hpp).
   virtual void evaluate(double omega, std::array<detail::BranchValue, 2>& out) const = 0;
 
@@ -95,6 +122,7 @@ class TransferFunctionSolver : public LobeSolver {
 
  private:
   std::unique_ptr<detail::PhaseSearch> search_;
+  std::unique_ptr<detail::MultiDelaySearch> general_;
 };
 
 class AnalyticSolver final : public TransferFunctionSolver {

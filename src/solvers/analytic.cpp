@@ -9,6 +9,7 @@
 #include "chatter/error.hpp"
 #include "chatter/transfer_function.hpp"
 #include "chatter/solvers.hpp"
+#include "multi_delay.hpp"
 #include "phase_search.hpp"
 
 namespace chatter {
@@ -59,11 +60,25 @@ void TransferFunctionSolver::build_search(int branches) {
       options_.depth_max_m, po);
 }
 
+void TransferFunctionSolver::build_general_search() {
+  general_ = std::make_unique<detail::MultiDelaySearch>(
+      model_, process_, detail::MultiDelayOptions{options_.depth_max_m, options_.max_phase_step_rad});
+}
+
 StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
   if (!(std::isfinite(rpm) && rpm > 0.0)) {
     std::ostringstream os;
     os << "spindle speed " << rpm << " rev/min: must be > 0";
     throw InputError(os.str());
+  }
+  if (general_) {
+    try {
+      return general_->limit_at(rpm);
+    } catch (const InputError& e) {
+      std::ostringstream os;
+      os << "spindle speed " << rpm << " rev/min: " << e.what();
+      throw InputError(os.str());
+    }
   }
   detail::PhaseRoot r;
   try {
@@ -87,6 +102,7 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
 std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, double rpm_max) const {
   if (!(rpm_min > 0.0 && rpm_max >= rpm_min)) throw InputError("lobe curves: need 0 < rpm_min <= rpm_max");
   std::vector<LobeCurve> out;
+  if (general_) return out;
   for (const auto& c : search_->curves(process_.delay_s(rpm_max), process_.delay_s(rpm_min))) {
     LobeCurve lc{c.lobe, c.branch, {}};
     lc.points.reserve(c.points.size());
@@ -96,7 +112,15 @@ std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, doubl
   return out;
 }
 
+std::optional<AbsoluteLimit> TransferFunctionSolver::known_absolute_limit() const {
+  if (general_) return std::nullopt;
+  return absolute_limit();
+}
+
 AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
+  if (general_)
+    throw InputError("absolute limit: not defined with variable pitch or helix or process damping (the limit "
+                     "depends on the speed beyond the lobe phase); use limit_at");
   const detail::PhaseRoot r = search_->minimum_depth();
   AbsoluteLimit a;
   if (std::isfinite(r.depth_m)) {
@@ -108,11 +132,18 @@ AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
 }
 
 SearchBand TransferFunctionSolver::band() const {
+  if (general_) return {general_->omega_lo(), general_->omega_hi(), general_->grid_size()};
   return {search_->omega_lo(), search_->omega_hi(), search_->grid_size()};
 }
 
 AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferFunctionOptions options)
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
+  // Variable pitch or helix, or process damping: the general per-speed search
+  // (the uniform cutter keeps the phase search below, unchanged).
+  if (process_.has_variable_pitch() || process_.has_variable_helix() || process_.has_process_damping()) {
+    build_general_search();
+    return;
+  }
   // H₀G has rank one when H₀ does (turning) or when every mode acts along one
   // line; then its only non-zero eigenvalue is its trace.
   const double h2 = H0_.squaredNorm();

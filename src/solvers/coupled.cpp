@@ -14,6 +14,8 @@
 // since 1 − e^{−jθ} = 2 sin(θ/2) (sin(θ/2) + j cos(θ/2)).
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <utility>
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -38,6 +40,16 @@ detail::BranchValue from_root(Complex c) {
 
 CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFunctionOptions options)
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
+  // One delay and no velocity term: the determinant below is a polynomial in
+  // c = a(1 − e^{−jωτ}). Variable pitch and process damping break that form;
+  // the analytic method solves them (through the registry the refusal names
+  // every method that does).
+  for (const auto& [has, what] : {std::pair{process_.has_variable_helix(), "a variable helix"},
+                                  std::pair{process_.has_variable_pitch(), "variable pitch"},
+                                  std::pair{process_.has_process_damping(), "process damping"}})
+    if (has)
+      throw InputError(std::string("method \"coupled\" does not handle ") + what +
+                       " (its determinant assumes one delay and no process damping): use the analytic method");
   if (model_.has_measured())
     throw InputError("coupled needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
                      "or use the analytic method");

@@ -61,8 +61,12 @@ SolverDescriptor analytic_descriptor() {
   d.name = "analytic";
   d.summary = "transfer function, eigenvalues of H0*G";
   d.kind = SolverKind::kAveraged;
+  // Real cutters: the helix is accepted and ignored (note from
+  // ignored_feature_notes); variable pitch, variable helix and process
+  // damping go to the general per-speed search.
   d.accepts = {SolverFeature::kModalModel, SolverFeature::kMeasuredFrf, SolverFeature::kMilling,
-               SolverFeature::kTurning};
+               SolverFeature::kTurning, SolverFeature::kHelix, SolverFeature::kVariablePitch,
+               SolverFeature::kVariableHelix, SolverFeature::kProcessDamping};
   d.in_default_compare = true;
   d.options = {kMaxPhaseStep};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
@@ -78,7 +82,10 @@ SolverDescriptor coupled_descriptor() {
   d.name = "coupled";
   d.summary = "tool-workpiece characteristic determinant; must agree with analytic";
   d.kind = SolverKind::kAveraged;
-  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  // The helix leaves the averaged equation unchanged (note from
+  // ignored_feature_notes); variable pitch and process damping are analytic's.
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning,
+               SolverFeature::kHelix};
   d.in_default_compare = true;
   d.options = {kMaxPhaseStep};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
