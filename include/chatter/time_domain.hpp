@@ -64,14 +64,6 @@ struct TimeDomainOptions {
   int max_samples_per_period = 200000;
   /// Largest number of integrator steps in one simulation.
   long max_steps = 20000000;
-  /// Axial slices N_z of the cut (real cutters, docs/time_domain.md "Real
-  /// cutters"): each tooth is N_z straight slices of height a/N_z at the
-  /// midpoints z = (s + ½) a/N_z, each at its own angle φ_j(t, z) and delay
-  /// τ_j(z). 0 = automatic: 20 with a helix, 1 otherwise. An explicit value
-  /// (1 … 1000) also sends a straight, equally spaced cutter through the
-  /// per-tooth path (its tables then differ from the uniform path's by the
-  /// integration tolerance only). Cost: the right-hand side grows as N_t N_z.
-  int axial_slices = 0;
 
   // --- lobes by simulation (TimeDomainSolver) ---
   /// Delay periods simulated per verdict (>= 20). The last half is analysed.
@@ -87,6 +79,16 @@ struct TimeDomainOptions {
   bool multiple_regeneration = false;
   /// Lobe search in linear mode (verdict from the growth factor).
   bool linear = false;
+
+  // --- real cutters (last, so that positional initialisers keep working) ---
+  /// Axial slices N_z of the cut (real cutters, docs/time_domain.md "Real
+  /// cutters"): each tooth is N_z straight slices of height a/N_z at the
+  /// midpoints z = (s + ½) a/N_z, each at its own angle φ_j(t, z) and delay
+  /// τ_j(z). 0 = automatic: 20 with a helix, 1 otherwise. An explicit value
+  /// (1 … 1000) also sends a straight, equally spaced cutter through the
+  /// per-tooth path (its tables then differ from the uniform path's by the
+  /// integration tolerance only). Cost: the right-hand side grows as N_t N_z.
+  int axial_slices = 0;
 
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;
