@@ -351,7 +351,17 @@ class Model {
       }
     }
     delayed_.assign(2 * delays_.size(), 0.0);
-    arc_now_.assign(elements_.size(), 0);
+    engaged_.assign(elements_.size(), 0.0);
+    phi_.assign(elements_.size(), 0.0);
+    sin_.assign(elements_.size(), 0.0);
+    for (int j = 0; j < teeth_; ++j) {
+      const double d = process_.helix_lag_rad_per_m(j) * a / slices_;  // δ_j = κ_j dz
+      slice_lag_.push_back(d);
+      slice_cos_.push_back(std::cos(d));
+      slice_sin_.push_back(std::sin(d));
+    }
+    cos_.assign(elements_.size(), 0.0);
+    runout_ = process_.has_runout() && !settings_.linear;
   }
   int delay_slot(double d) {
     for (std::size_t i = 0; i < delays_.size(); ++i)
@@ -366,7 +376,56 @@ class Model {
     phi = wrap(phi);
     return phi >= phi_en_ && phi <= phi_ex_;
   }
-  // Chips of every element (unclipped; +1 out of the arc), arc_now_ set.
+  // Engaged fraction of a slice whose edge spans the angles φ ± w/2 (w =
+  // κ dz, the helix lag over the slice height): the part of that interval
+  // inside the arc [φ_en, φ_ex] (mod 2π), over w. It ramps linearly while
+  // the slice enters or leaves, so the sliced force is continuous in time
+  // (the exact windowed integral over the slice height, with the chip and
+  // direction taken at the midpoint). w = 0: the arc test.
+  // φ is wrapped to [0, 2π).
+  double engaged_fraction(double phi, double w) const {
+    if (!(w > 0.0)) return (phi >= phi_en_ && phi <= phi_ex_) ? 1.0 : 0.0;
+    double lo = phi - 0.5 * w;
+    while (lo < 0.0) lo += 2.0 * kPi;
+    const double hi = lo + w;
+    const double first = std::min(hi, phi_ex_) - std::max(lo, phi_en_);
+    const double second = std::min(hi, phi_ex_ + 2.0 * kPi) - std::max(lo, phi_en_ + 2.0 * kPi);
+    return std::min(1.0, (std::max(0.0, first) + std::max(0.0, second)) / w);
+  }
+  // φ (wrapped to [0, 2π)), sin φ, cos φ of every element at t. With
+  // several slices one wrap, sine and cosine per tooth: the slices of a
+  // tooth step back by δ = κ_j dz each, a rotation (round-off ~1e-16 per
+  // slice).
+  void element_angles(double t) const {
+    if (slices_ == 1) {
+      for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+        const double phi = wrap(element_angle(elements_[ei], t));
+        phi_[ei] = phi;
+        sin_[ei] = std::sin(phi);
+        cos_[ei] = std::cos(phi);
+      }
+      return;
+    }
+    std::size_t ei = 0;
+    for (int j = 0; j < teeth_; ++j) {
+      const double d = slice_lag_[static_cast<std::size_t>(j)];
+      const double cd = slice_cos_[static_cast<std::size_t>(j)], sd = slice_sin_[static_cast<std::size_t>(j)];
+      double phi = wrap(process_.tooth_angle_rad(j, t, 0.0, settings_.spindle_rpm) - 0.5 * d);
+      double sn = std::sin(phi), cs = std::cos(phi);
+      for (int sl = 0; sl < slices_; ++sl, ++ei) {
+        phi_[ei] = phi;
+        sin_[ei] = sn;
+        cos_[ei] = cs;
+        phi -= d;
+        while (phi < 0.0) phi += 2.0 * kPi;
+        const double sn1 = sn * cd - cs * sd;
+        cs = cs * cd + sn * sd;
+        sn = sn1;
+      }
+    }
+  }
+  // Chips of every element (unclipped; +1 out of the arc); engaged_, sin_,
+  // cos_ set for the right-hand side.
   // Nonlinear: the static chip of Process::static_chip_m (pitch, runout)
   // plus the regeneration against the previous tooth; with multiple
   // regeneration the nearest of the N_t earlier surfaces,
@@ -379,16 +438,17 @@ class Model {
     for (std::size_t i = 0; i < delays_.size(); ++i) history_->displacement(t - delays_[i], &delayed_[2 * i]);
     const double feed = settings_.linear ? 0.0 : settings_.feed_m;
     const bool multiple = !settings_.linear && settings_.multiple_regeneration;
+    element_angles(t);
     for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
       const CutElement& e = elements_[ei];
-      const double phi = element_angle(e, t);
-      const bool arc = slices_ == 1 ? in_arc_[ei] != 0 : in_window(phi);
-      arc_now_[ei] = arc ? 1 : 0;
-      if (!arc) {
+      const double phi = phi_[ei];
+      const double frac = slices_ == 1 ? (in_arc_[ei] != 0 ? 1.0 : 0.0) : engaged_fraction(phi, slice_lag_[e.tooth]);
+      engaged_[ei] = frac;
+      if (!(frac > 0.0)) {
         h[ei] = 1.0;
         continue;
       }
-      const double sn = std::sin(phi), cs = std::cos(phi);
+      const double sn = sin_[ei], cs = cos_[ei];
       auto regen = [&](int k) {
         const double* rd = &delayed_[2 * static_cast<std::size_t>(e.delay_index[static_cast<std::size_t>(k)])];
         return sn * (r[0] - rd[0]) + cs * (r[1] - rd[1]);
@@ -396,7 +456,11 @@ class Model {
       if (settings_.linear) {
         h[ei] = regen(0);
       } else if (!multiple) {
-        h[ei] = process_.static_chip_m(e.tooth, phi, feed) + regen(0);
+        // Without runout static_chip_m is N_t f_z θ_j/2π sin φ (k = 1), taken
+        // directly here (sin φ is at hand; the arc has sin φ >= 0 but for
+        // the ramp of a slice entering at φ = 0 or leaving at π).
+        h[ei] = (runout_ ? process_.static_chip_m(e.tooth, phi, feed) : std::max(0.0, teeth_ * feed * e.advance[0] * sn)) +
+                regen(0);
       } else {
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < e.delay_index.size(); ++k)
@@ -416,22 +480,23 @@ class Model {
     double chip_max = 0.0;
     bool any_arc = false, cutting = false, touching = false;
     for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
-      if (!arc_now_[ei]) continue;
+      const double frac = engaged_[ei];
+      if (!(frac > 0.0)) continue;
       any_arc = true;
       const CutElement& e = elements_[ei];
+      const double dz = frac * e.dz;
       const double h = chips_[ei];
       const double hc = settings_.linear ? h : std::max(0.0, h);
       if (h > 0.0) cutting = true;
       if (h > -air_margin_) touching = true;
       chip_max = std::max(chip_max, settings_.linear ? std::abs(h) : hc);
-      const double phi = element_angle(e, t);
-      const double sn = std::sin(phi), cs = std::cos(phi);
-      F[0] += -e.dz * (kt_ * cs + kr_ * sn) * hc;
-      F[1] += e.dz * (kt_ * sn - kr_ * cs) * hc;
+      const double sn = sin_[ei], cs = cos_[ei];
+      F[0] += -dz * (kt_ * cs + kr_ * sn) * hc;
+      F[1] += dz * (kt_ * sn - kr_ * cs) * hc;
       if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
         const double vn = sn * rv[0] + cs * rv[1];
-        F[0] -= pd_per_depth_ * e.dz * vn * sn;
-        F[1] -= pd_per_depth_ * e.dz * vn * cs;
+        F[0] -= pd_per_depth_ * dz * vn * sn;
+        F[1] -= pd_per_depth_ * dz * vn * cs;
       }
     }
     modal_accelerations(q, qd, F, ydot);
@@ -458,7 +523,10 @@ class Model {
   std::vector<CutElement> elements_;
   std::vector<double> delays_;            // distinct delays read by the elements, s
   mutable std::vector<double> delayed_;   // r(t − delays_[i]) (x, y) per rhs
-  mutable std::vector<char> arc_now_;     // element in the arc at the last chips() call
+  bool runout_ = false;                   // static chip from Process::static_chip_m
+  // At the last chips() call, per element: engaged fraction, sin φ, cos φ.
+  mutable std::vector<double> engaged_, phi_, sin_, cos_;
+  std::vector<double> slice_lag_, slice_cos_, slice_sin_;  // per tooth: δ_j = κ_j dz, cos δ_j, sin δ_j
   std::vector<char> in_arc_;
   History* history_ = nullptr;
   mutable std::vector<double> chips_;
