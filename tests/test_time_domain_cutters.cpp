@@ -60,6 +60,9 @@ constexpr double kSamePath = 1e-4;
 // 1.022 at 20 000 rev/min, where the two exact limits differ by 0.38 %.)
 constexpr double kBoundaryBand = 0.05;
 constexpr double kHighSpeedLimit = 0.01;
+// Two lobe searches whose brackets are 1 % wide (depth_tolerance) around the
+// same boundary.
+constexpr double kBisection = 0.01;
 // Milling process damping: decay rate per tooth period vs the averaged
 // closed form (measured 7.5e-4 relative): the averaging error is small in
 // the damping over the vibration frequency.
@@ -336,6 +339,23 @@ TEST(TimeDomainCutters, MillingProcessDampingAveragesToItsClosedForm) {
   ASSERT_LT(expected, 0.7 * undamped);  // the process damping is a large part of the decay
   EXPECT_NEAR(std::log(growth), std::log(expected), kPdDecayRate * std::abs(std::log(expected)))
       << "growth per tooth period " << growth << ", averaged closed form " << expected;
+}
+
+TEST(TimeDomainCutters, LobeSearchWithVariablePitchCountsToothPeriods) {
+  // The lobe search on a pitch 1e-7 rad off equal (runs of 100 revolutions
+  // = 200 tooth periods) finds the uniform cutter's limit: both brackets
+  // are 1 % wide around the same boundary.
+  TimeDomainOptions o;
+  o.depth_max_m = 0.01;
+  o.linear = true;
+  MillingParameters almost = case_c_cutter();
+  almost.pitch_angles_rad = {kPi + 1e-7, kPi - 1e-7};
+  const TimeDomainSolver uniform(case_c(), Process::milling(case_c_cutter()), o);
+  const TimeDomainSolver variable(case_c(), Process::milling(almost), o);
+  EXPECT_EQ(variable.verdict_run(20000, 1e-3).periods, 100);
+  const double a_u = uniform.limit_at(20000).depth_limit_m, a_v = variable.limit_at(20000).depth_limit_m;
+  ASSERT_TRUE(std::isfinite(a_u)) << "no limit below 10 mm";
+  EXPECT_NEAR(a_v, a_u, kBisection * a_u) << "variable pitch " << a_v << " m, uniform " << a_u << " m";
 }
 
 // ---- process damping, 1-DOF turning (case A) ----

@@ -13,6 +13,13 @@
 //   h(t) = h_single(t) − max(0, −h(t − τ))   (the gap the last pass left in air).
 // Linear mode drops the static chip and the max(0, ·): F = −a H(t)(r − r(t − τ)),
 // the equation whose Floquet multipliers `sdm` computes.
+// Real cutters (docs/physics.md §8, docs/time_domain.md "Real cutters"):
+// each tooth is N_z axial slices (TimeDomainOptions::axial_slices), each a
+// straight tooth at φ_j(t, z) with its own delay τ_j(z) and the static chip
+// of Process::static_chip_m (pitch, runout), ramping in and out of the arc;
+// plus the process damping −(C_pd/V) dz (n·ṙ) n of each cutting slice
+// (turning: −(C_pd/V) a ṙ_x). With a variable pitch or helix, or runout in
+// nonlinear mode, the period is one revolution.
 //
 // Integrator: SUNDIALS CVODE, variable-order Adams–Moulton (order <= 5) with
 // fixed-point iteration — the structural modes are lightly damped and not
@@ -67,6 +74,8 @@ struct TimeDomainOptions {
 
   // --- lobes by simulation (TimeDomainSolver) ---
   /// Delay periods simulated per verdict (>= 20). The last half is analysed.
+  /// Counted in tooth periods: a run whose period is one revolution (variable
+  /// pitch or helix, runout) simulates max(20, ⌈periods / N_t⌉) revolutions.
   int periods = 200;
   /// Deepest cut searched, m (> 0). Limits above it are reported as +inf.
   double depth_max_m = 0.05;
@@ -98,7 +107,9 @@ struct TimeDomainOptions {
 struct SimulationSettings {
   double spindle_rpm = 0.0;   ///< > 0.
   double depth_m = 0.0;       ///< >= 0 (axial depth for milling, width of cut for turning).
-  int periods = 200;          ///< delay periods to simulate (>= 4).
+  /// Periods to simulate (>= 4): tooth periods, or revolutions with a
+  /// variable pitch or helix or (nonlinear mode) runout.
+  int periods = 200;
   /// Feed per tooth (milling) or per revolution (turning), m (>= 0).
   /// Ignored in linear mode.
   double feed_m = 1e-4;

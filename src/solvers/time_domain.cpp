@@ -1164,9 +1164,14 @@ SimulationResult TimeDomainSolver::verdict_run(double rpm, double depth_m) const
   SimulationSettings st;
   st.spindle_rpm = rpm;
   st.depth_m = depth_m;
-  st.periods = simulator_.options().periods;
   st.feed_m = simulator_.options().feed_m;
   st.linear = simulator_.options().linear;
+  // options.periods counts tooth periods (header): the same simulated time
+  // when the run's period is a revolution.
+  const double tooth_periods_per_period = simulation_period(simulator_.process(), st) / simulator_.process().delay_s(rpm);
+  st.periods = tooth_periods_per_period > 1.5
+                   ? std::max(20, static_cast<int>(std::ceil(simulator_.options().periods / tooth_periods_per_period)))
+                   : simulator_.options().periods;
   st.multiple_regeneration = simulator_.options().multiple_regeneration;
   st.record_series = false;
   return simulator_.simulate(st);
