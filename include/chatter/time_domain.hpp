@@ -162,7 +162,8 @@ class TimeDomainSolver final : public LobeSolver {
   /// first depth of the search (only where the scan starts, not the answer).
   /// Null: the zeroth-order analytic solver on the same model and process
   /// (depth_max_m of these options) is built here, once; when the analytic
-  /// method does not apply to the model, the search has no guess.
+  /// method does not apply to the model (or refuses the process), the search
+  /// has no guess.
   TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {},
                    std::shared_ptr<const LobeSolver> starting_guess = nullptr);
   std::string method() const override { return "time-domain"; }

@@ -1149,7 +1149,11 @@ std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulat
   TransferFunctionOptions to;
   to.depth_max_m = sim.options().depth_max_m;
   if (!to.validate().empty() || sim.model().rigid()) return nullptr;
-  return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+  try {
+    return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+  } catch (const InputError&) {
+    return nullptr;  // e.g. a cutter feature the analytic method refuses: no guess
+  }
 }
 
 }  // namespace
