@@ -3,6 +3,8 @@
 // (rtol 1e-7): target under 50 ms on one core. Counters: integrator steps,
 // right-hand-side evaluations, restarts (stop points) and root stops per run.
 // Also one depth limit by simulation (lobes --method time-domain, per speed).
+// Real cutters (issue 16): case C with a 10 mm cutter and a 30° helix on 20
+// axial slices, 200 tooth periods: target under 100 ms.
 // Run: ./build/bench/bench_time_domain --benchmark_repetitions=5
 // (figures in docs/performance.md).
 #include <benchmark/benchmark.h>
@@ -20,8 +22,18 @@ StructuralModel case_c() {
 }
 Process case_c_process() { return Process::milling({2, 6e8, 2e8, 0.05, MillingDirection::kDown}); }
 
-void run(benchmark::State& state, double rpm, double depth_m, bool linear, bool multiple) {
-  TimeDomainSimulator sim(case_c(), case_c_process());
+Process case_c_helix(double helix_deg) {
+  MillingParameters p{2, 6e8, 2e8, 0.05, MillingDirection::kDown};
+  p.tool_diameter_m = 0.01;
+  p.helix_angles_rad = {helix_deg * 3.14159265358979323846 / 180.0};
+  return Process::milling(p);
+}
+
+void run(benchmark::State& state, double rpm, double depth_m, bool linear, bool multiple,
+         const Process& process = case_c_process(), int slices = 0) {
+  TimeDomainOptions o;
+  o.axial_slices = slices;
+  TimeDomainSimulator sim(case_c(), process, o);
   SimulationSettings s;
   s.spindle_rpm = rpm;
   s.depth_m = depth_m;
@@ -50,6 +62,15 @@ void BM_CaseC_FlipChatter_Multiple_17000rpm(benchmark::State& st) { run(st, 1700
 // Linear mode (growth factor vs sdm).
 void BM_CaseC_Linear_10000rpm(benchmark::State& st) { run(st, 10000, 3.7e-3, true, false); }
 
+// Helix 30°, 20 slices (the default), 200 tooth periods: stable forced
+// vibration, chatter (the slices leave the cut: clipped, no roots), linear.
+void BM_CaseC_Helix20_Stable_20000rpm(benchmark::State& st) { run(st, 20000, 2e-3, false, false, case_c_helix(30)); }
+void BM_CaseC_Helix20_Chatter_10000rpm(benchmark::State& st) { run(st, 10000, 8e-3, false, false, case_c_helix(30)); }
+void BM_CaseC_Helix20_Linear_10000rpm(benchmark::State& st) { run(st, 10000, 6e-3, true, false, case_c_helix(30)); }
+// Where the time goes: the same stable run on 1 and 80 slices.
+void BM_CaseC_Helix1_Stable_20000rpm(benchmark::State& st) { run(st, 20000, 2e-3, false, false, case_c_helix(30), 1); }
+void BM_CaseC_Helix80_Stable_20000rpm(benchmark::State& st) { run(st, 20000, 2e-3, false, false, case_c_helix(30), 80); }
+
 void BM_CaseC_LimitAt_20000rpm(benchmark::State& state) {
   TimeDomainSolver td(case_c(), case_c_process());
   for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(20000).depth_limit_m);
@@ -60,6 +81,11 @@ BENCHMARK(BM_CaseC_FlipChatter_17000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_FlipChatter_Multiple_17000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_Linear_10000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_LimitAt_20000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Helix20_Stable_20000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Helix20_Chatter_10000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Helix20_Linear_10000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Helix1_Stable_20000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaseC_Helix80_Stable_20000rpm)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

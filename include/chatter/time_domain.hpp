@@ -13,6 +13,13 @@
 //   h(t) = h_single(t) − max(0, −h(t − τ))   (the gap the last pass left in air).
 // Linear mode drops the static chip and the max(0, ·): F = −a H(t)(r − r(t − τ)),
 // the equation whose Floquet multipliers `sdm` computes.
+// Real cutters (docs/physics.md §8, docs/time_domain.md "Real cutters"):
+// each tooth is N_z axial slices (TimeDomainOptions::axial_slices), each a
+// straight tooth at φ_j(t, z) with its own delay τ_j(z) and the static chip
+// of Process::static_chip_m (pitch, runout), ramping in and out of the arc;
+// plus the process damping −(C_pd/V) dz (n·ṙ) n of each cutting slice
+// (turning: −(C_pd/V) a ṙ_x). With a variable pitch or helix, or runout in
+// nonlinear mode, the period is one revolution.
 //
 // Integrator: SUNDIALS CVODE, variable-order Adams–Moulton (order <= 5) with
 // fixed-point iteration — the structural modes are lightly damped and not
@@ -67,6 +74,8 @@ struct TimeDomainOptions {
 
   // --- lobes by simulation (TimeDomainSolver) ---
   /// Delay periods simulated per verdict (>= 20). The last half is analysed.
+  /// Counted in tooth periods: a run whose period is one revolution (variable
+  /// pitch or helix, runout) simulates max(20, ⌈periods / N_t⌉) revolutions.
   int periods = 200;
   /// Deepest cut searched, m (> 0). Limits above it are reported as +inf.
   double depth_max_m = 0.05;
@@ -80,6 +89,16 @@ struct TimeDomainOptions {
   /// Lobe search in linear mode (verdict from the growth factor).
   bool linear = false;
 
+  // --- real cutters (last, so that positional initialisers keep working) ---
+  /// Axial slices N_z of the cut (real cutters, docs/time_domain.md "Real
+  /// cutters"): each tooth is N_z straight slices of height a/N_z at the
+  /// midpoints z = (s + ½) a/N_z, each at its own angle φ_j(t, z) and delay
+  /// τ_j(z). 0 = automatic: 20 with a helix, 1 otherwise. An explicit value
+  /// (1 … 1000) also sends a straight, equally spaced cutter through the
+  /// per-tooth path (its tables then differ from the uniform path's by the
+  /// integration tolerance only). Cost: the right-hand side grows as N_t N_z.
+  int axial_slices = 0;
+
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;
 };
@@ -88,7 +107,9 @@ struct TimeDomainOptions {
 struct SimulationSettings {
   double spindle_rpm = 0.0;   ///< > 0.
   double depth_m = 0.0;       ///< >= 0 (axial depth for milling, width of cut for turning).
-  int periods = 200;          ///< delay periods to simulate (>= 4).
+  /// Periods to simulate (>= 4): tooth periods, or revolutions with a
+  /// variable pitch or helix or (nonlinear mode) runout.
+  int periods = 200;
   /// Feed per tooth (milling) or per revolution (turning), m (>= 0).
   /// Ignored in linear mode.
   double feed_m = 1e-4;
@@ -141,7 +162,8 @@ class TimeDomainSolver final : public LobeSolver {
   /// first depth of the search (only where the scan starts, not the answer).
   /// Null: the zeroth-order analytic solver on the same model and process
   /// (depth_max_m of these options) is built here, once; when the analytic
-  /// method does not apply to the model, the search has no guess.
+  /// method does not apply to the model (or refuses the process), the search
+  /// has no guess.
   TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {},
                    std::shared_ptr<const LobeSolver> starting_guess = nullptr);
   std::string method() const override { return "time-domain"; }

@@ -139,7 +139,9 @@ SolverDescriptor time_domain_descriptor() {
   d.summary = "simulation with the real chip; the depth where the simulated cut starts to chatter; about 0.3 s "
               "per speed";
   d.kind = SolverKind::kSimulation;
-  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
+               SolverFeature::kHelix,         SolverFeature::kVariablePitch, SolverFeature::kVariableHelix,
+               SolverFeature::kRunout,        SolverFeature::kProcessDamping};
   d.in_default_compare = false;  // slow: opt-in
   d.options = {
       {"periods", Kind::kInt,
@@ -155,7 +157,11 @@ SolverDescriptor time_domain_descriptor() {
       {"linear", Kind::kFlag,
        "linear delay equation (no static chip, the tool never leaves the cut); the verdict is the growth factor "
        "per period",
-       0.0, 0.0, "", true}};
+       0.0, 0.0, "", true},
+      {"axial_slices", Kind::kInt,
+       "axial slices of each tooth for a helical or variable cutter (default 0 = automatic: 20 with a helix, 1 "
+       "otherwise); more: closer to the continuous flute, slower",
+       0.0, 1000.0, "", true}};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
     TimeDomainOptions t;
     t.depth_max_m = depth_max_m;
@@ -163,6 +169,7 @@ SolverDescriptor time_domain_descriptor() {
     if (o.count("feed_per_tooth_mm")) t.feed_m = std::get<double>(o.at("feed_per_tooth_mm")) * 1e-3;
     t.multiple_regeneration = option_or(o, "multiple_regeneration", false);
     t.linear = option_or(o, "linear", false);
+    t.axial_slices = option_or(o, "axial_slices", t.axial_slices);
     return std::unique_ptr<LobeSolver>(std::make_unique<TimeDomainSolver>(m, p, t));
   };
   d.effective_options = [](const LobeSolver& solver) {
@@ -172,6 +179,7 @@ SolverDescriptor time_domain_descriptor() {
                         {"feed_m", o.feed_m},
                         {"linear", o.linear},
                         {"multiple_regeneration", o.multiple_regeneration},
+                        {"axial_slices", o.axial_slices},
                         {"relative_tolerance", o.relative_tolerance},
                         {"depth_tolerance", o.depth_tolerance}};
   };

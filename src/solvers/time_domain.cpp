@@ -48,6 +48,13 @@ constexpr int kStartImages = 6;
 constexpr int kRootImagesSingle = 2;
 constexpr int kRootImagesMultiple = 3;
 constexpr int kMaxAdamsOrder = 5;
+// Axial slices of a helical cutter when the options leave it automatic:
+// 20 slices put the growth per period within 1.4e-5 (relative) of 80
+// slices near the limit of case C with a 30° helix (second-order
+// convergence, tests/test_time_domain_cutters.cpp).
+constexpr int kDefaultHelixSlices = 20;
+// Up to this many distinct delays, the multiples of each are start stops.
+constexpr std::size_t kMaxStartImageDelays = 8;
 
 // ---------------------------------------------------------------------------
 // The right-hand side and everything it needs.
@@ -60,9 +67,42 @@ struct Diagnostics {
   bool in_air = false;
 };
 
+// The real cutter (docs/time_domain.md "Real cutters"): one cutting element
+// per tooth j and axial slice s, a straight tooth of height dz at the slice
+// midpoint z, with the surfaces it may cut: the one left by the tooth k
+// places before it (k = 1 … K), passed `delay[k−1]` earlier, whose nominal
+// position is N_t f_z `advance[k−1]` sin φ + `runout_diff[k−1]` away.
+struct CutElement {
+  int tooth = 0;
+  double z = 0.0, dz = 0.0;
+  std::vector<int> delay_index;   // into Model::delays_ (k = 1 … K)
+  std::vector<double> advance;    // (θ_j + … + θ_{j−k+1}) / 2π
+  std::vector<double> runout_diff;  // ρ_j − ρ_{j−k}, m
+  std::vector<double> next_delay_sum;  // τ_{j+1}(z) + … + τ_{j+k}(z), s (root images)
+};
+
+/// True when the run takes the per-tooth, per-slice path (real cutters):
+/// milling with a helix, a variable pitch or helix, process damping, runout
+/// (nonlinear mode only: linear mode ignores it), or an explicit axial_slices.
+bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
+  if (p.operation() != Operation::kMilling) return false;
+  return o.axial_slices > 0 || p.has_helix() || !p.uniform_cutter() || p.has_process_damping() ||
+         (p.has_runout() && !linear);
+}
+
+/// The period of a run (s): the tooth period for a uniform cutter; one
+/// revolution with variable pitch or helix, or with runout in nonlinear mode
+/// (the chips then repeat once per revolution only).
+double simulation_period(const Process& p, const SimulationSettings& s) {
+  if (p.operation() == Operation::kMilling && (!p.uniform_cutter() || (p.has_runout() && !s.linear)))
+    return 60.0 / s.spindle_rpm;
+  return p.delay_s(s.spindle_rpm);
+}
+
 class Model {
  public:
-  Model(const StructuralModel& model, const Process& process, const SimulationSettings& s, double tau)
+  Model(const StructuralModel& model, const Process& process, const SimulationSettings& s, double tau,
+        const TimeDomainOptions& options)
       : mm_(modal_matrices(model)), process_(process), settings_(s), tau_(tau) {
     n_ = static_cast<int>(mm_.omega.size());
     tool_modes_ = static_cast<int>(model.tool.modes.size());
@@ -77,8 +117,11 @@ class Model {
     } else {
       kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
     }
-    in_arc_.assign(teeth_, milling_ ? 0 : 1);
-    chips_.assign(teeth_, 0.0);
+    pd_per_depth_ = process.process_damping_per_depth(s.spindle_rpm);
+    general_ = general_cutter(process, options, s.linear);
+    if (general_) build_elements(options);
+    in_arc_.assign(general_ ? elements_.size() : static_cast<std::size_t>(teeth_), milling_ ? 0 : 1);
+    chips_.assign(in_arc_.size(), 0.0);
   }
 
   int n() const { return n_; }
@@ -88,9 +131,40 @@ class Model {
   int tool_modes() const { return tool_modes_; }
 
   void attach(History* h) { history_ = h; }
+  bool general() const { return general_; }
+  /// Root functions: one per tooth (uniform path) or per element when every
+  /// element's entry and exit is a stop (one slice); none with several
+  /// slices (their chips are clipped, see docs/time_domain.md).
+  int root_count() const { return general_ ? (slices_ == 1 ? static_cast<int>(elements_.size()) : 0) : teeth_; }
+  /// Largest delay any element reads (s): the history must hold it.
+  double max_delay() const {
+    return delays_.empty() ? tau_ : *std::max_element(delays_.begin(), delays_.end());
+  }
+  double min_delay() const {
+    return delays_.empty() ? tau_ : *std::min_element(delays_.begin(), delays_.end());
+  }
+  /// Distinct delays whose multiples carry the start discontinuity (stops);
+  /// empty when they are many (distributed delays smear the start jump).
+  std::vector<double> start_image_delays() const {
+    if (!general_) return {tau_};
+    if (delays_.size() > kMaxStartImageDelays) return {};
+    return delays_;
+  }
+  /// The delay images of a chip zero crossing of root function `i`: the
+  /// later teeth that cut the surface it leaves, k = 1 … count.
+  double root_image_offset(int i, int k) const {
+    return general_ ? elements_[static_cast<std::size_t>(i)].next_delay_sum[static_cast<std::size_t>(k - 1)]
+                    : k * tau_;
+  }
   /// Sets which teeth are inside the cutting arc for the segment around `t`.
   void set_segment(double t_mid) {
     if (!milling_) return;
+    if (general_) {
+      if (slices_ != 1) return;  // several slices: tested in the right-hand side
+      for (std::size_t e = 0; e < elements_.size(); ++e)
+        in_arc_[e] = in_window(element_angle(elements_[e], t_mid)) ? 1 : 0;
+      return;
+    }
     for (int j = 0; j < teeth_; ++j) {
       const double phi = wrap(angle(t_mid, j));
       in_arc_[j] = (phi >= phi_en_ && phi <= phi_ex_) ? 1 : 0;
@@ -102,9 +176,32 @@ class Model {
     return phi < 0 ? phi + 2.0 * kPi : phi;
   }
   /// Times in [0, t_end] at which a tooth enters or leaves the arc (milling).
+  /// Real cutters: every element's entry and exit with one slice; with
+  /// several, the instants a tooth tip or the top of the cut enters or leaves
+  /// (Process::engagement_events_s), where the sliced force has its kinks.
   std::vector<double> arc_events(double t_end) const {
     std::vector<double> out;
     if (!milling_) return out;
+    if (general_) {
+      const double rpm = settings_.spindle_rpm, rev = 60.0 / rpm;
+      auto repeat = [&](double t0, double every) {
+        for (long k = 0; t0 + static_cast<double>(k) * every <= t_end; ++k)
+          out.push_back(t0 + static_cast<double>(k) * every);
+      };
+      if (slices_ == 1) {
+        for (const CutElement& e : elements_)
+          for (const double edge : {phi_en_, phi_ex_}) {
+            const double lag = process_.tooth_offset_rad(e.tooth) + e.z * process_.helix_lag_rad_per_m(e.tooth);
+            double t0 = std::fmod((edge + lag) / omega_spindle_, rev);
+            if (t0 < 0.0) t0 += rev;
+            repeat(t0, rev);
+          }
+      } else {
+        for (const double t0 : process_.engagement_events_s(rpm, settings_.depth_m)) repeat(t0, process_.period_s(rpm));
+      }
+      std::sort(out.begin(), out.end());
+      return out;
+    }
     const double pitch = 2.0 * kPi / teeth_;
     for (double phi : {phi_en_, phi_ex_}) {
       const double t0 = std::fmod(phi, pitch) / omega_spindle_;
@@ -116,6 +213,10 @@ class Model {
   /// Unclipped chip thickness of every tooth in the arc at time t for state
   /// q (m); teeth outside the arc get +1 (a constant, for root finding).
   void chips(double t, const double* q, double* h) const {
+    if (general_) {
+      general_chips(t, q, h);
+      return;
+    }
     double r[2] = {0, 0};
     relative(q, r);
     double rd[2];
@@ -146,6 +247,10 @@ class Model {
     ++rhs_count_;
     const double* q = y;
     const double* qd = y + n_;
+    if (general_) {
+      general_rhs(t, q, qd, ydot, diag);
+      return;
+    }
     chips(t, q, chips_.data());
     double F[2] = {0, 0};
     const double a = settings_.depth_m;
@@ -166,14 +271,15 @@ class Model {
         F[1] += a * (kt_ * sn - kr_ * cs) * hc;
       } else {
         F[0] += -a * kf_ * hc;
+        if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
+          // Process damping (turning, n = x): −C_pd (a/V) ṙ_x while cutting.
+          double rv[2];
+          relative(qd, rv);
+          F[0] -= pd_per_depth_ * a * rv[0];
+        }
       }
     }
-    for (int i = 0; i < n_; ++i) {
-      const double w = mm_.omega(i);
-      ydot[i] = qd[i];
-      ydot[n_ + i] = -2.0 * mm_.damping_ratio(i) * w * qd[i] - w * w * q[i] +
-                     (mm_.S(0, i) * F[0] + mm_.S(1, i) * F[1]) / mm_.mass_kg(i);
-    }
+    modal_accelerations(q, qd, F, ydot);
     if (diag) {
       diag->force[0] = F[0];
       diag->force[1] = F[1];
@@ -181,6 +287,15 @@ class Model {
       diag->any_in_arc = any_arc;
       diag->in_cut = cutting;
       diag->in_air = any_arc && !touching && !settings_.linear;
+    }
+  }
+
+  void modal_accelerations(const double* q, const double* qd, const double F[2], double* ydot) const {
+    for (int i = 0; i < n_; ++i) {
+      const double w = mm_.omega(i);
+      ydot[i] = qd[i];
+      ydot[n_ + i] = -2.0 * mm_.damping_ratio(i) * w * qd[i] - w * w * q[i] +
+                     (mm_.S(0, i) * F[0] + mm_.S(1, i) * F[1]) / mm_.mass_kg(i);
     }
   }
 
@@ -199,6 +314,202 @@ class Model {
   const std::vector<char>& in_arc() const { return in_arc_; }
 
  private:
+  // ---- the real cutter (general path) ----
+  void build_elements(const TimeDomainOptions& o) {
+    const double a = settings_.depth_m, rpm = settings_.spindle_rpm;
+    slices_ = o.axial_slices > 0 ? o.axial_slices : (process_.has_helix() ? kDefaultHelixSlices : 1);
+    // Multiple regeneration: the chip is cut from the nearest of the surfaces
+    // the N_t earlier teeth left (one revolution back).
+    const int surfaces = (!settings_.linear && settings_.multiple_regeneration) ? teeth_ : 1;
+    auto wrap_tooth = [&](int j) { return ((j % teeth_) + teeth_) % teeth_; };
+    for (int j = 0; j < teeth_; ++j) {
+      for (int sl = 0; sl < slices_; ++sl) {
+        CutElement e;
+        e.tooth = j;
+        e.dz = a / slices_;
+        e.z = (sl + 0.5) * e.dz;
+        double delay = 0.0, pitch = 0.0;
+        for (int k = 1; k <= surfaces; ++k) {
+          const int cur = wrap_tooth(j - k + 1), prev = wrap_tooth(j - k);
+          const double dk = process_.tooth_delay_s(cur, e.z, rpm);
+          if (!(dk > 0.0))
+            throw InputError("time-domain: at height " + std::to_string(e.z * 1e3) + " mm tooth " +
+                             std::to_string(cur + 1) + " passes before tooth " + std::to_string(prev + 1) +
+                             " (the helix difference exceeds the pitch): reduce the depth or the helix variation");
+          delay += dk;
+          pitch += process_.pitch_angle_rad(cur);
+          e.delay_index.push_back(delay_slot(delay));
+          e.advance.push_back(pitch / (2.0 * kPi));
+          e.runout_diff.push_back(process_.runout_m(j) - process_.runout_m(prev));
+        }
+        double next = 0.0;
+        for (int k = 1; k <= kRootImagesMultiple; ++k) {
+          next += process_.tooth_delay_s(wrap_tooth(j + k), e.z, rpm);
+          e.next_delay_sum.push_back(next);
+        }
+        elements_.push_back(std::move(e));
+      }
+    }
+    delayed_.assign(2 * delays_.size(), 0.0);
+    engaged_.assign(elements_.size(), 0.0);
+    phi_.assign(elements_.size(), 0.0);
+    sin_.assign(elements_.size(), 0.0);
+    for (int j = 0; j < teeth_; ++j) {
+      const double d = process_.helix_lag_rad_per_m(j) * a / slices_;  // δ_j = κ_j dz
+      slice_lag_.push_back(d);
+      slice_cos_.push_back(std::cos(d));
+      slice_sin_.push_back(std::sin(d));
+    }
+    cos_.assign(elements_.size(), 0.0);
+    runout_ = process_.has_runout() && !settings_.linear;
+  }
+  int delay_slot(double d) {
+    for (std::size_t i = 0; i < delays_.size(); ++i)
+      if (std::abs(delays_[i] - d) <= 1e-13 * d) return static_cast<int>(i);
+    delays_.push_back(d);
+    return static_cast<int>(delays_.size()) - 1;
+  }
+  double element_angle(const CutElement& e, double t) const {
+    return process_.tooth_angle_rad(e.tooth, t, e.z, settings_.spindle_rpm);
+  }
+  bool in_window(double phi) const {
+    phi = wrap(phi);
+    return phi >= phi_en_ && phi <= phi_ex_;
+  }
+  // Engaged fraction of a slice whose edge spans the angles φ ± w/2 (w =
+  // κ dz, the helix lag over the slice height): the part of that interval
+  // inside the arc [φ_en, φ_ex] (mod 2π), over w. It ramps linearly while
+  // the slice enters or leaves, so the sliced force is continuous in time
+  // (the exact windowed integral over the slice height, with the chip and
+  // direction taken at the midpoint). w = 0: the arc test.
+  // φ is wrapped to [0, 2π).
+  double engaged_fraction(double phi, double w) const {
+    if (!(w > 0.0)) return (phi >= phi_en_ && phi <= phi_ex_) ? 1.0 : 0.0;
+    double lo = phi - 0.5 * w;
+    while (lo < 0.0) lo += 2.0 * kPi;
+    const double hi = lo + w;
+    const double first = std::min(hi, phi_ex_) - std::max(lo, phi_en_);
+    const double second = std::min(hi, phi_ex_ + 2.0 * kPi) - std::max(lo, phi_en_ + 2.0 * kPi);
+    return std::min(1.0, (std::max(0.0, first) + std::max(0.0, second)) / w);
+  }
+  // φ (wrapped to [0, 2π)), sin φ, cos φ of every element at t. With
+  // several slices one wrap, sine and cosine per tooth: the slices of a
+  // tooth step back by δ = κ_j dz each, a rotation (round-off ~1e-16 per
+  // slice).
+  void element_angles(double t) const {
+    if (slices_ == 1) {
+      for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+        const double phi = wrap(element_angle(elements_[ei], t));
+        phi_[ei] = phi;
+        sin_[ei] = std::sin(phi);
+        cos_[ei] = std::cos(phi);
+      }
+      return;
+    }
+    std::size_t ei = 0;
+    for (int j = 0; j < teeth_; ++j) {
+      const double d = slice_lag_[static_cast<std::size_t>(j)];
+      const double cd = slice_cos_[static_cast<std::size_t>(j)], sd = slice_sin_[static_cast<std::size_t>(j)];
+      double phi = wrap(process_.tooth_angle_rad(j, t, 0.0, settings_.spindle_rpm) - 0.5 * d);
+      double sn = std::sin(phi), cs = std::cos(phi);
+      for (int sl = 0; sl < slices_; ++sl, ++ei) {
+        phi_[ei] = phi;
+        sin_[ei] = sn;
+        cos_[ei] = cs;
+        phi -= d;
+        while (phi < 0.0) phi += 2.0 * kPi;
+        const double sn1 = sn * cd - cs * sd;
+        cs = cs * cd + sn * sd;
+        sn = sn1;
+      }
+    }
+  }
+  // Chips of every element (unclipped; +1 out of the arc); engaged_, sin_,
+  // cos_ set for the right-hand side.
+  // Nonlinear: the static chip of Process::static_chip_m (pitch, runout)
+  // plus the regeneration against the previous tooth; with multiple
+  // regeneration the nearest of the N_t earlier surfaces,
+  //   h = min_k [N_t f_z (θ_j + … + θ_{j−k+1})/2π sin φ + ρ_j − ρ_{j−k} + n·(r(t) − r(t − τ_{j,k}))],
+  // which is static_chip_m (before its floor) on a still tool. Linear:
+  // n·(r(t) − r(t − τ_j(z))).
+  void general_chips(double t, const double* q, double* h) const {
+    double r[2];
+    relative(q, r);
+    for (std::size_t i = 0; i < delays_.size(); ++i) history_->displacement(t - delays_[i], &delayed_[2 * i]);
+    const double feed = settings_.linear ? 0.0 : settings_.feed_m;
+    const bool multiple = !settings_.linear && settings_.multiple_regeneration;
+    element_angles(t);
+    for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+      const CutElement& e = elements_[ei];
+      const double phi = phi_[ei];
+      const double frac = slices_ == 1 ? (in_arc_[ei] != 0 ? 1.0 : 0.0) : engaged_fraction(phi, slice_lag_[e.tooth]);
+      engaged_[ei] = frac;
+      if (!(frac > 0.0)) {
+        h[ei] = 1.0;
+        continue;
+      }
+      const double sn = sin_[ei], cs = cos_[ei];
+      auto regen = [&](int k) {
+        const double* rd = &delayed_[2 * static_cast<std::size_t>(e.delay_index[static_cast<std::size_t>(k)])];
+        return sn * (r[0] - rd[0]) + cs * (r[1] - rd[1]);
+      };
+      if (settings_.linear) {
+        h[ei] = regen(0);
+      } else if (!multiple) {
+        // Without runout static_chip_m is N_t f_z θ_j/2π sin φ (k = 1), taken
+        // directly here (sin φ is at hand; the arc has sin φ >= 0 but for
+        // the ramp of a slice entering at φ = 0 or leaving at π).
+        h[ei] = (runout_ ? process_.static_chip_m(e.tooth, phi, feed) : std::max(0.0, teeth_ * feed * e.advance[0] * sn)) +
+                regen(0);
+      } else {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < e.delay_index.size(); ++k)
+          best = std::min(best, teeth_ * feed * e.advance[k] * sn + e.runout_diff[k] + regen(static_cast<int>(k)));
+        h[ei] = best;
+      }
+    }
+  }
+  // The sliced force: per element in the arc −dz max(0, h) (K_t cos φ +
+  // K_r sin φ, −(K_t sin φ − K_r cos φ)), plus the process damping
+  // −(C_pd/V) dz (n·ṙ) n while it cuts (h > 0; always in linear mode).
+  void general_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const {
+    general_chips(t, q, chips_.data());
+    double rv[2] = {0, 0};
+    if (pd_per_depth_ > 0.0) relative(qd, rv);
+    double F[2] = {0, 0};
+    double chip_max = 0.0;
+    bool any_arc = false, cutting = false, touching = false;
+    for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+      const double frac = engaged_[ei];
+      if (!(frac > 0.0)) continue;
+      any_arc = true;
+      const CutElement& e = elements_[ei];
+      const double dz = frac * e.dz;
+      const double h = chips_[ei];
+      const double hc = settings_.linear ? h : std::max(0.0, h);
+      if (h > 0.0) cutting = true;
+      if (h > -air_margin_) touching = true;
+      chip_max = std::max(chip_max, settings_.linear ? std::abs(h) : hc);
+      const double sn = sin_[ei], cs = cos_[ei];
+      F[0] += -dz * (kt_ * cs + kr_ * sn) * hc;
+      F[1] += dz * (kt_ * sn - kr_ * cs) * hc;
+      if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
+        const double vn = sn * rv[0] + cs * rv[1];
+        F[0] -= pd_per_depth_ * dz * vn * sn;
+        F[1] -= pd_per_depth_ * dz * vn * cs;
+      }
+    }
+    modal_accelerations(q, qd, F, ydot);
+    if (diag) {
+      diag->force[0] = F[0];
+      diag->force[1] = F[1];
+      diag->chip_max = chip_max;
+      diag->any_in_arc = any_arc;
+      diag->in_cut = cutting;
+      diag->in_air = any_arc && !touching && !settings_.linear;
+    }
+  }
+
   ModalMatrices mm_;
   const Process& process_;
   const SimulationSettings& settings_;
@@ -206,6 +517,16 @@ class Model {
   int n_ = 0, tool_modes_ = 0, teeth_ = 1;
   bool milling_ = false;
   double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
+  double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m²
+  bool general_ = false;
+  int slices_ = 1;
+  std::vector<CutElement> elements_;
+  std::vector<double> delays_;            // distinct delays read by the elements, s
+  mutable std::vector<double> delayed_;   // r(t − delays_[i]) (x, y) per rhs
+  bool runout_ = false;                   // static chip from Process::static_chip_m
+  // At the last chips() call, per element: engaged fraction, sin φ, cos φ.
+  mutable std::vector<double> engaged_, phi_, sin_, cos_;
+  std::vector<double> slice_lag_, slice_cos_, slice_sin_;  // per tooth: δ_j = κ_j dz, cos δ_j, sin δ_j
   std::vector<char> in_arc_;
   History* history_ = nullptr;
   mutable std::vector<double> chips_;
@@ -291,7 +612,8 @@ class SimulationRun {
   // Initial state [q; q̇] and the displacement scale of the tolerances.
   std::vector<double> y0_;
   double scale_ = 0.0;
-  int root_cap_ = 0, root_images_ = 0;
+  int root_cap_ = 0, root_images_ = 0, root_count_ = 0;
+  double hold_ = 0.0;  // history kept behind the newest entry, s
   std::optional<History> history_;
   double t_end_ = 0.0;
   std::vector<double> stops_;  // fixed stop points, sorted, t_end last
@@ -333,8 +655,8 @@ SimulationRun::SimulationRun(const StructuralModel& model, const Process& proces
     : process_(process),
       options_(options),
       s_(s),
-      tau_(process.delay_s(s.spindle_rpm)),
-      m_(model, process, s, tau_),
+      tau_(simulation_period(process, s)),
+      m_(model, process, s, tau_, options),
       n_(m_.n()),
       teeth_(m_.teeth()) {
   if (!s.initial_state.empty() && static_cast<int>(s.initial_state.size()) != 2 * n_)
@@ -355,6 +677,15 @@ void SimulationRun::choose_sampling() {
                      std::to_string(static_cast<long>(need)) + " history samples per delay (limit " +
                      std::to_string(options_.max_samples_per_period) + "): raise the speed");
   M_ = std::max(options_.samples_per_period, static_cast<int>(need));
+  if (m_.general()) {
+    // samples_per_period per tooth period; at least 2 samples per shortest delay.
+    const int tooth_periods = static_cast<int>(std::lround(tau_ / process_.delay_s(s_.spindle_rpm)));
+    M_ = std::max({M_, options_.samples_per_period * tooth_periods,
+                   static_cast<int>(std::ceil(2.0 * tau_ / m_.min_delay()))});
+    if (M_ > options_.max_samples_per_period)
+      throw InputError("time-domain: " + std::to_string(s_.spindle_rpm) + " rev/min needs " + std::to_string(M_) +
+                       " history samples per period (limit " + std::to_string(options_.max_samples_per_period) + ")");
+  }
   dt_ = tau_ / M_;
 }
 
@@ -390,14 +721,18 @@ void SimulationRun::init_history() {
   // many stops at each of their root_images delay images.
   root_cap_ = 8 * teeth_ + 8;
   root_images_ = s_.linear ? 0 : (s_.multiple_regeneration ? kRootImagesMultiple : kRootImagesSingle);
+  // Real cutters hold the largest delay read (up to one revolution).
+  hold_ = m_.general() ? std::max(1.5 * tau_, m_.max_delay() + 0.5 * tau_) : 1.5 * tau_;
+  const std::size_t held = m_.general() ? static_cast<std::size_t>(std::ceil(hold_ / dt_))
+                                         : static_cast<std::size_t>(M_ + M_ / 2);
   const std::size_t capacity =
-      static_cast<std::size_t>(M_ + M_ / 2 + 2 * (root_cap_ + 1) * (1 + root_images_) + 4 * teeth_ + 16);
-  history_.emplace(capacity, teeth_);
+      held + static_cast<std::size_t>(2 * (root_cap_ + 1) * (1 + root_images_) + 4 * teeth_ + 16);
+  history_.emplace(capacity, m_.general() ? 1 : teeth_);
   m_.attach(&*history_);
   std::vector<double> zero_gaps(teeth_, 0.0);
   HistoryEntry e;
   m_.relative(y0_.data(), e.r);
-  e.t = -tau_ - 2.0 * dt_;
+  e.t = -(m_.general() ? m_.max_delay() : tau_) - 2.0 * dt_;
   history_->push(e, zero_gaps.data());
   e.t = 0.0;
   history_->push(e, zero_gaps.data());
@@ -406,7 +741,12 @@ void SimulationRun::init_history() {
 void SimulationRun::init_stops() {
   t_end_ = s_.periods * tau_;
   std::vector<double> stops = m_.arc_events(t_end_);
-  for (int k = 1; k <= kStartImages && k <= s_.periods; ++k) stops.push_back(k * tau_);
+  if (!m_.general()) {
+    for (int k = 1; k <= kStartImages && k <= s_.periods; ++k) stops.push_back(k * tau_);
+  } else {
+    for (const double d : m_.start_image_delays())
+      for (int k = 1; k <= kStartImages && k * d < t_end_; ++k) stops.push_back(k * d);
+  }
   stops.push_back(t_end_);
   std::sort(stops.begin(), stops.end());
   std::vector<double> merged;
@@ -436,11 +776,12 @@ void SimulationRun::init_integrator() {
   cv_->check(CVodeSetNonlinearSolver(mem_, *nls_), "CVodeSetNonlinearSolver");
   cv_->check(CVodeSetUserData(mem_, &m_), "CVodeSetUserData");
   cv_->check(CVodeSetMaxOrd(mem_, kMaxAdamsOrder), "CVodeSetMaxOrd");
-  cv_->check(CVodeSetMaxStep(mem_, 0.5 * tau_), "CVodeSetMaxStep");
+  cv_->check(CVodeSetMaxStep(mem_, 0.5 * (m_.general() ? std::min(tau_, m_.min_delay()) : tau_)), "CVodeSetMaxStep");
   cv_->check(CVodeSetMaxNumSteps(mem_, options_.max_steps), "CVodeSetMaxNumSteps");
-  use_roots_ = !s_.linear;
+  root_count_ = m_.root_count();
+  use_roots_ = !s_.linear && root_count_ > 0;
   if (use_roots_) {
-    cv_->check(CVodeRootInit(mem_, teeth_, cvode_roots), "CVodeRootInit");
+    cv_->check(CVodeRootInit(mem_, root_count_, cvode_roots), "CVodeRootInit");
     cv_->check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
   }
   roots_on_ = use_roots_;
@@ -518,13 +859,13 @@ Diagnostics SimulationRun::store(double t, bool segment_changes, double t_next_m
   }
   // Gaps in air (multiple regeneration), from the chips after the event.
   std::vector<double> gaps(teeth_, 0.0);
-  if (s_.multiple_regeneration && !s_.linear) {
+  if (s_.multiple_regeneration && !s_.linear && !m_.general()) {
     std::vector<double> h(teeth_);
     m_.chips(t, y, h.data());
     for (int j = 0; j < teeth_; ++j) gaps[j] = m_.in_arc()[j] ? std::max(0.0, -h[j]) : 0.0;
   }
   history_->push(e, gaps.data());
-  history_->drop_before(t - 1.5 * tau_);
+  history_->drop_before(t - hold_);
   return left;
 }
 
@@ -551,12 +892,24 @@ void SimulationRun::pass_event(double tt) {
 // A chip zero crossing at tr: count it and queue its delay images.
 void SimulationRun::on_root(double tr) {
   ++root_stops_;
-  for (int k = 1; k <= root_images_; ++k) {
-    const double ti = tr + k * tau_;
-    if (ti >= t_end_ - 1e-9 * tau_) break;
-    const auto at = std::lower_bound(images_.begin(), images_.end(), ti - 1e-9 * tau_);
-    if (at != images_.end() && *at - ti <= 1e-9 * tau_) continue;  // already there (e.g. roots at tooth exit)
-    images_.insert(at, ti);
+  // Uniform path: images at tr + kτ. Real cutter: at the times the next
+  // teeth pass over the surface the root's element left.
+  std::vector<int> which{0};
+  if (m_.general()) {
+    std::vector<int> found(static_cast<std::size_t>(root_count_), 0);
+    cv_->check(CVodeGetRootInfo(mem_, found.data()), "CVodeGetRootInfo");
+    which.clear();
+    for (int i = 0; i < root_count_; ++i)
+      if (found[static_cast<std::size_t>(i)] != 0) which.push_back(i);
+  }
+  for (const int i : which) {
+    for (int k = 1; k <= root_images_; ++k) {
+      const double ti = tr + m_.root_image_offset(i, k);
+      if (ti >= t_end_ - 1e-9 * tau_) break;
+      const auto at = std::lower_bound(images_.begin(), images_.end(), ti - 1e-9 * tau_);
+      if (at != images_.end() && *at - ti <= 1e-9 * tau_) continue;  // already there (e.g. roots at tooth exit)
+      images_.insert(at, ti);
+    }
   }
 }
 
@@ -672,7 +1025,7 @@ void SimulationRun::end_of_period(bool at_stop, bool& root_at_grid) {
   roots_this_period_ = 0;
   bool need_restart = at_stop;
   if (use_roots_ && !roots_on_) {
-    cv_->check(CVodeRootInit(mem_, teeth_, cvode_roots), "CVodeRootInit");
+    cv_->check(CVodeRootInit(mem_, root_count_, cvode_roots), "CVodeRootInit");
     roots_on_ = true;
     need_restart = true;
   }
@@ -756,6 +1109,8 @@ std::string TimeDomainOptions::validate() const {
     os << "max_samples_per_period = " << max_samples_per_period << ": must be >= samples_per_period";
   else if (max_steps < 1000)
     os << "max_steps = " << max_steps << ": must be >= 1000";
+  else if (axial_slices < 0 || axial_slices > 1000)
+    os << "axial_slices = " << axial_slices << ": must be in [0, 1000] (0 = automatic)";
   else if (periods < 20)
     os << "periods = " << periods << ": must be >= 20";
   else if (!(depth_max_m > 0.0 && std::isfinite(depth_max_m)))
@@ -794,7 +1149,11 @@ std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulat
   TransferFunctionOptions to;
   to.depth_max_m = sim.options().depth_max_m;
   if (!to.validate().empty() || sim.model().rigid()) return nullptr;
-  return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+  try {
+    return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+  } catch (const InputError&) {
+    return nullptr;  // e.g. a cutter feature the analytic method refuses: no guess
+  }
 }
 
 }  // namespace
@@ -809,9 +1168,14 @@ SimulationResult TimeDomainSolver::verdict_run(double rpm, double depth_m) const
   SimulationSettings st;
   st.spindle_rpm = rpm;
   st.depth_m = depth_m;
-  st.periods = simulator_.options().periods;
   st.feed_m = simulator_.options().feed_m;
   st.linear = simulator_.options().linear;
+  // options.periods counts tooth periods (header): the same simulated time
+  // when the run's period is a revolution.
+  const double tooth_periods_per_period = simulation_period(simulator_.process(), st) / simulator_.process().delay_s(rpm);
+  st.periods = tooth_periods_per_period > 1.5
+                   ? std::max(20, static_cast<int>(std::ceil(simulator_.options().periods / tooth_periods_per_period)))
+                   : simulator_.options().periods;
   st.multiple_regeneration = simulator_.options().multiple_regeneration;
   st.record_series = false;
   return simulator_.simulate(st);
