@@ -81,6 +81,16 @@ struct SemiDiscretizationOptions {
   /// map, instead of Arnoldi on Φ, whose multipliers crowd the unit circle
   /// there (docs/sdm.md). false: always the eigen-solvers (cross-checks).
   bool turning_branch_roots = true;
+  /// Variable helix: each tooth's cut (0 … a) is split into this many equal
+  /// axial slices, each with its own delay τ_j(z) at its mid-height and its
+  /// exact share of H (>= 1). Unused otherwise (one helix angle keeps one
+  /// delay per tooth and the exact integral over the height). Default from
+  /// the convergence study in docs/sdm.md.
+  int axial_slices = 8;
+  /// Cross-checks: send even the straight, equally spaced milling cutter
+  /// through the real-cutter path (one revolution, one delay per tooth).
+  /// false: that cutter keeps the tooth-period path (byte-identical tables).
+  bool general_cutter_path = false;
 
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;
@@ -173,6 +183,7 @@ class SemiDiscretizationSolver final : public LobeSolver {
   Eigen::MatrixXd B_;       // 2n × 2 force input
   Eigen::MatrixXd Wx_;      // n_r × 2n, z = Wx x
   Eigen::MatrixXd U_;       // n_L × n_r
+  Eigen::MatrixXd Sv_;      // 2 × 2n: relative velocity ṙ = Sv x (process damping)
   double f_max_hz_ = 0.0;
   double slowest_decay_per_s_ = 0.0;  // min −Re λ_i (= min ζ_i ω_i): ln ρ at zero depth is −τ times this
   std::vector<std::complex<double>> free_poles_;  // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
