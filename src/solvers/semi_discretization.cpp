@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <utility>
@@ -91,6 +92,18 @@ struct Step {
   MatrixXd BHU;       // B Ĥ U with Ĥ the step average of Ĥ(t): 2n × n_r (per unit depth)
 };
 
+// Real-cutter grid of one period (cutter_grid): boundaries, and per step the
+// exact integrals ∫∫ H₁ per delay group and Σ_j ∫∫ n nᵀ at depth `depth`.
+struct CutterGrid {
+  double depth = 0.0;              // m
+  std::vector<double> t;           // t_0 = 0 … t_M = T
+  std::vector<double> h;           // step lengths, s
+  std::vector<char> free;          // 1: free flight (exact step)
+  std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
+  std::vector<Eigen::Matrix2d> D;  // M
+  std::vector<double> gtau;        // delay of each group, s
+};
+
 // The step grid of one delay period at one spindle speed.
 struct Grid {
   double tau = 0.0;
@@ -109,7 +122,10 @@ struct Grid {
   bool cutter = false;
   double rpm = 0.0;
   double h_target = 0.0;       // longest cutting step, s
+  std::shared_ptr<const CutterGrid> cutter_grid;  // straight teeth: built once per speed at 1 m
 };
+
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
 struct CutterStep {
@@ -293,13 +309,20 @@ class SdmKernel {
   // with z(t − τ_k) linear over the step between its values at the step ends,
   // each interpolated linearly between stored samples. R0_k, R1_k come from
   // one augmented exponential: [[Ãh, Bt_1 h … Bt_d h, 0], [0, 0, I], [0, 0, 0]]
-  // when d n_r < 2n, else Q0, Q1 from [[Ãh, I h, 0], [0, 0, I], [0, 0, 0]]
-  // (size 3·2n, independent of the number of delays).
+  // when d n_r <= 2 (force inputs), else Q0, Q1 from [[Ãh, B h, 0], [0, 0,
+  // I], [0, 0, 0]] and R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U (size 2n + 4,
+  // independent of the number of delays: B has 2 columns, the force).
   void build_cutter(const Grid& g, double a, PeriodMap& pm) const {
+    if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm);
+    const CutterGrid cg = cutter_grid(*p_, g, o_.axial_slices, a);
+    cutter_map(g, cg, a, 1.0, pm);
+  }
+
+  // Second pass: the step maps from the grid, its integrals times `scale`.
+  void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm) const {
     const Process& p = *p_;
     const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows());
-    const double T = g.tau, rpm = g.rpm;
-    const int nt = p.teeth();
+    const double T = g.tau;
     pm.n2 = n2;
     pm.nr = nr;
     pm.tau = T;
@@ -310,47 +333,23 @@ class SdmKernel {
     pm.E = nullptr;
     pm.steps.clear();
     CutterMap& cm = pm.cm;
-    cm.steps.clear();
-    cm.t.assign(1, 0.0);
-    // Boundaries: the events of one period of H, repeated over T.
-    const double ph = p.period_s(rpm);
-    const int reps = std::max(1, static_cast<int>(std::lround(T / ph)));
-    std::vector<double> bnd{0.0, T};
-    const std::vector<double> ev = p.engagement_events_s(rpm, a);
-    for (int r = 0; r < reps; ++r)
-      for (const double e : ev)
-        if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
-    std::sort(bnd.begin(), bnd.end());
-    std::vector<double> b;
-    for (const double t : bnd)
-      if (b.empty() || t - b.back() > kEventMerge * T) b.push_back(t);
-    b.back() = T;
-    // Delay terms: (tooth, slice) → group of equal delays.
-    const int slices = (p.has_variable_helix() && a > 0.0) ? o_.axial_slices : 1;
-    std::vector<double> gtau;             // delay of each group, s
-    std::vector<int> group(static_cast<std::size_t>(nt * slices));
-    for (int j = 0; j < nt; ++j)
-      for (int s = 0; s < slices; ++s) {
-        const double tau = p.tooth_delay_s(j, a * (s + 0.5) / slices, rpm);
-        int k = 0;
-        while (k < static_cast<int>(gtau.size()) && std::abs(gtau[static_cast<std::size_t>(k)] - tau) > kEventMerge * T) ++k;
-        if (k == static_cast<int>(gtau.size())) gtau.push_back(tau);
-        group[static_cast<std::size_t>(j * slices + s)] = k;
-      }
-    const int ng = static_cast<int>(gtau.size());
-    const double h_target = std::min(g.h_target, *std::min_element(gtau.begin(), gtau.end()));
+    cm.t = cg.t;
+    const int M = static_cast<int>(cg.h.size());
+    cm.steps.resize(static_cast<std::size_t>(M));
+    pm.m = M;
+    const int ng = static_cast<int>(cg.gtau.size());
     const MillingParameters& mp = p.milling_parameters();
-    const double cbar = p.process_damping_per_depth(rpm);
+    const double cbar = p.process_damping_per_depth(g.rpm);
     const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
     int gmin = 0;
     auto locate = [&](double s, int& gi, double& w) {  // z(s) ≈ (1 − w) z_gi + w z_{gi+1}
-      const int M = static_cast<int>(cm.t.size()) - 1;  // (the full grid is known when called)
       const double per = std::floor(s / T);
       const double loc = s - per * T;
       int k = static_cast<int>(std::upper_bound(cm.t.begin(), cm.t.end(), loc) - cm.t.begin()) - 1;
       k = std::clamp(k, 0, M - 1);
       int pr = static_cast<int>(per);
-      w = (loc - cm.t[static_cast<std::size_t>(k)]) / (cm.t[static_cast<std::size_t>(k + 1)] - cm.t[static_cast<std::size_t>(k)]);
+      const auto ku = static_cast<std::size_t>(k);
+      w = (loc - cm.t[ku]) / (cm.t[ku + 1] - cm.t[ku]);
       if (w < kSnap) {
         w = 0.0;
       } else if (w > 1.0 - kSnap) {
@@ -362,100 +361,66 @@ class SdmKernel {
       }
       gi = pr * M + k;
     };
-    // First pass: the grid (cutting steps with their group averages).
-    struct Pending {
-      std::vector<Eigen::Matrix2d> F;  // per group, ∫∫ H₁ (N/m² · m · s)
-      Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
-    };
-    std::vector<Pending> pend;
-    std::vector<double> cum(static_cast<std::size_t>(slices + 1));
-    for (std::size_t s = 0; s + 1 < b.size(); ++s) {
-      const double ta = b[s], tb = b[s + 1], d = tb - ta;
-      Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
-      for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
-      if (tot.norm() <= kFreeForce * kscale * a * d) {  // free flight: merge with a previous free step
-        if (!cm.steps.empty() && cm.steps.back().free) {
-          cm.steps.back().h += d;
-          cm.t.back() = tb;
-        } else {
-          CutterStep st;
-          st.h = d;
-          st.free = true;
-          cm.steps.push_back(st);
-          cm.t.push_back(tb);
-          pend.emplace_back();
-        }
-        continue;
-      }
-      const int ns = std::max(1, static_cast<int>(std::ceil(d / h_target - 1e-9)));
-      for (int i = 0; i < ns; ++i) {
-        const double sa = ta + d * i / ns, sb = (i + 1 == ns) ? tb : ta + d * (i + 1) / ns;
-        Pending pe;
-        pe.F.assign(static_cast<std::size_t>(ng), Eigen::Matrix2d::Zero());
-        for (int j = 0; j < nt; ++j) {
-          Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
-          for (int sl = 0; sl < slices; ++sl) {
-            const Eigen::Matrix2d upto = p.tooth_force_integral(j, sa, sb, a * (sl + 1) / slices, rpm);
-            pe.F[static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] += upto - below;
-            below = upto;
-          }
-          if (cbar > 0.0) pe.D += p.tooth_damping_integral(j, sa, sb, a, rpm);
-        }
-        CutterStep st;
-        st.h = sb - sa;
-        cm.steps.push_back(st);
-        cm.t.push_back(sb);
-        pend.push_back(std::move(pe));
-      }
-    }
-    const int M = static_cast<int>(cm.steps.size());
-    pm.m = M;
-    // Second pass: step maps.
+    std::vector<MatrixXd> Bt, R0, R1, HU;
+    std::vector<int> gid;
+    MatrixXd At(n2, n2), aug;
     for (int i = 0; i < M; ++i) {
-      CutterStep& st = cm.steps[static_cast<std::size_t>(i)];
-      const double h = st.h;
+      const auto iu = static_cast<std::size_t>(i);
+      CutterStep& st = cm.steps[iu];
+      const double h = cg.h[iu];
+      st.h = h;
+      st.free = cg.free[iu] != 0;
+      st.terms.clear();
       if (st.free) {
         st.P = (A_ * h).exp();
         continue;
       }
-      const Pending& pe = pend[static_cast<std::size_t>(i)];
-      std::vector<MatrixXd> Bt;
-      std::vector<int> gid;
-      MatrixXd At = A_;
+      Bt.clear();
+      HU.clear();
+      gid.clear();
+      At = A_;
       for (int k = 0; k < ng; ++k) {
-        const Eigen::Matrix2d& F = pe.F[static_cast<std::size_t>(k)];
+        const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
         if (F.norm() <= kFreeForce * kscale * a * h) continue;
-        Bt.push_back(B_ * (F / h) * U_);
+        HU.push_back((F / h) * U_);
+        Bt.push_back(B_ * HU.back());
         At.noalias() -= Bt.back() * Wx_;
         gid.push_back(k);
       }
-      if (cbar > 0.0) At.noalias() -= (cbar / h) * (B_ * pe.D * *Sv_);
+      if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
       const int nd = static_cast<int>(Bt.size());
-      std::vector<MatrixXd> R0(static_cast<std::size_t>(nd)), R1(static_cast<std::size_t>(nd));
-      if (nd * nr < n2) {
-        const int na = n2 + 2 * nd * nr;
-        MatrixXd aug = MatrixXd::Zero(na, na);
-        aug.topLeftCorner(n2, n2) = At * h;
+      R0.resize(static_cast<std::size_t>(nd));
+      R1.resize(static_cast<std::size_t>(nd));
+      // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
+      // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
+      const int nb = static_cast<int>(B_.cols());
+      const bool stacked = nd * nr <= nb;
+      const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
+      aug.setZero(na, na);
+      aug.topLeftCorner(n2, n2) = At * h;
+      if (stacked) {
         for (int k = 0; k < nd; ++k) aug.block(0, n2 + k * nr, n2, nr) = Bt[static_cast<std::size_t>(k)] * h;
         aug.block(n2, n2 + nd * nr, nd * nr, nd * nr).setIdentity();
-        const MatrixXd E = aug.exp();
-        st.P = E.topLeftCorner(n2, n2);
+      } else {
+        aug.block(0, n2, n2, nb) = B_ * h;
+        aug.block(n2, n2 + nb, nb, nb).setIdentity();
+      }
+      // Stack-allocated exponential for the common small systems (no heap traffic).
+      const MatrixXd E = na <= kSmallAugmented ? MatrixXd(SmallMatrix(SmallMatrix(aug).exp())) : MatrixXd(aug.exp());
+      st.P = E.topLeftCorner(n2, n2);
+      if (stacked) {
         for (int k = 0; k < nd; ++k) {
-          R1[static_cast<std::size_t>(k)] = E.block(0, n2 + nd * nr + k * nr, n2, nr);
-          R0[static_cast<std::size_t>(k)] = E.block(0, n2 + k * nr, n2, nr) - R1[static_cast<std::size_t>(k)];
+          const auto ku = static_cast<std::size_t>(k);
+          R1[ku] = E.block(0, n2 + nd * nr + k * nr, n2, nr);
+          R0[ku] = E.block(0, n2 + k * nr, n2, nr) - R1[ku];
         }
       } else {
-        MatrixXd aug = MatrixXd::Zero(3 * n2, 3 * n2);
-        aug.topLeftCorner(n2, n2) = At * h;
-        aug.block(0, n2, n2, n2) = MatrixXd::Identity(n2, n2) * h;
-        aug.block(n2, 2 * n2, n2, n2).setIdentity();
-        const MatrixXd E = aug.exp();
-        st.P = E.topLeftCorner(n2, n2);
-        const MatrixXd Q1 = E.block(0, 2 * n2, n2, n2);
-        const MatrixXd Q0 = E.block(0, n2, n2, n2) - Q1;
+        const MatrixXd Q1 = E.block(0, n2 + nb, n2, nb);
+        const MatrixXd Q0 = E.block(0, n2, n2, nb) - Q1;
         for (int k = 0; k < nd; ++k) {
-          R0[static_cast<std::size_t>(k)] = Q0 * Bt[static_cast<std::size_t>(k)];
-          R1[static_cast<std::size_t>(k)] = Q1 * Bt[static_cast<std::size_t>(k)];
+          const auto ku = static_cast<std::size_t>(k);
+          R0[ku] = Q0 * HU[ku];
+          R1[ku] = Q1 * HU[ku];
         }
       }
       auto add = [&](int gi, double w, const MatrixXd& C) {
@@ -469,15 +434,16 @@ class SdmKernel {
         st.terms.emplace_back(gi, w * C);
       };
       for (int k = 0; k < nd; ++k) {
-        const double tau = gtau[static_cast<std::size_t>(gid[static_cast<std::size_t>(k)])];
+        const auto ku = static_cast<std::size_t>(k);
+        const double tau = cg.gtau[static_cast<std::size_t>(gid[ku])];
         int gi = 0;
         double w = 0.0;
-        locate(cm.t[static_cast<std::size_t>(i)] - tau, gi, w);
-        add(gi, 1.0 - w, R0[static_cast<std::size_t>(k)]);
-        add(gi + 1, w, R0[static_cast<std::size_t>(k)]);
-        locate(cm.t[static_cast<std::size_t>(i + 1)] - tau, gi, w);
-        add(gi, 1.0 - w, R1[static_cast<std::size_t>(k)]);
-        add(gi + 1, w, R1[static_cast<std::size_t>(k)]);
+        locate(cm.t[iu] - tau, gi, w);
+        add(gi, 1.0 - w, R0[ku]);
+        add(gi + 1, w, R0[ku]);
+        locate(cm.t[iu + 1] - tau, gi, w);
+        add(gi, 1.0 - w, R1[ku]);
+        add(gi + 1, w, R1[ku]);
       }
     }
     cm.L = -gmin;
@@ -500,8 +466,18 @@ class SdmKernel {
     if (record) record->assign(c.x.begin(), c.x.end());
     for (int i = 0; i < M; ++i) {
       const CutterStep& st = c.steps[static_cast<std::size_t>(i)];
-      xn.noalias() = st.P * x;
-      for (const auto& [gi, C] : st.terms) xn.noalias() += C * Vec(c.buf.data() + (gi + L) * nr, nr);
+      const double* P = st.P.data();
+      for (int row = 0; row < n2; ++row) {
+        double acc = 0.0;
+        for (int col = 0; col < n2; ++col) acc += P[row + col * n2] * c.x[static_cast<std::size_t>(col)];
+        c.xn[static_cast<std::size_t>(row)] = acc;
+      }
+      for (const auto& [gi, C] : st.terms) {
+        const double* z = c.buf.data() + (gi + L) * nr;
+        const double* Cd = C.data();
+        for (int r = 0; r < nr; ++r)
+          for (int row = 0; row < n2; ++row) c.xn[static_cast<std::size_t>(row)] += Cd[row + r * n2] * z[r];
+      }
       x = xn;
       Vec(c.buf.data() + (L + i + 1) * nr, nr).noalias() = Wx * x;
       if (record) record->insert(record->end(), c.x.begin(), c.x.end());
@@ -823,6 +799,88 @@ std::string SemiDiscretizationOptions::validate() const {
 
 namespace {
 
+// First pass of the real-cutter map (SdmKernel::build_cutter) at depth a:
+// step boundaries 0, T and every engagement event in [0, T); between two
+// events the cut is free (one exact step) or cut in ceil(d / h_target) equal
+// steps, each with the exact integrals of its share of H per delay group
+// (distinct delays τ_k: a tooth, or a slice of a tooth with a variable
+// helix) and of the damping direction. Straight teeth: every integral is
+// proportional to a, so the grid is built once per speed (a = 1 m) and
+// scaled.
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a) {
+  CutterGrid cg;
+  cg.depth = a;
+  const double T = g.tau, rpm = g.rpm;
+  const int nt = p.teeth();
+  const double ph = p.period_s(rpm);
+  const int reps = std::max(1, static_cast<int>(std::lround(T / ph)));
+  std::vector<double> bnd{0.0, T};
+  const std::vector<double> ev = p.engagement_events_s(rpm, a);
+  for (int r = 0; r < reps; ++r)
+    for (const double e : ev)
+      if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
+  std::sort(bnd.begin(), bnd.end());
+  std::vector<double> b;
+  for (const double t : bnd)
+    if (b.empty() || t - b.back() > kEventMerge * T) b.push_back(t);
+  b.back() = T;
+  const int slices = (p.has_variable_helix() && a > 0.0) ? axial_slices : 1;
+  std::vector<int> group(static_cast<std::size_t>(nt * slices));
+  for (int j = 0; j < nt; ++j)
+    for (int s = 0; s < slices; ++s) {
+      const double tau = p.tooth_delay_s(j, a * (s + 0.5) / slices, rpm);
+      std::size_t k = 0;
+      while (k < cg.gtau.size() && std::abs(cg.gtau[k] - tau) > kEventMerge * T) ++k;
+      if (k == cg.gtau.size()) cg.gtau.push_back(tau);
+      group[static_cast<std::size_t>(j * slices + s)] = static_cast<int>(k);
+    }
+  const std::size_t ng = cg.gtau.size();
+  const double h_target = std::min(g.h_target, *std::min_element(cg.gtau.begin(), cg.gtau.end()));
+  const MillingParameters& mp = p.milling_parameters();
+  const bool damping = p.has_process_damping();
+  const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+  cg.t.assign(1, 0.0);
+  for (std::size_t s = 0; s + 1 < b.size(); ++s) {
+    const double ta = b[s], tb = b[s + 1], d = tb - ta;
+    Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
+    for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
+    if (tot.norm() <= kFreeForce * kscale * a * d) {  // free flight: one step with any free neighbour
+      if (!cg.free.empty() && cg.free.back()) {
+        cg.h.back() += d;
+        cg.t.back() = tb;
+      } else {
+        cg.h.push_back(d);
+        cg.free.push_back(1);
+        cg.t.push_back(tb);
+        cg.F.resize(cg.F.size() + ng, Eigen::Matrix2d::Zero());
+        cg.D.push_back(Eigen::Matrix2d::Zero());
+      }
+      continue;
+    }
+    const int ns = std::max(1, static_cast<int>(std::ceil(d / h_target - 1e-9)));
+    for (int i = 0; i < ns; ++i) {
+      const double sa = ta + d * i / ns, sb = (i + 1 == ns) ? tb : ta + d * (i + 1) / ns;
+      const std::size_t first = cg.F.size();
+      cg.F.resize(first + ng, Eigen::Matrix2d::Zero());
+      Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
+      for (int j = 0; j < nt; ++j) {
+        Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
+        for (int sl = 0; sl < slices; ++sl) {
+          const Eigen::Matrix2d upto = p.tooth_force_integral(j, sa, sb, a * (sl + 1) / slices, rpm);
+          cg.F[first + static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] += upto - below;
+          below = upto;
+        }
+        if (damping) D += p.tooth_damping_integral(j, sa, sb, a, rpm);
+      }
+      cg.D.push_back(D);
+      cg.h.push_back(sb - sa);
+      cg.free.push_back(0);
+      cg.t.push_back(sb);
+    }
+  }
+  return cg;
+}
+
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 // A, B, U: the solver's free dynamics, force input and delayed-quantity basis.
 // Sv: ṙ = Sv x (process damping).
@@ -846,6 +904,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
          << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
       throw InputError(os.str());
     }
+    if (!p.has_helix()) g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
     return g;
   }
   g.tau = p.delay_s(rpm);
