@@ -25,6 +25,19 @@
 //    sequence of step maps (cost O(m n²) per product, no dense product).
 // Error: O(h²) in the step h (second-order convergence, see docs/sdm.md).
 //
+// Real cutters (docs/physics.md §8, docs/sdm.md "Real cutters"): a helix,
+// variable pitch or helix, or process damping in milling take a second path.
+// The period is one tooth period for a uniform cutter, else one revolution
+// with one delay per tooth (per axial slice with a variable helix); step
+// boundaries fall on Process::engagement_events_s (rebuilt per depth with a
+// helix); step averages are the exact Process::tooth_force_integral /
+// tooth_damping_integral; every delayed value is linearly interpolated in
+// the stored history, and process damping −a (C_pd/V) Sᵀ D̄ S q̇ enters the
+// free dynamics of each cutting step. Cost: one exponential of size 2n + 4
+// (at most) per step and depth; a revolution holds N_t tooth periods of
+// steps. Turning with process damping keeps the constant step. Runout is not
+// seen (linear method).
+//
 // Thread safety: the solver is immutable after construction; every const
 // member allocates its own workspace, so several threads may call them.
 #pragma once
