@@ -254,6 +254,25 @@ TEST(SdmCutters, VariablePitchMatchesBruteForceMonodromy) {
   }
 }
 
+// 70/110/70/110°: the pattern repeats after half a revolution, which is the
+// period used; one full revolution (general_cutter_path) must agree.
+TEST(SdmCutters, RepeatingPitchPatternUsesTheShorterPeriod) {
+  MillingParameters mp = case_c_cutter(4, 0.5);
+  mp.pitch_angles_rad = {70 * kPi / 180, 110 * kPi / 180, 70 * kPi / 180, 110 * kPi / 180};
+  const Process p = Process::milling(mp);
+  SemiDiscretizationOptions rev = opts(0.02);
+  rev.general_cutter_path = true;
+  const SemiDiscretizationSolver half(two_mode(), p, opts(0.02)), full(two_mode(), p, rev);
+  for (double rpm : {7000.0, 12000.0}) {
+    const FloquetResult fh = half.analyse(rpm, 0.5e-3), ff = full.analyse(rpm, 0.5e-3);
+    // ρ over half a revolution is the square root of ρ over a revolution.
+    EXPECT_NEAR(fh.spectral_radius * fh.spectral_radius, ff.spectral_radius, kRhoAgree)
+        << rpm << ": half " << fh.spectral_radius << " squared vs full " << ff.spectral_radius;
+    const double lh = half.limit_at(rpm).depth_limit_m, lf = full.limit_at(rpm).depth_limit_m;
+    EXPECT_NEAR(lh / lf, 1.0, kGeneralVsUniform) << rpm << ": half " << lh << " vs full " << lf;
+  }
+}
+
 TEST(SdmCutters, VariablePitchRaisesTheLimitWhereItIsTuned) {
   // 8 500 rev/min: the bottom of a Hopf lobe of the equal-pitch cutter
   // (0.625 mm, chatter 914 Hz). Tooth j cuts the surface left θ_j/Ω earlier;

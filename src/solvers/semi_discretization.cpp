@@ -893,7 +893,23 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     // Real cutter: the steps depend on the depth (SdmKernel::build_cutter).
     g.cutter = true;
     g.rpm = rpm;
-    g.tau = (o.general_cutter_path || !p.uniform_cutter()) ? 60.0 / rpm : p.delay_s(rpm);
+    // Period: the shortest shift of r teeth (r divides N_t) after which the
+    // pitch and helix pattern repeats: r = 1 for a uniform cutter, N_t/2
+    // for 70/110/70/110°, N_t (one revolution) for an irregular cutter.
+    const int nt = p.teeth();
+    int r = nt;
+    for (int c = 1; c < nt && !o.general_cutter_path; ++c) {
+      if (nt % c != 0) continue;
+      bool repeats = true;
+      for (int j = 0; j < nt && repeats; ++j)
+        repeats = p.pitch_angle_rad(j) == p.pitch_angle_rad((j + c) % nt) &&
+                  p.helix_lag_rad_per_m(j) == p.helix_lag_rad_per_m((j + c) % nt);
+      if (repeats) {
+        r = c;
+        break;
+      }
+    }
+    g.tau = r == nt ? 60.0 / rpm : p.delay_s(rpm) * r;
     const double tooth = p.delay_s(rpm);
     g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
     const double needed = std::ceil(tooth / g.h_target - 1e-9);
