@@ -60,6 +60,9 @@ constexpr double kSnap = 1e-9;
 // A step whose force integral is below this times (K_t + K_r) a h is free
 // flight: the windowed integral of a free span is 0 up to round-off.
 constexpr double kFreeForce = 1e-12;
+// Smallest scale of the input blocks of a real-cutter step exponential: the
+// blocks come out about this small, with relative round-off ~1e-16/this.
+constexpr double kMinBlockScale = 1e-6;
 // Branch roots of turning (SdmKernel::branches): used when τ min ζω is at
 // least kBranchMinDecay (contraction factor about 1/kBranchMinDecay) and the
 // map is larger than dense_max_dimension; Newton's iteration budget and
@@ -126,6 +129,18 @@ struct Grid {
 };
 
 CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+
+// exp of a small matrix in a fixed-size / stack-allocated type (no heap
+// traffic, unrolled products in the Padé evaluation and the squaring).
+template <int N>
+MatrixXd fixed_exp(const MatrixXd& m) {
+  const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
+  return r;
+}
+MatrixXd small_exp(const MatrixXd& m) {
+  const SmallMatrix r = SmallMatrix(m).exp();
+  return r;
+}
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
 struct CutterStep {
@@ -372,7 +387,8 @@ class SdmKernel {
       st.free = cg.free[iu] != 0;
       st.terms.clear();
       if (st.free) {
-        st.P = (A_ * h).exp();
+        const MatrixXd Ah = A_ * h;
+        st.P = n2 == 2 ? fixed_exp<2>(Ah) : n2 == 4 ? fixed_exp<4>(Ah) : MatrixXd(Ah.exp());
         continue;
       }
       Bt.clear();
@@ -396,27 +412,42 @@ class SdmKernel {
       const int nb = static_cast<int>(B_.cols());
       const bool stacked = nd * nr <= nb;
       const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
+      // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
+      // the exponential scale by sc and sc², undone below): the norm of the
+      // augmented matrix is then that of Ã h, so the Padé degree and the
+      // squarings stay low (with I of norm 1, every step took degree 9).
       aug.setZero(na, na);
       aug.topLeftCorner(n2, n2) = At * h;
+      const double sc = std::clamp(aug.topLeftCorner(n2, n2).cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
       if (stacked) {
-        for (int k = 0; k < nd; ++k) aug.block(0, n2 + k * nr, n2, nr) = Bt[static_cast<std::size_t>(k)] * h;
-        aug.block(n2, n2 + nd * nr, nd * nr, nd * nr).setIdentity();
+        for (int k = 0; k < nd; ++k) aug.block(0, n2 + k * nr, n2, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
+        aug.block(n2, n2 + nd * nr, nd * nr, nd * nr) = MatrixXd::Identity(nd * nr, nd * nr) * sc;
       } else {
-        aug.block(0, n2, n2, nb) = B_ * h;
-        aug.block(n2, n2 + nb, nb, nb).setIdentity();
+        aug.block(0, n2, n2, nb) = B_ * (h * sc);
+        aug.block(n2, n2 + nb, nb, nb) = MatrixXd::Identity(nb, nb) * sc;
       }
-      // Stack-allocated exponential for the common small systems (no heap traffic).
-      const MatrixXd E = na <= kSmallAugmented ? MatrixXd(SmallMatrix(SmallMatrix(aug).exp())) : MatrixXd(aug.exp());
+      // Fixed-size exponentials for the common sizes (1 or 2 modes), else
+      // stack-allocated up to kSmallAugmented (no heap traffic), else dynamic.
+      // (The result type matters: the squaring runs in it.)
+      MatrixXd E;
+      if (na == 6)
+        E = fixed_exp<6>(aug);
+      else if (na == 8)
+        E = fixed_exp<8>(aug);
+      else if (na <= kSmallAugmented)
+        E = small_exp(aug);
+      else
+        E = aug.exp();
       st.P = E.topLeftCorner(n2, n2);
       if (stacked) {
         for (int k = 0; k < nd; ++k) {
           const auto ku = static_cast<std::size_t>(k);
-          R1[ku] = E.block(0, n2 + nd * nr + k * nr, n2, nr);
-          R0[ku] = E.block(0, n2 + k * nr, n2, nr) - R1[ku];
+          R1[ku] = E.block(0, n2 + nd * nr + k * nr, n2, nr) / (sc * sc);
+          R0[ku] = E.block(0, n2 + k * nr, n2, nr) / sc - R1[ku];
         }
       } else {
-        const MatrixXd Q1 = E.block(0, n2 + nb, n2, nb);
-        const MatrixXd Q0 = E.block(0, n2, n2, nb) - Q1;
+        const MatrixXd Q1 = E.block(0, n2 + nb, n2, nb) / (sc * sc);
+        const MatrixXd Q0 = E.block(0, n2, n2, nb) / sc - Q1;
         for (int k = 0; k < nd; ++k) {
           const auto ku = static_cast<std::size_t>(k);
           R0[ku] = Q0 * HU[ku];
