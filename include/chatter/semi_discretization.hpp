@@ -25,6 +25,19 @@
 //    sequence of step maps (cost O(m n²) per product, no dense product).
 // Error: O(h²) in the step h (second-order convergence, see docs/sdm.md).
 //
+// Real cutters (docs/physics.md §8, docs/sdm.md "Real cutters"): a helix,
+// variable pitch or helix, or process damping in milling take a second path.
+// The period is one tooth period for a uniform cutter, else one revolution
+// with one delay per tooth (per axial slice with a variable helix); step
+// boundaries fall on Process::engagement_events_s (rebuilt per depth with a
+// helix); step averages are the exact Process::tooth_force_integral /
+// tooth_damping_integral; every delayed value is linearly interpolated in
+// the stored history, and process damping −a (C_pd/V) Sᵀ D̄ S q̇ enters the
+// free dynamics of each cutting step. Cost: one exponential of size 2n + 4
+// (at most) per step and depth; a revolution holds N_t tooth periods of
+// steps. Turning with process damping keeps the constant step. Runout is not
+// seen (linear method).
+//
 // Thread safety: the solver is immutable after construction; every const
 // member allocates its own workspace, so several threads may call them.
 #pragma once
@@ -81,6 +94,16 @@ struct SemiDiscretizationOptions {
   /// map, instead of Arnoldi on Φ, whose multipliers crowd the unit circle
   /// there (docs/sdm.md). false: always the eigen-solvers (cross-checks).
   bool turning_branch_roots = true;
+  /// Variable helix: each tooth's cut (0 … a) is split into this many equal
+  /// axial slices, each with its own delay τ_j(z) at its mid-height and its
+  /// exact share of H (>= 1). Unused otherwise (one helix angle keeps one
+  /// delay per tooth and the exact integral over the height). Default from
+  /// the convergence study in docs/sdm.md.
+  int axial_slices = 8;
+  /// Cross-checks: send even the straight, equally spaced milling cutter
+  /// through the real-cutter path (one revolution, one delay per tooth).
+  /// false: that cutter keeps the tooth-period path (byte-identical tables).
+  bool general_cutter_path = false;
 
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;
@@ -173,6 +196,7 @@ class SemiDiscretizationSolver final : public LobeSolver {
   Eigen::MatrixXd B_;       // 2n × 2 force input
   Eigen::MatrixXd Wx_;      // n_r × 2n, z = Wx x
   Eigen::MatrixXd U_;       // n_L × n_r
+  Eigen::MatrixXd Sv_;      // 2 × 2n: relative velocity ṙ = Sv x (process damping)
   double f_max_hz_ = 0.0;
   double slowest_decay_per_s_ = 0.0;  // min −Re λ_i (= min ζ_i ω_i): ln ρ at zero depth is −τ times this
   std::vector<std::complex<double>> free_poles_;  // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs

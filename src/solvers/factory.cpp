@@ -103,7 +103,9 @@ SolverDescriptor sdm_descriptor() {
   d.name = "sdm";
   d.summary = "semi-discretisation / Floquet: sees the flip lobes of low-immersion milling; slower";
   d.kind = SolverKind::kFloquet;
-  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning};
+  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling,       SolverFeature::kTurning,
+               SolverFeature::kHelix,      SolverFeature::kProcessDamping, SolverFeature::kVariablePitch,
+               SolverFeature::kVariableHelix};
   d.in_default_compare = true;
   d.options = {{"steps", Kind::kInt,
                 "steps per delay period (default 64; the step is also at most 1/64 of the shortest natural "

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <utility>
@@ -50,6 +51,18 @@ constexpr int kArnoldiMaxRestarts = 60;
 constexpr double kSecantOvershoot = 0.01;
 constexpr double kMinClimb = 1e-3;
 const double kLogQuarter = std::log(0.25);
+// Real cutter: events closer than this fraction of the period are one event
+// (Process merges at 1e-12 too); delays equal to it are one delay group.
+constexpr double kEventMerge = 1e-12;
+// A delayed time within this fraction of a step from a sample is that sample
+// (the interpolation weight would only carry round-off).
+constexpr double kSnap = 1e-9;
+// A step whose force integral is below this times (K_t + K_r) a h is free
+// flight: the windowed integral of a free span is 0 up to round-off.
+constexpr double kFreeForce = 1e-12;
+// Smallest scale of the input blocks of a real-cutter step exponential: the
+// blocks come out about this small, with relative round-off ~1e-16/this.
+constexpr double kMinBlockScale = 1e-6;
 // Branch roots of turning (SdmKernel::branches): used when τ min ζω is at
 // least kBranchMinDecay (contraction factor about 1/kBranchMinDecay) and the
 // map is larger than dense_max_dimension; Newton's iteration budget and
@@ -82,6 +95,18 @@ struct Step {
   MatrixXd BHU;       // B Ĥ U with Ĥ the step average of Ĥ(t): 2n × n_r (per unit depth)
 };
 
+// Real-cutter grid of one period (cutter_grid): boundaries, and per step the
+// exact integrals ∫∫ H₁ per delay group and Σ_j ∫∫ n nᵀ at depth `depth`.
+struct CutterGrid {
+  double depth = 0.0;              // m
+  std::vector<double> t;           // t_0 = 0 … t_M = T
+  std::vector<double> h;           // step lengths, s
+  std::vector<char> free;          // 1: free flight (exact step)
+  std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
+  std::vector<Eigen::Matrix2d> D;  // M
+  std::vector<double> gtau;        // delay of each group, s
+};
+
 // The step grid of one delay period at one spindle speed.
 struct Grid {
   double tau = 0.0;
@@ -91,6 +116,47 @@ struct Grid {
   double free_time = 0.0;      // free-flight duration (s), 0 if a tooth always cuts
   MatrixXd E_free;             // exp(A t_free), depth-independent: built once per speed
   bool branch_roots = false;   // see SdmKernel::branches
+  // Turning with process damping: c̄ B D Sv (2n × 2n, per unit depth), D =
+  // e_x e_xᵀ; empty without it.
+  MatrixXd damping;
+  // Real cutter (milling with helix, variable pitch or helix, or process
+  // damping): steps are built per depth by SdmKernel::build_cutter; tau is
+  // then the period of H (tooth period, or one revolution).
+  bool cutter = false;
+  double rpm = 0.0;
+  double h_target = 0.0;       // longest cutting step, s
+  std::shared_ptr<const CutterGrid> cutter_grid;  // straight teeth: built once per speed at 1 m
+};
+
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+
+// exp of a small matrix in a fixed-size / stack-allocated type (no heap
+// traffic, unrolled products in the Padé evaluation and the squaring).
+template <int N>
+MatrixXd fixed_exp(const MatrixXd& m) {
+  const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
+  return r;
+}
+MatrixXd small_exp(const MatrixXd& m) {
+  const SmallMatrix r = SmallMatrix(m).exp();
+  return r;
+}
+
+// Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
+struct CutterStep {
+  double h = 0.0;
+  bool free = false;                             // no slice cuts: P = exp(A h)
+  MatrixXd P;
+  std::vector<std::pair<int, MatrixXd>> terms;   // (sample index g, 2n × n_r)
+};
+
+// One period of the real-cutter map. Sample g is z at t_g = t[g mod M] +
+// floor(g/M) T; the state is [x(0); z_{−1}; …; z_{−L}].
+struct CutterMap {
+  std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T
+  std::vector<CutterStep> steps;
+  int L = 0;
+  mutable std::vector<double> buf, x, xn;  // apply() workspace
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
@@ -107,6 +173,8 @@ struct PeriodMap {
   int n2 = 0, nr = 0, nz = 0, dim = 0;
   double tau = 0.0;             // s
   bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
+  bool cutter = false;          // the real-cutter map `cm` (general path)
+  CutterMap cm;
 };
 
 // Dominant eigenpair of the one-period map.
@@ -138,10 +206,11 @@ namespace {
 class SdmKernel {
  public:
   SdmKernel(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
-            const SemiDiscretizationOptions& o)
-      : A_(A), B_(B), Wx_(Wx), U_(U), o_(o) {}
+            const SemiDiscretizationOptions& o, const Process* p = nullptr, const MatrixXd* Sv = nullptr)
+      : A_(A), B_(B), Wx_(Wx), U_(U), o_(o), p_(p), Sv_(Sv) {}
 
   void build_map(const Grid& g, double depth, PeriodMap& pm) const {
+    if (g.cutter) return build_cutter(g, depth, pm);
     const int n2 = static_cast<int>(A_.rows());
     const int nr = static_cast<int>(Wx_.rows());
     pm.n2 = n2;
@@ -173,7 +242,10 @@ class SdmKernel {
     for (std::size_t i = 0; i < g.steps.size(); ++i) {
       const Step& s = g.steps[i];
       Bt.noalias() = (depth * s.BHU);  // 2n × n_r
-      aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
+      if (g.damping.size() > 0)  // process damping (turning): − a c̄ B D Sv
+        aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_ - depth * g.damping) * s.h;
+      else
+        aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
       aug.block(0, n2, n2, nr) = Bt * s.h;
       aug.block(n2, n2 + nr, nr, nr).setIdentity();
       const M E = aug.exp();
@@ -187,6 +259,7 @@ class SdmKernel {
   // out = Φ y (both of length pm.dim, distinct). work: >= 2 n2 + nr doubles.
   // Dispatches to fixed-size loops for the common small models.
   static void apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work) {
+    if (pm.cutter) return apply_cutter(pm, Wx, y, out, nullptr);
     if (pm.n2 == 2 && pm.nr == 1) return apply_n<2, 1>(pm, Wx, y, out, work);
     if (pm.n2 == 4 && pm.nr == 1) return apply_n<4, 1>(pm, Wx, y, out, work);
     if (pm.n2 == 4 && pm.nr == 2) return apply_n<4, 2>(pm, Wx, y, out, work);
@@ -238,6 +311,211 @@ class SdmKernel {
       std::swap(x, xn);
     }
     std::copy(x, x + n2, out);
+  }
+
+  // The real-cutter map at depth a (docs/sdm.md "Real cutters"). Step
+  // boundaries: 0, T and every engagement event (tooth tip or top of the cut
+  // entering or leaving the arc) in [0, T); between two events the cut is
+  // either free (one exact step exp(A h)) or cut in ceil(d / h_target) equal
+  // steps. On a cutting step, per distinct delay τ_k (a tooth, or a slice of
+  // a tooth with a variable helix), the exact step average of its share of H
+  // gives Bt_k = B H̄_k U, and
+  //   ẋ = (A − Σ Bt_k Wx − c̄ B D̄ Sv) x + Σ Bt_k z(t − τ_k),
+  // with z(t − τ_k) linear over the step between its values at the step ends,
+  // each interpolated linearly between stored samples. R0_k, R1_k come from
+  // one augmented exponential: [[Ãh, Bt_1 h … Bt_d h, 0], [0, 0, I], [0, 0, 0]]
+  // when d n_r <= 2 (force inputs), else Q0, Q1 from [[Ãh, B h, 0], [0, 0,
+  // I], [0, 0, 0]] and R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U (size 2n + 4,
+  // independent of the number of delays: B has 2 columns, the force).
+  void build_cutter(const Grid& g, double a, PeriodMap& pm) const {
+    if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm);
+    const CutterGrid cg = cutter_grid(*p_, g, o_.axial_slices, a);
+    cutter_map(g, cg, a, 1.0, pm);
+  }
+
+  // Second pass: the step maps from the grid, its integrals times `scale`.
+  void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm) const {
+    const Process& p = *p_;
+    const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows());
+    const double T = g.tau;
+    pm.n2 = n2;
+    pm.nr = nr;
+    pm.tau = T;
+    pm.cutter = true;
+    pm.constant = false;
+    pm.free_flight = false;
+    pm.branch_roots = false;
+    pm.E = nullptr;
+    pm.steps.clear();
+    CutterMap& cm = pm.cm;
+    cm.t = cg.t;
+    const int M = static_cast<int>(cg.h.size());
+    cm.steps.resize(static_cast<std::size_t>(M));
+    pm.m = M;
+    const int ng = static_cast<int>(cg.gtau.size());
+    const MillingParameters& mp = p.milling_parameters();
+    const double cbar = p.process_damping_per_depth(g.rpm);
+    const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+    int gmin = 0;
+    auto locate = [&](double s, int& gi, double& w) {  // z(s) ≈ (1 − w) z_gi + w z_{gi+1}
+      const double per = std::floor(s / T);
+      const double loc = s - per * T;
+      int k = static_cast<int>(std::upper_bound(cm.t.begin(), cm.t.end(), loc) - cm.t.begin()) - 1;
+      k = std::clamp(k, 0, M - 1);
+      int pr = static_cast<int>(per);
+      const auto ku = static_cast<std::size_t>(k);
+      w = (loc - cm.t[ku]) / (cm.t[ku + 1] - cm.t[ku]);
+      if (w < kSnap) {
+        w = 0.0;
+      } else if (w > 1.0 - kSnap) {
+        w = 0.0;
+        if (++k == M) {
+          k = 0;
+          ++pr;
+        }
+      }
+      gi = pr * M + k;
+    };
+    std::vector<MatrixXd> Bt, R0, R1, HU;
+    std::vector<int> gid;
+    MatrixXd At(n2, n2), aug;
+    for (int i = 0; i < M; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      CutterStep& st = cm.steps[iu];
+      const double h = cg.h[iu];
+      st.h = h;
+      st.free = cg.free[iu] != 0;
+      st.terms.clear();
+      if (st.free) {
+        const MatrixXd Ah = A_ * h;
+        st.P = n2 == 2 ? fixed_exp<2>(Ah) : n2 == 4 ? fixed_exp<4>(Ah) : MatrixXd(Ah.exp());
+        continue;
+      }
+      Bt.clear();
+      HU.clear();
+      gid.clear();
+      At = A_;
+      for (int k = 0; k < ng; ++k) {
+        const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
+        if (F.norm() <= kFreeForce * kscale * a * h) continue;
+        HU.push_back((F / h) * U_);
+        Bt.push_back(B_ * HU.back());
+        At.noalias() -= Bt.back() * Wx_;
+        gid.push_back(k);
+      }
+      if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
+      const int nd = static_cast<int>(Bt.size());
+      R0.resize(static_cast<std::size_t>(nd));
+      R1.resize(static_cast<std::size_t>(nd));
+      // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
+      // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
+      const int nb = static_cast<int>(B_.cols());
+      const bool stacked = nd * nr <= nb;
+      const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
+      // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
+      // the exponential scale by sc and sc², undone below): the norm of the
+      // augmented matrix is then that of Ã h, so the Padé degree and the
+      // squarings stay low (with I of norm 1, every step took degree 9).
+      aug.setZero(na, na);
+      aug.topLeftCorner(n2, n2) = At * h;
+      const double sc = std::clamp(aug.topLeftCorner(n2, n2).cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
+      if (stacked) {
+        for (int k = 0; k < nd; ++k) aug.block(0, n2 + k * nr, n2, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
+        aug.block(n2, n2 + nd * nr, nd * nr, nd * nr) = MatrixXd::Identity(nd * nr, nd * nr) * sc;
+      } else {
+        aug.block(0, n2, n2, nb) = B_ * (h * sc);
+        aug.block(n2, n2 + nb, nb, nb) = MatrixXd::Identity(nb, nb) * sc;
+      }
+      // Fixed-size exponentials for the common sizes (1 or 2 modes), else
+      // stack-allocated up to kSmallAugmented (no heap traffic), else dynamic.
+      // (The result type matters: the squaring runs in it.)
+      MatrixXd E;
+      if (na == 6)
+        E = fixed_exp<6>(aug);
+      else if (na == 8)
+        E = fixed_exp<8>(aug);
+      else if (na <= kSmallAugmented)
+        E = small_exp(aug);
+      else
+        E = aug.exp();
+      st.P = E.topLeftCorner(n2, n2);
+      if (stacked) {
+        for (int k = 0; k < nd; ++k) {
+          const auto ku = static_cast<std::size_t>(k);
+          R1[ku] = E.block(0, n2 + nd * nr + k * nr, n2, nr) / (sc * sc);
+          R0[ku] = E.block(0, n2 + k * nr, n2, nr) / sc - R1[ku];
+        }
+      } else {
+        const MatrixXd Q1 = E.block(0, n2 + nb, n2, nb) / (sc * sc);
+        const MatrixXd Q0 = E.block(0, n2, n2, nb) / sc - Q1;
+        for (int k = 0; k < nd; ++k) {
+          const auto ku = static_cast<std::size_t>(k);
+          R0[ku] = Q0 * HU[ku];
+          R1[ku] = Q1 * HU[ku];
+        }
+      }
+      auto add = [&](int gi, double w, const MatrixXd& C) {
+        if (w == 0.0) return;
+        gmin = std::min(gmin, gi);
+        for (auto& [idx, mat] : st.terms)
+          if (idx == gi) {
+            mat += w * C;
+            return;
+          }
+        st.terms.emplace_back(gi, w * C);
+      };
+      for (int k = 0; k < nd; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        const double tau = cg.gtau[static_cast<std::size_t>(gid[ku])];
+        int gi = 0;
+        double w = 0.0;
+        locate(cm.t[iu] - tau, gi, w);
+        add(gi, 1.0 - w, R0[ku]);
+        add(gi + 1, w, R0[ku]);
+        locate(cm.t[iu + 1] - tau, gi, w);
+        add(gi, 1.0 - w, R1[ku]);
+        add(gi + 1, w, R1[ku]);
+      }
+    }
+    cm.L = -gmin;
+    pm.nz = cm.L;
+    pm.dim = n2 + cm.L * nr;
+  }
+
+  // out = Φ y on the real-cutter map; `record` (if given) receives x at t_0 … t_M.
+  static void apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
+                           std::vector<double>* record) {
+    const CutterMap& c = pm.cm;
+    const int n2 = pm.n2, nr = pm.nr, L = c.L, M = static_cast<int>(c.steps.size());
+    c.buf.resize(static_cast<std::size_t>((L + M + 1) * nr));
+    c.x.assign(y, y + n2);
+    c.xn.resize(static_cast<std::size_t>(n2));
+    for (int l = 1; l <= L; ++l) std::copy(y + n2 + (l - 1) * nr, y + n2 + l * nr, c.buf.data() + (L - l) * nr);
+    using Vec = Eigen::Map<VectorXd>;
+    Vec x(c.x.data(), n2), xn(c.xn.data(), n2);
+    Vec(c.buf.data() + L * nr, nr).noalias() = Wx * x;
+    if (record) record->assign(c.x.begin(), c.x.end());
+    for (int i = 0; i < M; ++i) {
+      const CutterStep& st = c.steps[static_cast<std::size_t>(i)];
+      const double* P = st.P.data();
+      for (int row = 0; row < n2; ++row) {
+        double acc = 0.0;
+        for (int col = 0; col < n2; ++col) acc += P[row + col * n2] * c.x[static_cast<std::size_t>(col)];
+        c.xn[static_cast<std::size_t>(row)] = acc;
+      }
+      for (const auto& [gi, C] : st.terms) {
+        const double* z = c.buf.data() + (gi + L) * nr;
+        const double* Cd = C.data();
+        for (int r = 0; r < nr; ++r)
+          for (int row = 0; row < n2; ++row) c.xn[static_cast<std::size_t>(row)] += Cd[row + r * n2] * z[r];
+      }
+      x = xn;
+      Vec(c.buf.data() + (L + i + 1) * nr, nr).noalias() = Wx * x;
+      if (record) record->insert(record->end(), c.x.begin(), c.x.end());
+    }
+    std::copy(c.x.begin(), c.x.end(), out);
+    for (int l = 1; l <= L; ++l)
+      std::copy(c.buf.data() + (L + M - l) * nr, c.buf.data() + (L + M - l + 1) * nr, out + n2 + (l - 1) * nr);
   }
 
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
@@ -505,6 +783,8 @@ class SdmKernel {
   const MatrixXd& Wx_;
   const MatrixXd& U_;
   const SemiDiscretizationOptions& o_;
+  const Process* p_;    // real-cutter path only
+  const MatrixXd* Sv_;  // 2 × 2n, ṙ = Sv x
 };
 
 
@@ -543,16 +823,137 @@ std::string SemiDiscretizationOptions::validate() const {
     os << "dense_max_dimension = " << dense_max_dimension << ": must be >= 1";
   else if (krylov_dimension < 4 || krylov_dimension > 400)
     os << "krylov_dimension = " << krylov_dimension << ": must be in [4, 400]";
+  else if (axial_slices < 1)
+    os << "axial_slices = " << axial_slices << ": must be >= 1";
   return os.str();
 }
 
 namespace {
 
+// First pass of the real-cutter map (SdmKernel::build_cutter) at depth a:
+// step boundaries 0, T and every engagement event in [0, T); between two
+// events the cut is free (one exact step) or cut in ceil(d / h_target) equal
+// steps, each with the exact integrals of its share of H per delay group
+// (distinct delays τ_k: a tooth, or a slice of a tooth with a variable
+// helix) and of the damping direction. Straight teeth: every integral is
+// proportional to a, so the grid is built once per speed (a = 1 m) and
+// scaled.
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a) {
+  CutterGrid cg;
+  cg.depth = a;
+  const double T = g.tau, rpm = g.rpm;
+  const int nt = p.teeth();
+  const double ph = p.period_s(rpm);
+  const int reps = std::max(1, static_cast<int>(std::lround(T / ph)));
+  std::vector<double> bnd{0.0, T};
+  const std::vector<double> ev = p.engagement_events_s(rpm, a);
+  for (int r = 0; r < reps; ++r)
+    for (const double e : ev)
+      if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
+  std::sort(bnd.begin(), bnd.end());
+  std::vector<double> b;
+  for (const double t : bnd)
+    if (b.empty() || t - b.back() > kEventMerge * T) b.push_back(t);
+  b.back() = T;
+  const int slices = (p.has_variable_helix() && a > 0.0) ? axial_slices : 1;
+  std::vector<int> group(static_cast<std::size_t>(nt * slices));
+  for (int j = 0; j < nt; ++j)
+    for (int s = 0; s < slices; ++s) {
+      const double tau = p.tooth_delay_s(j, a * (s + 0.5) / slices, rpm);
+      std::size_t k = 0;
+      while (k < cg.gtau.size() && std::abs(cg.gtau[k] - tau) > kEventMerge * T) ++k;
+      if (k == cg.gtau.size()) cg.gtau.push_back(tau);
+      group[static_cast<std::size_t>(j * slices + s)] = static_cast<int>(k);
+    }
+  const std::size_t ng = cg.gtau.size();
+  const double h_target = std::min(g.h_target, *std::min_element(cg.gtau.begin(), cg.gtau.end()));
+  const MillingParameters& mp = p.milling_parameters();
+  const bool damping = p.has_process_damping();
+  const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+  cg.t.assign(1, 0.0);
+  for (std::size_t s = 0; s + 1 < b.size(); ++s) {
+    const double ta = b[s], tb = b[s + 1], d = tb - ta;
+    Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
+    for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
+    if (tot.norm() <= kFreeForce * kscale * a * d) {  // free flight: one step with any free neighbour
+      if (!cg.free.empty() && cg.free.back()) {
+        cg.h.back() += d;
+        cg.t.back() = tb;
+      } else {
+        cg.h.push_back(d);
+        cg.free.push_back(1);
+        cg.t.push_back(tb);
+        cg.F.resize(cg.F.size() + ng, Eigen::Matrix2d::Zero());
+        cg.D.push_back(Eigen::Matrix2d::Zero());
+      }
+      continue;
+    }
+    const int ns = std::max(1, static_cast<int>(std::ceil(d / h_target - 1e-9)));
+    for (int i = 0; i < ns; ++i) {
+      const double sa = ta + d * i / ns, sb = (i + 1 == ns) ? tb : ta + d * (i + 1) / ns;
+      const std::size_t first = cg.F.size();
+      cg.F.resize(first + ng, Eigen::Matrix2d::Zero());
+      Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
+      for (int j = 0; j < nt; ++j) {
+        Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
+        for (int sl = 0; sl < slices; ++sl) {
+          const Eigen::Matrix2d upto = p.tooth_force_integral(j, sa, sb, a * (sl + 1) / slices, rpm);
+          cg.F[first + static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] += upto - below;
+          below = upto;
+        }
+        if (damping) D += p.tooth_damping_integral(j, sa, sb, a, rpm);
+      }
+      cg.D.push_back(D);
+      cg.h.push_back(sb - sa);
+      cg.free.push_back(0);
+      cg.t.push_back(sb);
+    }
+  }
+  return cg;
+}
+
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 // A, B, U: the solver's free dynamics, force input and delayed-quantity basis.
+// Sv: ṙ = Sv x (process damping).
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
-               const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U) {
+               const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
+               const MatrixXd& Sv) {
   Grid g;
+  if (p.operation() == Operation::kMilling &&
+      (o.general_cutter_path || p.has_helix() || !p.uniform_cutter() || p.has_process_damping())) {
+    // Real cutter: the steps depend on the depth (SdmKernel::build_cutter).
+    g.cutter = true;
+    g.rpm = rpm;
+    // Period: the shortest shift of r teeth (r divides N_t) after which the
+    // pitch and helix pattern repeats: r = 1 for a uniform cutter, N_t/2
+    // for 70/110/70/110°, N_t (one revolution) for an irregular cutter.
+    const int nt = p.teeth();
+    int r = nt;
+    for (int c = 1; c < nt && !o.general_cutter_path; ++c) {
+      if (nt % c != 0) continue;
+      bool repeats = true;
+      for (int j = 0; j < nt && repeats; ++j)
+        repeats = p.pitch_angle_rad(j) == p.pitch_angle_rad((j + c) % nt) &&
+                  p.helix_lag_rad_per_m(j) == p.helix_lag_rad_per_m((j + c) % nt);
+      if (repeats) {
+        r = c;
+        break;
+      }
+    }
+    g.tau = r == nt ? 60.0 / rpm : p.delay_s(rpm) * r;
+    const double tooth = p.delay_s(rpm);
+    g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
+    const double needed = std::ceil(tooth / g.h_target - 1e-9);
+    if (needed > o.max_steps_per_period) {
+      std::ostringstream os;
+      os << "sdm at " << rpm << " rev/min needs about " << needed << " steps per tooth period, more than "
+         << "max_steps_per_period = " << o.max_steps_per_period
+         << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
+      throw InputError(os.str());
+    }
+    if (!p.has_helix()) g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
+    return g;
+  }
   g.tau = p.delay_s(rpm);
   const double h_target = std::min(g.tau / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
   const double needed = std::ceil(g.tau / h_target - 1e-9);
@@ -570,6 +971,11 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     g.constant = true;
     g.m = count(g.tau);
     g.steps.push_back({g.tau / g.m, B * turning_hhat * U});
+    if (p.has_process_damping()) {  // − a (C_pd/V) B e_x e_xᵀ ṙ
+      MatrixXd D = MatrixXd::Zero(2, 2);
+      D(0, 0) = p.process_damping_per_depth(rpm);
+      g.damping = B * D * Sv;
+    }
     return g;
   }
   const MillingParameters& mp = p.milling_parameters();
@@ -626,12 +1032,14 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
   // Scaled state x = [q; q̇/ω] keeps the exponentials well balanced.
   A_ = MatrixXd::Zero(2 * n, 2 * n);
   B_ = MatrixXd::Zero(2 * n, 2);
+  Sv_ = MatrixXd::Zero(2, 2 * n);
   for (Index i = 0; i < n; ++i) {
     const double w = mm.omega(i);
     A_(i, n + i) = w;
     A_(n + i, i) = -w;
     A_(n + i, n + i) = -2.0 * mm.damping_ratio(i) * w;
     B_.row(n + i) = mm.S.col(i).transpose() / (mm.mass_kg(i) * w);
+    Sv_.col(n + i) = mm.S.col(i) * w;  // ṙ = S q̇ = S diag(ω) (q̇/ω)
     const double z = mm.damping_ratio(i);
     if (z < 1.0) {
       free_poles_.emplace_back(-z * w, w * std::sqrt(1.0 - z * z));
@@ -768,6 +1176,55 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
   return out;
 }
 
+// The same over one period of the real-cutter map: the map is applied to
+// the real and imaginary parts, x recorded at every boundary; free flight is
+// sampled as in eigen_solution_samples.
+PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const MatrixXd& A,
+                                      const MatrixXd& Wx, double f_top_hz) {
+  const int n2 = pm.n2, nr = pm.nr;
+  const VectorXd yr = vec.real(), yi = vec.imag();
+  VectorXd out(pm.dim);
+  std::vector<double> rr, ri;
+  SdmKernel::apply_cutter(pm, Wx, yr.data(), out.data(), &rr);
+  SdmKernel::apply_cutter(pm, Wx, yi.data(), out.data(), &ri);
+  PeriodSamples ps;
+  auto push = [&](double t, double h, const VectorXd& xr, const VectorXd& xi) {
+    if (ps.runs.empty() || ps.runs.back().h != h) ps.runs.push_back({t, h, ps.z.size(), 0});
+    ++ps.runs.back().n;
+    ps.t.push_back(t);
+    Eigen::VectorXcd z(nr);
+    z.real() = Wx * xr;
+    z.imag() = Wx * xi;
+    ps.z.push_back(z);
+  };
+  const auto& c = pm.cm;
+  VectorXd xr(n2), xi(n2);
+  for (std::size_t i = 0; i < c.steps.size(); ++i) {
+    xr = Eigen::Map<const VectorXd>(rr.data() + i * n2, n2);
+    xi = Eigen::Map<const VectorXd>(ri.data() + i * n2, n2);
+    const double h = c.steps[i].h;
+    if (!c.steps[i].free) {
+      push(c.t[i], h, xr, xi);
+      continue;
+    }
+    const int pieces = std::max(1, static_cast<int>(std::ceil(h * f_top_hz * kFreeFlightSamplesPerCycle)));
+    const double dt = h / pieces;
+    const MatrixXd E = (A * dt).exp();
+    for (int j = 0; j < pieces; ++j) {
+      push(c.t[i] + j * dt, dt, xr, xi);
+      xr = E * xr;
+      xi = E * xi;
+    }
+  }
+  const std::size_t last = c.steps.size() * n2;
+  Eigen::VectorXcd z(nr);
+  z.real() = Wx * Eigen::Map<const VectorXd>(rr.data() + last, n2);
+  z.imag() = Wx * Eigen::Map<const VectorXd>(ri.data() + last, n2);
+  ps.t.push_back(pm.tau);
+  ps.z.push_back(z);
+  return ps;
+}
+
 double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
                          const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
   const double tau = g.tau;
@@ -775,7 +1232,8 @@ double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const Peri
   const double alpha = arg / kTwoPi;  // f_k τ = k + α
   const double f_top = kFrequencyMarginFactor * f_max_hz + kFrequencyMarginMembers / tau;
   if (vec.size() != pm.dim || pm.nr == 0) return std::abs(alpha) / tau;  // nothing to look at: k = 0
-  PeriodSamples ps = eigen_solution_samples(vec, pm, g, A, Wx, f_top);
+  PeriodSamples ps = pm.cutter ? cutter_solution_samples(vec, pm, A, Wx, f_top)
+                               : eigen_solution_samples(vec, pm, g, A, Wx, f_top);
   // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
   const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
   for (std::size_t i = 0; i < ps.t.size(); ++i) ps.z[i] *= std::exp(Cplx(-log_rho, -arg) * (ps.t[i] / tau));
@@ -893,8 +1351,8 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
     throw InputError(os.str());
   }
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
-  const SdmKernel kernel(A_, B_, Wx_, U_, options_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
   const Dominant d = kernel.dominant(pm, true);
@@ -908,7 +1366,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   // solution is e^{st} sampled at the steps, Im s its frequency.
   r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
                                                          : chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
-  r.steps = g.m + (pm.free_flight ? 1 : 0);
+  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.converged = d.converged;
   return r;
@@ -922,8 +1380,8 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   lim.spindle_rpm = rpm;
   if (Wx_.rows() == 0) return lim;  // the process cannot see any mode: never unstable
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
-  const SdmKernel kernel(A_, B_, Wx_, U_, options_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   auto log_rho = [&](double a) {
     kernel.build_map(g, a, pm);
@@ -1043,11 +1501,11 @@ std::vector<double> SemiDiscretizationSolver::spectral_radius_map(const std::vec
   std::vector<double> out;
   out.reserve(rpms.size() * depths_m.size());
   const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const SdmKernel kernel(A_, B_, Wx_, U_, options_);
+  const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   for (double rpm : rpms) {
     if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
-    const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+    const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
     for (double d : depths_m) {
       kernel.build_map(g, d, pm);
       out.push_back(std::abs(kernel.dominant(pm, false).mu));
