@@ -86,7 +86,13 @@ void expect_growth_matches_sdm(const StructuralModel& model, const Process& proc
       const FloquetResult fl = sdm.analyse(rpm, a);
       const double g = linear_growth(model, process, rpm, a, periods);
       SCOPED_TRACE(std::to_string(rpm) + " rev/min, " + std::to_string(a * 1e3) + " mm");
-      EXPECT_NEAR(g / fl.spectral_radius, 1.0, kGrowthVsSdm) << "time-domain " << g << " sdm " << fl.spectral_radius;
+      // The simulation's period is one revolution for a non-uniform cutter
+      // (a tooth period otherwise); sdm's is the shortest repeat: compare per
+      // the simulation's period.
+      const double td_period = process.uniform_cutter() ? process.delay_s(rpm) : 60.0 / rpm;
+      const double rho = std::pow(fl.spectral_radius, td_period / fl.period_s);
+      EXPECT_NEAR(g / rho, 1.0, kGrowthVsSdm) << "time-domain " << g << " sdm " << rho << " (period "
+                                               << fl.period_s << " s)";
       EXPECT_EQ(g < 1.0, f < 1.0) << "growth " << g;
     }
   }
@@ -104,38 +110,44 @@ TEST(CuttersAcrossMethods, VariablePitchSdmAgreesWithSimulatedGrowth) {
   MillingParameters p = cutter(4, 0.5, MillingDirection::kDown, 6e8, 1.8e8);
   p.pitch_angles_rad = {80 * kDeg, 100 * kDeg, 80 * kDeg, 100 * kDeg};
   const Process process = Process::milling(p);
-  expect_growth_matches_sdm(two_modes(), process, {6000.0, 9000.0}, 60);
+  expect_growth_matches_sdm(two_modes(), process, {6000.0, 9000.0}, 30);
 }
 
 TEST(CuttersAcrossMethods, VariablePitchSdmNearAnalyticAtFullImmersion) {
-  // At full immersion the directional matrix varies least over a tooth
-  // period and the averaged method is close to Floquet.
+  // Full immersion, 4 teeth at 75/105/75/105°, two modes. With equal pitch
+  // the averaged and Floquet limits agree to 6e-4 here (the sum of the
+  // teeth's directional matrices hardly varies in slotting). With variable
+  // pitch each tooth carries its own delay, so the per-tooth matrices, which
+  // do vary over a revolution, no longer sum before they are averaged: the
+  // zeroth-order method of Altintas, Engin & Budak (1999) keeps only their
+  // mean. Measured on 4000–12000 rev/min (step 1000): depth within 14 %
+  // (5 000 rev/min: 3.86 vs 4.38 mm), chatter frequency within 0.7 %; sdm
+  // itself agrees with the simulated growth (test above). So: the averaged
+  // method is a fast estimate for variable pitch, not a replacement for sdm.
+  constexpr double kDepthSpread = 0.20;      // measured 0.14
+  constexpr double kFrequencySpread = 0.015; // measured 0.007
+  constexpr double kUniformSpread = 2e-3;    // measured 6e-4
   MillingParameters p = cutter(4, 1.0, MillingDirection::kDown, 6e8, 1.8e8);
   p.pitch_angles_rad = {75 * kDeg, 105 * kDeg, 75 * kDeg, 105 * kDeg};
   const Process process = Process::milling(p);
+  const Process uniform = Process::milling(cutter(4, 1.0, MillingDirection::kDown, 6e8, 1.8e8));
   const StructuralModel model = two_modes();
   const auto sdm = make_lobe_solver("sdm", model, process, 0.05);
   const auto analytic = make_lobe_solver("analytic", model, process, 0.05);
-  // Tolerance: the straight uniform cutter at full immersion, 2 modes, shows
-  // the same spread between the two methods (measured below on the same
-  // speeds), so variable pitch must not add to it by more than a little.
-  MillingParameters u = cutter(4, 1.0, MillingDirection::kDown, 6e8, 1.8e8);
-  const Process uniform = Process::milling(u);
   const auto sdm_u = make_lobe_solver("sdm", model, uniform, 0.05);
   const auto analytic_u = make_lobe_solver("analytic", model, uniform, 0.05);
-  double worst_uniform = 0.0, worst_pitch = 0.0;
   for (double rpm = 4000.0; rpm <= 12000.0; rpm += 1000.0) {
-    const double s = sdm->limit_at(rpm).depth_limit_m, a = analytic->limit_at(rpm).depth_limit_m;
-    const double su = sdm_u->limit_at(rpm).depth_limit_m, au = analytic_u->limit_at(rpm).depth_limit_m;
-    worst_pitch = std::max(worst_pitch, std::abs(s / a - 1.0));
-    worst_uniform = std::max(worst_uniform, std::abs(su / au - 1.0));
+    SCOPED_TRACE(std::to_string(rpm) + " rev/min");
+    const StabilityLimit s = sdm->limit_at(rpm), a = analytic->limit_at(rpm);
+    const StabilityLimit su = sdm_u->limit_at(rpm), au = analytic_u->limit_at(rpm);
+    EXPECT_NEAR(a.depth_limit_m / s.depth_limit_m, 1.0, kDepthSpread) << a.depth_limit_m << " vs " << s.depth_limit_m;
+    EXPECT_NEAR(a.chatter_frequency_hz / s.chatter_frequency_hz, 1.0, kFrequencySpread);
+    EXPECT_NEAR(au.depth_limit_m / su.depth_limit_m, 1.0, kUniformSpread);
+    // Both methods say the same about where variable pitch helps.
+    EXPECT_EQ(a.depth_limit_m > au.depth_limit_m, s.depth_limit_m > su.depth_limit_m)
+        << "analytic " << au.depth_limit_m << " -> " << a.depth_limit_m << ", sdm " << su.depth_limit_m << " -> "
+        << s.depth_limit_m;
   }
-  RecordProperty("worst_relative_difference_variable_pitch", std::to_string(worst_pitch));
-  RecordProperty("worst_relative_difference_uniform", std::to_string(worst_uniform));
-  // Measured: see docs/method.md ("Real cutters").
-  constexpr double kAveragingSpread = 0.05;
-  EXPECT_LT(worst_pitch, std::max(kAveragingSpread, 1.5 * worst_uniform))
-      << "uniform spread " << worst_uniform << ", variable pitch " << worst_pitch;
 }
 
 }  // namespace

@@ -133,6 +133,11 @@ struct FloquetResult {
   double chatter_frequency_hz = 0.0;
   /// Steps per delay period used (cutting steps + 1 when there is free flight).
   int steps = 0;
+  /// The period of the map, s: one tooth period for a uniform cutter; for
+  /// variable pitch or helix the shortest repeat of the pattern (one
+  /// revolution, or half of one for 70/110/70/110°). ρ and μ are per this
+  /// period: per revolution they are ρ^(60/(N·period_s)).
+  double period_s = 0.0;
   /// Dimension of the one-period map.
   int map_dimension = 0;
   /// False if the Arnoldi iteration stopped on its restart budget before

@@ -355,7 +355,8 @@ SolverValues SemiDiscretizationSolver::point_diagnostics(double spindle_rpm, dou
           {"multiplier_type", to_string(f.type)},
           {"chatter_frequency_hz", f.chatter_frequency_hz},
           {"dominant_multiplier", std::vector<double>{f.dominant_multiplier.real(), f.dominant_multiplier.imag()}},
-          {"steps_per_period", f.steps}};
+          {"steps_per_period", f.steps},
+          {"period_s", f.period_s}};
 }
 
 SolverValues TimeDomainSolver::point_diagnostics(double spindle_rpm, double depth_m) const {

@@ -1368,6 +1368,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
                                                          : chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
   r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
+  r.period_s = pm.tau;
   r.converged = d.converged;
   return r;
 }
