@@ -61,3 +61,31 @@ TEST_F(CliCutter, RunoutIgnoredByALinearMethodIsSaidAndRecorded) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(CliCutter, LinearSimulationSaysItIgnoresRunout) {
+  const std::string cfg = write_config("runout_um = [8, 0, -4, 0]\n");
+  const auto r = run({"point", cfg, "--rpm", "6000", "--depth-mm", "0.5", "--method", "time-domain", "--linear", "--periods", "40"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "note: runout (process.runout_um) is ignored with --linear")) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["notes"].size(), 1u) << j["notes"];
+  // Without --linear the simulation sees the runout: no note.
+  const auto n = run({"point", cfg, "--rpm", "6000", "--depth-mm", "0.5", "--method", "time-domain", "--periods", "40"});
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  EXPECT_FALSE(contains(n.err, "note:")) << n.err;
+}
+
+TEST_F(CliCutter, SimulateCountsRevolutionsForAVariablePitchCutter) {
+  // The run's period is one revolution: --revolutions 12 is 12 periods,
+  // growth_per_period is per revolution (period_s = 60/N).
+  const std::string cfg = write_config("pitch_angles_deg = [80, 100, 80, 100]\n");
+  const auto r = run({"simulate", cfg, "--rpm", "6000", "--depth-mm", "0.5", "--revolutions", "12"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["periods"].get<int>(), 12);
+  EXPECT_DOUBLE_EQ(j["period_s"].get<double>(), 0.01);
+}
+
+}  // namespace

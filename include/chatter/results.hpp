@@ -71,8 +71,11 @@ struct SimulationResult {
   /// Fraction of the analysed window's cutting-arc time in which the teeth in
   /// the arc were all in air (h <= 0). 0 in linear mode.
   double out_of_cut_fraction = 0.0;
+  /// The run's period τ, s (simulation_period_s): the tooth period for a
+  /// uniform cutter; one revolution with variable pitch or helix, or runout
+  /// in nonlinear mode. periods, once_per_period and growth_per_period count it.
   double delay_s = 0.0;
-  double tooth_passing_hz = 0.0;  ///< 1/τ.
+  double tooth_passing_hz = 0.0;  ///< 1/τ (the spindle frequency when τ is a revolution).
   int periods = 0;
   int analysed_from_period = 0;
 

@@ -132,6 +132,13 @@ struct SimulationSettings {
 // SimulationVerdict) is plain data in chatter/results.hpp, so that the io
 // layer can write and draw it without this header.
 
+/// The period of a simulation (s) at `rpm` (rev/min): one tooth period for
+/// a uniform cutter (and turning: one revolution); one revolution with
+/// variable pitch or helix, or with runout in nonlinear mode (`linear` false),
+/// since the chips then repeat once per revolution only. Periods, the
+/// once-per-period samples and growth_per_period of a run are per this.
+double simulation_period_s(const Process& process, double rpm, bool linear);
+
 class TimeDomainSimulator {
  public:
   /// @throws InputError if the options are invalid or both bodies are rigid.

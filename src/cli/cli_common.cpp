@@ -328,6 +328,12 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options_json = j.dump();
   b.notes = ignored_feature_notes(*b.descriptor, cfg.process);
+  // A method that sees runout only through its nonlinear static chip does
+  // not see it in its linear mode.
+  if (const auto it = options.find("linear"); it != options.end() && std::get_if<bool>(&it->second) &&
+      std::get<bool>(it->second) && cfg.process.has_runout() && b.descriptor->accepts.contains(SolverFeature::kRunout))
+    b.notes.push_back("runout (process.runout_um) is ignored with --linear: the linear delay equation has no static "
+                      "chip, which is all runout changes");
   for (const std::string& n : b.notes) std::cerr << "note: " << n << "\n";
   return b;
 }

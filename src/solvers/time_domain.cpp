@@ -99,6 +99,17 @@ double simulation_period(const Process& p, const SimulationSettings& s) {
   return p.delay_s(s.spindle_rpm);
 }
 
+}  // namespace
+
+double simulation_period_s(const Process& process, double rpm, bool linear) {
+  SimulationSettings s;
+  s.spindle_rpm = rpm;
+  s.linear = linear;
+  return simulation_period(process, s);
+}
+
+namespace {
+
 class Model {
  public:
   Model(const StructuralModel& model, const Process& process, const SimulationSettings& s, double tau,
