@@ -13,9 +13,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -58,8 +61,21 @@ std::string fmt(double x) {
 
 /// A loaded or built config: model, process, sweep defaults. Immutable, so
 /// one Job may be used from several Python threads at once.
+struct Built;
+/// The solvers built for a job, by (method, depth searched, options): the
+/// analytic solver's construction (its lobe geometry) costs about 30 times a
+/// limit_at, so repeated point() calls reuse it. Solvers are immutable, so
+/// the result is bitwise the same as building a new one. At most
+/// kMaxCachedSolvers entries (then the cache starts again: no growth).
+struct SolverCache {
+  std::mutex mutex;
+  std::map<std::string, std::shared_ptr<const Built>> solvers;
+};
+constexpr std::size_t kMaxCachedSolvers = 16;
+
 struct Job {
   std::shared_ptr<const chatter::Config> cfg;
+  std::shared_ptr<SolverCache> cache = std::make_shared<SolverCache>();
 };
 
 Job job_from(chatter::Config c, bool strict) {
@@ -200,20 +216,31 @@ struct Built {
   std::vector<std::string> notes;
 };
 
-Built build_solver(const std::string& method, const chatter::Config& cfg, double depth_max_m,
-                   const std::optional<py::dict>& options) {
-  Built b;
-  b.descriptor = &chatter::find_lobe_method(method);
+std::string value_key(const chatter::SolverValue& v) {
+  if (const auto* b = std::get_if<bool>(&v)) return *b ? "T" : "F";
+  if (const auto* i = std::get_if<int>(&v)) return "i" + std::to_string(*i);
+  if (const auto* x = std::get_if<double>(&v)) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "d%.17g", *x);
+    return buf;
+  }
+  return "?";
+}
+
+std::shared_ptr<const Built> build_solver(const Job& job, const std::string& method, double depth_max_m,
+                                          const std::optional<py::dict>& options) {
+  const chatter::Config& cfg = *job.cfg;
+  const chatter::SolverDescriptor& descriptor = chatter::find_lobe_method(method);
   chatter::SolverValues values;
   if (options) {
     for (auto item : *options) {
       const std::string name = py::str(item.first).cast<std::string>();
       const chatter::SolverOption* opt = nullptr;
-      for (const auto& o : b.descriptor->options)
+      for (const auto& o : descriptor.options)
         if (o.name == name) opt = &o;
       if (!opt) {
         std::string known;
-        for (const auto& o : b.descriptor->options) known += (known.empty() ? "" : ", ") + o.name;
+        for (const auto& o : descriptor.options) known += (known.empty() ? "" : ", ") + o.name;
         throw InputError("options: '" + name + "': not an option of method " + method +
                          (known.empty() ? " (it has none)" : " (it has: " + known + ")"));
       }
@@ -224,10 +251,24 @@ Built build_solver(const std::string& method, const chatter::Config& cfg, double
     }
   }
   // As the CLI: the time-domain feed defaults to the config's feed.
-  for (const auto& o : b.descriptor->options)
+  for (const auto& o : descriptor.options)
     if (o.name == "feed_per_tooth_mm" && cfg.feed_mm && !values.count(o.name)) values[o.name] = *cfg.feed_mm;
-  b.solver = chatter::make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, values);
-  b.notes = chatter::ignored_feature_notes(*b.descriptor, cfg.process);
+  std::string key = method + "|" + value_key(depth_max_m);
+  for (const auto& [k, v] : values) key += "|" + k + "=" + value_key(v);
+  {
+    std::lock_guard<std::mutex> lock(job.cache->mutex);
+    if (const auto it = job.cache->solvers.find(key); it != job.cache->solvers.end()) return it->second;
+  }
+  auto b = std::make_shared<Built>();
+  b->descriptor = &descriptor;
+  {
+    py::gil_scoped_release release;
+    b->solver = chatter::make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, values);
+  }
+  b->notes = chatter::ignored_feature_notes(descriptor, cfg.process);
+  std::lock_guard<std::mutex> lock(job.cache->mutex);
+  if (job.cache->solvers.size() >= kMaxCachedSolvers) job.cache->solvers.clear();
+  job.cache->solvers.emplace(key, b);
   return b;
 }
 
@@ -274,8 +315,8 @@ py::dict lobes(const Job& job, const std::string& method, std::optional<double> 
   const double dmax = depth_max_mm.value_or(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm));
   if (!(std::isfinite(dmax) && dmax > 0.0)) throw InputError("depth_max_mm = " + fmt(dmax) + ": must be > 0 mm");
   const unsigned nthreads = thread_count(threads);
-  const Built built = build_solver(method, cfg, dmax * 1e-3, options);
-  const chatter::LobeSolver& solver = *built.solver;
+  const std::shared_ptr<const Built> built = build_solver(job, method, dmax * 1e-3, options);
+  const chatter::LobeSolver& solver = *built->solver;
   const std::vector<chatter::DiagnosticColumn> columns = solver.diagnostic_columns();
 
   std::vector<chatter::StabilityLimit> rows(speeds.size());
@@ -354,19 +395,19 @@ py::dict point(const Job& job, double rpm, double depth_mm, const std::string& m
     if (!(std::isfinite(dmax) && dmax > depth_mm))
       throw InputError("depth_max_mm = " + fmt(dmax) + ": must be > depth_mm (" + fmt(depth_mm) + ")");
   }
-  const Built built = build_solver(method, cfg, dmax * 1e-3, options);
+  const std::shared_ptr<const Built> built = build_solver(job, method, dmax * 1e-3, options);
   const double depth_m = depth_mm * 1e-3;
   chatter::StabilityLimit lim;
   chatter::SolverValues diag;
   {
     py::gil_scoped_release release;
-    lim = built.solver->limit_at(rpm);
-    diag = built.solver->point_diagnostics(rpm, depth_m);
+    lim = built->solver->limit_at(rpm);
+    diag = built->solver->point_diagnostics(rpm, depth_m);
   }
   py::dict j;
-  j["method"] = built.solver->method();
+  j["method"] = built->solver->method();
   j["warnings"] = cfg.warnings;
-  j["notes"] = built.notes;
+  j["notes"] = built->notes;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
@@ -713,6 +754,26 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   return j;
 }
 
+// For bench/bench_python.py: seconds of the bare C++ work of lobes() (the
+// solver built, lobe_envelope or the diagnosed loop), no Python objects, so
+// the module's overhead can be measured against it.
+double time_lobes_cpp(const Job& job, const std::string& method,
+                      const py::array_t<double, py::array::c_style | py::array::forcecast>& rpm, double depth_max_mm,
+                      int threads) {
+  const std::vector<double> speeds(rpm.data(), rpm.data() + rpm.size());
+  const unsigned n = thread_count(threads);
+  py::gil_scoped_release release;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto solver = chatter::make_lobe_solver(method, job.cfg->model, job.cfg->process, depth_max_mm * 1e-3);
+  if (solver->diagnostic_columns().empty()) {
+    const auto rows = chatter::lobe_envelope(*solver, speeds, n);
+  } else {
+    std::vector<chatter::DiagnosedLimit> rows(speeds.size());
+    chatter::parallel_for(speeds.size(), n, [&](std::size_t i) { rows[i] = solver->limit_with_diagnostics(speeds[i]); });
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 }  // namespace
 
 PYBIND11_MODULE(chatter, m) {
@@ -789,4 +850,6 @@ PYBIND11_MODULE(chatter, m) {
         "revolutions"_a = py::none(), "periods"_a = py::none(), "linear"_a = false,
         "multiple_regeneration"_a = false, "rtol"_a = kDefaultSimRtol, "record_series"_a = true,
         "One time-domain simulation (chatter simulate's JSON plus the series arrays).");
+  m.def("_time_lobes_cpp", &time_lobes_cpp, "job"_a, "method"_a, "rpm"_a, "depth_max_mm"_a, "threads"_a = 1,
+        "Benchmark hook: seconds of the C++ work of lobes() alone.");
 }
