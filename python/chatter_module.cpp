@@ -754,17 +754,18 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   return j;
 }
 
-// For bench/bench_python.py: seconds of the bare C++ work of lobes() (the
-// solver built, lobe_envelope or the diagnosed loop), no Python objects, so
-// the module's overhead can be measured against it.
+// For bench/bench_python.py: seconds of the bare C++ work of lobes() on a
+// built solver (lobe_envelope or the diagnosed loop; a repeated lobes() call
+// finds its solver in the job's cache), no Python objects, so the module's
+// overhead can be measured against it.
 double time_lobes_cpp(const Job& job, const std::string& method,
                       const py::array_t<double, py::array::c_style | py::array::forcecast>& rpm, double depth_max_mm,
                       int threads) {
   const std::vector<double> speeds(rpm.data(), rpm.data() + rpm.size());
   const unsigned n = thread_count(threads);
   py::gil_scoped_release release;
-  const auto t0 = std::chrono::steady_clock::now();
   const auto solver = chatter::make_lobe_solver(method, job.cfg->model, job.cfg->process, depth_max_mm * 1e-3);
+  const auto t0 = std::chrono::steady_clock::now();
   if (solver->diagnostic_columns().empty()) {
     const auto rows = chatter::lobe_envelope(*solver, speeds, n);
   } else {
