@@ -10,6 +10,8 @@ packages=(
   libgnuplot-iostream-dev gnuplot-nox libtomlplusplus-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
   libsndfile1-dev  # audio recordings (WAV/FLAC/AIFF) for `chatter detect`
+  pybind11-dev python3-dev python3-numpy  # the Python module (docs/python.md)
+  python3-pytest  # its tests (tests/python, run by ctest)
 )
 
 missing=()
