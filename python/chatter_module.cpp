@@ -653,7 +653,9 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("feed_per_tooth_mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (revolutions && periods) throw InputError("revolutions and periods: give one of them");
-  const int per_rev = cfg.process.delays_per_revolution();
+  // Periods per revolution, as chatter simulate counts them (one period is a
+  // revolution for variable pitch or helix, or runout in nonlinear mode).
+  const int per_rev = static_cast<int>(std::lround(60.0 / (rpm * chatter::simulation_period_s(cfg.process, rpm, linear))));
   int n_periods = 200;
   if (revolutions) {
     if (*revolutions < 1 || *revolutions > 1000000)
@@ -690,6 +692,7 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = linear ? py::none() : py::object(py::float_(feed_mm));
   j["linear"] = linear;
+  j["period_s"] = chatter::simulation_period_s(cfg.process, rpm, linear);
   j["multiple_regeneration"] = multiple_regeneration;
   j["verdict"] = chatter::to_string(r.verdict);
   j["stable"] = r.verdict == chatter::SimulationVerdict::kStable;
