@@ -363,6 +363,7 @@ int cmd_point(const std::vector<std::string>& args) {
   j["method"] = built.solver->method();
   j["warnings"] = cfg.warnings;
   j["notes"] = built.notes;
+  if (common.position_mm) j["position_mm"] = *common.position_mm;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
