@@ -417,6 +417,20 @@ TEST(Position, PositionOutsideThePartOrWithoutDependenceIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "does not depend on the position")) << e.what();
   }
+  // Two bars of different length load (other commands do not need a
+  // position) but have no single part to move along.
+  std::string two_bars = slurp(kCaseB1);
+  two_bars += "[[workpiece.modes]]\ndamping_ratio = 0.02\ndirection = \"x\"\ncantilever = { youngs_modulus_pa = 180e9, "
+              "density_kg_per_m3 = 7600, length_m = 0.3, diameter_m = 0.12 }\n";
+  const Config bars = parse_config(two_bars, "bars.toml");
+  try {
+    model_at_position(bars, 0.1);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), ": workpiece.modes[1].cantilever: length 0.3 m differs from "
+                                   "workpiece.modes[0].cantilever (0.5 m)"))
+        << e.what();
+  }
   EXPECT_THROW(evenly_spaced_positions(0.0, 0.5, 1), InputError);
   EXPECT_THROW(evenly_spaced_positions(0.5, 0.5, 3), InputError);
 }

@@ -1389,8 +1389,11 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     if (!config.position.stations.empty()) config.model = config.position.stations.front().model;
   }
   doc.throw_if_errors();
-  if (const std::string why = config.position.validate(); !why.empty())
-    throw InputError(doc.origin() + ": " + why);  // a rule above is missing: still name the file
+  // (Cantilever lengths are checked when a position is asked for, so a config
+  // with two bars of different lengths still loads for the other commands.)
+  if (!config.position.stations.empty())
+    if (const std::string why = config.position.validate(); !why.empty())
+      throw InputError(doc.origin() + ": " + why);  // a rule above is missing: still name the file
   warn_frequency_vs_speeds(root_table, doc, config);
   config.warnings = doc.take_warnings();
   return config;
@@ -1502,6 +1505,13 @@ StructuralModel model_at_position(const Config& config, double position_m) {
     throw InputError(origin + ": position " + number_text(position_m * 1e3) +
                      " mm: the structure does not depend on the position (give a cantilever workpiece mode or "
                      "[[positions]]; docs/position.md)");
+  const auto& bars = config.position.cantilever;
+  for (std::size_t i = 1; i < bars.size(); ++i)
+    if (bars[i].length_m != bars[0].length_m)
+      throw InputError(origin + ": workpiece.modes[" + std::to_string(bars[i].workpiece_mode) +
+                       "].cantilever: length " + number_text(bars[i].length_m) + " m differs from workpiece.modes[" +
+                       std::to_string(bars[0].workpiece_mode) + "].cantilever (" + number_text(bars[0].length_m) +
+                       " m): position-dependent lobes need one part, one length");
   try {
     return model_at_position(config.model, config.position, position_m);
   } catch (const InputError& e) {
