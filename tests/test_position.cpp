@@ -487,6 +487,23 @@ TEST_F(PositionCli, PositionMmOnLobesAndPointIsTheSurfaceRow) {
   EXPECT_TRUE(contains(at.out, "\"position_mm\": 200")) << at.out;
 }
 
+TEST_F(PositionCli, CheckAtAPositionJudgesTheStructureThere) {
+  // 5 mm at 3000 rev/min: above the free-end limit (3.26 mm), below the
+  // clamp's tool-only limit (8.87 mm); both from `point` at the same position.
+  std::ofstream(path("ops.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nop1,3000,5,,0.1\n";
+  const std::vector<std::string> base{"check", kCaseB1, "--operations", path("ops.csv").string(), "--rpm-min", "2000",
+                                      "--rpm-max", "4000", "--position-mm"};
+  auto at = [&](const std::string& mm) {
+    auto args = base;
+    args.push_back(mm);
+    return run(args);
+  };
+  const auto tip = at("500"), clamp = at("0");
+  EXPECT_EQ(tip.exit_code, 3) << tip.out << tip.err;
+  EXPECT_TRUE(contains(tip.out, "unstable")) << tip.out;
+  EXPECT_EQ(clamp.exit_code, 0) << clamp.out << clamp.err;
+}
+
 TEST_F(PositionCli, SurfacePlotWritesImageScriptAndData) {
   const auto r = run({"surface", kCaseB1, "--position-points", "6", "--rpm-points", "40", "--plot",
                       path("surf.png").string(), "--plot-contours-mm", "3,5"});
