@@ -63,6 +63,9 @@ void store_command_line(const std::vector<std::string>& args, const po::options_
 bool parse(const std::vector<std::string>& args, const std::string& usage, po::options_description& visible,
            Common& common, po::variables_map& vm) {
   visible.add_options()("strict", "refuse a config that raises a plausibility warning (exit 2, nothing written)");
+  visible.add_options()("position-mm", po::value<double>(),
+                        "tool position along a position-dependent structure, mm: from the clamp of a cantilever "
+                        "workpiece, or along the path of [[positions]] (docs/position.md)");
   po::options_description hidden;
   hidden.add_options()("config", po::value<std::string>(&common.config_path), "config file");
   po::options_description all;
@@ -77,19 +80,50 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
   }
   po::notify(vm);
   common.strict = vm.count("strict") > 0;
+  if (vm.count("position-mm")) common.position_mm = vm["position-mm"].as<double>();
   if (common.config_path.empty()) throw po::error("missing CONFIG (a .toml file, see configs/)");
   return true;
 }
 
+std::string position_range_text(const Config& cfg) {
+  const auto [lo, hi] = cfg.position.range_m();
+  std::string where = cfg.position.stations.empty()
+                          ? "clamp to free end of workpiece.modes[" +
+                                std::to_string(cfg.position.cantilever.front().workpiece_mode) + "].cantilever"
+                          : "first to last [[positions]]";
+  return "[" + fmt(lo * 1e3) + ", " + fmt(hi * 1e3) + "] mm (" + where + ")";
+}
+
+double position_m(const Config& cfg, double position_mm, const std::string& flag) {
+  if (cfg.position.empty())
+    throw InputError(flag + ": " + cfg.source.string() +
+                     ": the structure does not depend on the position: give a cantilever workpiece mode or "
+                     "[[positions]] (docs/position.md)");
+  const auto [lo, hi] = cfg.position.range_m();
+  double x = position_mm / 1e3;
+  // mm typed for an end given in m (or the reverse) differs from it by rounding only.
+  constexpr double kEndRelTol = 1e-12;
+  if (std::abs(x - hi) <= kEndRelTol * hi) x = hi;
+  if (std::abs(x - lo) <= kEndRelTol * hi) x = lo;
+  if (!(std::isfinite(position_mm) && x >= lo && x <= hi))
+    throw InputError(flag + " = " + fmt(position_mm) + ": outside the part " + position_range_text(cfg));
+  return x;
+}
+
 Config load_checked(const Common& common) {
   Config cfg = load_config(common.config_path);
-  if (cfg.warnings.empty()) return cfg;
-  if (common.strict) {
-    std::string message;
-    for (const std::string& w : cfg.warnings) message += (message.empty() ? "" : "\n") + w + " (--strict)";
-    throw InputError(message);
+  if (!cfg.warnings.empty()) {
+    if (common.strict) {
+      std::string message;
+      for (const std::string& w : cfg.warnings) message += (message.empty() ? "" : "\n") + w + " (--strict)";
+      throw InputError(message);
+    }
+    for (const std::string& w : cfg.warnings) std::cerr << "warning: " << w << "\n";
   }
-  for (const std::string& w : cfg.warnings) std::cerr << "warning: " << w << "\n";
+  if (common.position_mm) {
+    const double x = position_m(cfg, *common.position_mm, "--position-mm");
+    cfg.model = with_flag("--position-mm", [&] { return model_at_position(cfg, x); });
+  }
   return cfg;
 }
 
@@ -294,13 +328,9 @@ std::vector<ExtraColumn> extra_columns(const std::vector<DiagnosticColumn>& colu
   return out;
 }
 
-BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
-                         const po::variables_map& vm, bool check_options) {
-  BuiltSolver b;
-  b.descriptor = &method_descriptor(method);
-  if (check_options) check_solver_options({method}, vm, "--method");
+SolverValues solver_option_values(const SolverDescriptor& descriptor, const Config& cfg, const po::variables_map& vm) {
   SolverValues options;
-  for (const SolverOption& o : b.descriptor->options) {
+  for (const SolverOption& o : descriptor.options) {
     if (!o.cli) continue;
     const std::string flag = option_flag(o);
     const std::string key = flag.substr(2);
@@ -323,6 +353,15 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
     }
     options[o.name] = v;
   }
+  return options;
+}
+
+BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
+                         const po::variables_map& vm, bool check_options) {
+  BuiltSolver b;
+  b.descriptor = &method_descriptor(method);
+  if (check_options) check_solver_options({method}, vm, "--method");
+  const SolverValues options = solver_option_values(*b.descriptor, cfg, vm);
   b.solver = make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, options);
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);

@@ -5,6 +5,7 @@
 
 #include <boost/program_options.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct Common {
   std::string config_path;
   std::string method;  ///< --method; add_common() sets the default (the first registered method)
   bool strict = false;  ///< --strict: the config's plausibility warnings are errors
+  /// --position-mm: the tool position along a position-dependent model
+  /// (docs/position.md); load_checked() then returns the model there.
+  std::optional<double> position_mm;
 };
 
 /// Adds --method to `d`.
@@ -62,7 +66,20 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
 /// Loads CONFIG and prints each plausibility warning on stderr as
 /// "warning: <file>: <key> = <value>: <what>". With --strict the warnings are
 /// errors: @throws InputError listing them (before anything is written).
+/// With --position-mm the returned config's model is the structure at that
+/// position (model_at_position); @throws InputError naming --position-mm when
+/// the config has no position-dependent model or the position is outside it.
 Config load_checked(const Common& common);
+
+/// The position range of a position-dependent config, mm, for messages:
+/// "[0, 500] mm (clamp to free end of workpiece.modes[0].cantilever)".
+std::string position_range_text(const Config& cfg);
+/// `flag` = `position_mm` as a position in m, checked against the config's
+/// range (an end typed in the other unit snaps to the end, so the free end
+/// in mm is the bar length exactly).
+/// @throws InputError "<flag> = X: outside the part [A, B] mm (...)", or
+///         "<flag>: <file>: the structure does not depend on the position".
+double position_m(const Config& cfg, double position_mm, const std::string& flag);
 
 /// Speeds and depth from --rpm-min/--rpm-max/--rpm-points/--depth-max-mm,
 /// falling back on the config's [sweep]. @throws InputError.
@@ -146,6 +163,11 @@ const SolverDescriptor& method_descriptor(const std::string& method, const std::
 /// message. @throws InputError.
 void check_solver_options(const std::vector<std::string>& methods, const po::variables_map& vm,
                           const std::string& chooser);
+
+/// The solver options given on the command line for `descriptor`'s method
+/// (and the config's feed for the time-domain chip), checked.
+/// @throws InputError "<flag> = X: <rule>".
+SolverValues solver_option_values(const SolverDescriptor& descriptor, const Config& cfg, const po::variables_map& vm);
 
 /// @throws InputError on an unknown method or bad option. Unless
 /// `check_options` is false (the caller already ran check_solver_options over

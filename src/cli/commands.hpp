@@ -14,5 +14,6 @@ int cmd_compare(const std::vector<std::string>& args);    // src/cli/cmd_compare
 int cmd_simulate(const std::vector<std::string>& args);   // src/cli/cmd_simulate.cpp
 int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coefficients.cpp
 int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
+int cmd_surface(const std::vector<std::string>& args);       // src/cli/cmd_surface.cpp
 
 }  // namespace chatter::cli

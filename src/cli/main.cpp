@@ -72,6 +72,10 @@ Commands:
              forces, dynamometer series or spindle power; writes a [process] table.
   detect     Chatter in a recording of the cut (WAV/FLAC/AIFF/CSV): frequency,
              and the spindle speeds that should cure it. Exit 3 on chatter.
+  surface    Lobe surface along the part: the lobe table at evenly spaced tool
+             positions of a position-dependent structure (cantilever workpiece
+             or [[positions]]); --position-mm X gives lobes, point, check the
+             structure at one position.
 
 On the shop floor:
   1. Describe the tool and workpiece modes (from a tap test) and the cut in a
@@ -359,6 +363,7 @@ int cmd_point(const std::vector<std::string>& args) {
   j["method"] = built.solver->method();
   j["warnings"] = cfg.warnings;
   j["notes"] = built.notes;
+  if (common.position_mm) j["position_mm"] = *common.position_mm;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
@@ -579,7 +584,8 @@ int main(int argc, char** argv) {
     }
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
-        cmd == "simulate" || cmd == "fit" || cmd == "compare" || cmd == "coefficients" || cmd == "detect")
+        cmd == "simulate" || cmd == "fit" || cmd == "compare" || cmd == "coefficients" || cmd == "detect" ||
+        cmd == "surface")
       command = cmd;
     if (cmd == "coefficients") return chatter::cli::cmd_coefficients(args);
     if (cmd == "detect") return chatter::cli::cmd_detect(args);
@@ -592,8 +598,9 @@ int main(int argc, char** argv) {
     if (cmd == "recommend") return cmd_recommend(args);
     if (cmd == "fit") return cmd_fit(args);
     if (cmd == "compare") return cmd_compare(args);
+    if (cmd == "surface") return chatter::cli::cmd_surface(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect, surface; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     // A malformed value (e.g. --revolutions 0.5): say what it must look like.

@@ -1244,9 +1244,118 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
   }
 }
 
+// ---------------------------------------------------------------- positions
+
+constexpr UnitKey kPositionKeys[] = {{"position_m", 1.0, "m"}, {"position_mm", 1e-3, "mm"}};
+const Quantity kPosition{kPositionKeys};
+
+/// The cantilever workpiece modes of a config read without errors: their
+/// index in model.workpiece.modes and their bar length (m).
+std::vector<CantileverModeRef> cantilever_refs(const toml::table& root_table) {
+  std::vector<CantileverModeRef> refs;
+  const toml::array* modes = root_table.at_path("workpiece.modes").as_array();
+  if (!modes) return refs;
+  for (std::size_t i = 0; i < modes->size(); ++i) {
+    const toml::table* t = modes->get(i)->as_table();
+    const toml::table* bar = t ? t->get_as<toml::table>("cantilever") : nullptr;
+    if (!bar) continue;
+    for (const UnitKey& u : kLengthKeys)
+      if (const toml::node* n = bar->get(u.key)) {
+        const double v = n->is_integer() ? static_cast<double>(n->as_integer()->get()) : n->value_or(0.0);
+        refs.push_back({i, v * u.to_si});
+      }
+  }
+  return refs;
+}
+
+/// `[[positions]]`: mode sets along the path (docs/config.md "Positions").
+/// A body given in one entry is given in every entry and not at the top
+/// level; a body given in none is the top-level one at every position.
+std::vector<PositionStation> read_positions(const Table& root, const StructuralModel& top) {
+  const Document& doc = root.doc();
+  const toml::node* n = root.find("positions");
+  if (!n) return {};
+  const Path path = "positions";
+  const toml::array* entries = n->as_array();
+  if (!entries || !entries->is_array_of_tables())
+    doc.fail(path, *n, "must be an array of tables ([[positions]])");
+  if (entries->size() < 2)
+    doc.fail(path, *n, "give at least 2 [[positions]] (mode sets at two or more positions along the path)");
+  constexpr std::string_view kStationKeys[] = {"position_m", "position_mm", "tool", "workpiece"};
+  bool varies[2] = {false, false};
+  for (std::size_t i = 0; i < entries->size(); ++i)
+    for (int b = 0; b < 2; ++b)
+      if (entries->get(i)->as_table()->get(b == 0 ? "tool" : "workpiece")) varies[b] = true;
+  if (!varies[0] && !varies[1])
+    doc.fail_key(path, "no entry gives tool or workpiece modes: give the modes at each position");
+  for (int b = 0; b < 2; ++b) {
+    const char* name = b == 0 ? "tool" : "workpiece";
+    if (varies[b] && root.has(name))
+      doc.error_key(name, std::string("not with [[positions]] giving ") + name +
+                              " modes (the body that varies is given at every position, and only there)");
+  }
+  std::vector<PositionStation> stations;
+  for (std::size_t i = 0; i < entries->size(); ++i) {
+    const Table t(doc, *entries->get(i)->as_table(), element(path, i));
+    const std::size_t mark = doc.error_count();
+    t.reject_unknown(kStationKeys);
+    const Given x = t.required_quantity(kPosition, kNonNegative);
+    PositionStation st;
+    st.model = top;
+    for (int b = 0; b < 2; ++b) {
+      const char* name = b == 0 ? "tool" : "workpiece";
+      if (!varies[b]) continue;
+      if (!t.has(name)) {
+        doc.error_key(t.path_of(name), std::string("missing (") + name +
+                                           " modes are given at another position: give them at every position)");
+        continue;
+      }
+      if (const auto body = t.table(name); body && body->has("frf"))
+        doc.error_key(body->path_of("frf"),
+                      "not in [[positions]]: measured FRFs are not interpolated between positions (fit modes to "
+                      "them with `chatter fit` and give the modes here)");
+      if (auto body = attempt([&] { return read_body(t, name); })) (b == 0 ? st.model.tool : st.model.workpiece) = *body;
+    }
+    if (doc.error_count() > mark || !x.si) continue;
+    st.position_m = *x.si;
+    const std::string at = element(path, i);
+    if (st.model.rigid()) {
+      doc.error_key(at, "both bodies are rigid at this position: give at least one mode");
+      continue;
+    }
+    if (!stations.empty()) {
+      const PositionStation& prev = stations.back();
+      const Path prev_at = element(path, i - 1);
+      if (!(st.position_m > prev.position_m))
+        doc.error(t.path_of(x.unit->key), *t.find(x.unit->key),
+                  "must be > the position of " + prev_at + " (" + number_text(prev.position_m * 1e3) +
+                      " mm): positions sorted along the path, none twice");
+      for (int b = 0; b < 2; ++b) {
+        const char* name = b == 0 ? "tool" : "workpiece";
+        const Body& pb = b == 0 ? prev.model.tool : prev.model.workpiece;
+        const Body& cb = b == 0 ? st.model.tool : st.model.workpiece;
+        if (pb.modes.size() != cb.modes.size()) {
+          doc.error_key(child(at, name) + ".modes",
+                        std::to_string(cb.modes.size()) + " modes, " + prev_at + " has " +
+                            std::to_string(pb.modes.size()) +
+                            ": neighbouring positions must have the same modes (count and directions) to "
+                            "interpolate between them");
+          continue;
+        }
+        for (std::size_t m = 0; m < cb.modes.size(); ++m)
+          if ((pb.modes[m].direction - cb.modes[m].direction).norm() > 1e-9)
+            doc.error_key(element(child(at, name) + ".modes", m) + ".direction",
+                          "differs from " + prev_at + ": a mode keeps its direction along the path");
+      }
+    }
+    stations.push_back(std::move(st));
+  }
+  return stations;
+}
+
 Config read_config(const toml::table& root_table, const Document& doc) {
   const Table root(doc, root_table, "");
-  constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep"};
+  constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep", "positions"};
   root.reject_unknown(kTopKeys);
 
   Config config;
@@ -1262,11 +1371,29 @@ Config read_config(const toml::table& root_table, const Document& doc) {
   const std::size_t before_bodies = doc.error_count();
   attempt_void([&] { config.model.tool = read_body(root, "tool"); });
   attempt_void([&] { config.model.workpiece = read_body(root, "workpiece"); });
+  const bool has_positions = root.has("positions");
+  if (has_positions)
+    attempt_void([&] { config.position.stations = read_positions(root, config.model); });
   // A body whose modes all had errors looks rigid: say so only without them.
-  if (doc.error_count() == before_bodies && config.model.rigid())
+  if (doc.error_count() == before_bodies && !has_positions && config.model.rigid())
     doc.error_key("tool.modes, workpiece.modes", "both bodies are rigid: give at least one mode (or a measured frf)");
   attempt_void([&] { config.sweep = read_sweep(root); });
+  if (doc.error_count() == before_bodies) {
+    config.position.cantilever = cantilever_refs(root_table);
+    if (has_positions && !config.position.cantilever.empty()) {
+      doc.error_key("positions", "not with a cantilever workpiece mode (workpiece.modes[" +
+                                     std::to_string(config.position.cantilever.front().workpiece_mode) +
+                                     "].cantilever already makes the model depend on the position): give one of them");
+      config.position.cantilever.clear();
+    }
+    if (!config.position.stations.empty()) config.model = config.position.stations.front().model;
+  }
   doc.throw_if_errors();
+  // (Cantilever lengths are checked when a position is asked for, so a config
+  // with two bars of different lengths still loads for the other commands.)
+  if (!config.position.stations.empty())
+    if (const std::string why = config.position.validate(); !why.empty())
+      throw InputError(doc.origin() + ": " + why);  // a rule above is missing: still name the file
   warn_frequency_vs_speeds(root_table, doc, config);
   config.warnings = doc.take_warnings();
   return config;
@@ -1369,6 +1496,26 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
                      std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
 #endif
+  }
+}
+
+StructuralModel model_at_position(const Config& config, double position_m) {
+  const std::string origin = config.source.empty() ? config.name : config.source.string();
+  if (config.position.empty())
+    throw InputError(origin + ": position " + number_text(position_m * 1e3) +
+                     " mm: the structure does not depend on the position (give a cantilever workpiece mode or "
+                     "[[positions]]; docs/position.md)");
+  const auto& bars = config.position.cantilever;
+  for (std::size_t i = 1; i < bars.size(); ++i)
+    if (bars[i].length_m != bars[0].length_m)
+      throw InputError(origin + ": workpiece.modes[" + std::to_string(bars[i].workpiece_mode) +
+                       "].cantilever: length " + number_text(bars[i].length_m) + " m differs from workpiece.modes[" +
+                       std::to_string(bars[0].workpiece_mode) + "].cantilever (" + number_text(bars[0].length_m) +
+                       " m): position-dependent lobes need one part, one length");
+  try {
+    return model_at_position(config.model, config.position, position_m);
+  } catch (const InputError& e) {
+    throw InputError(origin + ": " + e.what());
   }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/position.hpp"
 #include "chatter/process.hpp"
 #include "chatter/structural_model.hpp"
 
@@ -41,7 +42,21 @@ struct Config {
   /// flute_length_mm`, milling only, > 0): `recommend` never proposes a
   /// deeper cut, `check` warns about one. Absent: not known.
   std::optional<double> flute_length_m;
+  /// How the structure changes along the tool path (docs/position.md): the
+  /// `cantilever` workpiece modes (scaled by the bar's first mode shape), or
+  /// the `[[positions]]` mode sets; empty when neither. With `[[positions]]`,
+  /// `model` is the set of the first position (what the commands use when
+  /// no position is given); with a cantilever, `model` is the free end.
+  PositionDependence position;
 };
+
+/// The structure the tool sees at `position_m` (m from the clamp of a
+/// cantilever workpiece, or along the path of `[[positions]]`): see
+/// chatter::model_at_position (include/chatter/position.hpp). The one place
+/// the CLI, the C API and other front ends map a position to a model.
+/// Cost: O(modes). @throws InputError "<file>: ..." when the config has no
+/// position-dependent model, or the position is outside it.
+StructuralModel model_at_position(const Config& config, double position_m);
 
 /// Reads and validates a config file. Quantities may be given in SI or in
 /// the shop-unit key beside it (`stiffness_n_per_um`, `mass_g`,
