@@ -234,10 +234,14 @@ TEST(Position, SurfaceRowsAreBitwiseLobesOfTheModelAndIndependentOfThreads) {
   for (std::size_t s = 0; s < speeds.size(); ++s) {
     for (std::size_t p = 0; p < positions.size(); ++p) {
       EXPECT_EQ(one[p][s].depth_limit_m, two[p][s].depth_limit_m);
-      if (one[p][s].bounded()) EXPECT_EQ(one[p][s].chatter_frequency_hz, two[p][s].chatter_frequency_hz);
+      if (one[p][s].bounded()) {
+        EXPECT_EQ(one[p][s].chatter_frequency_hz, two[p][s].chatter_frequency_hz);
+      }
     }
     EXPECT_EQ(one.back()[s].depth_limit_m, tip[s].depth_limit_m) << "free end = today's lobes";
-    if (tip[s].bounded()) EXPECT_EQ(one.back()[s].chatter_frequency_hz, tip[s].chatter_frequency_hz);
+    if (tip[s].bounded()) {
+      EXPECT_EQ(one.back()[s].chatter_frequency_hz, tip[s].chatter_frequency_hz);
+    }
     EXPECT_EQ(one.back()[s].lobe, tip[s].lobe);
     EXPECT_EQ(one.front()[s].depth_limit_m, clamp[s].depth_limit_m) << "clamp = tool only";
   }

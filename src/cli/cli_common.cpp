@@ -91,7 +91,10 @@ std::string position_range_text(const Config& cfg) {
                           ? "clamp to free end of workpiece.modes[" +
                                 std::to_string(cfg.position.cantilever.front().workpiece_mode) + "].cantilever"
                           : "first to last [[positions]]";
-  return "[" + fmt(lo * 1e3) + ", " + fmt(hi * 1e3) + "] mm (" + where + ")";
+  // Appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive.
+  std::string out("[");
+  out.append(fmt(lo * 1e3)).append(", ").append(fmt(hi * 1e3)).append("] mm (").append(where).append(")");
+  return out;
 }
 
 double position_m(const Config& cfg, double position_mm, const std::string& flag) {
