@@ -176,16 +176,16 @@ void recording(const fs::path& p, bool csv) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view all(reinterpret_cast<const char*>(data), size);
-  std::string_view main = all, series = all;
+  std::string_view first = all, series = all;
   if (const std::size_t cut = all.find("\n====\n"); cut != std::string_view::npos) {
-    main = all.substr(0, cut + 1);
+    first = all.substr(0, cut + 1);
     series = all.substr(cut + 6);
   }
   const fs::path& d = folder();
-  write(d / "tests.csv", main);
+  write(d / "tests.csv", first);
   write(d / "s.csv", series);
-  write(d / "rec.csv", main);
-  write(d / "rec.wav", main);
+  write(d / "rec.csv", first);
+  write(d / "rec.wav", first);
   tests_table(d / "tests.csv");
   force_series(d / "s.csv");
   recording(d / "rec.csv", true);

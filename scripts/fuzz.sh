@@ -46,7 +46,7 @@ case "$target" in
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
   fit)
     srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
-    max_len=2048 corpus=corpus-fit prefix="fit-" ;;
+    max_len=512 corpus=corpus-fit prefix="fit-" ;;
   *)
     echo "fuzz.sh: unknown target '$target' (config, frf, operations, shop or fit)" >&2
     exit 2 ;;
