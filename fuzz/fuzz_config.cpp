@@ -1,12 +1,15 @@
 // libFuzzer target: the TOML config loader, and the analytic solver on every
 // config the loader accepts. Allowed outcomes: a Config, or InputError (bad
 // input, with a message). Anything else (a crash, another exception, a NaN
-// depth, an accepted config with a non-physical value) aborts.
+// depth, an accepted config with a non-physical value, a cutter breaking the
+// rules of Process::milling: pitch angles summing to 2π, helix in [0, π/2),
+// runout below the radius, ...) aborts.
 //
 // Build and run: see docs/reliability.md (scripts/fuzz.sh). The same entry
 // point runs over fuzz/corpus/config/ in the test suite (test_fuzz_corpus).
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +35,58 @@ void check_body(const chatter::Body& b) {
   }
 }
 
+// The real cutter (process.hpp, Process::milling): pitch angles empty or N_t
+// values > 0 summing to 2π; helix angles empty, one or N_t values in
+// [0, π/2); runout empty or N_t finite values below the radius; a helix or
+// process damping only with a diameter; C_pd finite and >= 0.
+constexpr double kPitchSumTolerance = 1e-6;  // rad, the rule of Process::milling
+
+void check_process(const chatter::Process& p) {
+  if (p.operation() == chatter::Operation::kTurning) {
+    const chatter::TurningParameters& t = p.turning_parameters();
+    if (!(std::isfinite(t.feed_force_coefficient_n_per_m2) && t.feed_force_coefficient_n_per_m2 > 0)) fail("K_f");
+    if (!(std::isfinite(t.process_damping_coefficient_n_per_m) && t.process_damping_coefficient_n_per_m >= 0))
+      fail("turning C_pd");
+    if (t.process_damping_coefficient_n_per_m > 0 && !(t.workpiece_diameter_m > 0)) fail("C_pd without D_w");
+    return;
+  }
+  const chatter::MillingParameters& m = p.milling_parameters();
+  const auto n = static_cast<std::size_t>(m.teeth);
+  if (m.teeth < 1) fail("teeth");
+  if (!(std::isfinite(m.tangential_coefficient_n_per_m2) && m.tangential_coefficient_n_per_m2 > 0)) fail("K_t");
+  if (!(std::isfinite(m.radial_coefficient_n_per_m2) && m.radial_coefficient_n_per_m2 >= 0)) fail("K_r");
+  if (!(m.radial_immersion > 0 && m.radial_immersion <= 1)) fail("radial immersion");
+  if (!(std::isfinite(m.tool_diameter_m) && m.tool_diameter_m >= 0)) fail("tool diameter");
+  if (!m.pitch_angles_rad.empty()) {
+    if (m.pitch_angles_rad.size() != n) fail("pitch angles: not one per tooth");
+    double sum = 0;
+    for (double a : m.pitch_angles_rad) {
+      if (!(std::isfinite(a) && a > 0)) fail("pitch angle not > 0");
+      sum += a;
+    }
+    if (!(std::abs(sum - 2 * std::numbers::pi) <= kPitchSumTolerance)) fail("pitch angles do not sum to 2 pi");
+  }
+  if (!(m.helix_angles_rad.empty() || m.helix_angles_rad.size() == 1 || m.helix_angles_rad.size() == n))
+    fail("helix angles: not 0, 1 or N_t values");
+  bool helix = false;
+  for (double b : m.helix_angles_rad) {
+    if (!(b >= 0 && b < std::numbers::pi / 2)) fail("helix angle outside [0, pi/2)");
+    helix = helix || b > 0;
+  }
+  if (!m.runout_m.empty()) {
+    if (m.runout_m.size() != n) fail("runout: not one per tooth");
+    for (double r : m.runout_m) {
+      if (!std::isfinite(r)) fail("runout not finite");
+      if (m.tool_diameter_m > 0 && !(std::abs(r) < m.tool_diameter_m / 2)) fail("runout not below the radius");
+    }
+  }
+  if (!(std::isfinite(m.process_damping_coefficient_n_per_m) && m.process_damping_coefficient_n_per_m >= 0))
+    fail("milling C_pd");
+  if ((helix || m.process_damping_coefficient_n_per_m > 0) && !(m.tool_diameter_m > 0))
+    fail("helix or process damping without a diameter");
+  if (p.teeth() != m.teeth) fail("Process::teeth");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -45,6 +100,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (cfg.model.mode_count() == 0) fail("accepted a rigid model");
   check_body(cfg.model.tool);
   check_body(cfg.model.workpiece);
+  check_process(cfg.process);
   try {
     chatter::TransferFunctionOptions opt;
     opt.depth_max_m = 0.05;

@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
 # Fuzzes one parser with libFuzzer (+ ASan + UBSan) for a set time.
-# Usage: scripts/fuzz.sh [TARGET=config] [seconds=60]
+# Usage: scripts/fuzz.sh [TARGET=config] [seconds=60] [runs]
+#   runs: stop after exactly this many executions (libFuzzer -runs), or at
+#   `seconds`, whichever comes first.
 #   config      the TOML config loader, and the analytic solver on what it accepts (fuzz/fuzz_config.cpp)
 #   frf         the FRF readers: CSV, tab .frf, UFF 58/58b (fuzz/fuzz_frf.cpp)
 #   operations  the operations-file reader (fuzz/fuzz_operations.cpp)
+#   shop        the shop-data readers: cutting-tests table, force series, CSV and
+#               audio recordings, then the coefficient fit and the detector (fuzz/fuzz_shop.cpp)
+#   fit         the modal fit on fuzzed FRF tables (fuzz/fuzz_fit.cpp)
 # `scripts/fuzz.sh 300` (a number first) fuzzes the config loader for 300 s.
 # Needs clang and its runtime (Debian: clang libclang-rt-14-dev); installs them if missing.
 # Seeds: fuzz/corpus/TARGET/. New inputs that increase coverage go to
 # build-fuzz/corpus/ (config) or build-fuzz/corpus-TARGET/; a crash leaves
 # crash-* (config) or TARGET-crash-* files in build-fuzz/: copy each into
-# fuzz/corpus/TARGET/ as crash_<what>.<ext> and fix it.
+# fuzz/corpus/TARGET/ as crash_<what>.<ext> and fix it. The whole libFuzzer
+# log (the #N lines with cov/ft and exec/s) is build-fuzz/fuzz_TARGET.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,21 +25,30 @@ if [ $# -gt 0 ] && ! [[ "$1" =~ ^[0-9]+$ ]]; then
   shift
 fi
 seconds=${1:-60}
+runs=${2:--1}
+libs=${libs:-}
 case "$target" in
   config)
     srcs="src/io/config.cpp src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
-          src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp"
-    max_len=4096 corpus=corpus prefix="" ;;
+          src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp
+          src/solvers/factory.cpp src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
+    libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus prefix="" ;;
   frf)
     srcs="src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
     max_len=8192 corpus=corpus-frf prefix="frf-" ;;
   operations)
     srcs="src/ops/operations.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
-          src/solvers/analytic.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp src/solvers/factory.cpp
-          src/solvers/semi_discretization.cpp"
-    max_len=4096 corpus=corpus-operations prefix="operations-" ;;
+          src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp src/solvers/factory.cpp
+          src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
+    libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
+  shop)
+    srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp"
+    libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
+  fit)
+    srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
+    max_len=512 corpus=corpus-fit prefix="fit-" ;;
   *)
-    echo "fuzz.sh: unknown target '$target' (config, frf or operations)" >&2
+    echo "fuzz.sh: unknown target '$target' (config, frf, operations, shop or fit)" >&2
     exit 2 ;;
 esac
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
@@ -48,9 +63,9 @@ fi
 mkdir -p "build-fuzz/$corpus"
 # shellcheck disable=SC2086
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -Iinclude -Isrc/solvers -I/usr/include/eigen3 $srcs "fuzz/fuzz_$target.cpp" -ltomlplusplus \
+  -Iinclude -Isrc/solvers -I/usr/include/eigen3 $srcs "fuzz/fuzz_$target.cpp" -ltomlplusplus $libs \
   -o "build-fuzz/fuzz_$target"
 cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true
 cd build-fuzz
-"./fuzz_$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -print_final_stats=1 \
-  -artifact_prefix="./$prefix" "$corpus" 2>&1 | tail -n 25
+"./fuzz_$target" -max_total_time="$seconds" -runs="$runs" -max_len="$max_len" -timeout=10 -print_final_stats=1 \
+  -artifact_prefix="./$prefix" "$corpus" 2>&1 | tee "fuzz_$target.log" | tail -n 25

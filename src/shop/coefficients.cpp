@@ -251,7 +251,14 @@ RevolutionAverage average_whole_revolutions(const std::vector<double>& t, const 
     throw InputError("a force series needs at least 2 samples of time, fx and fy");
   const double period = 60.0 / rpm;
   const double span = t.back() - t.front();
-  const int revs = static_cast<int>(std::floor(span / period * (1 + 1e-12)));
+  const double whole = std::floor(span / period * (1 + 1e-12));
+  // More revolutions than this (8 h at 20 000 rev/min) is a time column in the
+  // wrong unit, and would not fit the int count (found by fuzzing).
+  constexpr double kMaxRevolutions = 1e7;
+  if (!(whole <= kMaxRevolutions))
+    throw InputError("the series spans " + num(span) + " s = " + num(span / period) + " revolutions at " + num(rpm) +
+                     " rev/min, more than 1e7: time_s must be in seconds");
+  const int revs = static_cast<int>(whole);
   if (revs < 1)
     throw InputError("the series spans " + num(span) + " s, shorter than one revolution (" + num(period) +
                      " s at " + num(rpm) + " rev/min): record at least one whole revolution, better several");

@@ -52,7 +52,9 @@ double interpolate(const std::vector<double>& amp, std::size_t k, double df) {
   if (k == 0 || k + 1 >= amp.size() || amp[k - 1] <= 0 || amp[k + 1] <= 0 || amp[k] <= 0) return static_cast<double>(k) * df;
   const double a = std::log(amp[k - 1]), b = std::log(amp[k]), c = std::log(amp[k + 1]);
   const double den = a - 2 * b + c;
-  if (!(den < 0)) return static_cast<double>(k) * df;
+  // Only a local maximum has its vertex within half a bin: on a slope the
+  // parabola's vertex can lie anywhere (found by fuzzing: -1502 Hz).
+  if (!(den < 0) || b < a || b < c) return static_cast<double>(k) * df;
   return (static_cast<double>(k) + 0.5 * (a - c) / den) * df;
 }
 

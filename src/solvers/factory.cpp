@@ -315,7 +315,10 @@ std::unique_ptr<LobeSolver> make_lobe_solver(const std::string& method, const St
   const std::string where = "method \"" + method + "\": ";
   if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
     throw InputError(where + "depth_max_m = " + message_number(depth_max_m) + ": must be > 0 m");
-  for (const auto& [name, value] : options) {
+  for (const auto& entry : options) {
+    // Named, not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+    const std::string& name = entry.first;
+    const SolverValue& value = entry.second;
     const auto it = std::find_if(d.options.begin(), d.options.end(), [&](const SolverOption& o) { return o.name == name; });
     if (it == d.options.end()) {
       std::string takes;
