@@ -11,7 +11,7 @@ set datafile missing '?'
 data = 'coupled_tool1_workpiece1_lobes.dat'
 
 # Values from the engine (mm, rev/min)
-y_max = 10          # top of the depth axis
+y_max = 12          # top of the depth axis
 depth_max = 20      # deepest cut searched
 abs_limit = 2.06948      # absolute (speed-independent) limit
 

@@ -11,7 +11,7 @@ set datafile missing '?'
 data = 'coupled_tool2_workpiece2_lobes.dat'
 
 # Values from the engine (mm, rev/min)
-y_max = 1.2          # top of the depth axis
+y_max = 4          # top of the depth axis
 depth_max = 20      # deepest cut searched
 abs_limit = 0.261765      # absolute (speed-independent) limit
 

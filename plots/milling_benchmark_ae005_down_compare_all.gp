@@ -11,7 +11,7 @@ set datafile missing '?'
 data = 'milling_benchmark_ae005_down_compare_all.dat'
 
 # Values from the engine (mm, rev/min)
-y_max = 4          # top of the depth axis
+y_max = 10          # top of the depth axis
 depth_max = 10      # deepest cut searched
 # Columns of method m (0 = first): depth limit and bounded flag
 col_depth(m) = 2 + 2*m

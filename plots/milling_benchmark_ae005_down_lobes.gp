@@ -11,7 +11,7 @@ set datafile missing '?'
 data = 'milling_benchmark_ae005_down_lobes.dat'
 
 # Values from the engine (mm, rev/min)
-y_max = 8          # top of the depth axis
+y_max = 10          # top of the depth axis
 depth_max = 10      # deepest cut searched
 abs_limit = 1.79158      # absolute (speed-independent) limit
 

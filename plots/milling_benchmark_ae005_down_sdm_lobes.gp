@@ -11,7 +11,7 @@ set datafile missing '?'
 data = 'milling_benchmark_ae005_down_sdm_lobes.dat'
 
 # Values from the engine (mm, rev/min)
-y_max = 5          # top of the depth axis
+y_max = 10          # top of the depth axis
 depth_max = 10      # deepest cut searched
 
 # Colours

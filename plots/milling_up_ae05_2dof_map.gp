@@ -1,0 +1,50 @@
+# Floquet stability map (spectral radius), written by chatter 0.1.0.
+# Reproduce or restyle: cd into this directory, edit, then run
+#   gnuplot milling_up_ae05_2dof_map.gp
+# It reads milling_up_ae05_2dof_map.dat and writes milling_up_ae05_2dof_map.png (both by relative name).
+
+fs = 14   # base font size (pt); title, key and labels are relative to it
+set terminal pngcairo size 1200,800 enhanced font 'DejaVu Sans,'.fs linewidth 1.2
+set output 'milling_up_ae05_2dof_map.png'
+set encoding utf8
+set datafile missing '?'
+data = 'milling_up_ae05_2dof_map.dat'
+
+# Colour scale: spectral radius from 1/rho_clip to rho_clip on a log axis, centred on 1
+# (values beyond are drawn in the end colours).
+rho_clip = 2
+clip(r) = r < 1.0/rho_clip ? 1.0/rho_clip : (r > rho_clip ? rho_clip : r)
+
+# Colours: contour pieces by multiplier type, key swatches
+c_hopf = '#101010'; c_flip = '#7b1fa2'; c_fold = '#00796b'
+c_stable = '#6fa3d2'; c_chatter = '#f0804a'
+# Blues below rho = 1, oranges to reds above, with a step at 1.
+set palette defined (0 '#0b3a6e', 0.25 '#3f7fbf', 0.5 '#bcd7ee', 0.5 '#fdc793', 0.75 '#ee7640', 1 '#7a0c0c')
+
+set multiplot title 'Up-milling a_e/D = 0.5, 4 teeth, 2-DOF tool: spectral radius (sdm)' noenhanced font ','.(fs+3)
+set lmargin at screen 0.085; set rmargin at screen 0.855
+set tmargin at screen 0.83; set bmargin at screen 0.11
+set key at screen 0.47, screen 0.885 center center horizontal reverse Left samplen 2 width -1 font ','.(fs-1)
+set border lw 1 lc rgb '#404040' front
+set tics front
+set mxtics 2; set mytics 2
+set xrange [5000:25000]
+set yrange [0:10]
+set xlabel 'spindle speed (rev/min)'
+set ylabel 'depth of cut (mm)'
+set logscale cb
+set cbrange [1.0/rho_clip:rho_clip]
+set colorbox user origin screen 0.875, screen 0.11 size screen 0.022, screen 0.72 front border
+set cblabel 'spectral radius ρ' offset 0.5,0
+set cbtics (sprintf('≤ %g', 1.0/rho_clip) 1.0/rho_clip, '0.7' 0.7, '0.8' 0.8, '1' 1, '1.25' 1.25, '1.5' 1.5, sprintf('≥ %g', rho_clip) rho_clip) out nomirror
+set mcbtics 1
+plot \
+  data index 0 using 1:2:(clip($3)) with image notitle, \
+  keyentry with boxes fs solid 1.0 noborder fc rgb c_stable title 'stable (ρ < 1)', \
+  keyentry with boxes fs solid 1.0 noborder fc rgb c_chatter title 'chatter (ρ > 1)', \
+  data index 1 using 1:(strcol(3) eq 'hopf' ? $2 : NaN) with lines lw 5.5 lc rgb '#50ffffff' notitle, \
+  data index 1 using 1:(strcol(3) eq 'hopf' ? $2 : NaN) with lines lw 2.6 lc rgb c_hopf title 'ρ = 1, Hopf (complex μ)', \
+  data index 1 using 1:(strcol(3) eq 'flip' ? $2 : NaN) with lines lw 5.5 lc rgb '#50ffffff' notitle, \
+  data index 1 using 1:(strcol(3) eq 'flip' ? $2 : NaN) with lines lw 2.6 dt (5,3) lc rgb c_flip title 'ρ = 1, flip (μ = −1)', \
+  data index 2 using 1:(strcol(3) eq 'flip' ? $2 : NaN) with points pt 2 ps 0.7 lw 1.5 lc rgb c_flip title 'flip dominates (μ ≈ −1)'
+unset multiplot
