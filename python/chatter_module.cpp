@@ -653,9 +653,7 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("feed_per_tooth_mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (revolutions && periods) throw InputError("revolutions and periods: give one of them");
-  // Periods per revolution, as chatter simulate counts them (one period is a
-  // revolution for variable pitch or helix, or runout in nonlinear mode).
-  const int per_rev = static_cast<int>(std::lround(60.0 / (rpm * chatter::simulation_period_s(cfg.process, rpm, linear))));
+  const int per_rev = chatter::simulation_periods_per_revolution(cfg.process, rpm, linear);
   int n_periods = 200;
   if (revolutions) {
     if (*revolutions < 1 || *revolutions > 1000000)

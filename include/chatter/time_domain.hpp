@@ -139,6 +139,11 @@ struct SimulationSettings {
 /// once-per-period samples and growth_per_period of a run are per this.
 double simulation_period_s(const Process& process, double rpm, bool linear);
 
+/// Periods of that length in one revolution: N_t for a uniform milling
+/// cutter, 1 when the period is a revolution (and in turning). What
+/// `--revolutions` is multiplied by.
+int simulation_periods_per_revolution(const Process& process, double rpm, bool linear);
+
 class TimeDomainSimulator {
  public:
   /// @throws InputError if the options are invalid or both bodies are rigid.

@@ -591,11 +591,7 @@ int cmd_fit(const std::vector<std::string>& args) {
   for (const auto& w : warnings) std::cout << "warning: " << w << "\n";
   std::cout << "wrote modes: " << a.out << " ([[" << a.body << ".modes]])\n";
   if (!a.plot.empty()) {
-    std::error_code ec;
-    fs::remove(image, ec);  // no stale image survives a failed run
-    run_gnuplot(script);
-    if (!fs::is_regular_file(image, ec) || fs::file_size(image, ec) == 0)
-      throw PlotError("gnuplot ran on " + script.string() + " but wrote no image " + image.string());
+    render_gnuplot_image(script, image);
     std::cout << "wrote plot: " << image.string() << " (gnuplot script " << script.string() << ", data "
               << data.string() << ")\n";
   }

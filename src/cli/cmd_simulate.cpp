@@ -100,10 +100,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (vm.count("revolutions") && vm.count("periods"))
     throw InputError("--revolutions and --periods: give one of them");
-  // Periods per revolution: N_t tooth periods, or 1 when the run's period is
-  // a revolution (variable pitch or helix; runout in nonlinear mode).
-  const int per_rev = static_cast<int>(std::lround(
-      60.0 / (rpm * simulation_period_s(cfg.process, rpm, vm.count("linear") > 0))));
+  const int per_rev = simulation_periods_per_revolution(cfg.process, rpm, vm.count("linear") > 0);
   if (vm.count("revolutions")) {
     if (revolutions < 1 || revolutions > 1000000)
       throw InputError("--revolutions = " + std::to_string(revolutions) + ": must be in [1, 1000000]");

@@ -202,14 +202,25 @@ fs::path find_on_path(const std::string& name) {
 void write_and_render(const Target& t, const std::string& data, const std::string& script) {
   write_text_file(t.data, data);
   write_text_file(t.script, script);
-  std::error_code ec;
-  fs::remove(t.image, ec);  // no stale image survives a failed run
-  run_gnuplot(t.script);
-  if (!fs::is_regular_file(t.image, ec) || fs::file_size(t.image, ec) == 0)
-    throw PlotError("gnuplot ran on " + t.script.string() + " but wrote no image " + t.image.string());
+  render_gnuplot_image(t.script, t.image);
 }
 
 }  // namespace
+
+void render_gnuplot_image(const fs::path& script, const fs::path& image) {
+  std::error_code ec;
+  fs::remove(image, ec);  // no stale image survives a failed run
+  run_gnuplot(script);
+  if (!fs::is_regular_file(image, ec) || fs::file_size(image, ec) == 0)
+    throw PlotError("gnuplot ran on " + script.string() + " but wrote no image " + image.string());
+}
+
+std::string gnuplot_number(double x, int digits) {
+  if (!std::isfinite(x)) return "?";
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*g", digits, x);
+  return b;
+}
 
 std::string PlotOptions::validate() const {
   if (width_px < 200 || width_px > 10000) return "width_px must be in [200, 10000]";

@@ -15,12 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string g(double x, int digits = 8) {
-  if (!std::isfinite(x)) return "?";
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", digits, x);
-  return b;
-}
+std::string g(double x, int digits = 8) { return gnuplot_number(x, digits); }
 
 struct Files {
   fs::path image, data, script;
@@ -50,11 +45,7 @@ std::string terminal(const Files& f, const std::string& what) {
 
 PlotFiles render(const Files& f, const std::string& data, const std::string& script) {
   write_text_files({{f.data, data}, {f.script, script}});
-  std::error_code ec;
-  fs::remove(f.image, ec);
-  run_gnuplot(f.script);
-  if (!fs::is_regular_file(f.image, ec) || fs::file_size(f.image, ec) == 0)
-    throw PlotError("gnuplot ran on " + f.script.string() + " but wrote no image " + f.image.string());
+  render_gnuplot_image(f.script, f.image);
   return {f.image, f.script, f.data};
 }
 

@@ -13,12 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string g(double x, int digits = 8) {
-  if (!std::isfinite(x)) return "?";
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", digits, x);
-  return b;
-}
+std::string g(double x, int digits = 8) { return gnuplot_number(x, digits); }
 
 void check_surface(const std::string& where, const LobeSurfaceData& s) {
   const std::size_t np = s.positions_mm.size();
@@ -167,11 +162,7 @@ PlotFiles plot_surface(const fs::path& image, const std::string& title, const Lo
         "title 'best speed at each position'\n";
 
   write_text_files({{data, dat.str()}, {script, gp.str()}});
-  std::error_code ec;
-  fs::remove(image, ec);  // no stale image survives a failed run
-  run_gnuplot(script);
-  if (!fs::is_regular_file(image, ec) || fs::file_size(image, ec) == 0)
-    throw PlotError("gnuplot ran on " + script.string() + " but wrote no image " + image.string());
+  render_gnuplot_image(script, image);
   return {image, script, data};
 }
 

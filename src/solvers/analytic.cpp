@@ -160,14 +160,7 @@ AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferF
 }
 
 std::array<Complex, 2> AnalyticSolver::eigenvalues(double omega) const {
-  const Matrix2c M = H0_.cast<Complex>() * model_.receptance(omega);
-  const Complex tr = M.trace();
-  const Complex det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
-  const Complex q = std::sqrt(0.25 * tr * tr - det);
-  // Larger root first without cancellation, the other from the product.
-  const Complex big = (std::real(std::conj(tr) * q) >= 0.0) ? 0.5 * tr + q : 0.5 * tr - q;
-  const Complex small = (big == Complex(0.0)) ? Complex(0.0) : det / big;
-  return {big, small};
+  return detail::eigenvalues_2x2(H0_.cast<Complex>() * model_.receptance(omega));
 }
 
 void AnalyticSolver::evaluate(double omega, std::array<detail::BranchValue, 2>& out) const {

@@ -36,16 +36,6 @@ constexpr double kMaxSamples = 2e7;
 constexpr double kHelixDepthTolerance = 1e-12;
 constexpr int kMaxHelixIterations = 200;
 
-// Larger eigenvalue first, the other from the product (no cancellation), as
-// AnalyticSolver::eigenvalues.
-std::array<Complex, 2> eig2(const Matrix2c& M) {
-  const Complex tr = M.trace();
-  const Complex det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
-  const Complex q = std::sqrt(0.25 * tr * tr - det);
-  const Complex big = (std::real(std::conj(tr) * q) >= 0.0) ? 0.5 * tr + q : 0.5 * tr - q;
-  const Complex small = (big == Complex(0.0)) ? Complex(0.0) : det / big;
-  return {big, small};
-}
 
 // Orders v so that its branches continue those of ref.
 void match(const std::array<Complex, 2>& ref, std::array<Complex, 2>& v) {
@@ -88,6 +78,15 @@ Complex regeneration(double omega, const Sp& sp) {
 }
 
 }  // namespace
+
+std::array<Complex, 2> eigenvalues_2x2(const Matrix2c& M) {
+  const Complex tr = M.trace();
+  const Complex det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+  const Complex q = std::sqrt(0.25 * tr * tr - det);
+  const Complex big = (std::real(std::conj(tr) * q) >= 0.0) ? 0.5 * tr + q : 0.5 * tr - q;
+  const Complex small = (big == Complex(0.0)) ? Complex(0.0) : det / big;
+  return {big, small};
+}
 
 MultiDelaySearch::MultiDelaySearch(StructuralModel model, Process process, MultiDelayOptions options)
     : model_(std::move(model)), process_(std::move(process)), opt_(options) {
@@ -156,7 +155,7 @@ Matrix2c MultiDelaySearch::characteristic_matrix(double omega, double rpm, doubl
 std::array<Complex, 2> MultiDelaySearch::eigenvalues(double omega, const Speed& sp) const {
   const Matrix2c M =
       regeneration(omega, sp) * H0_tooth_.cast<Complex>() + Complex(0.0, omega * sp.c) * P0_.cast<Complex>();
-  return eig2(M * model_.receptance(omega));
+  return eigenvalues_2x2(M * model_.receptance(omega));
 }
 
 std::array<Complex, 2> MultiDelaySearch::eigenvalues(double omega, double rpm, double depth_m) const {

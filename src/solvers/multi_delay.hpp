@@ -49,6 +49,11 @@
 
 namespace chatter::detail {
 
+/// The two eigenvalues of a complex 2×2 matrix, the larger in modulus
+/// first, the other from the product (no cancellation). Shared by
+/// AnalyticSolver::eigenvalues and the multi-delay search.
+std::array<Complex, 2> eigenvalues_2x2(const Matrix2c& M);
+
 struct MultiDelayOptions {
   /// Deepest cut searched, m (> 0); limits above it are +inf.
   double depth_max_m = 0.05;

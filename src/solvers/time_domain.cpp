@@ -108,6 +108,10 @@ double simulation_period_s(const Process& process, double rpm, bool linear) {
   return simulation_period(process, s);
 }
 
+int simulation_periods_per_revolution(const Process& process, double rpm, bool linear) {
+  return static_cast<int>(std::lround(60.0 / (rpm * simulation_period_s(process, rpm, linear))));
+}
+
 namespace {
 
 class Model {
@@ -254,6 +258,18 @@ class Model {
   }
 
   /// ẏ = f(t, y); fills `diag` when given. y = [q; q̇].
+  /// What one right-hand-side call reports (both force paths).
+  Diagnostics diagnostics(const double* F, double chip_max, bool any_arc, bool cutting, bool touching) const {
+    Diagnostics d;
+    d.force[0] = F[0];
+    d.force[1] = F[1];
+    d.chip_max = chip_max;
+    d.any_in_arc = any_arc;
+    d.in_cut = cutting;
+    d.in_air = any_arc && !touching && !settings_.linear;
+    return d;
+  }
+
   void rhs(double t, const double* y, double* ydot, Diagnostics* diag) const {
     ++rhs_count_;
     const double* q = y;
@@ -291,14 +307,7 @@ class Model {
       }
     }
     modal_accelerations(q, qd, F, ydot);
-    if (diag) {
-      diag->force[0] = F[0];
-      diag->force[1] = F[1];
-      diag->chip_max = chip_max;
-      diag->any_in_arc = any_arc;
-      diag->in_cut = cutting;
-      diag->in_air = any_arc && !touching && !settings_.linear;
-    }
+    if (diag) *diag = diagnostics(F, chip_max, any_arc, cutting, touching);
   }
 
   void modal_accelerations(const double* q, const double* qd, const double F[2], double* ydot) const {
@@ -511,14 +520,7 @@ class Model {
       }
     }
     modal_accelerations(q, qd, F, ydot);
-    if (diag) {
-      diag->force[0] = F[0];
-      diag->force[1] = F[1];
-      diag->chip_max = chip_max;
-      diag->any_in_arc = any_arc;
-      diag->in_cut = cutting;
-      diag->in_air = any_arc && !touching && !settings_.linear;
-    }
+    if (diag) *diag = diagnostics(F, chip_max, any_arc, cutting, touching);
   }
 
   ModalMatrices mm_;

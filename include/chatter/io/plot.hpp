@@ -217,6 +217,16 @@ PlotFiles plot_simulation(const std::filesystem::path& image, const std::string&
 /// @throws GnuplotNotFound, PlotError.
 void run_gnuplot(const std::filesystem::path& script);
 
+/// What every plot does once its .dat and .gp are written: removes a stale
+/// `image` (none survives a failed run), runs gnuplot on `script`
+/// (run_gnuplot) and checks that it wrote a non-empty `image`.
+/// @throws GnuplotNotFound, PlotError.
+void render_gnuplot_image(const std::filesystem::path& script, const std::filesystem::path& image);
+
+/// A number for a plot's .dat file or script: `digits` significant digits,
+/// "?" when not finite (the scripts declare `set datafile missing '?'`).
+std::string gnuplot_number(double x, int digits = 8);
+
 /// `s` as a gnuplot single-quoted string (' doubled, line breaks as spaces),
 /// for scripts written beside an image.
 std::string gnuplot_quote(const std::string& s);
