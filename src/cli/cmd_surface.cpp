@@ -13,6 +13,7 @@
 #include "chatter/position.hpp"
 #include "chatter/solvers.hpp"
 #include "cli_common.hpp"
+#include "cmd_surface.hpp"
 #include "commands.hpp"
 
 namespace chatter::cli {
@@ -55,9 +56,12 @@ std::vector<double> parse_depth_list(const std::string& text, const std::string&
 
 }  // namespace
 
-int cmd_surface(const std::vector<std::string>& args) {
-  Common common;
-  std::string table_path, plot_path, contours_text;
+std::optional<SurfacePlan> plan_surface(const std::vector<std::string>& args, bool check_output_files) {
+  SurfacePlan plan;
+  Common& common = plan.common;
+  std::string& table_path = plan.table_path;
+  std::string& plot_path = plan.plot_path;
+  std::string contours_text;
   po::options_description d("Options");
   add_common(d, common);
   d.add_options()
@@ -78,41 +82,46 @@ int cmd_surface(const std::vector<std::string>& args) {
       ("plot-contours-mm", po::value<std::string>(&contours_text), "with --plot: depths of the contour lines, mm, "
                                                                    "comma-separated (default: up to 5 round values)");
   add_solver_options(d);
-  po::variables_map vm;
-  if (!parse(args, kSurfaceUsage, d, common, vm)) return 0;
+  po::variables_map& vm = plan.vm;
+  if (!parse(args, kSurfaceUsage, d, common, vm)) return std::nullopt;
   if (common.position_mm)
     throw InputError("--position-mm: not with surface (it sweeps --position-min-mm to --position-max-mm)");
-  std::vector<double> contours;
   if (vm.count("plot-contours-mm")) {
     if (plot_path.empty()) throw InputError("--plot-contours-mm: only with --plot (it sets the plot's contours)");
-    contours = parse_depth_list(contours_text, "--plot-contours-mm");
+    plan.contours_mm = parse_depth_list(contours_text, "--plot-contours-mm");
   }
-  const bool table_to_stdout = table_path == "-" || (table_path.empty() && plot_path.empty());
+  plan.table_to_stdout = table_path == "-" || (table_path.empty() && plot_path.empty());
   if (table_path == "-") table_path.clear();
-  check_outputs({{"--table", table_path}, {"--plot", plot_path, true}});  // before computing
+  if (check_output_files) check_outputs({{"--table", table_path}, {"--plot", plot_path, true}});  // before computing
 
-  const Config cfg = load_checked(common);
+  plan.cfg = load_checked(common);
+  const Config& cfg = plan.cfg;
   if (cfg.position.empty())
     throw InputError(cfg.source.string() +
                      ": surface: the structure does not depend on the position: give a cantilever workpiece mode "
                      "or [[positions]] (docs/position.md)");
   const auto [part_lo_m, part_hi_m] = cfg.position.range_m();
-  const double min_mm = vm.count("position-min-mm") ? vm["position-min-mm"].as<double>() : part_lo_m * 1e3;
-  const double max_mm = vm.count("position-max-mm") ? vm["position-max-mm"].as<double>() : part_hi_m * 1e3;
+  const double min_mm = plan.min_mm =
+      vm.count("position-min-mm") ? vm["position-min-mm"].as<double>() : part_lo_m * 1e3;
+  const double max_mm = plan.max_mm =
+      vm.count("position-max-mm") ? vm["position-max-mm"].as<double>() : part_hi_m * 1e3;
   const int points = vm.count("position-points") ? vm["position-points"].as<int>() : kDefaultPositionPoints;
   const double lo_m = vm.count("position-min-mm") ? position_m(cfg, min_mm, "--position-min-mm") : part_lo_m;
   const double hi_m = vm.count("position-max-mm") ? position_m(cfg, max_mm, "--position-max-mm") : part_hi_m;
   if (!(hi_m > lo_m))
     throw InputError("--position-max-mm = " + fmt(max_mm) + ": must be > --position-min-mm (" + fmt(min_mm) + ")");
   if (points < 2) throw InputError("--position-points = " + std::to_string(points) + ": must be >= 2 (both ends)");
-  const Sweep s = resolve_sweep(vm, cfg);
+  const Sweep s = plan.sweep = resolve_sweep(vm, cfg);
   if (static_cast<long long>(points) * s.rpm_points > kMaxMapPoints)
     throw InputError("--position-points x --rpm-points = " + std::to_string(points) + " x " +
                      std::to_string(s.rpm_points) + ": at most " + std::to_string(kMaxMapPoints) +
                      " solves (a surface that size would not finish)");
   // Positions evenly spaced in mm as typed (the table's column), in m for the
   // model, the ends exactly the checked ends.
-  std::vector<double> positions_mm(static_cast<std::size_t>(points)), positions_m(positions_mm.size());
+  std::vector<double>& positions_mm = plan.positions_mm;
+  std::vector<double>& positions_m = plan.positions_m;
+  positions_mm.resize(static_cast<std::size_t>(points));
+  positions_m.resize(positions_mm.size());
   for (int i = 0; i < points; ++i) {
     const auto k = static_cast<std::size_t>(i);
     positions_mm[k] = min_mm + (max_mm - min_mm) * static_cast<double>(i) / (points - 1);
@@ -121,25 +130,42 @@ int cmd_surface(const std::vector<std::string>& args) {
   positions_mm.back() = max_mm;
   positions_m.front() = lo_m;
   positions_m.back() = hi_m;
-  const std::vector<double> speeds = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
+  plan.speeds_rpm = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
 
   // One solver checked (options, notes, what the method accepts) at the first
   // position; the others built the same way inside the sweep.
-  const double depth_max_m = s.depth_max_mm * 1e-3;
+  plan.depth_max_m = s.depth_max_mm * 1e-3;
   Config first = cfg;
   first.model = with_flag("--position-min-mm", [&] { return model_at_position(cfg, positions_m.front()); });
-  const BuiltSolver built = build_solver(common.method, first, depth_max_m, vm);
-  const SolverValues options = solver_option_values(*built.descriptor, cfg, vm);
-  const SolverFactory factory = [&](const StructuralModel& model) {
-    return make_lobe_solver(common.method, model, cfg.process, depth_max_m, options);
-  };
-  const unsigned threads = thread_count(vm);
-  std::vector<std::vector<StabilityLimit>> rows;
-  {
-    Progress progress(vm, positions_m.size(), "surface (" + built.solver->method() + ")");
-    rows = lobe_surface(cfg.model, cfg.position, positions_m, speeds, factory, threads,
-                        [&](std::size_t done) { progress.tick(done); });
-  }
+  const BuiltSolver built = build_solver(common.method, first, plan.depth_max_m, vm);
+  plan.solver_options = solver_option_values(*built.descriptor, cfg, vm);
+  plan.method = built.solver->method();
+  plan.threads = thread_count(vm);
+  return plan;
+}
+
+std::unique_ptr<LobeSolver> surface_solver(const SurfacePlan& plan, const StructuralModel& model) {
+  return make_lobe_solver(plan.common.method, model, plan.cfg.process, plan.depth_max_m, plan.solver_options);
+}
+
+std::vector<std::vector<StabilityLimit>> surface_rows(const SurfacePlan& plan) {
+  const SolverFactory factory = [&](const StructuralModel& model) { return surface_solver(plan, model); };
+  Progress progress(plan.vm, plan.positions_m.size(), "surface (" + plan.method + ")");
+  return lobe_surface(plan.cfg.model, plan.cfg.position, plan.positions_m, plan.speeds_rpm, factory, plan.threads,
+                      [&](std::size_t done) { progress.tick(done); });
+}
+
+int write_surface(const SurfacePlan& plan, const std::vector<std::vector<StabilityLimit>>& rows) {
+  const Config& cfg = plan.cfg;
+  const Sweep& s = plan.sweep;
+  const std::vector<double>& positions_mm = plan.positions_mm;
+  const std::vector<double>& speeds = plan.speeds_rpm;
+  const std::string& table_path = plan.table_path;
+  const std::string& plot_path = plan.plot_path;
+  const bool table_to_stdout = plan.table_to_stdout;
+  const double min_mm = plan.min_mm, max_mm = plan.max_mm;
+  const std::size_t points = positions_mm.size();
+  std::vector<double> contours = plan.contours_mm;
 
   // The table: each position's lobe table, its rows prefixed by the position.
   std::ostringstream csv;
@@ -162,7 +188,7 @@ int cmd_surface(const std::vector<std::string>& args) {
     return r.bounded() ? fmt(r.depth_limit_m * 1e3, 5) + " mm" : "no limit below " + fmt(s.depth_max_mm) + " mm";
   };
   std::ostringstream summary;
-  summary << cfg.name << " (" << built.solver->method() << "): " << points << " positions " << fmt(min_mm) << "-"
+  summary << cfg.name << " (" << plan.method << "): " << points << " positions " << fmt(min_mm) << "-"
           << fmt(max_mm) << " mm x " << speeds.size() << " speeds " << fmt(s.rpm_min) << "-" << fmt(s.rpm_max)
           << " rev/min; weakest position " << fmt(positions_mm[weakest]) << " mm (best there: "
           << depth_text(best[weakest]) << " at " << fmt(best[weakest].spindle_rpm) << " rev/min); at "
@@ -178,11 +204,17 @@ int cmd_surface(const std::vector<std::string>& args) {
   if (!plot_path.empty()) {
     if (contours.empty()) contours = default_contour_depths_mm(surface);
     const auto files =
-        plot_surface(plot_path, cfg.name + " (" + built.solver->method() + "): lobe surface", surface, contours);
+        plot_surface(plot_path, cfg.name + " (" + plan.method + "): lobe surface", surface, contours);
     info << "wrote plot: " << files.image.string() << " (gnuplot script " << files.script.string() << ", data "
          << files.data.string() << ")\n";
   }
   return 0;
+}
+
+int cmd_surface(const std::vector<std::string>& args) {
+  const std::optional<SurfacePlan> plan = plan_surface(args);
+  if (!plan) return 0;
+  return write_surface(*plan, surface_rows(*plan));
 }
 
 }  // namespace chatter::cli
