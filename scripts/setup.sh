@@ -12,6 +12,7 @@ packages=(
   libsndfile1-dev  # audio recordings (WAV/FLAC/AIFF) for `chatter detect`
   pybind11-dev python3-dev python3-numpy  # the Python module (docs/python.md)
   python3-pytest  # its tests (tests/python, run by ctest)
+  openmpi-bin libopenmpi-dev  # chatter-mpi, the sweeps across processes (docs/scaling.md); ctest runs it under mpirun
 )
 
 missing=()
