@@ -139,6 +139,8 @@ std::vector<Bytes> serve(MPI_Comm comm, int size, std::size_t items, const std::
   }
   worker.join();
   if (failure) throw *failure;
+  if (gathered != items)  // every worker is stopped only in answer to its last message: cannot happen
+    throw RankFailed(0, "gathered " + std::to_string(gathered) + " of " + std::to_string(items) + " items");
   return rows;
 }
 
