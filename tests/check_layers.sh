@@ -8,6 +8,7 @@
 #        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
 #        nlohmann; no solver class header, no ops, no Boost.
 #   ops  (src/ops, include/chatter/operations.hpp): core only.
+#   MPI  (mpi.h) only in src/mpi (chatter-mpi).
 # Usage: check_layers.sh SOURCE_DIR
 set -uo pipefail
 src=$1
@@ -36,6 +37,9 @@ check "ops includes io, a file-format library or Boost" \
   'chatter/io/|toml\+\+|nlohmann|boost' \
   src/ops/* include/chatter/operations.hpp
 check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
+check "MPI outside src/mpi (the library and the chatter CLI link no MPI: docs/scaling.md)" 'mpi\.h|openmpi' \
+  src/model/* src/solvers/* src/io/* src/ops/* src/shop/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
+  include/chatter/chatter.h
 if [[ $bad -ne 0 ]]; then
   echo "layer rules broken (docs/architecture.md)"
   exit 1
