@@ -19,7 +19,7 @@ constexpr double kLevels[] = {0.05, 0.50, 0.95};
 /// 32 bytes, so 2.5e7 is 0.8 GB); a larger study is split into ranges
 /// (monte_carlo_limits) by a runner that reduces as it goes.
 constexpr long long kMaxMonteCarloSolves = 25'000'000;
-constexpr int kDefaultDepthPoints = 100;
+constexpr int kDefaultDepthPoints = 101;  // steps of 1 % of the grid's top
 /// Without --plot-depth-max-mm the probability grid ends at this factor times
 /// the deepest finite limit of any sample (at most --depth-max-mm), so the
 /// grid resolves the lobes rather than the searched depth.
@@ -42,7 +42,8 @@ void add_uncertainty_options(po::options_description& d) {
       ("seed", po::value<long long>(), "with --samples: the random seed (integer >= 0; default 1); the same seed "
                                        "gives the same table whatever --threads")
       ("depth-points", po::value<int>(), "with --samples: depths of the probability grid, from 0 to the top of the "
-                                         "plot's depth axis, both included (>= 2; default 100)")
+                                         "plot's depth axis (--plot-depth-max-mm, or 1.2 x the deepest finite limit of "
+                                         "any sample rounded up to 2 digits), both included (>= 2; default 101)")
       ("probability-table", po::value<std::string>(), "with --samples: write the probability of stability as CSV "
                                                       "spindle_rpm,depth_mm,probability_stable");
 }
@@ -119,7 +120,13 @@ UncertaintyOutputs run_uncertainty(const UncertaintyRequest& request, const Conf
     for (const auto& row : rows)
       for (const auto& r : row)
         if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
-    top_mm = deepest > 0.0 ? std::min(depth_max_mm, kGridTopFactor * deepest) : depth_max_mm;
+    // Rounded up to two significant digits, so the depths are round numbers.
+    if (deepest > 0.0) {
+      const double unit = std::pow(10.0, std::floor(std::log10(kGridTopFactor * deepest)) - 1.0);
+      top_mm = std::min(depth_max_mm, std::ceil(kGridTopFactor * deepest / unit) * unit);
+    } else {
+      top_mm = depth_max_mm;
+    }
   }
   out.depth_grid_top_mm = top_mm;
   std::vector<double> depths_m(static_cast<std::size_t>(request.depth_points));
