@@ -157,7 +157,7 @@ UncertaintyOutputs run_uncertainty(const UncertaintyRequest& request, const Conf
   for (std::size_t s = 1; s < p05.size(); ++s)
     if (p05[s] > p05[best]) best = s;
   auto depth_text = [&](double m) {
-    return std::isfinite(m) ? fmt(m * 1e3, 5) + " mm" : "every depth searched (" + fmt(depth_max_mm) + " mm)";
+    return std::isfinite(m) ? fmt(m * 1e3, 5) + " mm" : "the searched depth (" + fmt(depth_max_mm) + " mm)";
   };
   std::ostringstream summary;
   summary << "uncertainty (" << request.samples << " samples, seed " << request.seed << "): 95 % of samples stable below "

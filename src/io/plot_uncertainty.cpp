@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 std::string g(double x, int digits = 8) { return gnuplot_number(x, digits); }
 
 // The line colours of the quantile lobes, lowest level first.
-constexpr const char* kQuantileColours[] = {"#6a00a8", "#ffffff", "#00796b", "#b35806", "#4d4d4d"};
+constexpr const char* kQuantileColours[] = {"#6a00a8", "#e6a800", "#00796b", "#b35806", "#4d4d4d"};
 
 }  // namespace
 
