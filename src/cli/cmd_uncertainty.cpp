@@ -58,7 +58,7 @@ std::optional<UncertaintyRequest> uncertainty_request(const po::variables_map& v
   UncertaintyRequest r;
   const long long n = vm["samples"].as<long long>();
   if (n < 1) throw InputError("--samples = " + std::to_string(n) + ": must be >= 1");
-  if (n * static_cast<long long>(std::max(rpm_points, 1)) > kMaxMonteCarloSolves || n > kMaxMonteCarloSolves)
+  if (n > kMaxMonteCarloSolves || n * static_cast<long long>(std::max(rpm_points, 1)) > kMaxMonteCarloSolves)
     throw InputError("--samples x --rpm-points = " + std::to_string(n) + " x " + std::to_string(rpm_points) +
                      ": at most " + std::to_string(kMaxMonteCarloSolves) +
                      " limits are held in memory (32 bytes each); use fewer samples or speeds");
