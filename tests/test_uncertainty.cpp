@@ -103,6 +103,25 @@ TEST(UncertaintyDraws, QuantileType7) {
   EXPECT_THROW(quantile_type7({1.0}, 1.5), InputError);
 }
 
+TEST(UncertaintyDraws, ReduceCountsInfAsStableAndAboveEveryLimit) {
+  // Four samples at one speed: limits 1, 2, 3 mm and +inf (no chatter below
+  // the searched depth).
+  std::vector<std::vector<StabilityLimit>> rows;
+  for (const double a : {0.002, kInf, 0.001, 0.003}) {
+    StabilityLimit r;
+    r.spindle_rpm = 1000.0;
+    r.depth_limit_m = a;
+    rows.push_back({r});
+  }
+  const UncertainLobes u = reduce_monte_carlo(rows, {0.0, 0.001, 0.0025, 0.05}, {0.0, 0.5, 0.75, 1.0});
+  // depth < limit: 4, 3 (1 mm is the boundary), 2, 1 (only the inf sample) of 4.
+  EXPECT_EQ(u.probability_stable[0], (std::vector<double>{1.0, 0.75, 0.5, 0.25}));
+  EXPECT_EQ(u.quantile_depth_m[0][0], 0.001);
+  EXPECT_DOUBLE_EQ(u.quantile_depth_m[1][0], 0.0025);  // h = 1.5 between 2 and 3 mm
+  EXPECT_EQ(u.quantile_depth_m[2][0], kInf);           // h = 2.25: between 3 mm and inf
+  EXPECT_EQ(u.quantile_depth_m[3][0], kInf);
+}
+
 // --------------------------------------------------------------- spreads
 
 TEST(UncertaintySpreads, RefusesNonPhysicalSpreads) {
