@@ -31,9 +31,10 @@
 // three rounds of the SplitMix64 finaliser (Steele, Lea & Flood 2014) hash
 // the seed, then i, then j into 64 bits; the top 53 bits give u in (0, 1);
 // z = Φ⁻¹(Φ(−3) + u (Φ(3) − Φ(−3))) (inverse-CDF truncation, one draw, no
-// rejection; Φ⁻¹ by boost::math::erf_inv). Integer arithmetic only up to u,
-// so the stream is the same on every platform; z then goes through erf /
-// erf_inv in double (Boost.Math's own series, not the C library's).
+// rejection; Φ⁻¹ by boost::math::erf_inv). Exact integer arithmetic up to
+// u, so the stream is the same on every platform; z then goes through
+// Boost.Math's erf / erf_inv rational approximations in double (the same
+// bits wherever std::sqrt / std::exp / std::log round the same).
 // Parameter j: 0 = K_t (milling) or K_f (turning), 1 = K_r (milling), then
 // 2 + 3 m + {0 frequency, 1 damping, 2 stiffness} for mode m (tool modes
 // first, then workpiece modes, in config order); so a sample's draws do not

@@ -1468,7 +1468,8 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     }
     if (!config.position.stations.empty()) config.model = config.position.stations.front().model;
   }
-  if (doc.error_count() == before_bodies)
+  // Checked against the model and process read above, so only when they are sound.
+  if (doc.error_count() == 0)
     attempt_void([&] { config.uncertainty = read_uncertainty(root, config.model, config.process); });
   doc.throw_if_errors();
   // (Cantilever lengths are checked when a position is asked for, so a config
