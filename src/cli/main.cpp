@@ -19,9 +19,11 @@
 
 #include "chatter/error.hpp"
 #include "cli_common.hpp"
+#include "cmd_uncertainty.hpp"
 #include "commands.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
+#include "chatter/io/plot_uncertainty.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
@@ -127,6 +129,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
                                         "many speeds of the table it chatters")
       ("fail-on-chatter", "with --depth-mm: exit with status 3 when that depth chatters at any speed of the table "
                           "(for scripts: 0 stable everywhere, 3 chatter, 2 bad input)");
+  add_uncertainty_options(d);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
@@ -141,7 +144,11 @@ int cmd_lobes(const std::vector<std::string>& args) {
                    "--rpm-spacing adaptive places the speeds where the envelope bends: the exact limit at\n"
                    "the middle of every two neighbouring rows is within 0.5 % of the straight line between\n"
                    "them (when --rpm-points allows; the summary says if not). The plotted envelope is\n"
-                   "always refined that way, from the table's rows, whatever the spacing.\n",
+                   "always refined that way, from the table's rows, whatever the spacing.\n"
+                   "--samples N solves N models drawn from the config's [uncertainty] spreads (--seed S,\n"
+                   "default 1): the table gains depth_limit_p05_mm, _p50_mm, _p95_mm (95 %, 50 %, 5 % of\n"
+                   "samples stable below), --plot draws the probability of stability with those lobes and\n"
+                   "the nominal one, --probability-table writes it (docs/uncertainty.md).\n",
              d, common, vm))
     return 0;
   if (spacing != "even" && spacing != "adaptive")
@@ -152,10 +159,15 @@ int cmd_lobes(const std::vector<std::string>& args) {
   // The table goes to standard output when asked ('-') or when nothing else is.
   const bool table_to_stdout = table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty());
   if (table_path == "-") table_path.clear();
-  check_outputs({{"--table", table_path}, {"--json", json_path}, {"--plot", plot_path, true}});  // before computing
+  check_outputs({{"--table", table_path},
+                 {"--json", json_path},
+                 {"--plot", plot_path, true},
+                 {"--probability-table",
+                  vm.count("probability-table") ? vm["probability-table"].as<std::string>() : std::string()}});
   const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
   const chatter::Config cfg = load_checked(common);
   const Sweep s = resolve_sweep(vm, cfg);
+  const std::optional<UncertaintyRequest> uncertainty = uncertainty_request(vm, adaptive, s.rpm_points);
   std::optional<double> planned_mm;  // --depth-mm
   if (vm.count("depth-mm")) {
     planned_mm = vm["depth-mm"].as<double>();
@@ -221,6 +233,13 @@ int cmd_lobes(const std::vector<std::string>& args) {
     }
   }
   const std::optional<chatter::AbsoluteLimit> abs_lim = solver.known_absolute_limit();
+  // --samples: the Monte Carlo at the table's speeds; its quantile lobes are
+  // columns after the nominal ones.
+  std::optional<UncertaintyOutputs> mc;
+  if (uncertainty) {
+    mc = run_uncertainty(*uncertainty, cfg, common.method, s.depth_max_mm, vm, speeds, rows, threads);
+    extra.insert(extra.end(), mc->columns.begin(), mc->columns.end());
+  }
 
   std::ostringstream csv;
   chatter::write_lobe_csv(csv, rows, extra);
@@ -244,6 +263,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     std::ostringstream js;
     chatter::write_lobe_json(js, rows, p, extra);
     json_text = js.str();
+    if (mc) json_text = add_uncertainty_json(json_text, *uncertainty, cfg, *mc);
   }
 
   // Summary for the person at the terminal.
@@ -274,13 +294,24 @@ int cmd_lobes(const std::vector<std::string>& args) {
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!table_path.empty()) files.emplace_back(table_path, csv.str());
   if (!json_path.empty()) files.emplace_back(json_path, json_text);
+  if (mc && !uncertainty->probability_table.empty())
+    files.emplace_back(uncertainty->probability_table, mc->probability_csv);
   chatter::write_text_files(files);  // all or nothing
   if (table_to_stdout) std::cout << csv.str();
   std::ostream& info = table_to_stdout ? std::cerr : std::cout;
   info << summary.str() << "\n";
+  if (mc) info << mc->summary << "\n";
+  if (mc && !uncertainty->probability_table.empty())
+    info << "wrote probability table: " << uncertainty->probability_table << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
   if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
-  if (!plot_path.empty()) {
+  if (!plot_path.empty() && mc) {
+    const auto plot_files = chatter::plot_uncertain_lobes(
+        plot_path, cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)",
+        mc->lobes, rows, s.depth_max_mm, mc->depth_grid_top_mm);
+    info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
+         << plot_files.data.string() << ")\n";
+  } else if (!plot_path.empty()) {
     chatter::PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
     po_.depth_axis_max_mm = plot_depth_axis_mm;

@@ -10,6 +10,7 @@
 #include "chatter/position.hpp"
 #include "chatter/process.hpp"
 #include "chatter/structural_model.hpp"
+#include "chatter/uncertainty.hpp"
 
 namespace chatter {
 
@@ -48,6 +49,11 @@ struct Config {
   /// `model` is the set of the first position (what the commands use when
   /// no position is given); with a cantilever, `model` is the free end.
   PositionDependence position;
+  /// `[uncertainty]`: relative 1σ spreads of the modes and the cutting
+  /// coefficients for `chatter lobes --samples` (docs/uncertainty.md), as
+  /// fractions, checked against `model` (the first [[positions]] set, whose
+  /// mode count every set shares) and `process`; absent without the table.
+  std::optional<UncertaintySpreads> uncertainty;
 };
 
 /// The structure the tool sees at `position_m` (m from the clamp of a

@@ -1,0 +1,200 @@
+// `chatter lobes --samples N` (src/cli/cmd_uncertainty.hpp, docs/uncertainty.md).
+#include "cmd_uncertainty.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/solvers.hpp"
+
+namespace chatter::cli {
+namespace {
+
+/// The quantile levels of the table and the plot.
+constexpr double kLevels[] = {0.05, 0.50, 0.95};
+/// The most limits held in memory: samples × speeds (each StabilityLimit is
+/// 32 bytes, so 2.5e7 is 0.8 GB); a larger study is split into ranges
+/// (monte_carlo_limits) by a runner that reduces as it goes.
+constexpr long long kMaxMonteCarloSolves = 25'000'000;
+constexpr int kDefaultDepthPoints = 101;  // steps of 1 % of the grid's top
+/// Without --plot-depth-max-mm the probability grid ends at this factor times
+/// the deepest finite limit of any sample (at most --depth-max-mm), so the
+/// grid resolves the lobes rather than the searched depth.
+constexpr double kGridTopFactor = 1.2;
+
+std::vector<double> percents(const std::vector<double>& fractions) {
+  std::vector<double> out;
+  for (const double f : fractions) out.push_back(100.0 * f);
+  return out;
+}
+
+}  // namespace
+
+void add_uncertainty_options(po::options_description& d) {
+  d.add_options()
+      ("samples", po::value<long long>(), "Monte Carlo over the config's [uncertainty] spreads: solve this many "
+                                          "sampled models (> 0); adds the 5/50/95 % quantile lobes to the table "
+                                          "(depth_limit_p05_mm, _p50_mm, _p95_mm) and draws the probability of "
+                                          "stability (docs/uncertainty.md)")
+      ("seed", po::value<long long>(), "with --samples: the random seed (integer >= 0; default 1); the same seed "
+                                       "gives the same table whatever --threads")
+      ("depth-points", po::value<int>(), "with --samples: depths of the probability grid, from 0 to the top of the "
+                                         "plot's depth axis (--plot-depth-max-mm, or 1.2 x the deepest finite limit of "
+                                         "any sample rounded up to 2 digits), both included (>= 2; default 101)")
+      ("probability-table", po::value<std::string>(), "with --samples: write the probability of stability as CSV "
+                                                      "spindle_rpm,depth_mm,probability_stable");
+}
+
+std::optional<UncertaintyRequest> uncertainty_request(const po::variables_map& vm, bool adaptive, int rpm_points) {
+  if (!vm.count("samples")) {
+    for (const char* flag : {"seed", "depth-points", "probability-table"})
+      if (vm.count(flag))
+        throw InputError(std::string("--") + flag + ": only with --samples N (the Monte Carlo it configures)");
+    return std::nullopt;
+  }
+  UncertaintyRequest r;
+  const long long n = vm["samples"].as<long long>();
+  if (n < 1) throw InputError("--samples = " + std::to_string(n) + ": must be >= 1");
+  if (n > kMaxMonteCarloSolves || n * static_cast<long long>(std::max(rpm_points, 1)) > kMaxMonteCarloSolves)
+    throw InputError("--samples x --rpm-points = " + std::to_string(n) + " x " + std::to_string(rpm_points) +
+                     ": at most " + std::to_string(kMaxMonteCarloSolves) +
+                     " limits are held in memory (32 bytes each); use fewer samples or speeds");
+  r.samples = static_cast<std::uint64_t>(n);
+  if (vm.count("seed")) {
+    const long long seed = vm["seed"].as<long long>();
+    if (seed < 0) throw InputError("--seed = " + std::to_string(seed) + ": must be an integer >= 0");
+    r.seed = static_cast<std::uint64_t>(seed);
+  }
+  if (vm.count("depth-points")) {
+    r.depth_points = vm["depth-points"].as<int>();
+    if (r.depth_points < 2 || r.depth_points > 10000)
+      throw InputError("--depth-points = " + std::to_string(r.depth_points) + ": must be in [2, 10000]");
+  } else {
+    r.depth_points = kDefaultDepthPoints;
+  }
+  if (static_cast<long long>(r.depth_points) * rpm_points > kMaxMapPoints)
+    throw InputError("--rpm-points x --depth-points = " + std::to_string(rpm_points) + " x " +
+                     std::to_string(r.depth_points) + ": at most " + std::to_string(kMaxMapPoints) + " grid points");
+  if (adaptive) throw InputError("--samples: only with --rpm-spacing even (every sample is solved at the same speeds)");
+  if (vm.count("probability-table")) {
+    r.probability_table = vm["probability-table"].as<std::string>();
+    if (r.probability_table.empty() || r.probability_table == "-")
+      throw InputError("--probability-table: give a file name");
+  }
+  return r;
+}
+
+UncertaintyOutputs run_uncertainty(const UncertaintyRequest& request, const Config& cfg, const std::string& method,
+                                   double depth_max_mm, const po::variables_map& vm, const std::vector<double>& speeds,
+                                   const std::vector<StabilityLimit>& nominal, unsigned threads) {
+  if (!cfg.uncertainty)
+    throw InputError("--samples: " + cfg.source.string() +
+                     ": no [uncertainty] table (give the 1-sigma spreads in percent; docs/config.md)");
+  const UncertaintySpreads& spreads = *cfg.uncertainty;
+  if (const std::string why = spreads.validate(cfg.model, cfg.process); !why.empty())
+    throw InputError(cfg.source.string() + ": uncertainty: " + why);
+  const double depth_max_m = depth_max_mm * 1e-3;
+  const SolverValues options = solver_option_values(find_lobe_method(method), cfg, vm);
+  const SampleSolverFactory factory = [&](const StructuralModel& model, const Process& process) {
+    return make_lobe_solver(method, model, process, depth_max_m, options);
+  };
+  std::vector<std::vector<StabilityLimit>> rows;
+  {
+    Progress progress(vm, request.samples, "Monte Carlo (" + method + ")");
+    rows = with_flag("--samples", [&] {
+      return monte_carlo_limits(cfg.model, cfg.process, spreads, request.seed, 0, request.samples, speeds, factory,
+                                threads, [&](std::size_t done) { progress.tick(done); });
+    });
+  }
+  UncertaintyOutputs out;
+  // The probability grid: 0 to the plot's depth axis (given, or 1.2 x the
+  // deepest finite limit of any sample, at most the searched depth).
+  double top_mm = 0.0;
+  if (vm.count("plot-depth-max-mm")) {
+    top_mm = vm["plot-depth-max-mm"].as<double>();
+  } else {
+    double deepest = 0.0;
+    for (const auto& row : rows)
+      for (const auto& r : row)
+        if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
+    // Rounded up to two significant digits, so the depths are round numbers.
+    if (deepest > 0.0) {
+      const double unit = std::pow(10.0, std::floor(std::log10(kGridTopFactor * deepest)) - 1.0);
+      top_mm = std::min(depth_max_mm, std::ceil(kGridTopFactor * deepest / unit) * unit);
+    } else {
+      top_mm = depth_max_mm;
+    }
+  }
+  out.depth_grid_top_mm = top_mm;
+  std::vector<double> depths_m(static_cast<std::size_t>(request.depth_points));
+  for (int d = 0; d < request.depth_points; ++d)
+    depths_m[static_cast<std::size_t>(d)] = top_mm * 1e-3 * d / (request.depth_points - 1);
+  depths_m.back() = top_mm * 1e-3;
+  out.lobes = reduce_monte_carlo(rows, depths_m, std::vector<double>(std::begin(kLevels), std::end(kLevels)));
+
+  for (std::size_t l = 0; l < out.lobes.levels.size(); ++l) {
+    const int pct = static_cast<int>(std::lround(100.0 * out.lobes.levels[l]));
+    ExtraColumn c;
+    c.name = std::string("depth_limit_p") + (pct < 10 ? "0" : "") + std::to_string(pct) + "_mm";
+    c.numeric = true;
+    for (const double v : out.lobes.quantile_depth_m[l]) c.values.push_back(table_number(v * 1e3));
+    out.columns.push_back(std::move(c));
+  }
+  std::ostringstream csv;
+  csv << "spindle_rpm,depth_mm,probability_stable\n";
+  for (std::size_t s = 0; s < speeds.size(); ++s)
+    for (std::size_t d = 0; d < depths_m.size(); ++d)
+      csv << table_number(speeds[s]) << ',' << table_number(depths_m[d] * 1e3) << ','
+          << table_number(out.lobes.probability_stable[s][d]) << '\n';
+  out.probability_csv = csv.str();
+
+  // The speed whose 5 % quantile (95 % of samples stable below it) is deepest.
+  const std::vector<double>& p05 = out.lobes.quantile_depth_m.front();
+  std::size_t best = 0;
+  for (std::size_t s = 1; s < p05.size(); ++s)
+    if (p05[s] > p05[best]) best = s;
+  auto depth_text = [&](double m) {
+    return std::isfinite(m) ? fmt(m * 1e3, 5) + " mm" : "the searched depth (" + fmt(depth_max_mm) + " mm)";
+  };
+  std::ostringstream summary;
+  summary << "uncertainty (" << request.samples << " samples, seed " << request.seed << "): 95 % of samples stable below "
+          << depth_text(p05[best]) << " at " << fmt(speeds[best]) << " rev/min (nominal there: "
+          << depth_text(nominal[best].depth_limit_m) << "; 50 %: " << depth_text(out.lobes.quantile_depth_m[1][best])
+          << ")";
+  out.summary = summary.str();
+  return out;
+}
+
+std::string add_uncertainty_json(const std::string& lobe_json, const UncertaintyRequest& request, const Config& cfg,
+                                 const UncertaintyOutputs& out) {
+  nlohmann::json j = nlohmann::json::parse(lobe_json);
+  const UncertaintySpreads& s = *cfg.uncertainty;
+  const bool milling = cfg.process.operation() == Operation::kMilling;
+  nlohmann::json spreads = {{"frequency_percent", percents(s.frequency)},
+                            {"damping_percent", percents(s.damping)},
+                            {"stiffness_percent", percents(s.stiffness)}};
+  if (milling) {
+    spreads["tangential_coefficient_percent"] = 100.0 * s.tangential;
+    spreads["radial_coefficient_percent"] = 100.0 * s.radial;
+  } else {
+    spreads["feed_force_coefficient_percent"] = 100.0 * s.tangential;
+  }
+  j["uncertainty"] = {
+      {"samples", request.samples},
+      {"seed", request.seed},
+      {"spreads", spreads},
+      {"mode_order", "tool modes, then workpiece modes (one value: every mode)"},
+      {"distribution", "p (1 + s z), z standard normal truncated to |z| <= 3, every parameter independent"},
+      {"rng", "SplitMix64 hash of (seed, sample, parameter), inverse-CDF truncated normal"},
+      {"quantile_definition", "linear interpolation between order statistics (Hyndman-Fan type 7); null = inf"},
+      {"quantile_columns", {"depth_limit_p05_mm", "depth_limit_p50_mm", "depth_limit_p95_mm"}},
+      {"probability_depth_max_mm", out.depth_grid_top_mm},
+      {"probability_depth_points", request.depth_points},
+      {"summary", out.summary}};
+  return j.dump(2) + "\n";
+}
+
+}  // namespace chatter::cli
