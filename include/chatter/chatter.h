@@ -144,7 +144,8 @@ typedef struct chatter_surface_row {
  * threads: positions shared among this many threads (0 = every core; the
  * numbers do not depend on it). Every position is checked before any solve;
  * on an error `rows` may be partly written. Cost: per position one solver
- * build plus rpm_points limits (analytic: ~0.1 ms a limit; sdm: ~2 ms). */
+ * build plus rpm_points limits (analytic: a 50 x 200 surface of a 2-mode
+ * turning case takes ~0.1 s on one core; sdm: ~2 ms a limit). */
 chatter_status chatter_lobe_surface(const chatter_model* model, const char* method, double depth_max_mm,
                                     double position_min_mm, double position_max_mm, int position_points,
                                     double rpm_min, double rpm_max, int rpm_points, int threads,
