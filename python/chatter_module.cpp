@@ -44,6 +44,8 @@ namespace {
 constexpr double kDefaultDepthMaxMm = 50.0;
 constexpr int kDefaultRpmPoints = 400;
 constexpr long long kMaxRpmPoints = 1'000'000;
+constexpr long long kMaxSurfacePoints = 4'000'000;  // positions x speeds, as the CLI's surface
+constexpr int kDefaultPositionPoints = 21;           // as the CLI's surface
 constexpr double kDefaultFeedMm = 0.1;         // chatter simulate's feed default
 constexpr double kDefaultSimRtol = 1e-7;       // chatter simulate --rtol default
 constexpr double kDefaultSpeedTolPct = 2.0;    // chatter check --speed-tolerance-pct default
@@ -85,6 +87,13 @@ Job job_from(chatter::Config c, bool strict) {
     throw InputError(message);
   }
   return Job{std::make_shared<const chatter::Config>(std::move(c))};
+}
+
+/// The job at a tool position (docs/position.md), through the io layer as
+/// the CLI's --position-mm: messages name `position_mm`. No position: the job.
+Job at_position(const Job& job, const std::optional<double>& position_mm) {
+  if (!position_mm) return job;
+  return Job{std::make_shared<const chatter::Config>(chatter::config_at_position(*job.cfg, *position_mm, "position_mm"))};
 }
 
 // --- Python values -> TOML text (inline tables), for Job built in code. The
@@ -227,10 +236,9 @@ std::string value_key(const chatter::SolverValue& v) {
   return "?";
 }
 
-std::shared_ptr<const Built> build_solver(const Job& job, const std::string& method, double depth_max_m,
-                                          const std::optional<py::dict>& options) {
-  const chatter::Config& cfg = *job.cfg;
-  const chatter::SolverDescriptor& descriptor = chatter::find_lobe_method(method);
+/// The method's options from the dict, checked, with the CLI's defaults.
+chatter::SolverValues solver_values(const chatter::Config& cfg, const chatter::SolverDescriptor& descriptor,
+                                    const std::string& method, const std::optional<py::dict>& options) {
   chatter::SolverValues values;
   if (options) {
     for (auto item : *options) {
@@ -253,6 +261,14 @@ std::shared_ptr<const Built> build_solver(const Job& job, const std::string& met
   // As the CLI: the time-domain feed defaults to the config's feed.
   for (const auto& o : descriptor.options)
     if (o.name == "feed_per_tooth_mm" && cfg.feed_mm && !values.count(o.name)) values[o.name] = *cfg.feed_mm;
+  return values;
+}
+
+std::shared_ptr<const Built> build_solver(const Job& job, const std::string& method, double depth_max_m,
+                                          const std::optional<py::dict>& options) {
+  const chatter::Config& cfg = *job.cfg;
+  const chatter::SolverDescriptor& descriptor = chatter::find_lobe_method(method);
+  const chatter::SolverValues values = solver_values(cfg, descriptor, method, options);
   std::string key = method + "|" + value_key(depth_max_m);
   for (const auto& [k, v] : values) key += "|" + k + "=" + value_key(v);
   {
@@ -279,10 +295,33 @@ unsigned thread_count(int t) {
 
 // ------------------------------------------------------------------ lobes
 
-py::dict lobes(const Job& job, const std::string& method, std::optional<double> rpm_min, std::optional<double> rpm_max,
-               std::optional<int> rpm_points, std::optional<double> depth_max_mm,
+/// Evenly spaced speeds as the CLI's resolve_sweep: arguments, then the
+/// config's [sweep].
+std::vector<double> even_speeds(const chatter::Config& cfg, std::optional<double> rpm_min,
+                                std::optional<double> rpm_max, std::optional<int> rpm_points) {
+  const auto pick = [&](const std::optional<double>& given, const std::optional<double>& from_cfg,
+                        const char* arg, const char* key) {
+    if (given) return *given;
+    if (from_cfg) return *from_cfg;
+    throw InputError(cfg.source.string() + ": missing " + arg + " (or " + key + " in the config)");
+  };
+  const double lo = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
+  const double hi = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
+  const int n = rpm_points.value_or(cfg.sweep.rpm_points.value_or(kDefaultRpmPoints));
+  if (!(std::isfinite(lo) && lo > 0.0)) throw InputError("rpm_min = " + fmt(lo) + ": must be > 0 rev/min");
+  if (!(std::isfinite(hi) && hi > lo))
+    throw InputError("rpm_max = " + fmt(hi) + ": must be > rpm_min (" + fmt(lo) + ")");
+  if (n < 2) throw InputError("rpm_points = " + std::to_string(n) + ": must be >= 2");
+  if (n > kMaxRpmPoints)
+    throw InputError("rpm_points = " + std::to_string(n) + ": at most " + std::to_string(kMaxRpmPoints) + " speeds");
+  return chatter::evenly_spaced_speeds(lo, hi, n);
+}
+
+py::dict lobes(const Job& job_in, const std::string& method, std::optional<double> rpm_min,
+               std::optional<double> rpm_max, std::optional<int> rpm_points, std::optional<double> depth_max_mm,
                const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& rpm, int threads,
-               const std::optional<py::dict>& options) {
+               const std::optional<py::dict>& options, std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   std::vector<double> speeds;
   if (rpm) {
@@ -294,23 +333,7 @@ py::dict lobes(const Job& job, const std::string& method, std::optional<double> 
       if (!(std::isfinite(speeds[i]) && speeds[i] > 0.0))
         throw InputError("rpm[" + std::to_string(i) + "] = " + fmt(speeds[i]) + ": must be > 0 rev/min");
   } else {
-    // resolve_sweep of the CLI: arguments, then the config's [sweep].
-    const auto pick = [&](const std::optional<double>& given, const std::optional<double>& from_cfg,
-                          const char* arg, const char* key) {
-      if (given) return *given;
-      if (from_cfg) return *from_cfg;
-      throw InputError(cfg.source.string() + ": missing " + arg + " (or " + key + " in the config)");
-    };
-    const double lo = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
-    const double hi = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
-    const int n = rpm_points.value_or(cfg.sweep.rpm_points.value_or(kDefaultRpmPoints));
-    if (!(std::isfinite(lo) && lo > 0.0)) throw InputError("rpm_min = " + fmt(lo) + ": must be > 0 rev/min");
-    if (!(std::isfinite(hi) && hi > lo))
-      throw InputError("rpm_max = " + fmt(hi) + ": must be > rpm_min (" + fmt(lo) + ")");
-    if (n < 2) throw InputError("rpm_points = " + std::to_string(n) + ": must be >= 2");
-    if (n > kMaxRpmPoints)
-      throw InputError("rpm_points = " + std::to_string(n) + ": at most " + std::to_string(kMaxRpmPoints) + " speeds");
-    speeds = chatter::evenly_spaced_speeds(lo, hi, n);
+    speeds = even_speeds(cfg, rpm_min, rpm_max, rpm_points);
   }
   const double dmax = depth_max_mm.value_or(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm));
   if (!(std::isfinite(dmax) && dmax > 0.0)) throw InputError("depth_max_mm = " + fmt(dmax) + ": must be > 0 mm");
@@ -383,8 +406,10 @@ py::dict lobes(const Job& job, const std::string& method, std::optional<double> 
 
 // ------------------------------------------------------------------ point
 
-py::dict point(const Job& job, double rpm, double depth_mm, const std::string& method,
-               std::optional<double> depth_max_mm, const std::optional<py::dict>& options) {
+py::dict point(const Job& job_in, double rpm, double depth_mm, const std::string& method,
+               std::optional<double> depth_max_mm, const std::optional<py::dict>& options,
+               std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("rpm = " + fmt(rpm) + ": must be > 0 rev/min");
   if (!(std::isfinite(depth_mm) && depth_mm > 0.0))
@@ -408,6 +433,7 @@ py::dict point(const Job& job, double rpm, double depth_mm, const std::string& m
   j["method"] = built->solver->method();
   j["warnings"] = cfg.warnings;
   j["notes"] = built->notes;
+  if (position_mm) j["position_mm"] = *position_mm;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["stable"] = depth_m < lim.depth_limit_m;
@@ -492,8 +518,10 @@ std::string operations_csv(const py::list& ops) {
   return text;
 }
 
-py::dict check(const Job& job, const py::object& operations, const std::string& method, std::optional<double> rpm_min,
-               std::optional<double> rpm_max, double speed_tolerance_pct, int threads) {
+py::dict check(const Job& job_in, const py::object& operations, const std::string& method,
+               std::optional<double> rpm_min, std::optional<double> rpm_max, double speed_tolerance_pct, int threads,
+               std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   chatter::CheckOptions opt;
   const auto pick = [&](const std::optional<double>& given, const std::optional<double>& from_cfg, const char* arg,
@@ -545,6 +573,7 @@ py::dict check(const Job& job, const py::object& operations, const std::string& 
   j["format"] = "chatter-operation-check";
   j["version"] = chatter::version();
   j["config"] = cfg.source.string();
+  if (position_mm) j["position_mm"] = *position_mm;
   j["operations_file"] = origin;
   py::dict machine;
   machine["rpm_min"] = opt.machine.rpm_min;
@@ -642,9 +671,10 @@ py::dict series_dict(const std::vector<chatter::SeriesSample>& rows) {
   return d;
 }
 
-py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<double> feed_per_tooth_mm,
+py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<double> feed_per_tooth_mm,
                   std::optional<int> revolutions, std::optional<int> periods, bool linear, bool multiple_regeneration,
-                  double rtol, bool record_series) {
+                  double rtol, bool record_series, std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   const double feed_mm = feed_per_tooth_mm.value_or(cfg.feed_mm.value_or(kDefaultFeedMm));
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("rpm = " + fmt(rpm) + ": must be > 0 rev/min");
@@ -686,6 +716,7 @@ py::dict simulate(const Job& job, double rpm, double depth_mm, std::optional<dou
   j["method"] = "time-domain";
   j["config"] = cfg.name;
   j["warnings"] = cfg.warnings;
+  if (position_mm) j["position_mm"] = *position_mm;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = linear ? py::none() : py::object(py::float_(feed_mm));
@@ -778,6 +809,65 @@ double time_lobes_cpp(const Job& job, const std::string& method,
 
 }  // namespace
 
+// ------------------------------------------------------------------ surface
+
+/// `chatter surface`'s table as arrays: positions placed by the io layer
+/// (chatter::surface_positions, the CLI's), the sweep by lobe_surface.
+py::dict surface(const Job& job, const std::string& method, std::optional<double> position_min_mm,
+                 std::optional<double> position_max_mm, int position_points, std::optional<double> rpm_min,
+                 std::optional<double> rpm_max, std::optional<int> rpm_points, std::optional<double> depth_max_mm,
+                 int threads, const std::optional<py::dict>& options) {
+  const chatter::Config& cfg = *job.cfg;
+  const chatter::SurfacePositions pos = chatter::surface_positions(cfg, position_min_mm, position_max_mm, position_points);
+  const std::vector<double> speeds = even_speeds(cfg, rpm_min, rpm_max, rpm_points);
+  if (static_cast<long long>(pos.m.size()) * static_cast<long long>(speeds.size()) > kMaxSurfacePoints)
+    throw InputError("position_points x rpm_points = " + std::to_string(pos.m.size()) + " x " +
+                     std::to_string(speeds.size()) + ": at most " + std::to_string(kMaxSurfacePoints) +
+                     " solves (a surface that size would not finish)");
+  const double dmax = depth_max_mm.value_or(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm));
+  if (!(std::isfinite(dmax) && dmax > 0.0)) throw InputError("depth_max_mm = " + fmt(dmax) + ": must be > 0 mm");
+  const unsigned nthreads = thread_count(threads);
+  const chatter::SolverDescriptor& descriptor = chatter::find_lobe_method(method);
+  const chatter::SolverValues values = solver_values(cfg, descriptor, method, options);
+  const double depth_max_m = dmax * 1e-3;
+  std::vector<std::vector<chatter::StabilityLimit>> rows;
+  {
+    py::gil_scoped_release release;
+    // The method checked at the first position before the sweep (as the CLI).
+    (void)chatter::make_lobe_solver(method, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m,
+                                    values);
+    const chatter::SolverFactory factory = [&](const chatter::StructuralModel& model) {
+      return chatter::make_lobe_solver(method, model, cfg.process, depth_max_m, values);
+    };
+    rows = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory, nthreads);
+  }
+  const auto n = static_cast<py::ssize_t>(pos.m.size() * speeds.size());
+  py::array_t<double> x(n), s(n), d(n), f(n);
+  py::array_t<int> k(n);
+  auto xp = x.mutable_unchecked<1>();
+  auto sp = s.mutable_unchecked<1>();
+  auto dp = d.mutable_unchecked<1>();
+  auto fp = f.mutable_unchecked<1>();
+  auto kp = k.mutable_unchecked<1>();
+  py::ssize_t i = 0;
+  for (std::size_t p = 0; p < rows.size(); ++p)
+    for (const chatter::StabilityLimit& r : rows[p]) {
+      xp(i) = pos.mm[p];
+      sp(i) = r.spindle_rpm;
+      dp(i) = r.depth_limit_m * 1e3;  // +inf where unbounded, as the CSV
+      fp(i) = r.bounded() ? r.chatter_frequency_hz : std::nan("");
+      kp(i) = r.bounded() ? r.lobe : -1;
+      ++i;
+    }
+  py::dict out;
+  out["position_mm"] = x;
+  out["spindle_rpm"] = s;
+  out["depth_limit_mm"] = d;
+  out["chatter_frequency_hz"] = f;
+  out["lobe"] = k;
+  return out;
+}
+
 PYBIND11_MODULE(chatter, m) {
   m.doc() = "chatter: regenerative chatter prediction and stability lobes (docs/python.md)";
   m.attr("__version__") = chatter::version();
@@ -822,6 +912,16 @@ PYBIND11_MODULE(chatter, m) {
                                d["depth_max_mm"] = optional_number(j.cfg->sweep.depth_max_mm);
                                return d;
                              })
+      .def(
+          "at_position", [](const Job& j, double position_mm) { return at_position(j, position_mm); },
+          "position_mm"_a,
+          "The job with the structure at a tool position, mm (docs/position.md); keeps its own solvers.")
+      .def_property_readonly("position_range_mm",
+                             [](const Job& j) -> py::object {
+                               if (j.cfg->position.empty()) return py::none();
+                               const auto [lo, hi] = j.cfg->position.range_m();
+                               return py::make_tuple(lo * 1e3, hi * 1e3);
+                             })
       .def("__repr__", [](const Job& j) {
         return "<chatter.Job '" + j.cfg->name + "' (" +
                (j.cfg->process.operation() == chatter::Operation::kMilling ? "milling" : "turning") + ")>";
@@ -842,15 +942,22 @@ PYBIND11_MODULE(chatter, m) {
   m.def("methods", &chatter::lobe_methods, "The lobe methods of this build, in registry order.");
   m.def("lobes", &lobes, "job"_a, "method"_a = "analytic", py::kw_only(), "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "rpm_points"_a = py::none(), "depth_max_mm"_a = py::none(), "rpm"_a = py::none(),
-        "threads"_a = 0, "options"_a = py::none(), "The stability-lobe table as NumPy arrays (chatter lobes).");
+        "threads"_a = 0, "options"_a = py::none(), "position_mm"_a = py::none(),
+        "The stability-lobe table as NumPy arrays (chatter lobes).");
   m.def("point", &point, "job"_a, py::kw_only(), "rpm"_a, "depth_mm"_a, "method"_a = "analytic",
-        "depth_max_mm"_a = py::none(), "options"_a = py::none(), "One operating point (chatter point's JSON).");
+        "depth_max_mm"_a = py::none(), "options"_a = py::none(), "position_mm"_a = py::none(),
+        "One operating point (chatter point's JSON).");
   m.def("check", &check, "job"_a, "operations"_a, py::kw_only(), "method"_a = "auto", "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "speed_tolerance_pct"_a = kDefaultSpeedTolPct, "threads"_a = 0,
-        "Checks operations (list of dicts or a CSV path) as chatter check --json.");
+        "position_mm"_a = py::none(), "Checks operations (list of dicts or a CSV path) as chatter check --json.");
+  m.def("surface", &surface, "job"_a, "method"_a = "analytic", py::kw_only(), "position_min_mm"_a = py::none(),
+        "position_max_mm"_a = py::none(), "position_points"_a = kDefaultPositionPoints, "rpm_min"_a = py::none(),
+        "rpm_max"_a = py::none(), "rpm_points"_a = py::none(), "depth_max_mm"_a = py::none(), "threads"_a = 0,
+        "options"_a = py::none(), "The lobe surface over (position, speed) as NumPy arrays (chatter surface).");
   m.def("simulate", &simulate, "job"_a, py::kw_only(), "rpm"_a, "depth_mm"_a, "feed_per_tooth_mm"_a = py::none(),
         "revolutions"_a = py::none(), "periods"_a = py::none(), "linear"_a = false,
         "multiple_regeneration"_a = false, "rtol"_a = kDefaultSimRtol, "record_series"_a = true,
+        "position_mm"_a = py::none(),
         "One time-domain simulation (chatter simulate's JSON plus the series arrays).");
   m.def("_time_lobes_cpp", &time_lobes_cpp, "job"_a, "method"_a, "rpm"_a, "depth_max_mm"_a, "threads"_a = 1,
         "Benchmark hook: seconds of the C++ work of lobes() alone.");

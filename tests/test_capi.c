@@ -1,7 +1,11 @@
 /* Drives the C API from C: success paths against the C++ results' known
- * values (docs/physics.md case A) and every error path. Prints "N passed, M failed". */
+ * values (docs/physics.md case A), the tool position against the CLI's
+ * `--position-mm` and `chatter surface` output, and every error path.
+ * Prints "N passed, M failed". */
+#define _POSIX_C_SOURCE 200809L /* popen */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "chatter/chatter.h"
@@ -16,6 +20,194 @@ static int passed = 0, failed = 0;
       fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
     }                                                                 \
   } while (0)
+
+/* The whole standard output of a CLI command (NULL on failure); free() it. */
+static char* run_cli(const char* args) {
+  char cmd[2048];
+  FILE* p;
+  char* buf = NULL;
+  size_t len = 0, cap = 0, n;
+  snprintf(cmd, sizeof cmd, "'%s' %s 2>/dev/null", CHATTER_CLI, args);
+  p = popen(cmd, "r");
+  if (!p) return NULL;
+  for (;;) {
+    if (cap - len < 4096) {
+      char* grown = (char*)realloc(buf, cap + 65536);
+      if (!grown) break;
+      buf = grown;
+      cap += 65536;
+    }
+    n = fread(buf + len, 1, cap - len - 1, p);
+    if (n == 0) break;
+    len += n;
+  }
+  if (pclose(p) != 0 || !buf) {
+    free(buf);
+    return NULL;
+  }
+  buf[len] = 0;
+  return buf;
+}
+
+/* A limit as the CLI's CSV prints it (%.10g, "inf", empty cells when
+ * unbounded): "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe". */
+static void csv_cells(const chatter_limit* l, char* out, size_t size) {
+  if (l->bounded)
+    snprintf(out, size, "%.10g,%.10g,%.10g,%d", l->spindle_rpm, l->depth_limit_mm, l->chatter_frequency_hz, l->lobe);
+  else
+    snprintf(out, size, "%.10g,inf,,", l->spindle_rpm);
+}
+
+/* The number after "\"key\": " in a JSON text (NaN if absent). */
+static double json_number(const char* text, const char* key) {
+  char pattern[128];
+  const char* at;
+  snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+  at = text ? strstr(text, pattern) : NULL;
+  return at ? strtod(at + strlen(pattern), NULL) : NAN;
+}
+
+/* Positions of case B (the 0.5 m cantilever shaft): the model at a position
+ * gives the CLI's `--position-mm` numbers, the surface gives `chatter
+ * surface`'s table, and bad positions fail with the CLI's message. */
+static void check_position(void) {
+  const char* config = CHATTER_SOURCE_DIR "/configs/coupled_tool1_workpiece1.toml";
+  chatter_model *model = NULL, *at = NULL, *plain = NULL;
+  chatter_solver* solver = NULL;
+  chatter_limit rows[7], lim;
+  chatter_surface_row surface[3 * 7];
+  char args[1024], cells[256], *out, *line;
+  double lo = -1, hi = -1;
+  int i;
+
+  CHECK(chatter_model_load(config, &model) == CHATTER_OK);
+  CHECK(chatter_model_position_range(model, &lo, &hi) == CHATTER_OK);
+  CHECK(lo == 0.0 && hi == 500.0);
+
+  /* lobes --position-mm 250: each row equal to the CLI's CSV cell for cell. */
+  CHECK(chatter_model_at_position(model, 250.0, &at) == CHATTER_OK && at != NULL);
+  CHECK(chatter_solver_create(at, "analytic", 20.0, &solver) == CHATTER_OK);
+  CHECK(chatter_lobe_table(solver, 500.0, 10000.0, 7, rows) == CHATTER_OK);
+  snprintf(args, sizeof args,
+           "lobes '%s' --position-mm 250 --rpm-min 500 --rpm-max 10000 --rpm-points 7 --depth-max-mm 20 --table -",
+           config);
+  out = run_cli(args);
+  CHECK(out != NULL);
+  if (out) {
+    line = strtok(out, "\n"); /* header */
+    for (i = 0; i < 7; ++i) {
+      line = strtok(NULL, "\n");
+      csv_cells(&rows[i], cells, sizeof cells);
+      CHECK(line != NULL && strcmp(line, cells) == 0);
+      if (line && strcmp(line, cells) != 0) fprintf(stderr, "  CLI: %s\n  API: %s\n", line, cells);
+    }
+    free(out);
+  }
+  /* point --position-mm 250 writes full doubles: bitwise equal. */
+  CHECK(chatter_limit_at(solver, 3000.0, &lim) == CHATTER_OK && lim.bounded);
+  snprintf(args, sizeof args, "point '%s' --position-mm 250 --rpm 3000 --depth-mm 1 --depth-max-mm 20", config);
+  out = run_cli(args);
+  CHECK(out != NULL && json_number(out, "depth_limit_mm") == lim.depth_limit_mm);
+  CHECK(out != NULL && json_number(out, "chatter_frequency_hz") == lim.chatter_frequency_hz);
+  CHECK(out != NULL && json_number(out, "position_mm") == 250.0);
+  if (out && json_number(out, "depth_limit_mm") != lim.depth_limit_mm)
+    fprintf(stderr, "  CLI depth %.17g, API %.17g\n", json_number(out, "depth_limit_mm"), lim.depth_limit_mm);
+  free(out);
+  chatter_solver_free(solver);
+  /* At 250 mm the shaft is stiffer than at its free end (stiffness / phi^2,
+   * phi < 1): the limit there is at least the free end's. */
+  CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
+  {
+    chatter_limit free_end;
+    CHECK(chatter_limit_at(solver, 3000.0, &free_end) == CHATTER_OK);
+    CHECK(lim.depth_limit_mm >= free_end.depth_limit_mm);
+  }
+  chatter_solver_free(solver);
+  chatter_model_free(at);
+
+  /* The surface: 3 positions x 7 speeds, equal to `chatter surface`'s CSV
+   * (position_mm first, then the lobes cells), for 1 and 2 threads. */
+  CHECK(chatter_lobe_surface(model, "analytic", 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 7, 2, surface) == CHATTER_OK);
+  snprintf(args, sizeof args,
+           "surface '%s' --position-min-mm 100 --position-max-mm 500 --position-points 3 --rpm-min 500 "
+           "--rpm-max 10000 --rpm-points 7 --depth-max-mm 20 --table - -q",
+           config);
+  out = run_cli(args);
+  CHECK(out != NULL);
+  if (out) {
+    char expected[300];
+    line = strtok(out, "\n");
+    CHECK(line && strcmp(line, "position_mm,spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe") == 0);
+    for (i = 0; i < 3 * 7; ++i) {
+      line = strtok(NULL, "\n");
+      csv_cells(&surface[i].limit, cells, sizeof cells);
+      snprintf(expected, sizeof expected, "%.10g,%s", surface[i].position_mm, cells);
+      CHECK(line != NULL && strcmp(line, expected) == 0);
+      if (line && strcmp(line, expected) != 0) fprintf(stderr, "  CLI: %s\n  API: %s\n", line, expected);
+    }
+    CHECK(strtok(NULL, "\n") == NULL);
+    free(out);
+  }
+  {
+    /* Each surface block is the lobe table of the model at that position. */
+    chatter_surface_row one[3 * 7];
+    CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 7, 1, one) == CHATTER_OK);
+    CHECK(memcmp(one, surface, sizeof one) == 0);
+    CHECK(chatter_model_at_position(model, 300.0, &at) == CHATTER_OK);
+    CHECK(chatter_solver_create(at, NULL, 20.0, &solver) == CHATTER_OK);
+    CHECK(chatter_lobe_table(solver, 500.0, 10000.0, 7, rows) == CHATTER_OK);
+    for (i = 0; i < 7; ++i)
+      CHECK(one[7 + i].position_mm == 300.0 && memcmp(&one[7 + i].limit, &rows[i], sizeof rows[i]) == 0);
+    chatter_solver_free(solver);
+    chatter_model_free(at);
+  }
+
+  /* Bad positions: the CLI's message (naming the argument, not the flag). */
+  at = NULL;
+  CHECK(chatter_model_at_position(model, 600.0, &at) == CHATTER_INPUT_ERROR && at == NULL);
+  CHECK(strcmp(chatter_last_error(),
+               "position_mm = 600: outside the part [0, 500] mm (clamp to free end of workpiece.modes[0].cantilever)") ==
+        0);
+  CHECK(chatter_model_at_position(model, NAN, &at) == CHATTER_INPUT_ERROR && at == NULL);
+  CHECK(chatter_model_at_position(model, -1.0, &at) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_model_at_position(NULL, 1.0, &at) == CHATTER_NULL_ARGUMENT);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 700.0, 3, 500.0, 10000.0, 7, 1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "position_max_mm = 700: outside the part [0, 500] mm") != NULL);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 300.0, 100.0, 3, 500.0, 10000.0, 7, 1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "position_max_mm = 100: must be > position_min_mm (300)") != NULL);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 500.0, 1, 500.0, 10000.0, 7, 1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "position_points = 1: must be >= 2") != NULL);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 1, 1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 7, -1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_lobe_surface(model, "nonsense", 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 7, 1, surface) ==
+        CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "nonsense") != NULL);
+  CHECK(chatter_lobe_surface(model, NULL, 20.0, 100.0, 500.0, 3, 500.0, 10000.0, 7, 1, NULL) == CHATTER_NULL_ARGUMENT);
+  /* The same message as the CLI gives for --position-mm 600 (after its flag). */
+  snprintf(args, sizeof args, "'%s' lobes '%s' --position-mm 600 --table - 2>&1 >/dev/null", CHATTER_CLI, config);
+  {
+    FILE* p = popen(args, "r");
+    char err[512] = {0};
+    CHECK(p != NULL);
+    if (p) {
+      CHECK(fgets(err, sizeof err, p) != NULL);
+      CHECK(pclose(p) != 0);
+      CHECK(strstr(err, "--position-mm = 600: outside the part [0, 500] mm (clamp to free end of "
+                        "workpiece.modes[0].cantilever)") != NULL);
+    }
+  }
+  chatter_model_free(model);
+
+  /* A config without a position-dependent structure. */
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &plain) == CHATTER_OK);
+  CHECK(chatter_model_at_position(plain, 10.0, &at) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "position_mm: ") == chatter_last_error() &&
+        strstr(chatter_last_error(), "seed_turning_1dof.toml: the structure does not depend on the position") != NULL);
+  CHECK(chatter_model_position_range(plain, &lo, &hi) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_lobe_surface(plain, NULL, 20.0, 0.0, 1.0, 3, 500.0, 10000.0, 7, 1, surface) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "does not depend on the position") != NULL);
+  chatter_model_free(plain);
+}
 
 int main(void) {
   chatter_model* model = NULL;
@@ -115,6 +307,8 @@ int main(void) {
   CHECK(chatter_model_warning(model, 1) == NULL && chatter_model_warning(NULL, 0) == NULL);
   CHECK(chatter_model_warning_count(NULL) == 0);
   chatter_model_free(model);
+
+  check_position();
 
   printf("%d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;

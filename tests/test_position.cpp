@@ -554,5 +554,40 @@ TEST_F(PositionCli, BadPositionInputExitsTwoAndWritesNothing) {
   }
 }
 
+// Every JSON output of a command given --position-mm records the position
+// ("position_mm": the number as typed); without it the key is absent, so the
+// outputs of position-free runs are unchanged.
+TEST_F(PositionCli, JsonOutputsRecordThePositionAndOnlyWithIt) {
+  std::ofstream(path("ops.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nop1,3000,1,,0.1\n";
+  const std::string ops = path("ops.csv").string();
+  const std::string key = "\"position_mm\": 200.0";
+  struct Case {
+    std::vector<std::string> args;  // without --position-mm
+    std::string json_file;          // empty: the JSON is on standard output
+  };
+  const std::vector<Case> cases = {
+      {{"lobes", kCaseB1, "--rpm-points", "5", "--table", path("t.csv").string(), "--json", path("l.json").string()},
+       path("l.json").string()},
+      {{"point", kCaseB1, "--rpm", "3000", "--depth-mm", "1"}, ""},
+      {{"check", kCaseB1, "--operations", ops, "--json", "-", "-q"}, ""},
+      {{"recommend", kCaseB1, "--feed-per-tooth-mm", "0.1", "--json", "-"}, ""},
+      {{"simulate", kCaseB1, "--rpm", "3000", "--depth-mm", "1", "--periods", "20"}, ""},
+  };
+  for (const Case& c : cases) {
+    for (const bool with : {false, true}) {
+      auto args = c.args;
+      if (with) args.insert(args.end(), {"--position-mm", "200"});
+      const auto r = run(args);
+      ASSERT_EQ(r.exit_code, 0) << args[0] << ": " << r.err;
+      const std::string json = c.json_file.empty() ? r.out : slurp(c.json_file);
+      ASSERT_TRUE(contains(json, "{")) << args[0] << ": no JSON: " << json;
+      if (with)
+        EXPECT_TRUE(contains(json, key)) << args[0] << " --position-mm 200: " << json;
+      else
+        EXPECT_FALSE(contains(json, "position_mm")) << args[0] << " without a position: " << json;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace chatter

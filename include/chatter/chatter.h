@@ -107,6 +107,50 @@ chatter_status chatter_find_robust_speed(const chatter_solver* solver, double rp
                                          double depth_mm, double speed_tolerance_pct,
                                          chatter_robust_speed* out);
 
+/* --- Tool position (docs/position.md) ---------------------------------
+ * A structure that changes along the part (a `cantilever` workpiece mode:
+ * a bar clamped at one end; or `[[positions]]`: mode sets along the path).
+ * Positions in mm: from the clamp of the cantilever, or along the path of
+ * [[positions]]. A config without either fails with CHATTER_INPUT_ERROR. */
+
+/* The position range of the model's part, mm (clamp to free end, or first
+ * to last [[positions]]). Both outputs are set only on success. */
+chatter_status chatter_model_position_range(const chatter_model* model, double* min_mm, double* max_mm);
+
+/* A new model: `model` with the structure the tool sees at position_mm (the
+ * process and everything else as in `model`). Solvers built on it give the
+ * numbers of the CLI's `--position-mm` (its `chatter lobes`, `point`,
+ * `check`). An end typed in mm snaps to the end of the part. Fails with
+ * CHATTER_INPUT_ERROR and the CLI's message naming `position_mm` when the
+ * position is outside the part ("position_mm = 600: outside the part
+ * [0, 500] mm (clamp to free end of workpiece.modes[0].cantilever)") or the
+ * config has no position-dependent structure. *out is set only on success;
+ * free it with chatter_model_free. Cost: a copy of the model, O(modes). */
+chatter_status chatter_model_at_position(const chatter_model* model, double position_mm, chatter_model** out);
+
+/* One row of a lobe surface: the limit at one (position, speed). */
+typedef struct chatter_surface_row {
+  double position_mm;   /* mm; the `position_mm` column of `chatter surface` */
+  chatter_limit limit;  /* as chatter_limit_at on chatter_model_at_position(position_mm) */
+} chatter_surface_row;
+
+/* The lobe surface of `chatter surface`: position_points (>= 2) positions
+ * evenly spaced from position_min_mm to position_max_mm (both included,
+ * inside the part, max > min) times rpm_points (>= 2) speeds evenly spaced
+ * from rpm_min to rpm_max (both included, 0 < rpm_min < rpm_max).
+ * rows[p * rpm_points + s] is position p, speed s: `rows` must hold
+ * position_points * rpm_points entries, in the CSV's order. method and
+ * depth_max_mm as chatter_solver_create (the method's default options).
+ * threads: positions shared among this many threads (0 = every core; the
+ * numbers do not depend on it). Every position is checked before any solve;
+ * on an error `rows` may be partly written. Cost: per position one solver
+ * build plus rpm_points limits (analytic: a 50 x 200 surface of a 2-mode
+ * turning case takes ~0.1 s on one core; sdm: ~2 ms a limit). */
+chatter_status chatter_lobe_surface(const chatter_model* model, const char* method, double depth_max_mm,
+                                    double position_min_mm, double position_max_mm, int position_points,
+                                    double rpm_min, double rpm_max, int rpm_points, int threads,
+                                    chatter_surface_row* rows);
+
 #ifdef __cplusplus
 }
 #endif

@@ -13,6 +13,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/operations.hpp"
+#include "chatter/position.hpp"
 #include "chatter/transfer_function.hpp"
 
 struct chatter_model {
@@ -152,6 +153,65 @@ chatter_status chatter_find_robust_speed(const chatter_solver* solver, double rp
       r.pocket_max_rpm = p->pocket_max_rpm;
     }
     *out = r;
+  });
+}
+
+chatter_status chatter_model_position_range(const chatter_model* model, double* min_mm, double* max_mm) {
+  if (!model || !min_mm || !max_mm)
+    return fail(CHATTER_NULL_ARGUMENT, "chatter_model_position_range: model, min_mm and max_mm must not be NULL");
+  return guarded([&] {
+    // The io layer's message for a config without a position model.
+    if (model->config.position.empty()) (void)chatter::position_m(model->config, 0.0, "position_mm");
+    const auto [lo, hi] = model->config.position.range_m();
+    *min_mm = lo * 1e3;
+    *max_mm = hi * 1e3;
+  });
+}
+
+chatter_status chatter_model_at_position(const chatter_model* model, double position_mm, chatter_model** out) {
+  if (!model || !out)
+    return fail(CHATTER_NULL_ARGUMENT, "chatter_model_at_position: model and out must not be NULL");
+  return guarded([&] {
+    *out = new chatter_model{chatter::config_at_position(model->config, position_mm, "position_mm")};
+  });
+}
+
+chatter_status chatter_lobe_surface(const chatter_model* model, const char* method, double depth_max_mm,
+                                    double position_min_mm, double position_max_mm, int position_points,
+                                    double rpm_min, double rpm_max, int rpm_points, int threads,
+                                    chatter_surface_row* rows) {
+  if (!model || !rows) return fail(CHATTER_NULL_ARGUMENT, "chatter_lobe_surface: model and rows must not be NULL");
+  return guarded([&] {
+    const chatter::Config& cfg = model->config;
+    if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
+      throw chatter::InputError("chatter_lobe_surface: depth_max_mm = " + std::to_string(depth_max_mm) +
+                                ": must be > 0");
+    if (rpm_points < 2)
+      throw chatter::InputError("chatter_lobe_surface: rpm_points = " + std::to_string(rpm_points) + ": must be >= 2");
+    if (!(std::isfinite(rpm_min) && rpm_min > 0.0 && std::isfinite(rpm_max) && rpm_max > rpm_min))
+      throw chatter::InputError("chatter_lobe_surface: rpm_min, rpm_max: must be 0 < rpm_min < rpm_max");
+    if (threads < 0 || threads > 1024)
+      throw chatter::InputError("chatter_lobe_surface: threads = " + std::to_string(threads) +
+                                ": must be in [0, 1024] (0 = every core)");
+    // The positions exactly as `chatter surface` places them (io layer).
+    const chatter::SurfacePositions pos = chatter::surface_positions(cfg, position_min_mm, position_max_mm,
+                                                                     position_points);
+    const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
+    const std::string m = method ? method : chatter::solver_registry().front().name;
+    const double depth_max_m = depth_max_mm * 1e-3;
+    // The method checked on the first position before the sweep (as the CLI).
+    (void)chatter::make_lobe_solver(m, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m);
+    const chatter::SolverFactory factory = [&](const chatter::StructuralModel& s) {
+      return chatter::make_lobe_solver(m, s, cfg.process, depth_max_m);
+    };
+    const auto surface = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory,
+                                               static_cast<unsigned>(threads));
+    for (std::size_t p = 0; p < surface.size(); ++p)
+      for (std::size_t s = 0; s < surface[p].size(); ++s) {
+        chatter_surface_row& r = rows[p * speeds.size() + s];
+        r.position_mm = pos.mm[p];
+        r.limit = to_c(surface[p][s]);
+      }
   });
 }
 

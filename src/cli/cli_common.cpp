@@ -85,34 +85,6 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
   return true;
 }
 
-std::string position_range_text(const Config& cfg) {
-  const auto [lo, hi] = cfg.position.range_m();
-  std::string where = cfg.position.stations.empty()
-                          ? "clamp to free end of workpiece.modes[" +
-                                std::to_string(cfg.position.cantilever.front().workpiece_mode) + "].cantilever"
-                          : "first to last [[positions]]";
-  // Appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive.
-  std::string out("[");
-  out.append(fmt(lo * 1e3)).append(", ").append(fmt(hi * 1e3)).append("] mm (").append(where).append(")");
-  return out;
-}
-
-double position_m(const Config& cfg, double position_mm, const std::string& flag) {
-  if (cfg.position.empty())
-    throw InputError(flag + ": " + cfg.source.string() +
-                     ": the structure does not depend on the position: give a cantilever workpiece mode or "
-                     "[[positions]] (docs/position.md)");
-  const auto [lo, hi] = cfg.position.range_m();
-  double x = position_mm / 1e3;
-  // mm typed for an end given in m (or the reverse) differs from it by rounding only.
-  constexpr double kEndRelTol = 1e-12;
-  if (std::abs(x - hi) <= kEndRelTol * hi) x = hi;
-  if (std::abs(x - lo) <= kEndRelTol * hi) x = lo;
-  if (!(std::isfinite(position_mm) && x >= lo && x <= hi))
-    throw InputError(flag + " = " + fmt(position_mm) + ": outside the part " + position_range_text(cfg));
-  return x;
-}
-
 Config load_checked(const Common& common) {
   Config cfg = load_config(common.config_path);
   if (!cfg.warnings.empty()) {
@@ -123,10 +95,7 @@ Config load_checked(const Common& common) {
     }
     for (const std::string& w : cfg.warnings) std::cerr << "warning: " << w << "\n";
   }
-  if (common.position_mm) {
-    const double x = position_m(cfg, *common.position_mm, "--position-mm");
-    cfg.model = with_flag("--position-mm", [&] { return model_at_position(cfg, x); });
-  }
+  if (common.position_mm) return config_at_position(cfg, *common.position_mm, "--position-mm");
   return cfg;
 }
 

@@ -67,19 +67,11 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
 /// "warning: <file>: <key> = <value>: <what>". With --strict the warnings are
 /// errors: @throws InputError listing them (before anything is written).
 /// With --position-mm the returned config's model is the structure at that
-/// position (model_at_position); @throws InputError naming --position-mm when
+/// position (config_at_position); @throws InputError naming --position-mm when
 /// the config has no position-dependent model or the position is outside it.
 Config load_checked(const Common& common);
 
-/// The position range of a position-dependent config, mm, for messages:
-/// "[0, 500] mm (clamp to free end of workpiece.modes[0].cantilever)".
-std::string position_range_text(const Config& cfg);
-/// `flag` = `position_mm` as a position in m, checked against the config's
-/// range (an end typed in the other unit snaps to the end, so the free end
-/// in mm is the bar length exactly).
-/// @throws InputError "<flag> = X: outside the part [A, B] mm (...)", or
-///         "<flag>: <file>: the structure does not depend on the position".
-double position_m(const Config& cfg, double position_mm, const std::string& flag);
+// position_m() and position_range_text(): in the io layer (chatter/io/config.hpp).
 
 /// Speeds and depth from --rpm-min/--rpm-max/--rpm-points/--depth-max-mm,
 /// falling back on the config's [sweep]. @throws InputError.

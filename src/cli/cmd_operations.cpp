@@ -231,6 +231,7 @@ int cmd_check(const std::vector<std::string>& args) {
     j["format"] = "chatter-operation-check";
     j["version"] = version();
     j["config"] = cfg.source.string();
+    if (common.position_mm) j["position_mm"] = *common.position_mm;
     j["operations_file"] = ops_path;
     j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
     j["method_requested"] = method;
@@ -404,6 +405,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
     j["format"] = "chatter-recommendation";
     j["version"] = version();
     j["config"] = cfg.source.string();
+    if (common.position_mm) j["position_mm"] = *common.position_mm;
     j["method"] = r.method;
     j["inputs"] = {{"rpm_min", opt.machine.rpm_min},
                    {"rpm_max", opt.machine.rpm_max},

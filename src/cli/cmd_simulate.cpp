@@ -128,6 +128,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
   j["method"] = "time-domain";
   j["config"] = cfg.name;
   j["warnings"] = cfg.warnings;
+  if (common.position_mm) j["position_mm"] = *common.position_mm;
   j["spindle_rpm"] = rpm;
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = st.linear ? nlohmann::json(nullptr) : nlohmann::json(feed_mm);

@@ -260,6 +260,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     p.absolute_limit = abs_lim;
     p.options_json = built.options_json;
     p.notes = built.notes;
+    p.position_mm = common.position_mm;
     std::ostringstream js;
     chatter::write_lobe_json(js, rows, p, extra);
     json_text = js.str();

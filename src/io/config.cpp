@@ -1602,6 +1602,88 @@ StructuralModel model_at_position(const Config& config, double position_m) {
   }
 }
 
+namespace {
+std::string origin_of(const Config& config) {
+  return config.source.empty() ? config.name : config.source.string();
+}
+/// 6 significant digits, as the CLI prints numbers in messages.
+std::string short_number(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+}  // namespace
+
+std::string position_range_text(const Config& config) {
+  const auto [lo, hi] = config.position.range_m();
+  std::string where = config.position.stations.empty()
+                          ? "clamp to free end of workpiece.modes[" +
+                                std::to_string(config.position.cantilever.front().workpiece_mode) + "].cantilever"
+                          : "first to last [[positions]]";
+  // Appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive.
+  std::string out("[");
+  out.append(short_number(lo * 1e3)).append(", ").append(short_number(hi * 1e3)).append("] mm (");
+  out.append(where).append(")");
+  return out;
+}
+
+double position_m(const Config& config, double position_mm, const std::string& name) {
+  if (config.position.empty())
+    throw InputError(name + ": " + origin_of(config) +
+                     ": the structure does not depend on the position: give a cantilever workpiece mode or "
+                     "[[positions]] (docs/position.md)");
+  const auto [lo, hi] = config.position.range_m();
+  double x = position_mm / 1e3;
+  // mm typed for an end given in m (or the reverse) differs from it by rounding only.
+  constexpr double kEndRelTol = 1e-12;
+  if (std::abs(x - hi) <= kEndRelTol * hi) x = hi;
+  if (std::abs(x - lo) <= kEndRelTol * hi) x = lo;
+  if (!(std::isfinite(position_mm) && x >= lo && x <= hi))
+    throw InputError(name + " = " + short_number(position_mm) + ": outside the part " + position_range_text(config));
+  return x;
+}
+
+Config config_at_position(const Config& config, double position_mm, const std::string& name) {
+  const double x = position_m(config, position_mm, name);
+  Config out = config;
+  try {
+    out.model = model_at_position(config, x);
+  } catch (const InputError& e) {
+    throw InputError(name + ": " + e.what());
+  }
+  return out;
+}
+
+SurfacePositions surface_positions(const Config& config, std::optional<double> min_mm, std::optional<double> max_mm,
+                                   int points, const SurfacePositionNames& names) {
+  if (config.position.empty())
+    throw InputError(origin_of(config) +
+                     ": surface: the structure does not depend on the position: give a cantilever workpiece mode "
+                     "or [[positions]] (docs/position.md)");
+  const auto [part_lo_m, part_hi_m] = config.position.range_m();
+  const double lo_mm = min_mm.value_or(part_lo_m * 1e3);
+  const double hi_mm = max_mm.value_or(part_hi_m * 1e3);
+  const double lo_m = min_mm ? position_m(config, *min_mm, names.min) : part_lo_m;
+  const double hi_m = max_mm ? position_m(config, *max_mm, names.max) : part_hi_m;
+  if (!(hi_m > lo_m))
+    throw InputError(names.max + " = " + short_number(hi_mm) + ": must be > " + names.min + " (" +
+                     short_number(lo_mm) + ")");
+  if (points < 2) throw InputError(names.points + " = " + std::to_string(points) + ": must be >= 2 (both ends)");
+  SurfacePositions out;
+  out.mm.resize(static_cast<std::size_t>(points));
+  out.m.resize(out.mm.size());
+  for (int i = 0; i < points; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    out.mm[k] = lo_mm + (hi_mm - lo_mm) * static_cast<double>(i) / (points - 1);
+    out.m[k] = out.mm[k] / 1e3;
+  }
+  out.mm.back() = hi_mm;
+  out.m.front() = lo_m;
+  out.m.back() = hi_m;
+  return out;
+}
+
 Config load_config(const std::filesystem::path& file) {
   const std::string origin = file.string();
   std::error_code ec;

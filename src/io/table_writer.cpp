@@ -110,6 +110,7 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
   }
   j["warnings"] = p.config ? p.config->warnings : std::vector<std::string>{};
   j["notes"] = p.notes;
+  if (p.position_mm) j["position_mm"] = *p.position_mm;
   j["sweep"] = {{"rpm_min", p.rpm_min}, {"rpm_max", p.rpm_max}, {"rpm_points", p.rpm_points},
                 {"depth_max_mm", p.depth_max_mm}, {"rpm_spacing", p.rpm_spacing}};
   if (p.rpm_spacing == "adaptive") {

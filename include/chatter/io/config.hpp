@@ -64,6 +64,44 @@ struct Config {
 /// position-dependent model, or the position is outside it.
 StructuralModel model_at_position(const Config& config, double position_m);
 
+/// The position range of a position-dependent config for messages, mm:
+/// "[0, 500] mm (clamp to free end of workpiece.modes[0].cantilever)" or
+/// "[10, 90] mm (first to last [[positions]])". @pre !config.position.empty().
+std::string position_range_text(const Config& config);
+
+/// A position typed in mm (`name` = `position_mm`: "--position-mm" in the
+/// CLI, "position_mm" in the C API and Python) as m, checked against the
+/// config's range; an end typed in mm snaps to the end in m (they differ by
+/// rounding only). Cost: O(1).
+/// @throws InputError "<name>: <file>: the structure does not depend on the
+///         position: ..." or "<name> = 600: outside the part [0, 500] mm (...)".
+double position_m(const Config& config, double position_mm, const std::string& name);
+
+/// The config with `model` replaced by the structure at `position_mm` (mm):
+/// what `--position-mm` gives every command, and `position_mm` the C API and
+/// Python. Messages name `name` as position_m() does, and the file.
+/// Cost: a copy of the config plus O(modes).
+Config config_at_position(const Config& config, double position_mm, const std::string& name);
+
+/// The positions of a lobe surface (`chatter surface`): `points` evenly
+/// spaced from min_mm to max_mm, both included, in mm as typed (the table's
+/// `position_mm` column; the last exactly max_mm) and in m for the model (the
+/// ends exactly the checked ends). Absent ends: the ends of the part.
+struct SurfacePositions {
+  std::vector<double> mm;
+  std::vector<double> m;
+};
+/// Names of the three arguments in messages ("--position-min-mm", ... in
+/// the CLI; "position_min_mm", ... in the C API and Python).
+struct SurfacePositionNames {
+  std::string min = "position_min_mm", max = "position_max_mm", points = "position_points";
+};
+/// @throws InputError when the config does not depend on the position ("<file>:
+///         surface: the structure does not depend on the position: ..."), an
+///         end is outside the part (position_m), max <= min, or points < 2.
+SurfacePositions surface_positions(const Config& config, std::optional<double> min_mm, std::optional<double> max_mm,
+                                   int points, const SurfacePositionNames& names = {});
+
 /// Reads and validates a config file. Quantities may be given in SI or in
 /// the shop-unit key beside it (`stiffness_n_per_um`, `mass_g`,
 /// `tangential_coefficient_n_per_mm2`, ...; one key per quantity); the

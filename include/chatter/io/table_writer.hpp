@@ -44,6 +44,9 @@ struct TableProvenance {
   std::optional<AbsoluteLimit> absolute_limit;
   std::string options_json = "{}";    ///< solver options as a JSON object text
   std::vector<std::string> notes;     ///< what the method does not see of the cutter (ignored_feature_notes)
+  /// The tool position the table is for (`--position-mm`, mm; docs/position.md):
+  /// written as "position_mm" when set, absent otherwise.
+  std::optional<double> position_mm;
 };
 
 /// @pre every extra column has rows.size() values.
