@@ -9,6 +9,9 @@
 #     docs/reliability.md use `undefined` (UBSan only, ~1.5-2x the executions
 #     per second), then replay everything they found with the default.
 #   FUZZ_JOBS=2: parallel compiles.
+#   FUZZ_TIMEOUT=10: seconds of wall time one input may take before libFuzzer
+#     calls it a hang. The deep runs use 60: at nice 19 on a machine busy with
+#     builds a 0.2 s input once took > 10 s of wall time (a false hang).
 #   config      the TOML config loader, and the analytic solver on what it accepts (fuzz/fuzz_config.cpp)
 #   frf         the FRF readers: CSV, tab .frf, UFF 58/58b (fuzz/fuzz_frf.cpp)
 #   operations  the operations-file reader (fuzz/fuzz_operations.cpp)
@@ -91,5 +94,5 @@ printf '%s\n' $srcs "fuzz/fuzz_$target.cpp" |
 clang++ "-fsanitize=fuzzer,$sanitize" "${objs[@]}" -ltomlplusplus $libs -o "build-fuzz/fuzz_${target}_$tag"
 cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true
 cd build-fuzz
-"./fuzz_${target}_$tag" -max_total_time="$seconds" -runs="$runs" -max_len="$max_len" -timeout=10 -print_final_stats=1 \
+"./fuzz_${target}_$tag" -max_total_time="$seconds" -runs="$runs" -max_len="$max_len" -timeout="${FUZZ_TIMEOUT:-10}" -print_final_stats=1 \
   -artifact_prefix="./$prefix" "$corpus" 2>&1 | tee "fuzz_${target}_$tag.log" | tail -n 25
