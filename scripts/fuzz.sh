@@ -2,7 +2,16 @@
 # Fuzzes one parser with libFuzzer (+ ASan + UBSan) for a set time.
 # Usage: scripts/fuzz.sh [TARGET=config] [seconds=60] [runs]
 #   runs: stop after exactly this many executions (libFuzzer -runs), or at
-#   `seconds`, whichever comes first.
+#   `seconds`, whichever comes first. runs = 0: replay the target's whole
+#   corpus (seeds and every input found so far) once, no new inputs.
+# Environment:
+#   FUZZ_SANITIZE=address,undefined (default) or undefined: the deep runs of
+#     docs/reliability.md use `undefined` (UBSan only, ~1.5-2x the executions
+#     per second), then replay everything they found with the default.
+#   FUZZ_JOBS=2: parallel compiles.
+#   FUZZ_TIMEOUT=10: seconds of wall time one input may take before libFuzzer
+#     calls it a hang. The deep runs use 60: at nice 19 on a machine busy with
+#     builds a 0.2 s input once took > 10 s of wall time (a false hang).
 #   config      the TOML config loader, and the analytic solver on what it accepts (fuzz/fuzz_config.cpp)
 #   frf         the FRF readers: CSV, tab .frf, UFF 58/58b (fuzz/fuzz_frf.cpp)
 #   operations  the operations-file reader (fuzz/fuzz_operations.cpp)
@@ -14,8 +23,9 @@
 # Seeds: fuzz/corpus/TARGET/. New inputs that increase coverage go to
 # build-fuzz/corpus/ (config) or build-fuzz/corpus-TARGET/; a crash leaves
 # crash-* (config) or TARGET-crash-* files in build-fuzz/: copy each into
-# fuzz/corpus/TARGET/ as crash_<what>.<ext> and fix it. The whole libFuzzer
-# log (the #N lines with cov/ft and exec/s) is build-fuzz/fuzz_TARGET.log.
+# fuzz/corpus/TARGET/ as crash_<what>.<ext> and fix it. The binary is
+# build-fuzz/fuzz_TARGET_SANITIZERS (address-undefined or undefined), the whole
+# libFuzzer log (the #N lines with cov/ft and exec/s) build-fuzz/fuzz_TARGET_SANITIZERS.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -29,7 +39,7 @@ runs=${2:--1}
 libs=${libs:-}
 case "$target" in
   config)
-    srcs="src/io/config.cpp src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
+    srcs="src/io/config.cpp src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/model/position.cpp src/solvers/phase_search.cpp
           src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp
           src/solvers/factory.cpp src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus prefix="" ;;
@@ -60,12 +70,29 @@ bash scripts/setup.sh
 if ! command -v clang++ >/dev/null || ! dpkg-query -W -f='${Status}' libclang-rt-14-dev 2>/dev/null | grep -q "ok installed"; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang libclang-rt-14-dev >/dev/null
 fi
-mkdir -p "build-fuzz/$corpus"
+sanitize=${FUZZ_SANITIZE:-address,undefined}
+case "$sanitize" in
+  address,undefined|undefined) ;;
+  *) echo "fuzz.sh: FUZZ_SANITIZE must be 'address,undefined' or 'undefined', got '$sanitize'" >&2; exit 2 ;;
+esac
+tag=${sanitize//,/-}
+mkdir -p "build-fuzz/$corpus" "build-fuzz/obj-$target-$tag"
+# -O2 and EIGEN_NO_DEBUG: Eigen's range checks and un-inlined accessors were
+# most of the modal fit's time; chatter's own assert()s stay on. Coverage is
+# not traced in Eigen and the standard library (fuzz/coverage_ignorelist.txt).
+flags=(-std=c++20 -O2 -g -DEIGEN_NO_DEBUG "-fsanitize=fuzzer-no-link,$sanitize" -fno-sanitize-recover=undefined
+       -fsanitize-coverage-ignorelist=fuzz/coverage_ignorelist.txt -Iinclude -Isrc/solvers -I/usr/include/eigen3)
+cc=clang++
+command -v ccache >/dev/null && cc="ccache clang++"
+objs=()
+for src in $srcs "fuzz/fuzz_$target.cpp"; do
+  objs+=("build-fuzz/obj-$target-$tag/$(basename "$src" .cpp).o")
+done
+printf '%s\n' $srcs "fuzz/fuzz_$target.cpp" |
+  xargs -P "${FUZZ_JOBS:-2}" -I{} sh -c "$cc"' "$@" -c {} -o "build-fuzz/obj-'"$target-$tag"'/$(basename {} .cpp).o"' _ "${flags[@]}"
 # shellcheck disable=SC2086
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -Iinclude -Isrc/solvers -I/usr/include/eigen3 $srcs "fuzz/fuzz_$target.cpp" -ltomlplusplus $libs \
-  -o "build-fuzz/fuzz_$target"
+clang++ "-fsanitize=fuzzer,$sanitize" "${objs[@]}" -ltomlplusplus $libs -o "build-fuzz/fuzz_${target}_$tag"
 cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true
 cd build-fuzz
-"./fuzz_$target" -max_total_time="$seconds" -runs="$runs" -max_len="$max_len" -timeout=10 -print_final_stats=1 \
-  -artifact_prefix="./$prefix" "$corpus" 2>&1 | tee "fuzz_$target.log" | tail -n 25
+"./fuzz_${target}_$tag" -max_total_time="$seconds" -runs="$runs" -max_len="$max_len" -timeout="${FUZZ_TIMEOUT:-10}" -print_final_stats=1 \
+  -artifact_prefix="./$prefix" "$corpus" 2>&1 | tee "fuzz_${target}_$tag.log" | tail -n 25

@@ -668,6 +668,13 @@ TEST(ConfigError, TeethZero) {
   EXPECT_TRUE(ThrowsInputError(Milling("teeth = 0\n"), {"mem/case.toml: process.teeth = 0: must be an integer >= 1"}));
 }
 
+// Fuzzing (operations target) found 57 483 648 teeth allocating gigabytes of
+// per-tooth tables; the same cap holds in the config.
+TEST(ConfigError, TeethAboveTheCap) {
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 57483648\n"),
+                               {"mem/case.toml: process.teeth = 57483648: must be an integer <= 1000"}));
+}
+
 TEST(ConfigError, TeethNotInteger) {
   EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2.5\n"), {"mem/case.toml: process.teeth = 2.5: must be an integer"}));
   EXPECT_TRUE(ThrowsInputError(Milling("teeth = 2.0\n"), {"mem/case.toml: process.teeth = 2.0: must be an integer"}));

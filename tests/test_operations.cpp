@@ -171,19 +171,21 @@ TEST(OperationsFile, MillingOverridesAndTheirRules) {
       "d,10000,1.0,0.1,0.05,0,\n"    // teeth < 1
       "e,10000,1.0,0.1,0.05,2.5,\n"  // teeth not an integer
       "f,10000,1.0,0.1,0.05,,side\n" // bad direction
-      "g,10000,1.0,0.1,0,,\n";       // feed <= 0
+      "g,10000,1.0,0.1,0,,\n"        // feed <= 0
+      "h,10000,1.0,0.1,0.05,57483648,\n";  // teeth above kMaxTeeth (fuzzing: gigabytes of per-tooth tables)
   const OperationsFile f = parse_operations(text, "m.csv", Operation::kMilling, range(5000, 25000));
   ASSERT_EQ(f.rows.size(), 2u);
   EXPECT_FALSE(f.rows[0].radial_immersion.has_value());
   EXPECT_DOUBLE_EQ(f.rows[1].radial_immersion.value(), 0.5);
   EXPECT_EQ(f.rows[1].teeth.value(), 4);
   EXPECT_EQ(f.rows[1].direction.value(), MillingDirection::kUp);
-  ASSERT_EQ(f.rejected.size(), 5u);
+  ASSERT_EQ(f.rejected.size(), 6u);
   EXPECT_TRUE(contains(f.rejected[0].reason, "radial_immersion = 1.5: must be in (0, 1]"));
   EXPECT_TRUE(contains(f.rejected[1].reason, "teeth = 0: must be >= 1"));
   EXPECT_TRUE(contains(f.rejected[2].reason, "teeth = '2.5': not an integer"));
   EXPECT_TRUE(contains(f.rejected[3].reason, "milling_direction = 'side'"));
   EXPECT_TRUE(contains(f.rejected[4].reason, "feed_per_tooth_mm = 0: must be > 0 mm"));
+  EXPECT_TRUE(contains(f.rejected[5].reason, "teeth = 57483648: must be <= 1000"));
 
   const Process p = process_for(case_c().process, f.rows[1]);
   EXPECT_DOUBLE_EQ(p.milling_parameters().radial_immersion, 0.5);

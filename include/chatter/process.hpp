@@ -50,8 +50,13 @@ struct TurningParameters {
   double workpiece_diameter_m = 0.0;
 };
 
+/// Most teeth a milling cutter may have. Slitting saws reach ~200; the cap
+/// keeps a unit mistake (or a fuzzed 57 483 648) from allocating per-tooth
+/// tables of gigabytes.
+inline constexpr int kMaxTeeth = 1000;
+
 struct MillingParameters {
-  int teeth = 0;                                     ///< N_t >= 1.
+  int teeth = 0;                                     ///< N_t in [1, kMaxTeeth].
   double tangential_coefficient_n_per_m2 = 0.0;      ///< K_t > 0, N/m².
   double radial_coefficient_n_per_m2 = 0.0;          ///< K_r >= 0, N/m².
   double radial_immersion = 1.0;                     ///< a_e / D in (0, 1].

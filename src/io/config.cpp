@@ -454,7 +454,7 @@ class Table {
 
   /// An integer >= `min` that fits an int; nullopt if absent or bad
   /// (recorded). Floats are rejected, even 2.0.
-  std::optional<int> integer(std::string_view key, int min) const {
+  std::optional<int> integer(std::string_view key, int min, int max = std::numeric_limits<int>::max()) const {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
     const auto* i = n->as_integer();
@@ -467,8 +467,8 @@ class Table {
       doc_.error(path_of(key), *n, "must be an integer >= " + std::to_string(min));
       return std::nullopt;
     }
-    if (v > std::numeric_limits<int>::max()) {
-      doc_.error(path_of(key), *n, "must be an integer <= " + std::to_string(std::numeric_limits<int>::max()));
+    if (v > max) {
+      doc_.error(path_of(key), *n, "must be an integer <= " + std::to_string(max));
       return std::nullopt;
     }
     return static_cast<int>(v);
@@ -1044,7 +1044,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
   if (*operation == "milling") {
     reject_keys_of(*process, kTurningKeys, "turning");
     MillingParameters p;
-    const auto teeth = process->integer("teeth", 1);
+    const auto teeth = process->integer("teeth", 1, kMaxTeeth);
     if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
     const Given kt = read_coefficient(*process, kTangential, kPositive);
     // K_r: in N/m² (or N/mm²), or as the ratio K_r/K_t; exactly one.

@@ -131,6 +131,7 @@ Process Process::turning(TurningParameters p) {
 
 Process Process::milling(MillingParameters p) {
   require(p.teeth >= 1, "number of teeth must be >= 1");
+  require(p.teeth <= kMaxTeeth, "number of teeth must be <= " + std::to_string(kMaxTeeth));
   require(std::isfinite(p.tangential_coefficient_n_per_m2) && p.tangential_coefficient_n_per_m2 > 0.0,
           "tangential coefficient K_t must be > 0 N/m^2");
   require(std::isfinite(p.radial_coefficient_n_per_m2) && p.radial_coefficient_n_per_m2 >= 0.0,

@@ -848,6 +848,7 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       else if (const std::string e = parse_integer(s, nt); !e.empty())
         reasons.push_back("teeth = " + in_quotes(s) + ": " + e);
       else if (nt < 1) reasons.push_back("teeth = " + std::to_string(nt) + ": must be >= 1");
+      else if (nt > kMaxTeeth) reasons.push_back("teeth = " + std::to_string(nt) + ": must be <= " + std::to_string(kMaxTeeth));
       else row.teeth = nt;
     }
     if (const std::string_view s = field("milling_direction"); !s.empty()) {
