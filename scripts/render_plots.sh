@@ -55,3 +55,18 @@ echo "plots/milling_benchmark_ae005_down_compare_all.png"
 ./build/chatter simulate configs/seed_turning_1dof.toml --rpm 3000 --depth-mm 2.0 \
   --plot plots/seed_turning_1dof_simulate.png > /dev/null
 echo "plots/*_simulate*.png"
+# Position-dependent structure (docs/position.md): the lobe surface along the
+# cantilever shaft of case B 1 (analytic) and along case C's tool path (sdm,
+# 20 positions x 200 speeds: a few seconds).
+./build/chatter surface configs/coupled_tool1_workpiece1.toml --position-points 50 --rpm-points 200 --quiet \
+  --table plots/coupled_tool1_workpiece1_surface.csv --plot plots/coupled_tool1_workpiece1_surface.png > /dev/null
+./build/chatter surface configs/milling_case_c_positions.toml --method sdm --position-points 20 --rpm-points 200 --quiet \
+  --table plots/milling_case_c_positions_surface.csv --plot plots/milling_case_c_positions_surface.png > /dev/null
+echo "plots/*_surface.png"
+# Uncertain modes and K_f (docs/uncertainty.md): probability of stability and
+# the 5/50/95 % lobes from 1 000 samples (seed 1).
+./build/chatter lobes configs/seed_turning_1dof_uncertain.toml --samples 1000 --quiet \
+  --table plots/seed_turning_1dof_uncertain_samples.csv \
+  --probability-table plots/seed_turning_1dof_uncertain_probability.csv \
+  --plot plots/seed_turning_1dof_uncertain_samples.png > /dev/null
+echo "plots/seed_turning_1dof_uncertain_samples.png"
