@@ -2,7 +2,7 @@
 # ctest driver of `chatter-mpi lobes --samples N` (docs/scaling.md). Usage:
 #   mpi_lobes.sh MODE MPIEXEC CHATTER CHATTER_MPI NP CONFIG SPREADS [lobes options...]
 # The config used is CONFIG with an [uncertainty] table of SPREADS appended
-# (TOML lines separated by ';'; "none": no table), written to a scratch dir.
+# (TOML lines separated by "|"; "none": no table), written to a scratch dir.
 # MODE:
 #   compare  `chatter lobes` and `mpirun -n NP chatter-mpi lobes` with the same
 #            options (plus --table t.csv --json t.json --probability-table
@@ -12,9 +12,9 @@
 #            non-zero exit, stderr names rank 1, no output file (nor .partial).
 #   throw    CHATTER_MPI_THROW_AFTER_ITEMS=1 (rank 1 throws): non-zero exit,
 #            one "chatter-mpi: rank 1: ..." message, no output file.
-#   bad      the options or the config are bad input: exit 2 as `chatter`,
-#            exactly one "chatter-mpi:" line (rank 0's) with chatter's text,
-#            no output file.
+#   bad      the --samples request or the config is bad input: exit 2 as
+#            `chatter`, exactly one "chatter-mpi:" line (rank 0's) with
+#            chatter's text, which names --samples; no output file.
 #   refuse   without --samples: exit 2, one message asking for --samples.
 set -u
 mode=$1 mpiexec=$2 chatter=$3 chatter_mpi=$4 np=$5 config=$6 spreads=$7
@@ -24,7 +24,7 @@ trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 cfg=$work/u.toml
 cp "$config" "$cfg"
-[ "$spreads" = none ] || printf '\n[uncertainty]\n%s\n' "$(echo "$spreads" | tr ';' '\n')" >> "$cfg"
+[ "$spreads" = none ] || printf '\n[uncertainty]\n%s\n' "$(echo "$spreads" | tr "|" "\n")" >> "$cfg"
 run_mpi() { "$mpiexec" -n "$np" --oversubscribe "$chatter_mpi" lobes "$cfg" "$@"; }
 outputs=(--table t.csv --json t.json --probability-table p.csv --plot l.png)
 no_outputs() { ls "$work"/t.csv* "$work"/t.json* "$work"/p.csv* "$work"/l.* > /dev/null 2>&1 && fail "an output was left: $(ls "$work")"; }
@@ -70,6 +70,7 @@ case $mode in
     [ "$(grep -c '^chatter-mpi:' "$work/err.txt")" -eq 1 ] || fail "not exactly one chatter-mpi message"
     [ "$(sed -n 's/^chatter-mpi: //p' "$work/err.txt")" = "$(sed -n 's/^chatter: //p' "$work/one.txt")" ] ||
       fail "message differs from chatter's: $(cat "$work/one.txt")"
+    grep -q '^chatter-mpi: --samples' "$work/err.txt" || fail "the message does not name --samples"
     no_outputs
     echo "bad input: exit 2, one message: $(sed -n 's/^chatter: //p' "$work/one.txt")"
     ;;
