@@ -118,7 +118,7 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
   return plan;
 }
 
-NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads) {
+NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads, bool show_progress) {
   const Sweep& s = plan.sweep;
   const po::variables_map& vm = plan.vm;
   const LobeSolver& solver = *plan.built.solver;
@@ -134,7 +134,8 @@ NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads) {
   // the same solves as the rows.
   const std::vector<DiagnosticColumn> columns = solver.diagnostic_columns();
   if (plan.adaptive) {
-    Progress progress(vm, static_cast<std::size_t>(s.rpm_points), "lobes (" + solver.method() + ", adaptive)");
+    Progress progress(vm, show_progress ? static_cast<std::size_t>(s.rpm_points) : 0,
+                      "lobes (" + solver.method() + ", adaptive)");
     const auto tick = [&](std::size_t done) { progress.tick(done); };
     // Keep the diagnostics of every solve, by speed, for the extra columns.
     std::map<double, std::vector<SolverValue>> diagnostics;
@@ -155,7 +156,7 @@ NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads) {
       extra = extra_columns(columns, values);
     }
   } else {
-    Progress progress(vm, speeds.size(), "lobes (" + solver.method() + ")");
+    Progress progress(vm, show_progress ? speeds.size() : 0, "lobes (" + solver.method() + ")");
     const auto tick = [&](std::size_t done) { progress.tick(done); };
     if (!columns.empty()) {
       std::vector<std::vector<SolverValue>> values(speeds.size());

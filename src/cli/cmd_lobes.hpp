@@ -61,9 +61,11 @@ struct NominalTable {
 /// @throws InputError / po::error on bad input (nothing written).
 std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool check_output_files = true);
 
-/// The nominal table on `threads` threads, with the progress bar.
-/// Cost: one limit_at per speed (adaptive: up to --rpm-points).
-NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads);
+/// The nominal table on `threads` threads, with the progress bar unless
+/// `progress` is false (chatter-mpi solves it beside the Monte Carlo, whose
+/// bar it shows). Thread-safe. Cost: one limit_at per speed (adaptive: up to
+/// --rpm-points).
+NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads, bool progress = true);
 
 /// The Monte Carlo limits of samples [begin, end) at plan.speeds_rpm
 /// (precondition: plan.uncertainty): rows[i - begin][s], bitwise the same

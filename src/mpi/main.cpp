@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
 #include <cstdlib>
 #include <functional>
 #include <optional>
@@ -109,22 +110,19 @@ unsigned rank_threads(MPI_Comm comm, int rank, unsigned asked) {
   return std::max(1u, std::max(1u, std::thread::hardware_concurrency()) / static_cast<unsigned>(on_node));
 }
 
-// Rank 0 plans (make(true)), then does the work only it does before the
-// sweep (first); the other ranks wait for its verdict, so bad input gives one
-// message. Then the others plan quietly (make(false)); a worker that cannot
+// Rank 0 plans (make(true)); the other ranks wait for its verdict, so bad
+// input gives one message. Then the others plan quietly (make(false)); a worker that cannot
 // plan reports it on its first item (plan_error). Returns -1 to go on, else
 // the exit status every rank returns.
 template <class Plan>
 int plan_on_every_rank(MPI_Comm comm, int rank, const std::string& command,
-                       const std::function<std::optional<Plan>(bool)>& make,
-                       const std::function<void(const Plan&)>& first, std::optional<Plan>& plan,
+                       const std::function<std::optional<Plan>(bool)>& make, std::optional<Plan>& plan,
                        std::string& plan_error) {
   int status = kPlanned;
   if (rank == 0) {
     try {
       plan = make(true);
       if (!plan) status = kHelpShown;
-      else if (first) first(*plan);
     } catch (...) {
       status = report(std::current_exception(), command);
     }
@@ -164,7 +162,7 @@ int run_surface(const std::vector<std::string>& args, MPI_Comm comm, int rank, i
   std::optional<cli::SurfacePlan> plan;
   std::string plan_error;
   const int planned = plan_on_every_rank<cli::SurfacePlan>(
-      comm, rank, "surface", [&](bool rank0) { return cli::plan_surface(args, rank0); }, {}, plan, plan_error);
+      comm, rank, "surface", [&](bool rank0) { return cli::plan_surface(args, rank0); }, plan, plan_error);
   const unsigned threads = rank_threads(comm, rank, plan ? plan->threads : 1);
   if (planned >= 0) return planned;
 
@@ -224,8 +222,9 @@ std::vector<std::pair<std::uint64_t, std::uint64_t>> sample_blocks(std::uint64_t
   return out;
 }
 
-// `chatter lobes --samples N`: rank 0 plans and solves the nominal table (one
-// sample's work) before the sweep; the items are blocks of samples, each
+// `chatter lobes --samples N`: rank 0 plans, then solves the nominal table
+// (one sample's work) in a thread beside the sweep; the items are blocks of
+// samples, each
 // solved by monte_carlo_limits over its range (bitwise the rows of the whole
 // run), gathered in sample order; rank 0 reduces and writes as `chatter lobes`.
 int run_lobes(const std::vector<std::string>& args, MPI_Comm comm, int rank, int size) {
@@ -240,21 +239,21 @@ int run_lobes(const std::vector<std::string>& args, MPI_Comm comm, int rank, int
                        "[uncertainty] table in the config); for the nominal table alone run chatter lobes");
     return p;
   };
-  // Threads are known after the plan: the node split is collective, so rank 0
-  // plans first without the nominal, every rank splits, then rank 0 solves it.
-  const int planned = plan_on_every_rank<cli::LobesPlan>(comm, rank, "lobes", make, {}, plan, plan_error);
+  const int planned = plan_on_every_rank<cli::LobesPlan>(comm, rank, "lobes", make, plan, plan_error);
   threads = rank_threads(comm, rank, plan ? plan->threads : 1);
   if (planned >= 0) return planned;
-  int status = kPlanned;
-  if (rank == 0) {
-    try {
-      nominal = cli::lobes_nominal(*plan, threads);
-    } catch (...) {
-      status = report(std::current_exception(), "lobes");
-    }
-  }
-  MPI_Bcast(&status, 1, MPI_INT, 0, comm);
-  if (status != kPlanned) return status;
+  // Rank 0 solves the nominal table in a thread of its own while the sweep
+  // runs, so no rank waits for it (its error, if any, is reported after).
+  std::exception_ptr nominal_error;
+  std::jthread nominal_thread;
+  if (rank == 0)
+    nominal_thread = std::jthread([&] {
+      try {
+        nominal = cli::lobes_nominal(*plan, threads, false);
+      } catch (...) {
+        nominal_error = std::current_exception();
+      }
+    });
 
   const std::uint64_t samples = plan ? plan->uncertainty->samples : 0;
   const std::size_t speeds = plan ? plan->speeds_rpm.size() : 0;
@@ -286,6 +285,8 @@ int run_lobes(const std::vector<std::string>& args, MPI_Comm comm, int rank, int
   }
   if (rank != 0) return 0;
   progress.reset();
+  nominal_thread.join();
+  if (nominal_error) return report(nominal_error, "lobes");
 
   // rows[sample][speed] in sample order, then reduce and write as `chatter lobes`.
   std::vector<std::vector<chatter::StabilityLimit>> rows;
