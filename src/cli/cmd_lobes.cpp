@@ -202,8 +202,6 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
   const bool tolerance_met = nominal.tolerance_met;
   const unsigned threads = plan.threads;
   const Common& common = plan.common;
-  EnvelopeRefinement table_refinement;
-  table_refinement.depth_rel_tol = kEnvelopeDepthRelTol;
   const std::optional<AbsoluteLimit> abs_lim = solver.known_absolute_limit();
   // --samples: the Monte Carlo at the table's speeds; its quantile lobes are
   // columns after the nominal ones.
@@ -225,7 +223,7 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     p.rpm_points = s.rpm_points;
     p.rpm_spacing = plan.spacing;
     if (adaptive) {
-      p.adaptive_depth_rel_tol = table_refinement.depth_rel_tol;
+      p.adaptive_depth_rel_tol = kEnvelopeDepthRelTol;  // the tolerance lobes_nominal used
       p.adaptive_tolerance_met = tolerance_met;
     }
     p.depth_max_mm = s.depth_max_mm;
