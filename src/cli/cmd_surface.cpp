@@ -1,12 +1,14 @@
 // `chatter surface`: the lobe surface a_lim(position, speed) of a
 // position-dependent structure (docs/position.md).
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
 #include "chatter/io/plot_surface.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
@@ -96,40 +98,33 @@ std::optional<SurfacePlan> plan_surface(const std::vector<std::string>& args, bo
 
   plan.cfg = load_checked(common);
   const Config& cfg = plan.cfg;
-  if (cfg.position.empty())
-    throw InputError(cfg.source.string() +
-                     ": surface: the structure does not depend on the position: give a cantilever workpiece mode "
-                     "or [[positions]] (docs/position.md)");
-  const auto [part_lo_m, part_hi_m] = cfg.position.range_m();
-  const double min_mm = plan.min_mm =
-      vm.count("position-min-mm") ? vm["position-min-mm"].as<double>() : part_lo_m * 1e3;
-  const double max_mm = plan.max_mm =
-      vm.count("position-max-mm") ? vm["position-max-mm"].as<double>() : part_hi_m * 1e3;
+  const std::optional<double> min_arg =
+      vm.count("position-min-mm") ? std::optional<double>(vm["position-min-mm"].as<double>()) : std::nullopt;
+  const std::optional<double> max_arg =
+      vm.count("position-max-mm") ? std::optional<double>(vm["position-max-mm"].as<double>()) : std::nullopt;
   const int points = vm.count("position-points") ? vm["position-points"].as<int>() : kDefaultPositionPoints;
-  const double lo_m = vm.count("position-min-mm") ? position_m(cfg, min_mm, "--position-min-mm") : part_lo_m;
-  const double hi_m = vm.count("position-max-mm") ? position_m(cfg, max_mm, "--position-max-mm") : part_hi_m;
-  if (!(hi_m > lo_m))
-    throw InputError("--position-max-mm = " + fmt(max_mm) + ": must be > --position-min-mm (" + fmt(min_mm) + ")");
-  if (points < 2) throw InputError("--position-points = " + std::to_string(points) + ": must be >= 2 (both ends)");
-  const Sweep s = plan.sweep = resolve_sweep(vm, cfg);
-  if (static_cast<long long>(points) * s.rpm_points > kMaxMapPoints)
-    throw InputError("--position-points x --rpm-points = " + std::to_string(points) + " x " +
-                     std::to_string(s.rpm_points) + ": at most " + std::to_string(kMaxMapPoints) +
-                     " solves (a surface that size would not finish)");
+  auto check_size = [&](const Sweep& s) {
+    if (static_cast<long long>(points) * s.rpm_points > kMaxMapPoints)
+      throw InputError("--position-points x --rpm-points = " + std::to_string(points) + " x " +
+                       std::to_string(s.rpm_points) + ": at most " + std::to_string(kMaxMapPoints) +
+                       " solves (a surface that size would not finish)");
+  };
+  // A count that fails the size rule at any speed count is refused before
+  // the positions are laid out (they would not fit in memory).
+  if (points > kMaxMapPoints) check_size(resolve_sweep(vm, cfg));
   // Positions evenly spaced in mm as typed (the table's column), in m for the
-  // model, the ends exactly the checked ends.
-  std::vector<double>& positions_mm = plan.positions_mm;
-  std::vector<double>& positions_m = plan.positions_m;
-  positions_mm.resize(static_cast<std::size_t>(points));
-  positions_m.resize(positions_mm.size());
-  for (int i = 0; i < points; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    positions_mm[k] = min_mm + (max_mm - min_mm) * static_cast<double>(i) / (points - 1);
-    positions_m[k] = positions_mm[k] / 1e3;
-  }
-  positions_mm.back() = max_mm;
-  positions_m.front() = lo_m;
-  positions_m.back() = hi_m;
+  // model, the ends exactly the checked ends (the io layer's rule, as the C
+  // API and Python lay them out).
+  SurfacePositions positions = surface_positions(
+      cfg, min_arg, max_arg, points, {"--position-min-mm", "--position-max-mm", "--position-points"});
+  const auto [part_lo_m, part_hi_m] = cfg.position.range_m();
+  plan.min_mm = min_arg.value_or(part_lo_m * 1e3);
+  plan.max_mm = max_arg.value_or(part_hi_m * 1e3);
+  const Sweep s = plan.sweep = resolve_sweep(vm, cfg);
+  check_size(s);
+  plan.positions_mm = std::move(positions.mm);
+  plan.positions_m = std::move(positions.m);
+  const std::vector<double>& positions_m = plan.positions_m;
   plan.speeds_rpm = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
 
   // One solver checked (options, notes, what the method accepts) at the first

@@ -87,28 +87,35 @@ std::optional<UncertaintyRequest> uncertainty_request(const po::variables_map& v
   return r;
 }
 
-UncertaintyOutputs run_uncertainty(const UncertaintyRequest& request, const Config& cfg, const std::string& method,
-                                   double depth_max_mm, const po::variables_map& vm, const std::vector<double>& speeds,
-                                   const std::vector<StabilityLimit>& nominal, unsigned threads) {
+void check_uncertainty_config(const Config& cfg) {
   if (!cfg.uncertainty)
     throw InputError("--samples: " + cfg.source.string() +
                      ": no [uncertainty] table (give the 1-sigma spreads in percent; docs/config.md)");
-  const UncertaintySpreads& spreads = *cfg.uncertainty;
-  if (const std::string why = spreads.validate(cfg.model, cfg.process); !why.empty())
+  if (const std::string why = cfg.uncertainty->validate(cfg.model, cfg.process); !why.empty())
     throw InputError(cfg.source.string() + ": uncertainty: " + why);
+}
+
+std::vector<std::vector<StabilityLimit>> sample_limits(const UncertaintyRequest& request, const Config& cfg,
+                                                       const std::string& method, double depth_max_mm,
+                                                       const po::variables_map& vm, const std::vector<double>& speeds,
+                                                       std::uint64_t begin, std::uint64_t end, unsigned threads,
+                                                       const std::function<void(std::size_t)>& per_sample) {
+  check_uncertainty_config(cfg);
   const double depth_max_m = depth_max_mm * 1e-3;
   const SolverValues options = solver_option_values(find_lobe_method(method), cfg, vm);
   const SampleSolverFactory factory = [&](const StructuralModel& model, const Process& process) {
     return make_lobe_solver(method, model, process, depth_max_m, options);
   };
-  std::vector<std::vector<StabilityLimit>> rows;
-  {
-    Progress progress(vm, request.samples, "Monte Carlo (" + method + ")");
-    rows = with_flag("--samples", [&] {
-      return monte_carlo_limits(cfg.model, cfg.process, spreads, request.seed, 0, request.samples, speeds, factory,
-                                threads, [&](std::size_t done) { progress.tick(done); });
-    });
-  }
+  return with_flag("--samples", [&] {
+    return monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty, request.seed, begin, end, speeds, factory,
+                              threads, per_sample);
+  });
+}
+
+UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double depth_max_mm,
+                                      const po::variables_map& vm, const std::vector<double>& speeds,
+                                      const std::vector<StabilityLimit>& nominal,
+                                      const std::vector<std::vector<StabilityLimit>>& rows) {
   UncertaintyOutputs out;
   // The probability grid: 0 to the plot's depth axis (given, or 1.2 x the
   // deepest finite limit of any sample, at most the searched depth).

@@ -1,11 +1,13 @@
 // `chatter lobes --samples N`: the Monte Carlo over the [uncertainty] spreads
-// of the config (docs/uncertainty.md). cmd_lobes (main.cpp) adds these
-// options, checks them before computing, runs the samples after the nominal
-// table and lets this file add the quantile columns, the JSON record, the
-// probability table, the summary and the plot.
+// of the config (docs/uncertainty.md). plan_lobes (cmd_lobes.hpp) adds these
+// options and checks them before computing; the samples are solved by
+// sample_limits (in one process, or by ranges across MPI ranks in
+// chatter-mpi), and reduce_uncertainty gives the quantile columns, the
+// probability table and the summary; this file also adds the JSON record.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,12 +42,26 @@ struct UncertaintyOutputs {
   double depth_grid_top_mm = 0.0;    ///< the top of the probability grid
 };
 
-/// Solves every sample at `speeds` with the command's method and options
-/// and reduces them. @throws InputError (no [uncertainty] table, bad
-/// spreads, solver refusal).
-UncertaintyOutputs run_uncertainty(const UncertaintyRequest& request, const Config& cfg, const std::string& method,
-                                   double depth_max_mm, const po::variables_map& vm, const std::vector<double>& speeds,
-                                   const std::vector<StabilityLimit>& nominal, unsigned threads);
+/// Refuses a config without an [uncertainty] table or with spreads its
+/// model and process cannot take, before any solve. @throws InputError.
+void check_uncertainty_config(const Config& cfg);
+
+/// The limits of samples [begin, end) at `speeds` with the command's method
+/// and options (monte_carlo_limits: rows[i - begin][s], bitwise independent of
+/// the range split and of `threads`). `per_sample` as monte_carlo_limits.
+/// @throws InputError (bad spreads, solver refusal), naming --samples.
+std::vector<std::vector<StabilityLimit>> sample_limits(const UncertaintyRequest& request, const Config& cfg,
+                                                       const std::string& method, double depth_max_mm,
+                                                       const po::variables_map& vm, const std::vector<double>& speeds,
+                                                       std::uint64_t begin, std::uint64_t end, unsigned threads,
+                                                       const std::function<void(std::size_t)>& per_sample = {});
+
+/// Reduces the rows of all the samples (rows[i][s], in sample order, as
+/// sample_limits over [0, samples)) to the outputs. Pure; O(N S (log N + D)).
+UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double depth_max_mm,
+                                      const po::variables_map& vm, const std::vector<double>& speeds,
+                                      const std::vector<StabilityLimit>& nominal,
+                                      const std::vector<std::vector<StabilityLimit>>& rows);
 
 /// The lobe JSON with an "uncertainty" record added (samples, seed, spreads in
 /// percent, distribution, quantile definition).

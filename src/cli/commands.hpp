@@ -15,5 +15,6 @@ int cmd_simulate(const std::vector<std::string>& args);   // src/cli/cmd_simulat
 int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coefficients.cpp
 int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
 int cmd_surface(const std::vector<std::string>& args);       // src/cli/cmd_surface.cpp
+int cmd_lobes(const std::vector<std::string>& args);         // src/cli/cmd_lobes.cpp
 
 }  // namespace chatter::cli

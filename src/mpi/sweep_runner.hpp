@@ -1,9 +1,9 @@
 // A generic sweep over MPI ranks (docs/scaling.md): W independent work items,
 // each computed by one rank into a row (bytes, or a vector of
 // StabilityLimit), gathered on rank 0 in item order. Used by `chatter-mpi
-// surface` (an item = one position x a block of speeds); any sweep whose
-// items are independent (Monte Carlo samples, operations) fits the same
-// runner.
+// surface` (an item = one position x a block of speeds) and `chatter-mpi
+// lobes --samples` (an item = a block of Monte Carlo samples x every speed);
+// any sweep whose items are independent fits the same runner.
 //
 // Work split: dynamic, master-worker. Rank 0's main thread serves: it answers
 // each worker's request with the next item index (or "stop"), receives the
