@@ -1425,6 +1425,52 @@ bool find_band(F&& f, double a, double b, double c, double fb, double& at, doubl
   return false;
 }
 
+// The Floquet analysis of the map `pm`, built at `depth_m` on grid `g`
+// (SemiDiscretizationSolver::analyse after its checks).
+FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap& pm, double rpm, double depth_m,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
+  const Dominant d = kernel.dominant(pm, true);
+  FloquetResult r;
+  r.spindle_rpm = rpm;
+  r.depth_m = depth_m;
+  r.spectral_radius = std::abs(d.mu);
+  r.dominant_multiplier = d.mu;
+  r.type = classify(d.mu);
+  // Branch roots (turning at low speed) give the exponent s itself: the
+  // solution is e^{st} sampled at the steps, Im s its frequency.
+  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
+                                                         : chatter_frequency(d.mu, d.vec, pm, g, A, Wx, f_max_hz);
+  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
+  r.map_dimension = pm.dim;
+  r.period_s = pm.tau;
+  r.converged = d.converged;
+  return r;
+}
+
+// The last two period maps of a depth search, by depth: a depth met again
+// (the band search re-reads its lower end, Brent returns a point it has
+// evaluated, which the final analysis then reads) reuses its map.
+class MapCache {
+ public:
+  MapCache(const SdmKernel& kernel, const Grid& g) : kernel_(kernel), g_(g) {}
+  const PeriodMap& at(double depth) {
+    for (int i = 0; i < 2; ++i)
+      if (depth_[i] == depth) return maps_[i];
+    last_ = 1 - last_;
+    depth_[last_] = std::numeric_limits<double>::quiet_NaN();  // not valid if the build throws
+    kernel_.build_map(g_, depth, maps_[last_]);
+    depth_[last_] = depth;
+    return maps_[last_];
+  }
+
+ private:
+  const SdmKernel& kernel_;
+  const Grid& g_;
+  PeriodMap maps_[2];
+  double depth_[2] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  int last_ = 1;
+};
+
 }  // namespace
 
 FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) const {
@@ -1439,22 +1485,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
-  const Dominant d = kernel.dominant(pm, true);
-  FloquetResult r;
-  r.spindle_rpm = rpm;
-  r.depth_m = depth_m;
-  r.spectral_radius = std::abs(d.mu);
-  r.dominant_multiplier = d.mu;
-  r.type = classify(d.mu);
-  // Branch roots (turning at low speed) give the exponent s itself: the
-  // solution is e^{st} sampled at the steps, Im s its frequency.
-  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
-                                                         : chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
-  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
-  r.map_dimension = pm.dim;
-  r.period_s = pm.tau;
-  r.converged = d.converged;
-  return r;
+  return floquet_of(kernel, g, pm, rpm, depth_m, A_, Wx_, f_max_hz_);
 }
 
 StabilityLimit SemiDiscretizationSolver::limit_at(double rpm) const { return limit_at(rpm, nullptr); }
@@ -1467,11 +1498,8 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   const MatrixXd turning_hhat = turning_hhat_of(process_);
   const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
-  PeriodMap pm;
-  auto log_rho = [&](double a) {
-    kernel.build_map(g, a, pm);
-    return std::log(std::abs(kernel.dominant(pm, false).mu));
-  };
+  MapCache maps(kernel, g);
+  auto log_rho = [&](double a) { return std::log(std::abs(kernel.dominant(maps.at(a), false).mu)); };
   // The largest multipliers at depth a: overall (ln ρ), and in the left
   // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
   struct Radii {
@@ -1479,8 +1507,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     Cplx left{0.0, 0.0}, right{0.0, 0.0};
   };
   auto radii = [&](double a) {
-    kernel.build_map(g, a, pm);
-    const Dominant d = kernel.dominant(pm, false, true);
+    const Dominant d = kernel.dominant(maps.at(a), false, true);
     return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
   };
   const double dmax = options_.depth_max_m;
@@ -1527,7 +1554,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     Radii r_lo = r;
     while (true) {
       if (lo >= dmax) {
-        if (floquet) *floquet = analyse(rpm, dmax);
+        if (floquet) *floquet = floquet_of(kernel, g, maps.at(dmax), rpm, dmax, A_, Wx_, f_max_hz_);
         return lim;  // stable up to depth_max
       }
       const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
@@ -1572,7 +1599,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   const double root = detail::refine_root(detail::DepthBracket<double>{lo, hi, flo, fhi, true}, log_rho,
                                           options_.depth_tolerance * lo);
   lim.depth_limit_m = root;
-  const FloquetResult fr = analyse(rpm, root);
+  const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;
   lim.lobe = static_cast<int>(std::floor(fr.chatter_frequency_hz * g.tau));
   if (floquet) *floquet = fr;
