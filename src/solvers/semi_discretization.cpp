@@ -581,11 +581,11 @@ class SdmKernel {
     for (int i = 0; i < M; ++i) {
       const CutterStep& st = c.steps[static_cast<std::size_t>(i)];
       const double* P = st.P.data();
-      for (int row = 0; row < n2; ++row) {
-        double acc = 0.0;
-        for (int col = 0; col < n2; ++col) acc += P[row + col * n2] * x[col];
-        xn[row] = acc;
-      }
+      // xn = P x by columns (each row still sums its products in column
+      // order from 0: the same value as a row-wise dot product).
+      for (int row = 0; row < n2; ++row) xn[row] = 0.0 + P[row] * x[0];
+      for (int col = 1; col < n2; ++col)
+        for (int row = 0; row < n2; ++row) xn[row] += P[row + col * n2] * x[col];
       for (int j = 0; j < st.n_terms; ++j) {
         const auto& [gi, C] = st.terms[static_cast<std::size_t>(j)];
         const double* z = buf + (gi + L) * nr;
