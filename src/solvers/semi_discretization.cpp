@@ -562,10 +562,17 @@ class SdmKernel {
     const CutterMap& c = pm.cm;
     const int n2 = N2 > 0 ? N2 : pm.n2, nr = NR > 0 ? NR : pm.nr, L = c.L, M = static_cast<int>(c.steps.size());
     c.buf.resize(static_cast<std::size_t>((L + M + 1) * nr));
-    c.x.assign(y, y + n2);
-    c.xn.resize(static_cast<std::size_t>(n2));
-    double* x = c.x.data();
-    double* xn = c.xn.data();
+    // The state in local arrays for fixed sizes (kept in registers: no
+    // aliasing with the maps or the samples), else in the map's workspace.
+    constexpr int kLocal = N2 > 0 ? N2 : 1;
+    double xl[kLocal], xnl[kLocal];
+    if (N2 == 0) {
+      c.x.resize(static_cast<std::size_t>(n2));
+      c.xn.resize(static_cast<std::size_t>(n2));
+    }
+    double* x = N2 > 0 ? xl : c.x.data();
+    double* xn = N2 > 0 ? xnl : c.xn.data();
+    std::copy(y, y + n2, x);
     double* buf = c.buf.data();
     const double* W = Wx.data();
     auto project = [&](const double* xv, double* z) {  // z = Wx x
@@ -601,6 +608,7 @@ class SdmKernel {
     for (int l = 1; l <= L; ++l)
       std::copy(buf + (L + M - l) * nr, buf + (L + M - l + 1) * nr, out + n2 + (l - 1) * nr);
   }
+
 
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
