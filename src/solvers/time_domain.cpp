@@ -410,6 +410,7 @@ class Model {
     const double hi = lo + w;
     const double first = std::min(hi, phi_ex_) - std::max(lo, phi_en_);
     const double second = std::min(hi, phi_ex_ + 2.0 * kPi) - std::max(lo, phi_en_ + 2.0 * kPi);
+    if (!(first > 0.0) && !(second > 0.0)) return 0.0;  // outside the arc (what the formula gives)
     return std::min(1.0, (std::max(0.0, first) + std::max(0.0, second)) / w);
   }
   // φ (wrapped to [0, 2π)), sin φ, cos φ of every element at t. With
