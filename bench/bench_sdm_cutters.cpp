@@ -5,7 +5,7 @@
 //  - 2 teeth, 30° helix, case C geometry (a_e/D = 0.05 down, tool 10 mm),
 //    200 speeds over 5 000–25 000 rev/min: target <= 1 s;
 //  - for comparison, the straight uniform case C (the tooth-period path).
-// Run: ./build/bench/bench_sdm_cutters --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// Run: ./build/bench/bench_sdm_cutters --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
 #include <numbers>

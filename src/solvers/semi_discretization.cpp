@@ -137,9 +137,15 @@ MatrixXd fixed_exp(const MatrixXd& m) {
   const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
   return r;
 }
-MatrixXd small_exp(const MatrixXd& m) {
+// The same into `out` (its storage reused when the size matches).
+template <int N>
+void fixed_exp(const MatrixXd& m, MatrixXd& out) {
+  const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
+  out = r;
+}
+void small_exp(const MatrixXd& m, MatrixXd& out) {
   const SmallMatrix r = SmallMatrix(m).exp();
-  return r;
+  out = r;
 }
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
@@ -147,7 +153,27 @@ struct CutterStep {
   double h = 0.0;
   bool free = false;                             // no slice cuts: P = exp(A h)
   MatrixXd P;
-  std::vector<std::pair<int, MatrixXd>> terms;   // (sample index g, 2n × n_r)
+  // (sample index g, 2n × n_r): the first n_terms are the step's terms (the
+  // rest is storage kept from an earlier depth, reused without reallocation).
+  std::vector<std::pair<int, MatrixXd>> terms;
+  int n_terms = 0;
+};
+
+// Where each delayed sample of a step falls on the stored samples: for the
+// start and end of the step, z(t − τ) ≈ (1 − w) z_g + w z_{g+1}.
+struct Located {
+  int g0 = 0, g1 = 0;
+  double w0 = 0.0, w1 = 0.0;
+};
+
+// Depth-independent work of a real-cutter map whose grid is shared by every
+// depth of one speed (straight teeth): the free-flight exponentials and the
+// located delayed samples per step and delay group, filled on first use.
+struct CutterCache {
+  std::shared_ptr<const CutterGrid> grid;  // the grid they belong to (kept alive: a unique key)
+  std::vector<MatrixXd> free_P;            // per step: exp(A h) of a free step
+  std::vector<char> located;               // per step × group: 1 once `where` is set
+  std::vector<Located> where;              // per step × group
 };
 
 // One period of the real-cutter map. Sample g is z at t_g = t[g mod M] +
@@ -156,7 +182,12 @@ struct CutterMap {
   std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T
   std::vector<CutterStep> steps;
   int L = 0;
+  CutterCache cache;
   mutable std::vector<double> buf, x, xn;  // apply() workspace
+  // cutter_map() workspace (kept to avoid reallocating at every depth).
+  std::vector<MatrixXd> Bt, R0, R1, HU;
+  std::vector<int> gid;
+  MatrixXd At, aug, E, Q0, Q1;
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
@@ -328,13 +359,16 @@ class SdmKernel {
   // I], [0, 0, 0]] and R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U (size 2n + 4,
   // independent of the number of delays: B has 2 columns, the force).
   void build_cutter(const Grid& g, double a, PeriodMap& pm) const {
-    if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm);
+    if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm, &g.cutter_grid);
     const CutterGrid cg = cutter_grid(*p_, g, o_.axial_slices, a);
-    cutter_map(g, cg, a, 1.0, pm);
+    cutter_map(g, cg, a, 1.0, pm, nullptr);
   }
 
   // Second pass: the step maps from the grid, its integrals times `scale`.
-  void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm) const {
+  // `shared`: the grid is shared by every depth of the speed, so the
+  // depth-independent parts are kept in pm.cm.cache (else nullptr).
+  void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm,
+                  const std::shared_ptr<const CutterGrid>* shared) const {
     const Process& p = *p_;
     const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows());
     const double T = g.tau;
@@ -353,6 +387,13 @@ class SdmKernel {
     cm.steps.resize(static_cast<std::size_t>(M));
     pm.m = M;
     const int ng = static_cast<int>(cg.gtau.size());
+    CutterCache& cache = cm.cache;
+    if (shared && cache.grid != *shared) {
+      cache.grid = *shared;
+      cache.free_P.assign(static_cast<std::size_t>(M), MatrixXd());
+      cache.located.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(ng), 0);
+      cache.where.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(ng), Located{});
+    }
     const MillingParameters& mp = p.milling_parameters();
     const double cbar = p.process_damping_per_depth(g.rpm);
     const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
@@ -376,37 +417,48 @@ class SdmKernel {
       }
       gi = pr * M + k;
     };
-    std::vector<MatrixXd> Bt, R0, R1, HU;
-    std::vector<int> gid;
-    MatrixXd At(n2, n2), aug;
+    std::vector<MatrixXd>&Bt = cm.Bt, &R0 = cm.R0, &R1 = cm.R1, &HU = cm.HU;
+    std::vector<int>& gid = cm.gid;
+    MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1;
     for (int i = 0; i < M; ++i) {
       const auto iu = static_cast<std::size_t>(i);
       CutterStep& st = cm.steps[iu];
       const double h = cg.h[iu];
       st.h = h;
       st.free = cg.free[iu] != 0;
-      st.terms.clear();
+      st.n_terms = 0;
       if (st.free) {
+        if (shared && cache.free_P[iu].size() > 0) {
+          st.P = cache.free_P[iu];
+          continue;
+        }
         const MatrixXd Ah = A_ * h;
         st.P = n2 == 2 ? fixed_exp<2>(Ah) : n2 == 4 ? fixed_exp<4>(Ah) : MatrixXd(Ah.exp());
+        if (shared) cache.free_P[iu] = st.P;
         continue;
       }
-      Bt.clear();
-      HU.clear();
-      gid.clear();
+      int nd = 0;  // delay groups cutting in this step: Bt, HU, gid [0, nd)
       At = A_;
       for (int k = 0; k < ng; ++k) {
         const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
         if (F.norm() <= kFreeForce * kscale * a * h) continue;
-        HU.push_back((F / h) * U_);
-        Bt.push_back(B_ * HU.back());
-        At.noalias() -= Bt.back() * Wx_;
-        gid.push_back(k);
+        const auto ku = static_cast<std::size_t>(nd);
+        if (ku == HU.size()) {
+          HU.emplace_back();
+          Bt.emplace_back();
+          gid.push_back(0);
+        }
+        HU[ku].noalias() = (F / h) * U_;
+        Bt[ku].noalias() = B_ * HU[ku];
+        At.noalias() -= Bt[ku] * Wx_;
+        gid[ku] = k;
+        ++nd;
       }
       if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
-      const int nd = static_cast<int>(Bt.size());
-      R0.resize(static_cast<std::size_t>(nd));
-      R1.resize(static_cast<std::size_t>(nd));
+      if (R0.size() < static_cast<std::size_t>(nd)) {
+        R0.resize(static_cast<std::size_t>(nd));
+        R1.resize(static_cast<std::size_t>(nd));
+      }
       // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
       // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
       const int nb = static_cast<int>(B_.cols());
@@ -429,13 +481,12 @@ class SdmKernel {
       // Fixed-size exponentials for the common sizes (1 or 2 modes), else
       // stack-allocated up to kSmallAugmented (no heap traffic), else dynamic.
       // (The result type matters: the squaring runs in it.)
-      MatrixXd E;
       if (na == 6)
-        E = fixed_exp<6>(aug);
+        fixed_exp<6>(aug, E);
       else if (na == 8)
-        E = fixed_exp<8>(aug);
+        fixed_exp<8>(aug, E);
       else if (na <= kSmallAugmented)
-        E = small_exp(aug);
+        small_exp(aug, E);
       else
         E = aug.exp();
       st.P = E.topLeftCorner(n2, n2);
@@ -446,35 +497,48 @@ class SdmKernel {
           R0[ku] = E.block(0, n2 + k * nr, n2, nr) / sc - R1[ku];
         }
       } else {
-        const MatrixXd Q1 = E.block(0, n2 + nb, n2, nb) / (sc * sc);
-        const MatrixXd Q0 = E.block(0, n2, n2, nb) / sc - Q1;
+        Q1 = E.block(0, n2 + nb, n2, nb) / (sc * sc);
+        Q0 = E.block(0, n2, n2, nb) / sc - Q1;
         for (int k = 0; k < nd; ++k) {
           const auto ku = static_cast<std::size_t>(k);
-          R0[ku] = Q0 * HU[ku];
-          R1[ku] = Q1 * HU[ku];
+          R0[ku].noalias() = Q0 * HU[ku];
+          R1[ku].noalias() = Q1 * HU[ku];
         }
       }
       auto add = [&](int gi, double w, const MatrixXd& C) {
         if (w == 0.0) return;
         gmin = std::min(gmin, gi);
-        for (auto& [idx, mat] : st.terms)
+        for (int j = 0; j < st.n_terms; ++j) {
+          auto& [idx, mat] = st.terms[static_cast<std::size_t>(j)];
           if (idx == gi) {
             mat += w * C;
             return;
           }
-        st.terms.emplace_back(gi, w * C);
+        }
+        if (static_cast<std::size_t>(st.n_terms) == st.terms.size()) st.terms.emplace_back();
+        auto& slot = st.terms[static_cast<std::size_t>(st.n_terms++)];
+        slot.first = gi;
+        slot.second = w * C;
       };
       for (int k = 0; k < nd; ++k) {
         const auto ku = static_cast<std::size_t>(k);
-        const double tau = cg.gtau[static_cast<std::size_t>(gid[ku])];
-        int gi = 0;
-        double w = 0.0;
-        locate(cm.t[iu] - tau, gi, w);
-        add(gi, 1.0 - w, R0[ku]);
-        add(gi + 1, w, R0[ku]);
-        locate(cm.t[iu + 1] - tau, gi, w);
-        add(gi, 1.0 - w, R1[ku]);
-        add(gi + 1, w, R1[ku]);
+        const std::size_t key = iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(gid[ku]);
+        Located l;
+        if (shared && cache.located[key]) {
+          l = cache.where[key];
+        } else {
+          const double tau = cg.gtau[static_cast<std::size_t>(gid[ku])];
+          locate(cm.t[iu] - tau, l.g0, l.w0);
+          locate(cm.t[iu + 1] - tau, l.g1, l.w1);
+          if (shared) {
+            cache.where[key] = l;
+            cache.located[key] = 1;
+          }
+        }
+        add(l.g0, 1.0 - l.w0, R0[ku]);
+        add(l.g0 + 1, l.w0, R0[ku]);
+        add(l.g1, 1.0 - l.w1, R1[ku]);
+        add(l.g1 + 1, l.w1, R1[ku]);
       }
     }
     cm.L = -gmin;
@@ -485,37 +549,64 @@ class SdmKernel {
   // out = Φ y on the real-cutter map; `record` (if given) receives x at t_0 … t_M.
   static void apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
                            std::vector<double>* record) {
+    if (pm.n2 == 4 && pm.nr == 2) return apply_cutter_n<4, 2>(pm, Wx, y, out, record);
+    if (pm.n2 == 2 && pm.nr == 1) return apply_cutter_n<2, 1>(pm, Wx, y, out, record);
+    return apply_cutter_n<0, 0>(pm, Wx, y, out, record);
+  }
+
+  // N2, NR: compile-time sizes, or 0 for run-time ones (same operations in
+  // the same order either way).
+  template <int N2, int NR>
+  static void apply_cutter_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
+                             std::vector<double>* record) {
     const CutterMap& c = pm.cm;
-    const int n2 = pm.n2, nr = pm.nr, L = c.L, M = static_cast<int>(c.steps.size());
+    const int n2 = N2 > 0 ? N2 : pm.n2, nr = NR > 0 ? NR : pm.nr, L = c.L, M = static_cast<int>(c.steps.size());
     c.buf.resize(static_cast<std::size_t>((L + M + 1) * nr));
-    c.x.assign(y, y + n2);
-    c.xn.resize(static_cast<std::size_t>(n2));
-    for (int l = 1; l <= L; ++l) std::copy(y + n2 + (l - 1) * nr, y + n2 + l * nr, c.buf.data() + (L - l) * nr);
-    using Vec = Eigen::Map<VectorXd>;
-    Vec x(c.x.data(), n2), xn(c.xn.data(), n2);
-    Vec(c.buf.data() + L * nr, nr).noalias() = Wx * x;
-    if (record) record->assign(c.x.begin(), c.x.end());
+    // The state in local arrays for fixed sizes (kept in registers: no
+    // aliasing with the maps or the samples), else in the map's workspace.
+    constexpr int kLocal = N2 > 0 ? N2 : 1;
+    double xl[kLocal], xnl[kLocal];
+    if (N2 == 0) {
+      c.x.resize(static_cast<std::size_t>(n2));
+      c.xn.resize(static_cast<std::size_t>(n2));
+    }
+    double* x = N2 > 0 ? xl : c.x.data();
+    double* xn = N2 > 0 ? xnl : c.xn.data();
+    std::copy(y, y + n2, x);
+    double* buf = c.buf.data();
+    const double* W = Wx.data();
+    auto project = [&](const double* xv, double* z) {  // z = Wx x
+      for (int r = 0; r < nr; ++r) {
+        double acc = 0.0;
+        for (int col = 0; col < n2; ++col) acc += W[r + col * nr] * xv[col];
+        z[r] = acc;
+      }
+    };
+    for (int l = 1; l <= L; ++l) std::copy(y + n2 + (l - 1) * nr, y + n2 + l * nr, buf + (L - l) * nr);
+    project(x, buf + L * nr);
+    if (record) record->assign(x, x + n2);
     for (int i = 0; i < M; ++i) {
       const CutterStep& st = c.steps[static_cast<std::size_t>(i)];
       const double* P = st.P.data();
-      for (int row = 0; row < n2; ++row) {
-        double acc = 0.0;
-        for (int col = 0; col < n2; ++col) acc += P[row + col * n2] * c.x[static_cast<std::size_t>(col)];
-        c.xn[static_cast<std::size_t>(row)] = acc;
-      }
-      for (const auto& [gi, C] : st.terms) {
-        const double* z = c.buf.data() + (gi + L) * nr;
+      // xn = P x by columns (each row still sums its products in column
+      // order from 0: the same value as a row-wise dot product).
+      for (int row = 0; row < n2; ++row) xn[row] = 0.0 + P[row] * x[0];
+      for (int col = 1; col < n2; ++col)
+        for (int row = 0; row < n2; ++row) xn[row] += P[row + col * n2] * x[col];
+      for (int j = 0; j < st.n_terms; ++j) {
+        const auto& [gi, C] = st.terms[static_cast<std::size_t>(j)];
+        const double* z = buf + (gi + L) * nr;
         const double* Cd = C.data();
         for (int r = 0; r < nr; ++r)
-          for (int row = 0; row < n2; ++row) c.xn[static_cast<std::size_t>(row)] += Cd[row + r * n2] * z[r];
+          for (int row = 0; row < n2; ++row) xn[row] += Cd[row + r * n2] * z[r];
       }
-      x = xn;
-      Vec(c.buf.data() + (L + i + 1) * nr, nr).noalias() = Wx * x;
-      if (record) record->insert(record->end(), c.x.begin(), c.x.end());
+      std::copy(xn, xn + n2, x);
+      project(x, buf + (L + i + 1) * nr);
+      if (record) record->insert(record->end(), x, x + n2);
     }
-    std::copy(c.x.begin(), c.x.end(), out);
+    std::copy(x, x + n2, out);
     for (int l = 1; l <= L; ++l)
-      std::copy(c.buf.data() + (L + M - l) * nr, c.buf.data() + (L + M - l + 1) * nr, out + n2 + (l - 1) * nr);
+      std::copy(buf + (L + M - l) * nr, buf + (L + M - l + 1) * nr, out + n2 + (l - 1) * nr);
   }
 
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
@@ -1341,6 +1432,52 @@ bool find_band(F&& f, double a, double b, double c, double fb, double& at, doubl
   return false;
 }
 
+// The Floquet analysis of the map `pm`, built at `depth_m` on grid `g`
+// (SemiDiscretizationSolver::analyse after its checks).
+FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap& pm, double rpm, double depth_m,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
+  const Dominant d = kernel.dominant(pm, true);
+  FloquetResult r;
+  r.spindle_rpm = rpm;
+  r.depth_m = depth_m;
+  r.spectral_radius = std::abs(d.mu);
+  r.dominant_multiplier = d.mu;
+  r.type = classify(d.mu);
+  // Branch roots (turning at low speed) give the exponent s itself: the
+  // solution is e^{st} sampled at the steps, Im s its frequency.
+  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
+                                                         : chatter_frequency(d.mu, d.vec, pm, g, A, Wx, f_max_hz);
+  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
+  r.map_dimension = pm.dim;
+  r.period_s = pm.tau;
+  r.converged = d.converged;
+  return r;
+}
+
+// The last two period maps of a depth search, by depth: a depth met again
+// (the band search re-reads its lower end, Brent returns a point it has
+// evaluated, which the final analysis then reads) reuses its map.
+class MapCache {
+ public:
+  MapCache(const SdmKernel& kernel, const Grid& g) : kernel_(kernel), g_(g) {}
+  const PeriodMap& at(double depth) {
+    for (int i = 0; i < 2; ++i)
+      if (depth_[i] == depth) return maps_[i];
+    last_ = 1 - last_;
+    depth_[last_] = std::numeric_limits<double>::quiet_NaN();  // not valid if the build throws
+    kernel_.build_map(g_, depth, maps_[last_]);
+    depth_[last_] = depth;
+    return maps_[last_];
+  }
+
+ private:
+  const SdmKernel& kernel_;
+  const Grid& g_;
+  PeriodMap maps_[2];
+  double depth_[2] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  int last_ = 1;
+};
+
 }  // namespace
 
 FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) const {
@@ -1355,22 +1492,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
-  const Dominant d = kernel.dominant(pm, true);
-  FloquetResult r;
-  r.spindle_rpm = rpm;
-  r.depth_m = depth_m;
-  r.spectral_radius = std::abs(d.mu);
-  r.dominant_multiplier = d.mu;
-  r.type = classify(d.mu);
-  // Branch roots (turning at low speed) give the exponent s itself: the
-  // solution is e^{st} sampled at the steps, Im s its frequency.
-  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
-                                                         : chatter_frequency(d.mu, d.vec, pm, g, A_, Wx_, f_max_hz_);
-  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
-  r.map_dimension = pm.dim;
-  r.period_s = pm.tau;
-  r.converged = d.converged;
-  return r;
+  return floquet_of(kernel, g, pm, rpm, depth_m, A_, Wx_, f_max_hz_);
 }
 
 StabilityLimit SemiDiscretizationSolver::limit_at(double rpm) const { return limit_at(rpm, nullptr); }
@@ -1383,11 +1505,8 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   const MatrixXd turning_hhat = turning_hhat_of(process_);
   const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
-  PeriodMap pm;
-  auto log_rho = [&](double a) {
-    kernel.build_map(g, a, pm);
-    return std::log(std::abs(kernel.dominant(pm, false).mu));
-  };
+  MapCache maps(kernel, g);
+  auto log_rho = [&](double a) { return std::log(std::abs(kernel.dominant(maps.at(a), false).mu)); };
   // The largest multipliers at depth a: overall (ln ρ), and in the left
   // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
   struct Radii {
@@ -1395,8 +1514,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     Cplx left{0.0, 0.0}, right{0.0, 0.0};
   };
   auto radii = [&](double a) {
-    kernel.build_map(g, a, pm);
-    const Dominant d = kernel.dominant(pm, false, true);
+    const Dominant d = kernel.dominant(maps.at(a), false, true);
     return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
   };
   const double dmax = options_.depth_max_m;
@@ -1443,7 +1561,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     Radii r_lo = r;
     while (true) {
       if (lo >= dmax) {
-        if (floquet) *floquet = analyse(rpm, dmax);
+        if (floquet) *floquet = floquet_of(kernel, g, maps.at(dmax), rpm, dmax, A_, Wx_, f_max_hz_);
         return lim;  // stable up to depth_max
       }
       const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
@@ -1488,7 +1606,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   const double root = detail::refine_root(detail::DepthBracket<double>{lo, hi, flo, fhi, true}, log_rho,
                                           options_.depth_tolerance * lo);
   lim.depth_limit_m = root;
-  const FloquetResult fr = analyse(rpm, root);
+  const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;
   lim.lobe = static_cast<int>(std::floor(fr.chatter_frequency_hz * g.tau));
   if (floquet) *floquet = fr;
