@@ -13,6 +13,7 @@
 #include <memory>
 #include <numbers>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -137,15 +138,156 @@ MatrixXd fixed_exp(const MatrixXd& m) {
   const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
   return r;
 }
-// The same into `out` (its storage reused when the size matches).
-template <int N>
-void fixed_exp(const MatrixXd& m, MatrixXd& out) {
-  const Eigen::Matrix<double, N, N> r = Eigen::Matrix<double, N, N>(m).exp();
-  out = r;
-}
 void small_exp(const MatrixXd& m, MatrixXd& out) {
   const SmallMatrix r = SmallMatrix(m).exp();
   out = r;
+}
+
+// exp of the augmented step matrix M = [[X, Y, 0], [0, 0, s I], [0, 0, 0]]
+// (X: N × N, Y: N × K, I: K × K) by blocks. M and all its powers and Padé
+// polynomials keep the form [[A, B, C], [0, α I, β I], [0, 0, α I]], so the
+// diagonal Padé approximant r_m(M) = (V − U)⁻¹ (V + U) of Higham ("The
+// scaling and squaring method for the matrix exponential revisited", SIAM J.
+// Matrix Anal. Appl. 26, 2005) — the degree m ∈ {3, 5, 7, 9, 13} and the
+// scaling 2^−q chosen by ‖M‖₁ as in Eigen's MatrixBase::exp, which the
+// dense path applies to the whole matrix — needs products of N × N and
+// N × K blocks and one N × N inverse instead of (N + 2K)² work. Same
+// approximant, so the same blocks up to round-off. Returns e^X in P, the
+// (1,2) block in G1 and the (1,3) block in G2.
+template <int N, int K>
+struct AugmentedBlocks {
+  Eigen::Matrix<double, N, N> A;
+  Eigen::Matrix<double, N, K> B, C;
+  double al = 0.0, be = 0.0;
+
+  static AugmentedBlocks identity() {
+    AugmentedBlocks r;
+    r.A.setIdentity();
+    r.B.setZero();
+    r.C.setZero();
+    r.al = 1.0;
+    r.be = 0.0;
+    return r;
+  }
+  AugmentedBlocks operator*(const AugmentedBlocks& o) const {
+    AugmentedBlocks r;
+    r.A.noalias() = A * o.A;
+    r.B.noalias() = A * o.B;
+    r.B += B * o.al;
+    r.C.noalias() = A * o.C;
+    r.C += B * o.be + C * o.al;
+    r.al = al * o.al;
+    r.be = al * o.be + be * o.al;
+    return r;
+  }
+  // this += c · o
+  void add(double c, const AugmentedBlocks& o) {
+    A += c * o.A;
+    B += c * o.B;
+    C += c * o.C;
+    al += c * o.al;
+    be += c * o.be;
+  }
+};
+
+template <int N, int K>
+void augmented_exp(const Eigen::Matrix<double, N, N>& X, const Eigen::Matrix<double, N, K>& Y, double s,
+                   Eigen::Matrix<double, N, N>& P, Eigen::Matrix<double, N, K>& G1, Eigen::Matrix<double, N, K>& G2) {
+  using Blk = AugmentedBlocks<N, K>;
+  // Higham's θ_m for double (the largest ‖M‖₁ at which degree m is accurate
+  // to unit round-off), and the Padé coefficients b_0 … b_m.
+  static constexpr double kTheta[] = {1.495585217958292e-2, 2.539398330063230e-1, 9.504178996162932e-1,
+                                      2.097847961257068e0, 5.371920351148152e0};
+  static constexpr int kDegree[] = {3, 5, 7, 9, 13};
+  static constexpr double b3[] = {120.0, 60.0, 12.0, 1.0};
+  static constexpr double b5[] = {30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0};
+  static constexpr double b7[] = {17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0};
+  static constexpr double b9[] = {17643225600.0, 8821612800.0, 2075673600.0, 302702400.0, 30270240.0,
+                                  2162160.0,     110880.0,      3960.0,        90.0,        1.0};
+  static constexpr double b13[] = {64764752532480000.0, 32382376266240000.0, 7771770303897600.0,
+                                   1187353796428800.0,  129060195264000.0,   10559470521600.0,
+                                   670442572800.0,      33522128640.0,       1323241920.0,
+                                   40840800.0,          960960.0,            16380.0,
+                                   182.0,               1.0};
+  // ‖M‖₁: the largest column sum over the X, Y and s I columns.
+  double norm = std::max(X.cwiseAbs().colwise().sum().maxCoeff(), std::abs(s));
+  if (K > 0) norm = std::max(norm, Y.cwiseAbs().colwise().sum().maxCoeff());
+  int pick = 4, q = 0;
+  for (int i = 0; i < 4; ++i)
+    if (norm < kTheta[i]) {
+      pick = i;
+      break;
+    }
+  Blk M;
+  M.A = X;
+  M.B = Y;
+  M.C.setZero();
+  M.al = 0.0;
+  M.be = s;
+  if (pick == 4) {
+    std::frexp(norm / kTheta[4], &q);
+    q = std::max(q, 0);
+    const double f = std::ldexp(1.0, -q);
+    M.A *= f;
+    M.B *= f;
+    M.be *= f;
+  }
+  const int m = kDegree[pick];
+  const double* b = pick == 0 ? b3 : pick == 1 ? b5 : pick == 2 ? b7 : pick == 3 ? b9 : b13;
+  // Even powers M², M⁴, …, M^(m−1); U = M Σ b_odd M^(k−1), V = Σ b_even M^k.
+  const Blk M2 = M * M;
+  Blk even = Blk::identity();
+  Blk odd_sum = Blk::identity();
+  odd_sum.A *= b[1];
+  odd_sum.al *= b[1];
+  Blk V = Blk::identity();
+  V.A *= b[0];
+  V.al *= b[0];
+  for (int k = 2; k < m; k += 2) {
+    even = even * M2;
+    V.add(b[k], even);
+    odd_sum.add(b[k + 1], even);
+  }
+  const Blk U = M * odd_sum;
+  Blk num = V, den = V;
+  num.add(1.0, U);
+  den.add(-1.0, U);
+  // (V − U) R = (V + U), block back-substitution.
+  const Eigen::Matrix<double, N, N> Ainv = den.A.inverse();
+  Blk R;
+  R.al = num.al / den.al;
+  R.be = (num.be - den.be * R.al) / den.al;
+  R.A.noalias() = Ainv * num.A;
+  R.B.noalias() = Ainv * (num.B - den.B * R.al);
+  R.C.noalias() = Ainv * (num.C - den.B * R.be - den.C * R.al);
+  for (int i = 0; i < q; ++i) R = R * R;
+  P = R.A;
+  G1 = R.B;
+  G2 = R.C;
+}
+
+// The augmented step exponential for the common sizes (N = 2n of one or two
+// modes, K <= 2 input columns); false for others (then the dense
+// exponential of the whole matrix is used).
+bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, MatrixXd& G1, MatrixXd& G2) {
+  auto run = [&](auto n_tag, auto k_tag) {
+    constexpr int N = decltype(n_tag)::value, K = decltype(k_tag)::value;
+    Eigen::Matrix<double, N, N> p;
+    Eigen::Matrix<double, N, K> g1, g2;
+    augmented_exp<N, K>(X, Y, s, p, g1, g2);
+    P = p;
+    G1 = g1;
+    G2 = g2;
+    return true;
+  };
+  using I1 = std::integral_constant<int, 1>;
+  using I2 = std::integral_constant<int, 2>;
+  using I4 = std::integral_constant<int, 4>;
+  if (X.rows() == 4 && Y.cols() == 2) return run(I4{}, I2{});
+  if (X.rows() == 4 && Y.cols() == 1) return run(I4{}, I1{});
+  if (X.rows() == 2 && Y.cols() == 2) return run(I2{}, I2{});
+  if (X.rows() == 2 && Y.cols() == 1) return run(I2{}, I1{});
+  return false;
 }
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
@@ -187,7 +329,7 @@ struct CutterMap {
   // cutter_map() workspace (kept to avoid reallocating at every depth).
   std::vector<MatrixXd> Bt, R0, R1, HU;
   std::vector<int> gid;
-  MatrixXd At, aug, E, Q0, Q1;
+  MatrixXd At, aug, E, Q0, Q1, Xh, Yh, G1, G2;
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
@@ -419,7 +561,8 @@ class SdmKernel {
     };
     std::vector<MatrixXd>&Bt = cm.Bt, &R0 = cm.R0, &R1 = cm.R1, &HU = cm.HU;
     std::vector<int>& gid = cm.gid;
-    MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1;
+    MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1, &Xh = cm.Xh, &Yh = cm.Yh, &G1 = cm.G1,
+             &G2 = cm.G2;
     for (int i = 0; i < M; ++i) {
       const auto iu = static_cast<std::size_t>(i);
       CutterStep& st = cm.steps[iu];
@@ -468,37 +611,40 @@ class SdmKernel {
       // the exponential scale by sc and sc², undone below): the norm of the
       // augmented matrix is then that of Ã h, so the Padé degree and the
       // squarings stay low (with I of norm 1, every step took degree 9).
-      aug.setZero(na, na);
-      aug.topLeftCorner(n2, n2) = At * h;
-      const double sc = std::clamp(aug.topLeftCorner(n2, n2).cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
+      Xh = At * h;
+      const double sc = std::clamp(Xh.cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
+      const int nk = stacked ? nd * nr : nb;  // input columns
+      Yh.resize(n2, nk);
       if (stacked) {
-        for (int k = 0; k < nd; ++k) aug.block(0, n2 + k * nr, n2, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
-        aug.block(n2, n2 + nd * nr, nd * nr, nd * nr) = MatrixXd::Identity(nd * nr, nd * nr) * sc;
+        for (int k = 0; k < nd; ++k) Yh.middleCols(k * nr, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
       } else {
-        aug.block(0, n2, n2, nb) = B_ * (h * sc);
-        aug.block(n2, n2 + nb, nb, nb) = MatrixXd::Identity(nb, nb) * sc;
+        Yh = B_ * (h * sc);
       }
-      // Fixed-size exponentials for the common sizes (1 or 2 modes), else
-      // stack-allocated up to kSmallAugmented (no heap traffic), else dynamic.
-      // (The result type matters: the squaring runs in it.)
-      if (na == 6)
-        fixed_exp<6>(aug, E);
-      else if (na == 8)
-        fixed_exp<8>(aug, E);
-      else if (na <= kSmallAugmented)
-        small_exp(aug, E);
-      else
-        E = aug.exp();
-      st.P = E.topLeftCorner(n2, n2);
+      // The blocks of the exponential: by blocks for the common sizes (1 or
+      // 2 modes, augmented_exp), else of the whole matrix, stack-allocated up
+      // to kSmallAugmented (no heap traffic), else dynamic.
+      if (!augmented_exp(Xh, Yh, sc, st.P, G1, G2)) {
+        aug.setZero(na, na);
+        aug.topLeftCorner(n2, n2) = Xh;
+        aug.block(0, n2, n2, nk) = Yh;
+        aug.block(n2, n2 + nk, nk, nk) = MatrixXd::Identity(nk, nk) * sc;
+        if (na <= kSmallAugmented)
+          small_exp(aug, E);
+        else
+          E = aug.exp();
+        st.P = E.topLeftCorner(n2, n2);
+        G1 = E.block(0, n2, n2, nk);
+        G2 = E.block(0, n2 + nk, n2, nk);
+      }
       if (stacked) {
         for (int k = 0; k < nd; ++k) {
           const auto ku = static_cast<std::size_t>(k);
-          R1[ku] = E.block(0, n2 + nd * nr + k * nr, n2, nr) / (sc * sc);
-          R0[ku] = E.block(0, n2 + k * nr, n2, nr) / sc - R1[ku];
+          R1[ku] = G2.middleCols(k * nr, nr) / (sc * sc);
+          R0[ku] = G1.middleCols(k * nr, nr) / sc - R1[ku];
         }
       } else {
-        Q1 = E.block(0, n2 + nb, n2, nb) / (sc * sc);
-        Q0 = E.block(0, n2, n2, nb) / sc - Q1;
+        Q1 = G2 / (sc * sc);
+        Q0 = G1 / sc - Q1;
         for (int k = 0; k < nd; ++k) {
           const auto ku = static_cast<std::size_t>(k);
           R0[ku].noalias() = Q0 * HU[ku];
