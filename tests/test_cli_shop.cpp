@@ -225,6 +225,15 @@ TEST_F(ShopCli, CoefficientsBadInputExits2AndWritesNothing) {
   check("series_bad.csv", "feed_per_tooth_mm,depth_mm,spindle_rpm,series\n0.1,2,3000,back.csv\n",
         "line 4: time_s = 0.005 is not after");
   check("empty.csv", "", "empty");
+  // Fuzzing (shop target): fy = 2.9e275 N overflowed the fit's sums of squares
+  // and made R^2 NaN; forces beyond 1e6 N and power beyond 10 MW are refused.
+  check("huge_force.csv", "feed_per_tooth_mm,depth_mm,fx_mean_n,fy_mean_n\n0.1,2,-50,300\n0.2,2,-90,2.9e275\n0.3,2,-130,820\n",
+        "line 3: fy_mean_n = 2.9e+275: must be within +-1e6 N");
+  write("huge.csv", "time_s,fx_n,fy_n\n0,1,2\n0.1,19.21,290e273\n");
+  check("series_huge.csv", "feed_per_tooth_mm,depth_mm,spindle_rpm,series\n0.1,2,3000,huge.csv\n",
+        "line 3: fy_n = 2.9e+275: must be within +-1e6 N");
+  check("huge_power.csv", "feed_per_tooth_mm,depth_mm,spindle_rpm,power_w\n0.1,2,3000,500\n0.2,2,3000,1e300\n0.3,2,3000,900\n",
+        "line 3: power_w = 1e+300: must be <= 1e7 W");
 }
 
 TEST_F(ShopCli, DetectFindsSimulatedChatterAtSimulatesFrequency) {

@@ -126,6 +126,19 @@ void rule(bool ok, const fs::path& file, int line, const std::string& c, double 
   if (!ok) throw InputError(file.string() + ": line " + std::to_string(line) + ": " + c + " = " + num(v) + ": " + r);
 }
 
+/// Largest force magnitude a cutting test can measure, N (about 100 tonnes-force):
+/// beyond it a column is in another unit or holds a glitch, and squaring it in
+/// the fit overflowed (fuzzing: fy = 2.9e275 N made R^2 NaN).
+constexpr double kMaxForceN = 1e6;
+
+double force_cell(const fs::path& file, int line, const std::vector<std::string>& cells, const Header& h,
+                  const std::string& column) {
+  const double v = cell(file, line, cells, h, column);
+  rule(std::abs(v) <= kMaxForceN, file, line, column, v,
+       "must be within +-1e6 N (a cutting force in N; is the column in another unit?)");
+  return v;
+}
+
 }  // namespace
 
 ForceSeries read_force_series(const fs::path& file) {
@@ -143,9 +156,9 @@ ForceSeries read_force_series(const fs::path& file) {
                        " is not after the previous time " + num(s.time_s.back()) +
                        " s: time must increase strictly");
     s.time_s.push_back(t);
-    s.fx_n.push_back(cell(file, line, cells, h, "fx_n"));
-    s.fy_n.push_back(cell(file, line, cells, h, "fy_n"));
-    if (z) s.fz_n.push_back(cell(file, line, cells, h, "fz_n"));
+    s.fx_n.push_back(force_cell(file, line, cells, h, "fx_n"));
+    s.fy_n.push_back(force_cell(file, line, cells, h, "fy_n"));
+    if (z) s.fz_n.push_back(force_cell(file, line, cells, h, "fz_n"));
   }
   if (s.time_s.size() < 2)
     throw InputError(file.string() + ": " + std::to_string(s.time_s.size()) +
@@ -186,9 +199,10 @@ CoefficientTests read_coefficient_tests(const fs::path& file) {
     rule(a > 0 && a < 1000, file, line, "depth_mm", a, "must be in (0, 1000) mm");
     t.line.push_back(line);
     if (t.route == CoefficientRoute::kForces) {
-      ForceTest ft{f * 1e-3, a * 1e-3, cell(file, line, cells, h, "fx_mean_n"), cell(file, line, cells, h, "fy_mean_n")};
+      ForceTest ft{f * 1e-3, a * 1e-3, force_cell(file, line, cells, h, "fx_mean_n"),
+                   force_cell(file, line, cells, h, "fy_mean_n")};
       t.forces.push_back(ft);
-      if (z) t.fz_mean_n.push_back(cell(file, line, cells, h, "fz_mean_n"));
+      if (z) t.fz_mean_n.push_back(force_cell(file, line, cells, h, "fz_mean_n"));
       continue;
     }
     const double rpm = cell(file, line, cells, h, "spindle_rpm");
@@ -196,6 +210,7 @@ CoefficientTests read_coefficient_tests(const fs::path& file) {
     if (t.route == CoefficientRoute::kPower) {
       const double p = cell(file, line, cells, h, "power_w");
       rule(p >= 0, file, line, "power_w", p, "must be >= 0 W (net cutting power: cutting minus idle)");
+      rule(p <= 1e7, file, line, "power_w", p, "must be <= 1e7 W (10 MW: is the column in W?)");
       t.power.push_back({f * 1e-3, a * 1e-3, rpm, p});
       continue;
     }
