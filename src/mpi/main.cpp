@@ -158,6 +158,26 @@ std::size_t broadcast_count(MPI_Comm comm, std::size_t on_rank0) {
   return static_cast<std::size_t>(n);
 }
 
+/// Runs the sweep with the test hooks and, on rank 0, a progress line; the
+/// rows on rank 0 (empty elsewhere), or nullopt after reporting a failed rank.
+std::optional<std::vector<std::vector<chatter::StabilityLimit>>> gather(
+    MPI_Comm comm, int rank, const po::variables_map& vm, std::size_t n, const std::string& label,
+    const std::function<std::vector<chatter::StabilityLimit>(std::size_t)>& compute) {
+  chatter::mpi::SweepHooks hooks = test_hooks();
+  std::optional<cli::Progress> progress;
+  if (rank == 0) {
+    progress.emplace(vm, n, label);
+    hooks.progress = [&](std::size_t done) { progress->tick(done); };
+  }
+  try {
+    return chatter::mpi::run_sweep(comm, n, compute, hooks);
+  } catch (const chatter::mpi::RankFailed& e) {
+    progress.reset();
+    std::cerr << "chatter-mpi: " << e.what() << " (the run failed: nothing written)\n";
+    return std::nullopt;
+  }
+}
+
 int run_surface(const std::vector<std::string>& args, MPI_Comm comm, int rank, int size) {
   std::optional<cli::SurfacePlan> plan;
   std::string plan_error;
@@ -182,22 +202,11 @@ int run_surface(const std::vector<std::string>& args, MPI_Comm comm, int rank, i
     return row;
   };
 
-  chatter::mpi::SweepHooks hooks = test_hooks();
-  std::optional<cli::Progress> progress;
-  if (rank == 0) {
-    progress.emplace(plan->vm, n, "surface (" + plan->method + ", " + std::to_string(size) + " processes)");
-    hooks.progress = [&](std::size_t done) { progress->tick(done); };
-  }
-  std::vector<std::vector<chatter::StabilityLimit>> parts;
-  try {
-    parts = chatter::mpi::run_sweep(comm, n, compute, hooks);
-  } catch (const chatter::mpi::RankFailed& e) {
-    progress.reset();
-    std::cerr << "chatter-mpi: " << e.what() << " (the run failed: nothing written)\n";
-    return 1;
-  }
+  auto gathered = gather(comm, rank, plan->vm, n,
+                         "surface (" + plan->method + ", " + std::to_string(size) + " processes)", compute);
+  if (!gathered) return 1;
   if (rank != 0) return 0;
-  progress.reset();
+  const auto& parts = *gathered;
 
   // Assemble rows[position][speed] in item order, then write as `chatter surface`.
   std::vector<std::vector<chatter::StabilityLimit>> rows(positions);
@@ -268,23 +277,11 @@ int run_lobes(const std::vector<std::string>& args, MPI_Comm comm, int rank, int
     return flat;
   };
 
-  chatter::mpi::SweepHooks hooks = test_hooks();
-  std::optional<cli::Progress> progress;
-  if (rank == 0) {
-    progress.emplace(plan->vm, n,
-                     "Monte Carlo (" + plan->common.method + ", " + std::to_string(size) + " processes)");
-    hooks.progress = [&](std::size_t done) { progress->tick(done); };
-  }
-  std::vector<std::vector<chatter::StabilityLimit>> parts;
-  try {
-    parts = chatter::mpi::run_sweep(comm, n, compute, hooks);
-  } catch (const chatter::mpi::RankFailed& e) {
-    progress.reset();
-    std::cerr << "chatter-mpi: " << e.what() << " (the run failed: nothing written)\n";
-    return 1;
-  }
+  auto gathered = gather(comm, rank, plan->vm, n,
+                         "Monte Carlo (" + plan->common.method + ", " + std::to_string(size) + " processes)", compute);
+  if (!gathered) return 1;
   if (rank != 0) return 0;
-  progress.reset();
+  const auto& parts = *gathered;
   nominal_thread.join();
   if (nominal_error) return report(nominal_error, "lobes");
 
