@@ -3,7 +3,13 @@
 // input, with a message). Anything else (a crash, another exception, a NaN
 // depth, an accepted config with a non-physical value, a cutter breaking the
 // rules of Process::milling: pitch angles summing to 2π, helix in [0, π/2),
-// runout below the radius, ...) aborts.
+// runout below the radius, ...) aborts. Where the config has a position
+// dependence ([[positions]] or cantilever modes, docs/position.md), the model
+// at both ends and the middle of its range must be physical too (or refused
+// with an InputError when only rigid modes are left); where it has an
+// [uncertainty] table (docs/uncertainty.md), the spreads must pass their own
+// rules and a 3-sigma-bounded sample must still be a physical model and
+// process.
 //
 // Build and run: see docs/reliability.md (scripts/fuzz.sh). The same entry
 // point runs over fuzz/corpus/config/ in the test suite (test_fuzz_corpus).
@@ -17,6 +23,8 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/position.hpp"
+#include "chatter/uncertainty.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace {
@@ -101,6 +109,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   check_body(cfg.model.tool);
   check_body(cfg.model.workpiece);
   check_process(cfg.process);
+  if (!cfg.position.empty()) {
+    if (!cfg.position.validate().empty()) fail("accepted an invalid position dependence");
+    const auto [lo, hi] = cfg.position.range_m();
+    if (!(std::isfinite(lo) && std::isfinite(hi) && lo >= 0 && hi > lo)) fail("position range");
+    for (double x : {lo, 0.5 * (lo + hi), hi}) {
+      try {
+        const chatter::StructuralModel at = chatter::model_at_position(cfg, x);
+        if (at.mode_count() == 0) fail("rigid model at a position");
+        check_body(at.tool);
+        check_body(at.workpiece);
+      } catch (const chatter::InputError&) {
+        if (x != lo) fail("position inside the range refused");  // only the clamp of a cantilever may be rigid
+      }
+    }
+  }
+  if (cfg.uncertainty) {
+    if (!cfg.uncertainty->validate(cfg.model, cfg.process).empty()) fail("accepted invalid uncertainty spreads");
+    for (std::uint64_t sample : {0u, 1u, 7u}) {
+      const chatter::UncertainSample s = chatter::sample_inputs(cfg.model, cfg.process, *cfg.uncertainty, 1, sample);
+      if (s.model.mode_count() != cfg.model.mode_count()) fail("sample changed the mode count");
+      check_body(s.model.tool);
+      check_body(s.model.workpiece);
+      check_process(s.process);
+    }
+  }
   try {
     chatter::TransferFunctionOptions opt;
     opt.depth_max_m = 0.05;
