@@ -1089,6 +1089,13 @@ TEST(ConfigCutter, ImpossibleCuttersAreRefusedWithKeyAndRule) {
                                {"process.radial_depth_mm = 3: not with radial_immersion"}));
   EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\nrunout_um = [10, 0]\n"),
                                {"process.runout_um = [10, 0]: has 2 values: need one radial offset per tooth (teeth = 4)"}));
+  // Runout beyond the radius: the element named; with one tooth a single
+  // number is the list (found by fuzzing: it dereferenced a missing array).
+  EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + ok + "radial_immersion = 1\nrunout_um = [10, 0, 6000, 0]\n"),
+                               {"process.runout_um[2] = 6000: must be smaller than the tool radius (6000 um)"}));
+  EXPECT_TRUE(ThrowsInputError(Milling("teeth = 1\ntangential_coefficient_n_per_mm2 = 600\ntool_diameter_mm = 10\n" + ok +
+                                       "radial_immersion = 0.3\nrunout_um = 1e5\n"),
+                               {"process.runout_um = 1e5: must be smaller than the tool radius (5000 um)"}));
   EXPECT_TRUE(ThrowsInputError(Milling(kCutterHead + "radial_coefficient_ratio = 0.3\nradial_coefficient_n_per_m2 = 2e8\n"
                                                      "radial_immersion = 1\n"),
                                {"process.radial_coefficient_n_per_m2 = 2e8: not with radial_coefficient_ratio"}));

@@ -365,6 +365,15 @@ class Table {
     return v;
   }
 
+  /// Item `index` of a number_list key: the array's element and its path, or
+  /// the key's own node and path when it holds one number (a list of one).
+  /// @pre find(key) is present and number_list(key, ...) read `index`.
+  std::pair<Path, const toml::node*> list_item(std::string_view key, std::size_t index) const {
+    const toml::node* n = find(key);
+    if (const toml::array* a = n->as_array()) return {element(path_of(key), index), a->get(index)};
+    return {path_of(key), n};
+  }
+
   /// One number or an array of numbers, each in `range`; nullopt if absent
   /// or bad (every bad element recorded with its index).
   std::optional<std::vector<double>> number_list(std::string_view key, const Range& range) const {
@@ -1141,9 +1150,12 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                         std::to_string(nt) + "), in um");
         else if (diameter_mm)
           for (std::size_t j = 0; j < nt; ++j)
-            if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm)
-              doc.error(element(process->path_of("runout_um"), j), *process->find("runout_um")->as_array()->get(j),
+            if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm) {
+              // `runout_um = 1e5` with one tooth is a list of one: no element to point at.
+              const auto [where, node] = process->list_item("runout_um", j);
+              doc.error(where, *node,
                         "must be smaller than the tool radius (" + number_text(0.5 * *diameter_mm * 1e3) + " um)");
+            }
       }
     }
     stop_if_errors_since(doc, mark);
