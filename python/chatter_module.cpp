@@ -32,6 +32,7 @@
 #include "chatter/operations.hpp"
 #include "chatter/solvers.hpp"
 #include "chatter/time_domain.hpp"
+#include "chatter/uncertainty.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -46,6 +47,8 @@ constexpr int kDefaultRpmPoints = 400;
 constexpr long long kMaxRpmPoints = 1'000'000;
 constexpr long long kMaxSurfacePoints = 4'000'000;  // positions x speeds, as the CLI's surface
 constexpr int kDefaultPositionPoints = 21;           // as the CLI's surface
+constexpr long long kMaxMonteCarloSolves = 25'000'000;  // samples x speeds, as the CLI's lobes --samples
+constexpr int kDefaultDepthPoints = 101;                // as the CLI's --depth-points
 constexpr double kDefaultFeedMm = 0.1;         // chatter simulate's feed default
 constexpr double kDefaultSimRtol = 1e-7;       // chatter simulate --rtol default
 constexpr double kDefaultSpeedTolPct = 2.0;    // chatter check --speed-tolerance-pct default
@@ -868,6 +871,96 @@ py::dict surface(const Job& job, const std::string& method, std::optional<double
   return out;
 }
 
+// ------------------------------------------------------------------ Monte Carlo
+
+/// `chatter lobes --samples N`'s numbers as arrays (docs/uncertainty.md): the
+/// nominal lobes, the 5/50/95 % quantile lobes of N models drawn from the
+/// config's [uncertainty] spreads, and the probability of stability over a
+/// (speed, depth) grid chosen as the CLI's (chatter::probability_depth_grid).
+/// Same seed, same numbers as the CLI, whatever `threads`.
+py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long samples, long long seed,
+                         std::optional<double> rpm_min, std::optional<double> rpm_max, std::optional<int> rpm_points,
+                         std::optional<double> depth_max_mm, int depth_points,
+                         std::optional<double> probability_depth_max_mm, int threads,
+                         const std::optional<py::dict>& options, std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
+  const chatter::Config& cfg = *job.cfg;
+  if (!cfg.uncertainty)
+    throw InputError(cfg.source.string() +
+                     ": no [uncertainty] table (give the 1-sigma spreads in percent; docs/config.md)");
+  if (const std::string why = cfg.uncertainty->validate(cfg.model, cfg.process); !why.empty())
+    throw InputError(cfg.source.string() + ": uncertainty: " + why);
+  const std::vector<double> speeds = even_speeds(cfg, rpm_min, rpm_max, rpm_points);
+  if (samples < 1) throw InputError("samples = " + std::to_string(samples) + ": must be >= 1");
+  if (samples > kMaxMonteCarloSolves / static_cast<long long>(speeds.size()))
+    throw InputError("samples x rpm_points = " + std::to_string(samples) + " x " + std::to_string(speeds.size()) +
+                     ": at most " + std::to_string(kMaxMonteCarloSolves) +
+                     " limits are held in memory (32 bytes each); use fewer samples or speeds");
+  if (seed < 0) throw InputError("seed = " + std::to_string(seed) + ": must be an integer >= 0");
+  if (depth_points < 2 || depth_points > 10000)
+    throw InputError("depth_points = " + std::to_string(depth_points) + ": must be in [2, 10000]");
+  const double dmax = depth_max_mm.value_or(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm));
+  if (!(std::isfinite(dmax) && dmax > 0.0)) throw InputError("depth_max_mm = " + fmt(dmax) + ": must be > 0 mm");
+  if (probability_depth_max_mm && !(std::isfinite(*probability_depth_max_mm) && *probability_depth_max_mm > 0.0))
+    throw InputError("probability_depth_max_mm = " + fmt(*probability_depth_max_mm) + ": must be > 0 mm");
+  const unsigned nthreads = thread_count(threads);
+  const std::shared_ptr<const Built> built = build_solver(job, method, dmax * 1e-3, options);
+  const chatter::SolverValues values = solver_values(cfg, *built->descriptor, method, options);
+  const double depth_max_m = dmax * 1e-3;
+  std::vector<chatter::StabilityLimit> nominal;
+  chatter::UncertainLobes mc;
+  chatter::ProbabilityDepthGrid grid;
+  {
+    py::gil_scoped_release release;
+    nominal = chatter::lobe_envelope(*built->solver, speeds, nthreads);
+    const chatter::SampleSolverFactory factory = [&](const chatter::StructuralModel& model,
+                                                     const chatter::Process& process) {
+      return chatter::make_lobe_solver(method, model, process, depth_max_m, values);
+    };
+    const auto rows = chatter::monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty,
+                                                  static_cast<std::uint64_t>(seed), 0,
+                                                  static_cast<std::uint64_t>(samples), speeds, factory, nthreads);
+    grid = chatter::probability_depth_grid(rows, dmax, depth_points, probability_depth_max_mm);
+    mc = chatter::reduce_monte_carlo(
+        rows, grid.depths_m,
+        std::vector<double>(std::begin(chatter::kUncertaintyLevels), std::end(chatter::kUncertaintyLevels)));
+  }
+  const auto n = static_cast<py::ssize_t>(speeds.size());
+  const auto nd = static_cast<py::ssize_t>(grid.depths_m.size());
+  py::array_t<double> s(n), d(n), depths(nd);
+  py::array_t<double> prob({n, nd});
+  auto sp = s.mutable_unchecked<1>();
+  auto dp = d.mutable_unchecked<1>();
+  auto gp = depths.mutable_unchecked<1>();
+  auto pp = prob.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    sp(i) = speeds[static_cast<std::size_t>(i)];
+    dp(i) = nominal[static_cast<std::size_t>(i)].depth_limit_m * 1e3;  // +inf where unbounded, as lobes()
+    for (py::ssize_t j = 0; j < nd; ++j)
+      pp(i, j) = mc.probability_stable[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+  }
+  for (py::ssize_t j = 0; j < nd; ++j) gp(j) = grid.depths_m[static_cast<std::size_t>(j)] * 1e3;
+  py::dict out;
+  out["method"] = built->solver->method();
+  out["warnings"] = cfg.warnings;
+  out["notes"] = built->notes;
+  out["samples"] = samples;
+  out["seed"] = seed;
+  out["spindle_rpm"] = s;
+  out["depth_limit_mm"] = d;
+  for (std::size_t l = 0; l < mc.levels.size(); ++l) {
+    const int pct = static_cast<int>(std::lround(100.0 * mc.levels[l]));
+    py::array_t<double> q(n);
+    auto qp = q.mutable_unchecked<1>();
+    for (py::ssize_t i = 0; i < n; ++i) qp(i) = mc.quantile_depth_m[l][static_cast<std::size_t>(i)] * 1e3;
+    out[py::str(std::string("depth_limit_p") + (pct < 10 ? "0" : "") + std::to_string(pct) + "_mm")] = q;
+  }
+  out["depth_mm"] = depths;
+  out["probability_stable"] = prob;
+  if (position_mm) out["position_mm"] = *position_mm;
+  return out;
+}
+
 PYBIND11_MODULE(chatter, m) {
   m.doc() = "chatter: regenerative chatter prediction and stability lobes (docs/python.md)";
   m.attr("__version__") = chatter::version();
@@ -954,6 +1047,12 @@ PYBIND11_MODULE(chatter, m) {
         "position_max_mm"_a = py::none(), "position_points"_a = kDefaultPositionPoints, "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "rpm_points"_a = py::none(), "depth_max_mm"_a = py::none(), "threads"_a = 0,
         "options"_a = py::none(), "The lobe surface over (position, speed) as NumPy arrays (chatter surface).");
+  m.def("uncertain_lobes", &uncertain_lobes, "job"_a, "method"_a = "analytic", py::kw_only(), "samples"_a,
+        "seed"_a = 1, "rpm_min"_a = py::none(), "rpm_max"_a = py::none(), "rpm_points"_a = py::none(),
+        "depth_max_mm"_a = py::none(), "depth_points"_a = kDefaultDepthPoints,
+        "probability_depth_max_mm"_a = py::none(), "threads"_a = 0, "options"_a = py::none(),
+        "position_mm"_a = py::none(),
+        "Monte Carlo lobes over the config's [uncertainty] spreads as NumPy arrays (chatter lobes --samples).");
   m.def("simulate", &simulate, "job"_a, py::kw_only(), "rpm"_a, "depth_mm"_a, "feed_per_tooth_mm"_a = py::none(),
         "revolutions"_a = py::none(), "periods"_a = py::none(), "linear"_a = false,
         "multiple_regeneration"_a = false, "rtol"_a = kDefaultSimRtol, "record_series"_a = true,

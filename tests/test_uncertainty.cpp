@@ -341,5 +341,33 @@ TEST(UncertainLobes, FrequencySpreadAgainstAnIndependentMonteCarlo) {
   EXPECT_GT(fractional, 10u) << "largest gap " << largest_gap;
 }
 
+// The probability grid's depths: 1.2 x the deepest finite limit of any sample
+// rounded up to two significant digits (3.7 mm -> 4.44 -> 4.5 mm), capped at
+// the searched depth; the searched depth when every limit is +inf; a given
+// top as given; both ends included.
+TEST(ProbabilityDepthGrid, TopFromTheDeepestLimitRoundedUp) {
+  const auto limit = [](double depth_m) {
+    StabilityLimit l;
+    l.spindle_rpm = 1000.0;
+    l.depth_limit_m = depth_m;
+    return l;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<std::vector<StabilityLimit>> rows = {{limit(2e-3), limit(inf)}, {limit(3.7e-3), limit(1e-3)}};
+  const ProbabilityDepthGrid g = probability_depth_grid(rows, 50.0, 10);
+  EXPECT_DOUBLE_EQ(g.top_mm, 4.5);
+  ASSERT_EQ(g.depths_m.size(), 10u);
+  EXPECT_EQ(g.depths_m.front(), 0.0);
+  EXPECT_DOUBLE_EQ(g.depths_m.back(), 4.5e-3);
+  EXPECT_NEAR(g.depths_m[1], 0.5e-3, 1e-18);
+  // 1.2 x 0.0912 = 0.10944 -> 0.11 mm (two digits of the first decade below).
+  EXPECT_DOUBLE_EQ(probability_depth_grid({{limit(0.0912e-3)}}, 50.0, 2).top_mm, 0.11);
+  EXPECT_EQ(probability_depth_grid(rows, 4.0, 5).top_mm, 4.0);                // capped at the searched depth
+  EXPECT_EQ(probability_depth_grid({{limit(inf)}}, 20.0, 5).top_mm, 20.0);    // no chatter anywhere
+  EXPECT_DOUBLE_EQ(probability_depth_grid(rows, 50.0, 3, 7.25).depths_m[1], 7.25e-3 / 2);  // given top
+  EXPECT_THROW(probability_depth_grid(rows, 50.0, 1), InputError);
+  EXPECT_THROW(probability_depth_grid(rows, 50.0, 5, 0.0), InputError);
+}
+
 }  // namespace
 }  // namespace chatter

@@ -46,6 +46,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -152,5 +153,24 @@ struct UncertainLobes {
 ///         is outside [0, 1].
 UncertainLobes reduce_monte_carlo(const std::vector<std::vector<StabilityLimit>>& rows,
                                   const std::vector<double>& depths_m, const std::vector<double>& levels);
+
+/// The quantile levels every front end reports: 5 %, 50 % and 95 %.
+inline constexpr double kUncertaintyLevels[] = {0.05, 0.50, 0.95};
+
+/// The depth grid of the probability of stability (the one place the CLI's
+/// `lobes --samples`, chatter-mpi and the Python module choose it).
+struct ProbabilityDepthGrid {
+  double top_mm = 0.0;         ///< the deepest depth of the grid, mm
+  std::vector<double> depths_m;  ///< `points` depths from 0 to top_mm, both included, m
+};
+/// `points` depths evenly from 0 to `top_mm` if given, else to 1.2 times the
+/// deepest finite limit of any sample rounded up to two significant digits
+/// (round numbers for the axis) and at most `depth_max_mm`; `depth_max_mm`
+/// when no sample found chatter below it. Depths are in mm in the arguments
+/// because that is how the grid is chosen and printed; the returned depths
+/// are m, as reduce_monte_carlo takes them. Pure, O(N S + points).
+/// @throws InputError unless points >= 2 and the top is finite and > 0.
+ProbabilityDepthGrid probability_depth_grid(const std::vector<std::vector<StabilityLimit>>& rows, double depth_max_mm,
+                                            int points, std::optional<double> top_mm = std::nullopt);
 
 }  // namespace chatter

@@ -13,17 +13,11 @@
 namespace chatter::cli {
 namespace {
 
-/// The quantile levels of the table and the plot.
-constexpr double kLevels[] = {0.05, 0.50, 0.95};
 /// The most limits held in memory: samples × speeds (each StabilityLimit is
 /// 32 bytes, so 2.5e7 is 0.8 GB); a larger study is split into ranges
 /// (monte_carlo_limits) by a runner that reduces as it goes.
 constexpr long long kMaxMonteCarloSolves = 25'000'000;
 constexpr int kDefaultDepthPoints = 101;  // steps of 1 % of the grid's top
-/// Without --plot-depth-max-mm the probability grid ends at this factor times
-/// the deepest finite limit of any sample (at most --depth-max-mm), so the
-/// grid resolves the lobes rather than the searched depth.
-constexpr double kGridTopFactor = 1.2;
 
 std::vector<double> percents(const std::vector<double>& fractions) {
   std::vector<double> out;
@@ -119,28 +113,13 @@ UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double 
   UncertaintyOutputs out;
   // The probability grid: 0 to the plot's depth axis (given, or 1.2 x the
   // deepest finite limit of any sample, at most the searched depth).
-  double top_mm = 0.0;
-  if (vm.count("plot-depth-max-mm")) {
-    top_mm = vm["plot-depth-max-mm"].as<double>();
-  } else {
-    double deepest = 0.0;
-    for (const auto& row : rows)
-      for (const auto& r : row)
-        if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
-    // Rounded up to two significant digits, so the depths are round numbers.
-    if (deepest > 0.0) {
-      const double unit = std::pow(10.0, std::floor(std::log10(kGridTopFactor * deepest)) - 1.0);
-      top_mm = std::min(depth_max_mm, std::ceil(kGridTopFactor * deepest / unit) * unit);
-    } else {
-      top_mm = depth_max_mm;
-    }
-  }
-  out.depth_grid_top_mm = top_mm;
-  std::vector<double> depths_m(static_cast<std::size_t>(request.depth_points));
-  for (int d = 0; d < request.depth_points; ++d)
-    depths_m[static_cast<std::size_t>(d)] = top_mm * 1e-3 * d / (request.depth_points - 1);
-  depths_m.back() = top_mm * 1e-3;
-  out.lobes = reduce_monte_carlo(rows, depths_m, std::vector<double>(std::begin(kLevels), std::end(kLevels)));
+  std::optional<double> given_top;
+  if (vm.count("plot-depth-max-mm")) given_top = vm["plot-depth-max-mm"].as<double>();
+  const ProbabilityDepthGrid grid = probability_depth_grid(rows, depth_max_mm, request.depth_points, given_top);
+  out.depth_grid_top_mm = grid.top_mm;
+  const std::vector<double>& depths_m = grid.depths_m;
+  out.lobes = reduce_monte_carlo(rows, depths_m,
+                                 std::vector<double>(std::begin(kUncertaintyLevels), std::end(kUncertaintyLevels)));
 
   for (std::size_t l = 0; l < out.lobes.levels.size(); ++l) {
     const int pct = static_cast<int>(std::lround(100.0 * out.lobes.levels[l]));

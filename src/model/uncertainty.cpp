@@ -190,4 +190,34 @@ UncertainLobes reduce_monte_carlo(const std::vector<std::vector<StabilityLimit>>
   return r;
 }
 
+ProbabilityDepthGrid probability_depth_grid(const std::vector<std::vector<StabilityLimit>>& rows, double depth_max_mm,
+                                            int points, std::optional<double> top_mm) {
+  // Without a given top the grid ends at this factor times the deepest finite
+  // limit, so that it resolves the lobes rather than the searched depth.
+  constexpr double kGridTopFactor = 1.2;
+  if (points < 2) throw InputError("probability grid: " + std::to_string(points) + " depths: must be >= 2");
+  ProbabilityDepthGrid g;
+  if (top_mm) {
+    g.top_mm = *top_mm;
+  } else {
+    double deepest = 0.0;
+    for (const auto& row : rows)
+      for (const auto& r : row)
+        if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
+    if (deepest > 0.0) {
+      // Rounded up to two significant digits, so the depths are round numbers.
+      const double unit = std::pow(10.0, std::floor(std::log10(kGridTopFactor * deepest)) - 1.0);
+      g.top_mm = std::min(depth_max_mm, std::ceil(kGridTopFactor * deepest / unit) * unit);
+    } else {
+      g.top_mm = depth_max_mm;
+    }
+  }
+  if (!(std::isfinite(g.top_mm) && g.top_mm > 0.0))
+    throw InputError("probability grid: top depth = " + number(g.top_mm) + " mm: must be finite and > 0");
+  g.depths_m.resize(static_cast<std::size_t>(points));
+  for (int d = 0; d < points; ++d) g.depths_m[static_cast<std::size_t>(d)] = g.top_mm * 1e-3 * d / (points - 1);
+  g.depths_m.back() = g.top_mm * 1e-3;
+  return g;
+}
+
 }  // namespace chatter
