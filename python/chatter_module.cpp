@@ -226,6 +226,7 @@ struct Built {
   const chatter::SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<chatter::LobeSolver> solver;
   std::vector<std::string> notes;
+  chatter::SolverValues values;  ///< the method's options it was built with (checked)
 };
 
 std::string value_key(const chatter::SolverValue& v) {
@@ -285,6 +286,7 @@ std::shared_ptr<const Built> build_solver(const Job& job, const std::string& met
     b->solver = chatter::make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, values);
   }
   b->notes = chatter::ignored_feature_notes(descriptor, cfg.process);
+  b->values = values;
   std::lock_guard<std::mutex> lock(job.cache->mutex);
   if (job.cache->solvers.size() >= kMaxCachedSolvers) job.cache->solvers.clear();
   job.cache->solvers.emplace(key, b);
@@ -905,7 +907,7 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
     throw InputError("probability_depth_max_mm = " + fmt(*probability_depth_max_mm) + ": must be > 0 mm");
   const unsigned nthreads = thread_count(threads);
   const std::shared_ptr<const Built> built = build_solver(job, method, dmax * 1e-3, options);
-  const chatter::SolverValues values = solver_values(cfg, *built->descriptor, method, options);
+  const chatter::SolverValues& values = built->values;
   const double depth_max_m = dmax * 1e-3;
   std::vector<chatter::StabilityLimit> nominal;
   chatter::UncertainLobes mc;
@@ -949,11 +951,10 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
   out["spindle_rpm"] = s;
   out["depth_limit_mm"] = d;
   for (std::size_t l = 0; l < mc.levels.size(); ++l) {
-    const int pct = static_cast<int>(std::lround(100.0 * mc.levels[l]));
     py::array_t<double> q(n);
     auto qp = q.mutable_unchecked<1>();
     for (py::ssize_t i = 0; i < n; ++i) qp(i) = mc.quantile_depth_m[l][static_cast<std::size_t>(i)] * 1e3;
-    out[py::str(std::string("depth_limit_p") + (pct < 10 ? "0" : "") + std::to_string(pct) + "_mm")] = q;
+    out[py::str(chatter::quantile_column_name(mc.levels[l]))] = q;
   }
   out["depth_mm"] = depths;
   out["probability_stable"] = prob;

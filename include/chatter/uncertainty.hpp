@@ -156,6 +156,9 @@ UncertainLobes reduce_monte_carlo(const std::vector<std::vector<StabilityLimit>>
 
 /// The quantile levels every front end reports: 5 %, 50 % and 95 %.
 inline constexpr double kUncertaintyLevels[] = {0.05, 0.50, 0.95};
+/// The name of a quantile lobe's column or key: "depth_limit_p05_mm" for
+/// level 0.05 (the level in whole percent, two digits at least).
+std::string quantile_column_name(double level);
 
 /// The depth grid of the probability of stability (the one place the CLI's
 /// `lobes --samples`, chatter-mpi and the Python module choose it).

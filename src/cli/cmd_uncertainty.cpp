@@ -122,9 +122,8 @@ UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double 
                                  std::vector<double>(std::begin(kUncertaintyLevels), std::end(kUncertaintyLevels)));
 
   for (std::size_t l = 0; l < out.lobes.levels.size(); ++l) {
-    const int pct = static_cast<int>(std::lround(100.0 * out.lobes.levels[l]));
     ExtraColumn c;
-    c.name = std::string("depth_limit_p") + (pct < 10 ? "0" : "") + std::to_string(pct) + "_mm";
+    c.name = quantile_column_name(out.lobes.levels[l]);
     c.numeric = true;
     for (const double v : out.lobes.quantile_depth_m[l]) c.values.push_back(table_number(v * 1e3));
     out.columns.push_back(std::move(c));

@@ -190,6 +190,11 @@ UncertainLobes reduce_monte_carlo(const std::vector<std::vector<StabilityLimit>>
   return r;
 }
 
+std::string quantile_column_name(double level) {
+  const int pct = static_cast<int>(std::lround(100.0 * level));
+  return std::string("depth_limit_p") + (pct < 10 ? "0" : "") + std::to_string(pct) + "_mm";
+}
+
 ProbabilityDepthGrid probability_depth_grid(const std::vector<std::vector<StabilityLimit>>& rows, double depth_max_mm,
                                             int points, std::optional<double> top_mm) {
   // Without a given top the grid ends at this factor times the deepest finite
