@@ -726,7 +726,6 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = linear ? py::none() : py::object(py::float_(feed_mm));
   j["linear"] = linear;
-  j["period_s"] = chatter::simulation_period_s(cfg.process, rpm, linear);
   j["multiple_regeneration"] = multiple_regeneration;
   j["verdict"] = chatter::to_string(r.verdict);
   j["stable"] = r.verdict == chatter::SimulationVerdict::kStable;
@@ -744,8 +743,9 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   j["dominant_nonharmonic_hz"] = finite_or_none(r.dominant_nonharmonic_hz);
   j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
   j["out_of_cut_fraction"] = r.out_of_cut_fraction;
-  j["delay_s"] = r.delay_s;
+  j["floquet_period_s"] = r.floquet_period_s;
   j["tooth_passing_hz"] = r.tooth_passing_hz;
+  j["tooth_period_s"] = cfg.process.delay_s(rpm);
   j["periods"] = r.periods;
   j["revolutions"] = static_cast<double>(r.periods) / per_rev;
   j["analysed_from_period"] = r.analysed_from_period;
@@ -777,8 +777,8 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   const double res = r.spectrum_hz.size() > 1 ? r.spectrum_hz[1] - r.spectrum_hz[0] : 0.0;
   for (py::ssize_t k = 0; k < ns; ++k) {
     const double fk = r.spectrum_hz[static_cast<std::size_t>(k)];
-    const long hk = std::lround(fk * r.delay_s);
-    const bool is_harmonic = hk >= 1 && std::abs(fk - static_cast<double>(hk) * r.tooth_passing_hz) <= 0.5 * res;
+    const long hk = std::lround(fk * r.floquet_period_s);
+    const bool is_harmonic = hk >= 1 && std::abs(fk - static_cast<double>(hk) / r.floquet_period_s) <= 0.5 * res;
     fr.mutable_data()[k] = fk;
     amp.mutable_data()[k] = r.spectrum_amplitude_m[static_cast<std::size_t>(k)] * 1e6;
     harm.mutable_data()[k] = is_harmonic ? static_cast<int>(hk) : 0;

@@ -78,14 +78,18 @@ TEST_F(CliCutter, LinearSimulationSaysItIgnoresRunout) {
 }
 
 TEST_F(CliCutter, SimulateCountsRevolutionsForAVariablePitchCutter) {
-  // The run's period is one revolution: --revolutions 12 is 12 periods,
-  // growth_per_period is per revolution (period_s = 60/N).
+  // The run's period is the Floquet period, the shortest repeat of the
+  // cutter (80/100/80/100: two teeth, half a revolution, as sdm's):
+  // --revolutions 12 is 24 periods, growth_per_period is per half revolution;
+  // the tooth passing is N N_t / 60 whatever the pitch.
   const std::string cfg = write_config("pitch_angles_deg = [80, 100, 80, 100]\n");
   const auto r = run({"simulate", cfg, "--rpm", "6000", "--depth-mm", "0.5", "--revolutions", "12"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["periods"].get<int>(), 12);
-  EXPECT_DOUBLE_EQ(j["period_s"].get<double>(), 0.01);
+  EXPECT_EQ(j["periods"].get<int>(), 24);
+  EXPECT_DOUBLE_EQ(j["floquet_period_s"].get<double>(), 0.005);
+  EXPECT_DOUBLE_EQ(j["tooth_passing_hz"].get<double>(), 400.0);
+  EXPECT_DOUBLE_EQ(j["revolutions"].get<double>(), 12.0);
 }
 
 }  // namespace

@@ -86,11 +86,10 @@ void expect_growth_matches_sdm(const StructuralModel& model, const Process& proc
       const FloquetResult fl = sdm.analyse(rpm, a);
       const double g = linear_growth(model, process, rpm, a, periods);
       SCOPED_TRACE(std::to_string(rpm) + " rev/min, " + std::to_string(a * 1e3) + " mm");
-      // The simulation's period is one revolution for a non-uniform cutter
-      // (a tooth period otherwise); sdm's is the shortest repeat: compare per
-      // the simulation's period.
-      const double td_period = process.uniform_cutter() ? process.delay_s(rpm) : 60.0 / rpm;
-      const double rho = std::pow(fl.spectral_radius, td_period / fl.period_s);
+      // One Floquet period for both (Process::floquet_period_s): the
+      // simulation's growth and sdm's multiplier are per the same period.
+      ASSERT_DOUBLE_EQ(fl.period_s, process.floquet_period_s(rpm));
+      const double rho = fl.spectral_radius;
       EXPECT_NEAR(g / rho, 1.0, kGrowthVsSdm) << "time-domain " << g << " sdm " << rho << " (period "
                                                << fl.period_s << " s)";
       EXPECT_EQ(g < 1.0, f < 1.0) << "growth " << g;

@@ -81,8 +81,8 @@ Compared compare_at(const StructuralModel& model, const Process& process, double
   s.record_series = false;
   const SimulationResult r = sim.simulate(s);
   c.simulated_hz = r.dominant_nonharmonic_hz;
-  c.tau = r.delay_s;
-  c.bin_hz = 1.0 / (s.analysed_fraction * s.periods * r.delay_s);
+  c.tau = r.floquet_period_s;
+  c.bin_hz = 1.0 / (s.analysed_fraction * s.periods * r.floquet_period_s);
   auto amplitude_near = [&](double f) {
     double a = 0.0;
     for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k)

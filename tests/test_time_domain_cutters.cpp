@@ -98,18 +98,20 @@ MillingParameters four_teeth_quarter() {
 // grid.
 std::vector<double> chips_at_150(const Process& p, bool multiple) {
   TimeDomainOptions o;
-  o.samples_per_period = 180;        // × 4 tooth periods = 720 per revolution
+  // The run's period is the Floquet period: repeat_teeth tooth periods.
+  const int repeat = p.repeat_teeth(p.has_runout());
+  o.samples_per_period = 180;  // per tooth period: 720 per revolution
   o.samples_per_vibration_cycle = 8;  // 8 × 60 cycles = 480 < 720
   o.axial_slices = 1;
   TimeDomainSimulator sim(stiff_tool(), p, o);
   SimulationSettings s;
   s.spindle_rpm = 3000.0;
   s.depth_m = 1e-5;
-  s.periods = 6;
+  s.periods = 6 * 4 / repeat;  // 6 revolutions
   s.feed_m = 1e-4;
   s.multiple_regeneration = multiple;
   const SimulationResult r = sim.simulate(s);
-  EXPECT_EQ(r.samples_per_period, 720);
+  EXPECT_EQ(r.samples_per_period, 180 * repeat);
   const long per_rev = 720;
   std::vector<double> out;
   for (int j = 0; j < 4; ++j) {

@@ -103,6 +103,10 @@ class Process {
   double delay_s(double rpm) const;
   /// Inverse of delay_s: the spindle speed (rev/min) whose delay is `tau_s`.
   double rpm_from_delay(double tau_s) const;
+  /// Tooth-passing frequency N·N_t/60, Hz (turning: the spindle frequency
+  /// N/60): the one definition every report uses (docs/results.md), whatever
+  /// the pitch. = 1 / delay_s(rpm). @pre rpm > 0.
+  double tooth_passing_hz(double rpm) const;
   /// Number of (mean) tooth periods per spindle revolution: 1 (turning) or N_t.
   int delays_per_revolution() const;
 
@@ -115,6 +119,17 @@ class Process {
   /// Period (s) of the delay equation: delay_s(rpm) for a uniform cutter,
   /// one revolution 60/rpm otherwise. @pre rpm > 0.
   double period_s(double rpm) const;
+  /// The fewest teeth r (a divisor of N_t) after which the cutter repeats
+  /// itself: the pitch angles and helix lags of tooth j and j + r agree for
+  /// every j (and the runout offsets, with `with_runout`). 1 for turning and
+  /// for a uniform cutter; N_t/2 for 70/110/70/110°; N_t for an irregular one.
+  int repeat_teeth(bool with_runout = false) const;
+  /// The Floquet period (s): the period of the equation a Floquet method
+  /// (sdm) builds its map over and a simulation measures its growth over,
+  /// repeat_teeth(with_runout) tooth periods (60/rpm exactly when that is
+  /// N_t). Multipliers, spectral radii and growth factors are per this period
+  /// (docs/results.md). @pre rpm > 0.
+  double floquet_period_s(double rpm, bool with_runout = false) const;
   /// True with a helix angle > 0 on some tooth (milling).
   bool has_helix() const;
   /// True with unequal pitch angles, or unequal helix angles (milling).

@@ -41,7 +41,7 @@ struct SeriesSample {
 struct SpectralPeak {
   double frequency_hz = 0.0;
   double amplitude_m = 0.0;
-  int harmonic = 0;  ///< k for k × tooth-passing (spindle, turning) frequency; 0 if not a harmonic.
+  int harmonic = 0;  ///< k for k / floquet_period_s (the tooth passing for a uniform cutter); 0 if not a harmonic.
 };
 
 enum class SimulationVerdict { kStable, kChatter };
@@ -71,11 +71,14 @@ struct SimulationResult {
   /// Fraction of the analysed window's cutting-arc time in which the teeth in
   /// the arc were all in air (h <= 0). 0 in linear mode.
   double out_of_cut_fraction = 0.0;
-  /// The run's period τ, s (simulation_period_s): the tooth period for a
-  /// uniform cutter; one revolution with variable pitch or helix, or runout
-  /// in nonlinear mode. periods, once_per_period and growth_per_period count it.
-  double delay_s = 0.0;
-  double tooth_passing_hz = 0.0;  ///< 1/τ (the spindle frequency when τ is a revolution).
+  /// The run's period τ_F, s: the Floquet period of the process
+  /// (Process::floquet_period_s, the same as sdm's): the tooth period for a
+  /// uniform cutter; the shortest repeat of the pitch and helix pattern (and
+  /// of the runout in nonlinear mode) otherwise. periods, once_per_period and
+  /// growth_per_period count it; `harmonics` are multiples of 1/τ_F.
+  double floquet_period_s = 0.0;
+  /// N·N_t/60 (Hz), Process::tooth_passing_hz: whatever the pitch.
+  double tooth_passing_hz = 0.0;
   int periods = 0;
   int analysed_from_period = 0;
 
@@ -84,7 +87,10 @@ struct SimulationResult {
   /// Amplitude spectrum (m) of the relative displacement over the analysed
   /// window (Hann window, |X| combined over x and y), from 0 to Nyquist.
   std::vector<double> spectrum_hz, spectrum_amplitude_m;
-  std::vector<SpectralPeak> harmonics;  ///< tooth-passing harmonics up to the highest natural frequency × 3.
+  /// The forced lines k / floquet_period_s (tooth-passing harmonics for a
+  /// uniform cutter, spindle harmonics for an irregular one) up to the
+  /// highest natural frequency × 3.
+  std::vector<SpectralPeak> harmonics;
 
   // Cost of the run.
   long steps = 0, rhs_evaluations = 0, restarts = 0, root_stops = 0;

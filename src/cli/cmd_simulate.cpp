@@ -133,7 +133,6 @@ int cmd_simulate(const std::vector<std::string>& args) {
   j["depth_mm"] = depth_mm;
   j["feed_per_tooth_mm"] = st.linear ? nlohmann::json(nullptr) : nlohmann::json(feed_mm);
   j["linear"] = st.linear;
-  j["period_s"] = simulation_period_s(cfg.process, rpm, st.linear);  // growth_per_period is per this
   j["multiple_regeneration"] = st.multiple_regeneration;
   j["verdict"] = to_string(r.verdict);
   j["stable"] = r.verdict == SimulationVerdict::kStable;
@@ -146,8 +145,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
   j["dominant_nonharmonic_hz"] = number_or_null(r.dominant_nonharmonic_hz);
   j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
   j["out_of_cut_fraction"] = r.out_of_cut_fraction;
-  j["delay_s"] = r.delay_s;
+  j["floquet_period_s"] = r.floquet_period_s;  // growth_per_period is per this
   j["tooth_passing_hz"] = r.tooth_passing_hz;
+  j["tooth_period_s"] = cfg.process.delay_s(rpm);
   j["periods"] = r.periods;
   j["revolutions"] = static_cast<double>(r.periods) / per_rev;
   j["analysed_from_period"] = r.analysed_from_period;
@@ -190,10 +190,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
     os << "frequency_hz,amplitude_um,harmonic\n";
     for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
       const double f = r.spectrum_hz[k];
-      const double h = f * r.delay_s;
+      const double h = f * r.floquet_period_s;
       const long hk = std::lround(h);
       const double res = r.spectrum_hz.size() > 1 ? r.spectrum_hz[1] - r.spectrum_hz[0] : 0.0;
-      const bool is_harmonic = hk >= 1 && std::abs(f - static_cast<double>(hk) * r.tooth_passing_hz) <= 0.5 * res;
+      const bool is_harmonic = hk >= 1 && std::abs(f - static_cast<double>(hk) / r.floquet_period_s) <= 0.5 * res;
       os << table_number(f) << ',' << table_number(r.spectrum_amplitude_m[k] * 1e6) << ','
          << (is_harmonic ? std::to_string(hk) : std::string("")) << '\n';
     }

@@ -1329,7 +1329,7 @@ PlotFiles plot_simulation(const fs::path& image, const std::string& title, const
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": time-domain simulation (chatter " << version() << ")\n"
       << "# verdict: " << to_string(r.verdict) << " (" << one_line(r.verdict_measure) << ")\n"
-      << "# delay = " << num(r.delay_s) << " s, tooth passing = " << num(r.tooth_passing_hz) << " Hz, periods = "
+      << "# Floquet period = " << num(r.floquet_period_s) << " s, tooth passing = " << num(r.tooth_passing_hz) << " Hz, periods = "
       << r.periods << ", analysed from period " << r.analysed_from_period << "\n"
       << "# Missing values are '?'.\n\n"
       << "# index 0: time series\n"
@@ -1406,7 +1406,7 @@ PlotFiles plot_simulation(const fs::path& image, const std::string& title, const
   gp << "plot data index 2 using 1:2 with lines lc rgb c_spec lw 1 title "
      << quote("relative displacement, last " + std::to_string(analysed) + " periods") << ", \\\n"
      << "     data index 3 using 1:2 with points pt 6 ps 1.1 lw 1.2 lc rgb c_x title "
-     << quote("harmonics of 1/{/Symbol t} = " + short_num(r.tooth_passing_hz, 5) + " Hz (tooth passing; spindle in turning)") << "\n"
+     << quote("harmonics of 1/{/Symbol t} = " + short_num(1.0 / r.floquet_period_s, 5) + " Hz (" + (std::abs(r.floquet_period_s * r.tooth_passing_hz - 1.0) < 1e-9 ? "tooth passing" : "Floquet period") + ")") << "\n"
      << "unset multiplot\n";
 
   write_and_render(t, dat.str(), gp.str());

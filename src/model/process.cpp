@@ -226,6 +226,29 @@ bool Process::uniform_cutter() const {
 
 double Process::period_s(double rpm) const { return uniform_cutter() ? delay_s(rpm) : 60.0 / rpm; }
 
+double Process::tooth_passing_hz(double rpm) const { return rpm * delays_per_revolution() / 60.0; }
+
+int Process::repeat_teeth(bool with_runout) const {
+  if (operation_ == Operation::kTurning) return 1;
+  const int nt = milling_.teeth;
+  for (int r = 1; r < nt; ++r) {
+    if (nt % r != 0) continue;
+    bool repeats = true;
+    for (int j = 0; j < nt && repeats; ++j) {
+      const int k = (j + r) % nt;
+      repeats = pitch_angle_rad(j) == pitch_angle_rad(k) && helix_lag_rad_per_m(j) == helix_lag_rad_per_m(k) &&
+                (!with_runout || runout_m(j) == runout_m(k));
+    }
+    if (repeats) return r;
+  }
+  return nt;
+}
+
+double Process::floquet_period_s(double rpm, bool with_runout) const {
+  const int r = repeat_teeth(with_runout);
+  return r == teeth() && r > 1 ? 60.0 / rpm : delay_s(rpm) * r;
+}
+
 double Process::pitch_angle_rad(int j) const { return pitch_[static_cast<std::size_t>(j)]; }
 double Process::tooth_offset_rad(int j) const { return offset_[static_cast<std::size_t>(j)]; }
 double Process::helix_angle_rad(int j) const {

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "chatter/report.hpp"
 #include "chatter/error.hpp"
 #include "phase_search.hpp"
 #include "roots.hpp"
@@ -287,7 +288,7 @@ StabilityLimit MultiDelaySearch::limit_at(const Speed& sp) const {
     best_s = s;
     lim.depth_limit_m = 1.0 / s;
     lim.chatter_frequency_hz = w / kTwoPi;
-    lim.lobe = static_cast<int>(std::floor(w * sp.tau_mean / kTwoPi));
+    lim.lobe = lobe_number(w / kTwoPi, 1.0 / sp.tau_mean);
     lim.branch = c.branch;
   }
   return lim;

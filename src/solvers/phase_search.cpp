@@ -13,6 +13,7 @@
 
 #include <Eigen/SVD>
 
+#include "chatter/report.hpp"
 #include "chatter/error.hpp"
 
 namespace chatter::detail {
@@ -252,7 +253,7 @@ PhaseRoot PhaseSearch::lowest_root(double tau) const {
     best.omega = w;
     best.depth_m = 1.0 / v.s;
     best.branch = c.branch;
-    best.lobe = static_cast<int>(std::lround((w * tau - v.phase) / kTwoPi));
+    best.lobe = lobe_number(w / kTwoPi, 1.0 / tau);
   }
   return best;
 }

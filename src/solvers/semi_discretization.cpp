@@ -2,6 +2,7 @@
 // delay equation of docs/physics.md §3, the `sdm` solver. See
 // include/chatter/semi_discretization.hpp for the method and docs/sdm.md for
 // the convergence study.
+#include "chatter/report.hpp"
 #include "chatter/semi_discretization.hpp"
 
 #include "depth_search.hpp"
@@ -1161,23 +1162,11 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     // Real cutter: the steps depend on the depth (SdmKernel::build_cutter).
     g.cutter = true;
     g.rpm = rpm;
-    // Period: the shortest shift of r teeth (r divides N_t) after which the
-    // pitch and helix pattern repeats: r = 1 for a uniform cutter, N_t/2
-    // for 70/110/70/110°, N_t (one revolution) for an irregular cutter.
-    const int nt = p.teeth();
-    int r = nt;
-    for (int c = 1; c < nt && !o.general_cutter_path; ++c) {
-      if (nt % c != 0) continue;
-      bool repeats = true;
-      for (int j = 0; j < nt && repeats; ++j)
-        repeats = p.pitch_angle_rad(j) == p.pitch_angle_rad((j + c) % nt) &&
-                  p.helix_lag_rad_per_m(j) == p.helix_lag_rad_per_m((j + c) % nt);
-      if (repeats) {
-        r = c;
-        break;
-      }
-    }
-    g.tau = r == nt ? 60.0 / rpm : p.delay_s(rpm) * r;
+    // Period: the shortest shift of teeth after which the pitch and helix
+    // pattern repeats (Process::floquet_period_s): one tooth period for a
+    // uniform cutter, half a revolution for 70/110/70/110°, one revolution
+    // for an irregular cutter (and always with general_cutter_path).
+    g.tau = o.general_cutter_path ? 60.0 / rpm : p.floquet_period_s(rpm);
     const double tooth = p.delay_s(rpm);
     g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
     const double needed = std::ceil(tooth / g.h_target - 1e-9);
@@ -1754,7 +1743,7 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
   lim.depth_limit_m = root;
   const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;
-  lim.lobe = static_cast<int>(std::floor(fr.chatter_frequency_hz * g.tau));
+  lim.lobe = lobe_number(fr.chatter_frequency_hz, process_.tooth_passing_hz(rpm));
   if (floquet) *floquet = fr;
   return lim;
 }

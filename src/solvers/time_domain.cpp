@@ -1,5 +1,6 @@
 // Time-domain simulation on SUNDIALS CVODE (see include/chatter/time_domain.hpp
 // for the equations and docs/time_domain.md for the design).
+#include "chatter/report.hpp"
 #include "chatter/time_domain.hpp"
 
 #include <Eigen/Dense>
@@ -90,13 +91,13 @@ bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
          (p.has_runout() && !linear);
 }
 
-/// The period of a run (s): the tooth period for a uniform cutter; one
-/// revolution with variable pitch or helix, or with runout in nonlinear mode
-/// (the chips then repeat once per revolution only).
+/// The period of a run (s): the Floquet period of the process
+/// (Process::floquet_period_s), the same as sdm's: the tooth period for a
+/// uniform cutter, the shortest repeat of the pitch and helix pattern
+/// otherwise, and of the runout too in nonlinear mode (the linear equation
+/// has no static chip, which is all runout changes).
 double simulation_period(const Process& p, const SimulationSettings& s) {
-  if (p.operation() == Operation::kMilling && (!p.uniform_cutter() || (p.has_runout() && !s.linear)))
-    return 60.0 / s.spindle_rpm;
-  return p.delay_s(s.spindle_rpm);
+  return p.floquet_period_s(s.spindle_rpm, p.has_runout() && !s.linear);
 }
 
 }  // namespace
@@ -819,8 +820,8 @@ void SimulationRun::init_integrator() {
   }
   roots_on_ = use_roots_;
 
-  res_.delay_s = tau_;
-  res_.tooth_passing_hz = 1.0 / tau_;
+  res_.floquet_period_s = tau_;
+  res_.tooth_passing_hz = process_.tooth_passing_hz(s_.spindle_rpm);
   res_.periods = s_.periods;
   res_.samples_per_period = M_;
   first_analysed_ = std::clamp(static_cast<int>(std::floor(s_.periods * (1.0 - s_.analysed_fraction))), 0,
@@ -1255,9 +1256,7 @@ StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
   out.depth_limit_m = 0.5 * (lo + hi);
   out.chatter_frequency_hz = at_hi.chatter_frequency_hz;
   if (std::isnan(out.chatter_frequency_hz)) out.chatter_frequency_hz = at_hi.dominant_nonharmonic_hz;
-  out.lobe = std::isfinite(out.chatter_frequency_hz)
-                 ? static_cast<int>(std::floor(out.chatter_frequency_hz * at_hi.delay_s))
-                 : 0;
+  out.lobe = lobe_number(out.chatter_frequency_hz, at_hi.tooth_passing_hz);
   return out;
 }
 
