@@ -9,7 +9,9 @@
 //   <origin>:<line>:<col>: <TOML syntax error>
 //   <path>: cannot read file (<reason>)
 // No toml++ exception escapes this file; an InputError of the model
-// constructors is given the file and table (model_checked).
+// constructors is given the file and table (model_checked). The reading
+// primitives (Document, Table, Range, Quantity, Band, ...) are in
+// config_read.hpp.
 #include "chatter/io/config.hpp"
 #include "chatter/io/frf.hpp"
 
@@ -30,508 +32,20 @@
 #include <utility>
 #include <vector>
 
-// toml++ 3.3 asserts (debug builds) that a table-header key starts with a key
-// character before checking it, so inputs such as "[`x]" abort instead of
-// reporting an error (found by fuzzing; fuzz/corpus/config/crash_*). With the
-// assertion compiled out the parser reports the error as it should.
-#ifndef TOML_ASSERT
-#define TOML_ASSERT(expr) static_cast<void>(0)
-#endif
-#include <toml++/toml.h>
+#include "config_read.hpp"  // the reading primitives: Document, Table, Range, Quantity, Band, ...
 
-#include "chatter/error.hpp"
-#include "text.hpp"
-
-namespace chatter {
+namespace chatter::config_detail {
 namespace {
 
-using Path = std::string;
+// ------------------------------------------------------ plausibility bounds
 
-// ---------------------------------------------------------------- key paths
-
-bool is_bare_key(std::string_view key) {
-  return !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
-           c == '-';
-  });
-}
-
-std::string quote_string(std::string_view s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default: out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string key_text(std::string_view key) { return is_bare_key(key) ? std::string(key) : quote_string(key); }
-
-Path child(const Path& parent, std::string_view key) {
-  return parent.empty() ? key_text(key) : parent + "." + key_text(key);
-}
-
-Path element(const Path& parent, std::size_t index) { return parent + "[" + std::to_string(index) + "]"; }
-
-// ------------------------------------------------------ unknown-key advice
-
-// edit_distance and near_miss: src/io/text.hpp (shared with the CLI's
-// option hints and the operations reader's header hints).
-using detail::text::near_miss;
-
-// "did you mean" for a near miss, else the allowed list.
-std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {
-  if (const std::string_view best = near_miss(key, allowed); !best.empty())
-    return "unknown key (did you mean " + std::string(best) + "?)";
-  std::string list;
-  for (const std::string_view candidate : allowed) {
-    if (!list.empty()) list += ", ";
-    list += candidate;
-  }
-  return "unknown key (expected one of: " + list + ")";
-}
-
-// ------------------------------------------------------------ value ranges
-
-/// An interval a number must lie in, with the words used in messages.
-struct Range {
-  std::string_view text;  ///< "> 0", "in (0, 1)", ...
-  double lo = -std::numeric_limits<double>::infinity();
-  bool lo_open = true;
-  double hi = std::numeric_limits<double>::infinity();
-  bool hi_open = true;
-
-  bool contains(double v) const {
-    const bool above = lo_open ? v > lo : v >= lo;
-    const bool below = hi_open ? v < hi : v <= hi;
-    return above && below;
-  }
-};
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-const Range kPositive{"> 0", 0.0, true, kInf, true};
-const Range kNonNegative{">= 0", 0.0, false, kInf, true};
-const Range kOpenUnit{"in (0, 1)", 0.0, true, 1.0, true};
-const Range kUnitInterval{"in (0, 1]", 0.0, true, 1.0, false};
-// Plausibility bounds, checked after the basic rule: beyond them a value is
-// not machining dynamics, and the solvers could not resolve it to their
-// stated accuracy (docs/config.md).
-struct Plausible {
-  double lo, hi;
-  const char* rule;
-};
 constexpr Plausible kFrequencyBound{0.1, 1e6, "must be in [0.1, 1e6] Hz (outside it is not machining dynamics)"};
 constexpr Plausible kStiffnessBound{1.0, 1e15, "must be in [1, 1e15] N/m"};
 constexpr Plausible kMassBound{1e-6, 1e6, "must be in [1e-6, 1e6] kg"};
 constexpr Plausible kDampingBound{1e-6, 1.0, "must be >= 1e-6 (lighter damping is not physical and cannot be resolved)"};
 constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
 
-// ----------------------------------------------------------------- document
-
-/// At most this many errors are listed; the rest are counted.
-constexpr std::size_t kMaxErrors = 20;
-
-/// Thrown after an error is recorded: abandons the value or table being read
-/// (reading resumes at the next one; see attempt()). Never leaves this file.
-struct Skip {};
-
-/// The TOML text and its origin: turns nodes back into the text the user
-/// wrote and builds the messages.
-class Document {
- public:
-  Document(std::string_view text, std::string origin) : text_(text), origin_(std::move(origin)) {
-    line_starts_.push_back(0);
-    for (std::size_t i = 0; i < text_.size(); ++i)
-      if (text_[i] == '\n') line_starts_.push_back(i + 1);
-  }
-
-  const std::string& origin() const { return origin_; }
-
-  /// Records "<origin>: <path> = <value>: <rule>" and goes on reading.
-  void error(const Path& path, const toml::node& value, std::string_view rule) const {
-    add_error(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
-  }
-  /// Records "<origin>: <path>: <rule>" (missing or unknown keys, whole-model rules).
-  void error_key(const Path& path, std::string_view rule) const {
-    add_error(origin_ + ": " + path + ": " + std::string(rule));
-  }
-  /// Records a whole message (e.g. from an FRF reader).
-  void add_error(std::string message) const {
-    ++error_total_;
-    if (errors_.size() < kMaxErrors) errors_.push_back(std::move(message));
-  }
-  /// Records the error and abandons the value or table being read (Skip).
-  [[noreturn]] void fail(const Path& path, const toml::node& value, std::string_view rule) const {
-    error(path, value, rule);
-    throw Skip{};
-  }
-  [[noreturn]] void fail_key(const Path& path, std::string_view rule) const {
-    error_key(path, rule);
-    throw Skip{};
-  }
-  std::size_t error_count() const { return error_total_; }
-
-  /// Throws one InputError listing the recorded errors, one per line (the
-  /// first kMaxErrors, then how many more); nothing if there are none.
-  void throw_if_errors() const {
-    if (errors_.empty()) return;
-    std::string message;
-    for (const std::string& e : errors_) message += (message.empty() ? "" : "\n") + e;
-    if (error_total_ > errors_.size())
-      message += "\n" + origin_ + ": " + std::to_string(error_total_ - errors_.size()) + " more error" +
-                 (error_total_ - errors_.size() == 1 ? "" : "s") + " not listed (the first " +
-                 std::to_string(kMaxErrors) + " are)";
-    throw InputError(message);
-  }
-
-  /// Records "<origin>: <path> = <value>: <what>" as a plausibility warning.
-  void warn(const Path& path, const toml::node& value, std::string_view what) const {
-    warnings_.push_back(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(what));
-  }
-  /// Records "<origin>: <path>: <what>" (a value derived from several keys).
-  void warn_key(const Path& path, std::string_view what) const {
-    warnings_.push_back(origin_ + ": " + path + ": " + std::string(what));
-  }
-  std::size_t warning_count() const { return warnings_.size(); }
-  std::vector<std::string> take_warnings() const { return std::move(warnings_); }
-
-  /// The value as it appears in the text when it sits on one line (so
-  /// `45e6` stays `45e6`), else a compact rendering.
-  std::string as_written(const toml::node& n) const {
-    constexpr std::size_t kMaxLength = 80;
-    std::string s = written_text(n).value_or(render(n));
-    if (s.size() > kMaxLength) s = s.substr(0, kMaxLength - 3) + "...";
-    return s;
-  }
-
- private:
-  // Byte offset of a toml++ position (1-based line, 1-based column counted in
-  // code points).
-  std::optional<std::size_t> offset(const toml::source_position& p) const {
-    if (p.line < 1 || p.line > line_starts_.size() || p.column < 1) return std::nullopt;
-    std::size_t i = line_starts_[p.line - 1];
-    for (toml::source_index col = 1; col < p.column; ++col) {
-      if (i >= text_.size() || text_[i] == '\n') return std::nullopt;
-      ++i;
-      while (i < text_.size() && (static_cast<unsigned char>(text_[i]) & 0xC0u) == 0x80u) ++i;
-    }
-    return i;
-  }
-
-  std::optional<std::string> written_text(const toml::node& n) const {
-    if (const toml::table* t = n.as_table(); t && !t->is_inline()) return std::nullopt;  // [header]
-    if (const toml::array* a = n.as_array(); a && a->is_array_of_tables()) return std::nullopt;
-    const toml::source_region& r = n.source();
-    if (r.begin.line != r.end.line) return std::nullopt;
-    const auto b = offset(r.begin);
-    const auto e = offset(r.end);
-    if (!b || !e || *e <= *b || *e > text_.size()) return std::nullopt;
-    std::string s(text_.substr(*b, *e - *b));
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.pop_back();
-    if (s.empty()) return std::nullopt;
-    return s;
-  }
-
-  static std::string render(const toml::node& n) {
-    if (const toml::array* a = n.as_array()) {
-      std::string s = "[";
-      for (std::size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + render(*a->get(i));
-      return s + "]";
-    }
-    if (const toml::table* t = n.as_table()) {
-      std::string s = "{";
-      bool first = true;
-      for (auto&& [k, v] : *t) {
-        s += (first ? " " : ", ") + key_text(k.str()) + " = " + render(v);
-        first = false;
-      }
-      return s + (first ? "}" : " }");
-    }
-    if (const auto* str = n.as_string()) return quote_string(str->get());
-    std::ostringstream os;
-    n.visit([&os](auto&& v) {
-      if constexpr (toml::is_value<std::remove_cvref_t<decltype(v)>>) os << v;
-    });
-    return os.str();
-  }
-
-  std::string_view text_;
-  std::string origin_;
-  std::vector<std::size_t> line_starts_;
-  // Reading goes on after an error so that one run reports them all.
-  mutable std::vector<std::string> errors_;
-  mutable std::size_t error_total_ = 0;
-  mutable std::vector<std::string> warnings_;
-};
-
-/// Runs `read`; a Skip (the error is recorded) gives nullopt, so reading goes
-/// on with the next key or table.
-template <class F>
-auto attempt(F&& read) -> std::optional<decltype(read())> {
-  try {
-    return read();
-  } catch (const Skip&) {
-    return std::nullopt;
-  }
-}
-template <class F>
-void attempt_void(F&& read) {
-  try {
-    read();
-  } catch (const Skip&) {
-  }
-}
-
-// ------------------------------------------------------------------- units
-
-/// One key of a quantity: its name (the suffix names the unit) and the
-/// factor to SI.
-struct UnitKey {
-  std::string_view key;
-  double to_si;
-  std::string_view unit;  ///< for messages: "N/m^2", "N/um", ...
-};
-
-/// A physical quantity that a config may give in one of several units: the
-/// SI key first, then the shop-unit alternatives. Giving two is an error.
-struct Quantity {
-  std::span<const UnitKey> keys;
-  const UnitKey& si() const { return keys.front(); }
-};
-
-/// What a table holds for a Quantity.
-struct Given {
-  const UnitKey* unit = nullptr;  ///< the key present; nullptr: none
-  std::optional<double> si;       ///< the value in SI; nullopt if absent or bad (the error is recorded)
-  double written = 0.0;           ///< the value in the unit of its key
-  bool present() const { return unit != nullptr; }
-};
-
-// -------------------------------------------------------------------- table
-
-/// A TOML table at a known key path, with typed, validated getters. A bad
-/// value is recorded as an error (Document::error) and read as absent
-/// (nullopt), so reading goes on and every error of a file is reported.
-class Table {
- public:
-  Table(const Document& doc, const toml::table& table, Path path)
-      : doc_(doc), table_(table), path_(std::move(path)) {}
-
-  const Path& path() const { return path_; }
-  Path path_of(std::string_view key) const { return child(path_, key); }
-  const toml::node* find(std::string_view key) const { return table_.get(key); }
-  bool has(std::string_view key) const { return find(key) != nullptr; }
-
-  /// Records every key not in `allowed`, in key order. A key a near miss
-  /// was meant to be is not reported missing as well.
-  void reject_unknown(std::span<const std::string_view> allowed) const {
-    for (auto&& [key, value] : table_) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
-      doc_.error_key(path_of(key.str()), unknown_key_rule(key.str(), allowed));
-      if (const std::string_view meant = near_miss(key.str(), allowed); !meant.empty()) meant_.push_back(meant);
-    }
-  }
-  /// True if an unknown key of this table was a near miss of `key`.
-  bool meant(std::string_view key) const { return std::find(meant_.begin(), meant_.end(), key) != meant_.end(); }
-
-  /// A number (float, or integer converted) in `range`; nullopt if absent or
-  /// bad (recorded).
-  std::optional<double> number(std::string_view key, const Range& range) const {
-    const toml::node* n = find(key);
-    if (!n) return std::nullopt;
-    double v = 0.0;
-    if (const auto* i = n->as_integer()) {
-      v = static_cast<double>(i->get());
-    } else if (const auto* f = n->as_floating_point()) {
-      v = f->get();
-    } else {
-      doc_.error(path_of(key), *n, "must be a number");
-      return std::nullopt;
-    }
-    if (!std::isfinite(v)) {
-      doc_.error(path_of(key), *n, "must be a finite number");
-      return std::nullopt;
-    }
-    if (!range.contains(v)) {
-      doc_.error(path_of(key), *n, "must be " + std::string(range.text));
-      return std::nullopt;
-    }
-    return v;
-  }
-
-  /// Item `index` of a number_list key: the array's element and its path, or
-  /// the key's own node and path when it holds one number (a list of one).
-  /// @pre find(key) is present and number_list(key, ...) read `index`.
-  std::pair<Path, const toml::node*> list_item(std::string_view key, std::size_t index) const {
-    const toml::node* n = find(key);
-    if (const toml::array* a = n->as_array()) return {element(path_of(key), index), a->get(index)};
-    return {path_of(key), n};
-  }
-
-  /// One number or an array of numbers, each in `range`; nullopt if absent
-  /// or bad (every bad element recorded with its index).
-  std::optional<std::vector<double>> number_list(std::string_view key, const Range& range) const {
-    const toml::node* n = find(key);
-    if (!n) return std::nullopt;
-    auto one = [&](const toml::node& c, const Path& where) -> std::optional<double> {
-      double v = 0.0;
-      if (const auto* i = c.as_integer()) v = static_cast<double>(i->get());
-      else if (const auto* f = c.as_floating_point()) v = f->get();
-      else {
-        doc_.error(where, c, "must be a number");
-        return std::nullopt;
-      }
-      if (!std::isfinite(v) || !range.contains(v)) {
-        doc_.error(where, c, "must be " + std::string(range.text));
-        return std::nullopt;
-      }
-      return v;
-    };
-    std::vector<double> out;
-    if (const toml::array* a = n->as_array()) {
-      if (a->empty()) {
-        doc_.error(path_of(key), *n, "must not be empty");
-        return std::nullopt;
-      }
-      bool ok = true;
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        const auto v = one(*a->get(i), element(path_of(key), i));
-        if (v) out.push_back(*v);
-        else ok = false;
-      }
-      if (!ok) return std::nullopt;
-      return out;
-    }
-    const auto v = one(*n, path_of(key));
-    if (!v) return std::nullopt;
-    return std::vector<double>{*v};
-  }
-
-  /// A required number; `unit` ("Hz", "" for a ratio) goes into the
-  /// missing-key message. nullopt (recorded) if absent or bad.
-  std::optional<double> required_number(std::string_view key, const Range& range, std::string_view unit) const {
-    if (!has(key)) {
-      if (!meant(key))
-        doc_.error_key(path_of(key), "missing (required, " + (unit.empty() ? std::string() : std::string(unit) + ", ") +
-                                         std::string(range.text) + ")");
-      return std::nullopt;
-    }
-    return number(key, range);
-  }
-
-  /// The quantity `q` in whichever of its keys is present, converted to SI.
-  /// Two keys of one quantity are an error naming both.
-  Given quantity(const Quantity& q, const Range& range) const {
-    Given g;
-    for (const UnitKey& u : q.keys) {
-      if (!has(u.key)) continue;
-      if (g.unit) {
-        doc_.error(path_of(u.key), *find(u.key),
-                   "not with " + std::string(g.unit->key) + " (one quantity, one key: give " +
-                       std::string(g.unit->key) + " or " + std::string(u.key) + ")");
-        g.si.reset();
-        return g;
-      }
-      g.unit = &u;
-      if (const auto v = number(u.key, range)) {
-        g.written = *v;
-        g.si = *v * u.to_si;
-      }
-    }
-    return g;
-  }
-
-  /// A required quantity: absent is an error naming its keys and units.
-  Given required_quantity(const Quantity& q, const Range& range) const {
-    Given g = quantity(q, range);
-    const bool near_miss_reported =
-        std::any_of(q.keys.begin(), q.keys.end(), [this](const UnitKey& u) { return meant(u.key); });
-    if (!g.present() && !near_miss_reported) {
-      std::string rule = "missing (required, " + std::string(q.si().unit) + ", " + std::string(range.text) + ")";
-      for (std::size_t i = 1; i < q.keys.size(); ++i)
-        rule += (i == 1 ? "; or give " : " or ") + std::string(q.keys[i].key) + " (" + std::string(q.keys[i].unit) + ")";
-      doc_.error_key(path_of(q.si().key), rule);
-    }
-    return g;
-  }
-
-  /// An integer >= `min` that fits an int; nullopt if absent or bad
-  /// (recorded). Floats are rejected, even 2.0.
-  std::optional<int> integer(std::string_view key, int min, int max = std::numeric_limits<int>::max()) const {
-    const toml::node* n = find(key);
-    if (!n) return std::nullopt;
-    const auto* i = n->as_integer();
-    if (!i) {
-      doc_.error(path_of(key), *n, "must be an integer");
-      return std::nullopt;
-    }
-    const std::int64_t v = i->get();
-    if (v < min) {
-      doc_.error(path_of(key), *n, "must be an integer >= " + std::to_string(min));
-      return std::nullopt;
-    }
-    if (v > max) {
-      doc_.error(path_of(key), *n, "must be an integer <= " + std::to_string(max));
-      return std::nullopt;
-    }
-    return static_cast<int>(v);
-  }
-
-  /// A string; nullopt if absent or not a string (recorded with `rule`).
-  std::optional<std::string> string(std::string_view key, std::string_view rule = "must be a string") const {
-    const toml::node* n = find(key);
-    if (!n) return std::nullopt;
-    const auto* s = n->as_string();
-    if (!s) {
-      doc_.error(path_of(key), *n, rule);
-      return std::nullopt;
-    }
-    return s->get();
-  }
-
-  /// A sub-table (a [header] or an inline table); nullopt if absent; not a
-  /// table: recorded, and Skip.
-  std::optional<Table> table(std::string_view key) const {
-    const toml::node* n = find(key);
-    if (!n) return std::nullopt;
-    const toml::table* t = n->as_table();
-    if (!t) doc_.fail(path_of(key), *n, "must be a table");
-    return Table(doc_, *t, path_of(key));
-  }
-
-  const Document& doc() const { return doc_; }
-
-  /// Records an error naming `key` when `si_value` lies outside the hard
-  /// bound; false then. `unit` is the key's unit, to show the SI value when
-  /// the key is in another unit.
-  bool plausible(std::string_view key, double si_value, const Plausible& b, const UnitKey* unit = nullptr) const {
-    if (si_value >= b.lo && si_value <= b.hi) return true;
-    std::string rule = b.rule;
-    if (unit && unit->to_si != 1.0) {
-      std::ostringstream os;
-      os << rule << " (this is " << si_value << " in SI)";
-      rule = os.str();
-    }
-    doc_.error(path_of(key), *find(key), rule);
-    return false;
-  }
-
- private:
-  const Document& doc_;
-  const toml::table& table_;
-  Path path_;
-  mutable std::vector<std::string_view> meant_;  // keys that unknown near misses were meant to be
-};
-
 // ------------------------------------------------------------ the quantities
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Every quantity has its SI key first, then at most a couple of shop-unit
 // keys whose suffix names the unit (docs/config.md, "Units").
@@ -560,18 +74,6 @@ const Quantity kDiameter{kDiameterKeys};
 
 // ------------------------------------------------------ plausibility warnings
 
-/// The values usual in machining (docs/config.md, "Plausibility warnings").
-/// Outside the band a value is accepted but warned about; the warning names
-/// a unit in which the number as written would be inside the band.
-struct Band {
-  double lo, hi;               ///< SI
-  std::string_view symbol;     ///< "K_t"
-  std::string_view unit;       ///< SI unit for the message
-  std::string_view usual;      ///< "the 1e8 to 1e10 N/m^2 of metal cutting (...)"
-  std::span<const UnitKey> other_units = {};  ///< likely mix-ups that are not keys (rad/s, N/mm, ...)
-  bool contains(double v) const { return v >= lo && v <= hi; }
-};
-
 constexpr UnitKey kStiffnessMixups[] = {{"", 1e3, "N/mm"}};
 constexpr UnitKey kFrequencyMixups[] = {{"", 1.0 / (2 * kPi), "rad/s"}, {"", 1e3, "kHz"}};
 constexpr UnitKey kDampingMixups[] = {{"", 1e-2, "percent"}};
@@ -597,70 +99,6 @@ constexpr double kRatioLo = 0.05, kRatioHi = 1.5;
 // divided by kToothPassingOverModeMax, is out of reach of the sweep.
 constexpr double kLobeNumberMax = 200.0;
 constexpr double kToothPassingOverModeMax = 20.0;
-
-std::string number_text(double x) {
-  std::ostringstream os;
-  os.precision(4);
-  os << x;
-  return os.str();
-}
-
-/// "over 1e5 times below" / "below".
-std::string how_far(double v, const Band& b) {
-  const bool below = v < b.lo;
-  const double ratio = below ? b.lo / v : v / b.hi;
-  const std::string side = below ? "below " : "above ";
-  if (!(ratio >= 10.0) || !std::isfinite(ratio)) return side;
-  return "over 1e" + std::to_string(static_cast<int>(std::floor(std::log10(ratio)))) + " times " + side;
-}
-
-/// Warns when the quantity given in `g` (or what `derive` makes of its SI
-/// value) lies outside `b`; `derived` describes the derived value ("gives
-/// k = m (2 pi f)^2 = "), empty when the band is on the value itself.
-// (noinline: inlined, GCC 12 reports a false -Wmaybe-uninitialized on Given::si.)
-template <class Derive>
-[[gnu::noinline]] void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b, Derive derive,
-               std::string_view derived = "") {
-  if (!g.present() || !g.si.has_value()) return;
-  const double v = derive(g.si.value());
-  if (b.contains(v)) return;
-  std::string what;
-  if (derived.empty())
-    what = std::string(b.symbol) + " = " + number_text(v) + (b.unit.empty() ? "" : " ") + std::string(b.unit);
-  else
-    what = std::string(derived) + number_text(v) + " " + std::string(b.unit) + ", which";
-  what += " is " + how_far(v, b) + std::string(b.usual);
-  // A unit in which the number as written would be usual.
-  const std::string written = t.doc().as_written(*t.find(g.unit->key));
-  std::string hint;
-  for (const UnitKey& u : q.keys) {
-    if (&u == g.unit || !b.contains(derive(g.written * u.to_si))) continue;
-    hint = "did you mean " + std::string(u.unit) + " (" + std::string(u.key) + " = " + written + ")?";
-    break;
-  }
-  for (const UnitKey& u : b.other_units) {
-    if (!hint.empty() || !b.contains(derive(g.written * g.unit->to_si * u.to_si))) continue;
-    hint = "is it in " + std::string(u.unit) + " (" + std::string(q.si().key) + " = " +
-           number_text(g.written * g.unit->to_si * u.to_si) + ")?";
-  }
-  if (!hint.empty()) what += "; " + hint;
-  t.doc().warn(t.path_of(g.unit->key), *t.find(g.unit->key), what);
-}
-
-void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b) {
-  warn_band(t, g, q, b, [](double v) { return v; });
-}
-
-/// A single-key number as a Given (frequency_hz, damping_ratio).
-Given given(const UnitKey& key, std::optional<double> v) {
-  Given g;
-  if (v) {
-    g.unit = &key;
-    g.si = *v;
-    g.written = *v;
-  }
-  return g;
-}
 
 // -------------------------------------------------------------------- modes
 
@@ -723,11 +161,6 @@ std::optional<double> read_damping(const Table& mode) {
   return zeta;
 }
 
-/// Throws Skip when errors were recorded since `mark`.
-void stop_if_errors_since(const Document& doc, std::size_t mark) {
-  if (doc.error_count() > mark) throw Skip{};
-}
-
 /// Warns on a mode's stiffness and frequency derived from a cantilever bar.
 void warn_derived_mode(const Table& mode, const Mode& md) {
   const Path path = mode.path_of("cantilever");
@@ -739,19 +172,6 @@ void warn_derived_mode(const Table& mode, const Mode& md) {
     mode.doc().warn_key(path, "gives f = " + number_text(md.natural_frequency_hz) + " Hz, which is " +
                                   how_far(md.natural_frequency_hz, kFrequencyBand) +
                                   std::string(kFrequencyBand.usual) + "; check the units of the bar");
-}
-
-/// Builds a model object (Mode, Process) from values validated above. The
-/// model constructors re-check them and throw InputError without a file name;
-/// should one fire, a rule above is missing: the user still gets the file and
-/// the table.
-template <class Make>
-auto model_checked(const Table& where, Make&& make) {
-  try {
-    return make();
-  } catch (const InputError& e) {
-    throw InputError(where.doc().origin() + ": " + where.path() + ": " + e.what());
-  }
 }
 
 Mode read_cantilever_mode(const Table& mode, const Table& bar_table) {
@@ -1001,7 +421,6 @@ constexpr std::string_view kProcessKeys[] = {"operation",
 // scaled to sum to exactly one revolution.
 constexpr double kPitchSumToleranceDeg = 1e-3;
 const Range kHelixDeg{"in [0, 90) (deg)", 0.0, false, 90.0, true};
-const Range kAnyNumber{"a finite number", -kInf, true, kInf, true};
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
@@ -1495,6 +914,9 @@ Config read_config(const toml::table& root_table, const Document& doc) {
 }
 
 }  // namespace
+}  // namespace chatter::config_detail
+
+namespace chatter {
 
 namespace {
 
@@ -1565,7 +987,7 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     const auto line = 1 + std::count(toml_text.begin(), toml_text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
     throw InputError(origin + ":" + std::to_string(line) + ": contains a NUL byte: a config must be UTF-8 text");
   }
-  const Document doc(toml_text, origin);
+  const config_detail::Document doc(toml_text, origin);
   try {
 #if TOML_EXCEPTIONS
     const toml::table root = toml::parse(std::string_view(toml_text), std::string_view(origin));
@@ -1578,10 +1000,10 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     }
     const toml::table root = std::move(result).table();
 #endif
-    return read_config(root, doc);
+    return config_detail::read_config(root, doc);
   } catch (const InputError&) {
     throw;
-  } catch (const Skip&) {
+  } catch (const config_detail::Skip&) {
     // Every Skip is caught where reading resumes; should one get here, its
     // error is recorded: report it.
     doc.throw_if_errors();
@@ -1595,6 +1017,7 @@ Config parse_config(const std::string& original_text, const std::string& origin)
 }
 
 StructuralModel model_at_position(const Config& config, double position_m) {
+  using config_detail::number_text;
   const std::string origin = config.source.empty() ? config.name : config.source.string();
   if (config.position.empty())
     throw InputError(origin + ": position " + number_text(position_m * 1e3) +
