@@ -1,0 +1,290 @@
+// [process] of the TOML config (docs/config.md, "Process"): turning, and
+// milling with the real-cutter keys (helix, pitch, runout, process damping).
+#include "config_sections.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <string>
+
+namespace chatter::config_detail {
+namespace {
+
+// ------------------------------------------------------ plausibility bounds
+
+constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
+
+// ------------------------------------------------------------ the quantities
+
+// Every quantity has its SI key first, then at most a couple of shop-unit
+// keys whose suffix names the unit (docs/config.md, "Units").
+constexpr UnitKey kFeedForceKeys[] = {{"feed_force_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                      {"feed_force_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kTangentialKeys[] = {{"tangential_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                       {"tangential_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kRadialKeys[] = {{"radial_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                   {"radial_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+
+const Quantity kFeedForce{kFeedForceKeys};
+const Quantity kTangential{kTangentialKeys};
+const Quantity kRadial{kRadialKeys};
+
+// ------------------------------------------------------ plausibility warnings
+
+const Band kCoefficientBand{1e8, 1e10, "K", "N/m^2",
+                            "the 1e8 to 1e10 N/m^2 of metal cutting (aluminium about 5e8, steel about 2e9, hardened "
+                            "steel and titanium about 3e9)"};
+const Band kRadialBand{5e6, 1.5e10, "K_r", "N/m^2", "the 5e6 to 1.5e10 N/m^2 of metal cutting"};
+// K_r/K_t: usually 0.1 to 1; warned outside this slightly wider band.
+constexpr double kRatioLo = 0.05, kRatioHi = 1.5;
+
+// ------------------------------------------------------------------ keys
+
+constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_force_coefficient_n_per_mm2",
+                                             "feed_per_rev_mm", "workpiece_diameter_mm"};
+constexpr std::string_view kMillingKeys[] = {"teeth",
+                                             "tangential_coefficient_n_per_m2",
+                                             "tangential_coefficient_n_per_mm2",
+                                             "radial_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_mm2",
+                                             "radial_immersion",
+                                             "milling_direction",
+                                             "feed_per_tooth_mm",
+                                             "flute_length_mm",
+                                             "tool_diameter_mm",
+                                             "radial_depth_mm",
+                                             "helix_angle_deg",
+                                             "pitch_angles_deg",
+                                             "runout_um",
+                                             "radial_coefficient_ratio"};
+// The static chip of the time-domain simulation (feed per revolution in
+// turning, per tooth in milling), mm.
+const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
+constexpr std::string_view kProcessKeys[] = {"operation",
+                                             "feed_force_coefficient_n_per_m2",
+                                             "feed_force_coefficient_n_per_mm2",
+                                             "feed_per_rev_mm",
+                                             "feed_per_tooth_mm",
+                                             "teeth",
+                                             "tangential_coefficient_n_per_m2",
+                                             "tangential_coefficient_n_per_mm2",
+                                             "radial_coefficient_n_per_m2",
+                                             "radial_coefficient_n_per_mm2",
+                                             "radial_immersion",
+                                             "milling_direction",
+                                             "flute_length_mm",
+                                             "tool_diameter_mm",
+                                             "radial_depth_mm",
+                                             "helix_angle_deg",
+                                             "pitch_angles_deg",
+                                             "runout_um",
+                                             "radial_coefficient_ratio",
+                                             "process_damping_coefficient_n_per_m",
+                                             "workpiece_diameter_mm"};
+// Pitch angles as written must sum to 360° to this (deg); they are then
+// scaled to sum to exactly one revolution.
+constexpr double kPitchSumToleranceDeg = 1e-3;
+const Range kHelixDeg{"in [0, 90) (deg)", 0.0, false, 90.0, true};
+
+void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
+  for (const std::string_view key : keys) {
+    if (const toml::node* n = process.find(key))
+      process.doc().error(process.path_of(key), *n, "only for operation = \"" + std::string(operation) + "\"");
+  }
+}
+
+/// A cutting coefficient, with the hard bound.
+Given read_coefficient(const Table& process, const Quantity& q, const Range& range) {
+  Given g = process.required_quantity(q, range);
+  if (g.si && !process.plausible(g.unit->key, *g.si, kCoefficientBound, g.unit)) g.si.reset();
+  return g;
+}
+
+}  // namespace
+
+Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
+  const auto process = root.table("process");
+  const Document& doc = root.doc();
+  if (!process) doc.fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
+  process->reject_unknown(kProcessKeys);
+
+  constexpr std::string_view kOperationRule = R"(must be "turning" or "milling")";
+  if (!process->has("operation"))
+    doc.fail_key(process->path_of("operation"), R"(missing (required, "turning" or "milling"))");
+  const auto operation = process->string("operation", kOperationRule);
+  if (!operation) throw Skip{};
+  const std::size_t mark = doc.error_count();
+
+  if (*operation == "turning") {
+    reject_keys_of(*process, kMillingKeys, "milling");
+    const Given kf = read_coefficient(*process, kFeedForce, kPositive);
+    *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
+    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+    const auto dw = process->number("workpiece_diameter_mm", kPositive);
+    if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
+      doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
+                "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
+    stop_if_errors_since(doc, mark);
+    if (!kf.si) throw Skip{};
+    TurningParameters p;
+    p.feed_force_coefficient_n_per_m2 = *kf.si;
+    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
+    p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
+    Band band = kCoefficientBand;
+    band.symbol = "K_f";
+    warn_band(*process, kf, kFeedForce, band);
+    return model_checked(*process, [&] { return Process::turning(p); });
+  }
+  if (*operation == "milling") {
+    reject_keys_of(*process, kTurningKeys, "turning");
+    MillingParameters p;
+    const auto teeth = process->integer("teeth", 1, kMaxTeeth);
+    if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
+    const Given kt = read_coefficient(*process, kTangential, kPositive);
+    // K_r: in N/m² (or N/mm²), or as the ratio K_r/K_t; exactly one.
+    const auto ratio_given = process->number("radial_coefficient_ratio", kNonNegative);
+    Given kr;
+    if (process->has("radial_coefficient_ratio")) {
+      kr = process->quantity(kRadial, kNonNegative);
+      if (kr.present()) {
+        doc.error(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+                  "not with radial_coefficient_ratio (give K_r once: " + std::string(kr.unit->key) +
+                      " or radial_coefficient_ratio = K_r/K_t)");
+        kr.si.reset();
+      } else if (ratio_given && kt.si) {
+        kr.si = *ratio_given * *kt.si;
+        kr.unit = &kRadialKeys[0];
+      }
+    } else {
+      kr = process->quantity(kRadial, kNonNegative);
+      if (!kr.present() && !process->meant("radial_coefficient_n_per_m2"))
+        doc.error_key(process->path_of("radial_coefficient_n_per_m2"),
+                      "missing (required, N/m^2, >= 0); or give radial_coefficient_n_per_mm2 (N/mm^2) or "
+                      "radial_coefficient_ratio (K_r/K_t)");
+      if (kr.si && !process->plausible(kr.unit->key, *kr.si, kCoefficientBound, kr.unit)) kr.si.reset();
+    }
+    // Tool diameter and radial engagement: a_e/D, or a_e in mm with D.
+    const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
+    std::optional<double> immersion;
+    const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
+    if (has_ae && has_ratio) {
+      doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
+                "radial_depth_mm with tool_diameter_mm)");
+    } else if (has_ae) {
+      const auto ae = process->number("radial_depth_mm", kPositive);
+      if (!process->has("tool_diameter_mm"))
+        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                  "needs process.tool_diameter_mm (a_e/D = radial_depth_mm / tool_diameter_mm)");
+      else if (ae && diameter_mm && *ae > *diameter_mm)
+        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                  "must be <= tool_diameter_mm (" + number_text(*diameter_mm) + " mm): the cutter cannot engage more than its diameter");
+      else if (ae && diameter_mm)
+        immersion = *ae / *diameter_mm;
+    } else {
+      if (!process->has("radial_immersion") && !process->meant("radial_immersion"))
+        doc.error_key(process->path_of("radial_immersion"),
+                      "missing (required, a_e/D, in (0, 1]); or give radial_depth_mm with tool_diameter_mm");
+      else
+        immersion = process->number("radial_immersion", kUnitInterval);
+    }
+    constexpr std::string_view kDirectionRuleMilling = R"(must be "down" (= "climb") or "up" (= "conventional"))";
+    const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
+    if (direction == "down" || direction == "climb")
+      p.direction = MillingDirection::kDown;
+    else if (direction == "up" || direction == "conventional")
+      p.direction = MillingDirection::kUp;
+    else
+      doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
+    *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+    if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
+    // The cutter (docs/config.md, "Real cutters").
+    const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
+    const auto pitch = process->number_list("pitch_angles_deg", kPositive);
+    const auto runout = process->number_list("runout_um", kAnyNumber);
+    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+    auto need_diameter = [&](std::string_view key, std::string_view why) {
+      if (process->has(key) && !process->has("tool_diameter_mm"))
+        doc.error(process->path_of(key), *process->find(key), "needs process.tool_diameter_mm (" + std::string(why) + ")");
+    };
+    if (helix && std::any_of(helix->begin(), helix->end(), [](double b) { return b > 0.0; }))
+      need_diameter("helix_angle_deg", "the helix lag of a slice at height z is z tan(beta) / R");
+    if (cpd && *cpd > 0.0)
+      need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
+    if (teeth) {
+      const auto nt = static_cast<std::size_t>(*teeth);
+      if (helix && helix->size() != 1 && helix->size() != nt)
+        doc.error(process->path_of("helix_angle_deg"), *process->find("helix_angle_deg"),
+                  "has " + std::to_string(helix->size()) + " values: give one number (every tooth) or one per tooth (teeth = " +
+                      std::to_string(nt) + ")");
+      if (pitch) {
+        double sum = 0.0;
+        for (const double th : *pitch) sum += th;
+        if (pitch->size() != nt)
+          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                    "has " + std::to_string(pitch->size()) + " values: need one per tooth (teeth = " + std::to_string(nt) +
+                        "), the angle from the previous tooth to this one");
+        else if (std::abs(sum - 360.0) > kPitchSumToleranceDeg)
+          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                    "sums to " + number_text(sum) + " deg: the pitch angles must sum to 360 deg (one revolution)");
+      }
+      if (runout) {
+        if (runout->size() != nt)
+          doc.error(process->path_of("runout_um"), *process->find("runout_um"),
+                    "has " + std::to_string(runout->size()) + " values: need one radial offset per tooth (teeth = " +
+                        std::to_string(nt) + "), in um");
+        else if (diameter_mm)
+          for (std::size_t j = 0; j < nt; ++j)
+            if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm) {
+              // `runout_um = 1e5` with one tooth is a list of one: no element to point at.
+              const auto [where, node] = process->list_item("runout_um", j);
+              doc.error(where, *node,
+                        "must be smaller than the tool radius (" + number_text(0.5 * *diameter_mm * 1e3) + " um)");
+            }
+      }
+    }
+    stop_if_errors_since(doc, mark);
+    if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
+    p.teeth = *teeth;
+    p.tangential_coefficient_n_per_m2 = *kt.si;
+    p.radial_coefficient_n_per_m2 = *kr.si;
+    p.radial_immersion = *immersion;
+    p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
+    constexpr double kDegToRad = kPi / 180.0;
+    if (helix) {
+      for (const double b : *helix) p.helix_angles_rad.push_back(b * kDegToRad);
+      if (std::all_of(helix->begin(), helix->end(), [](double b) { return b == 0.0; })) p.helix_angles_rad.clear();
+    }
+    if (pitch) {
+      double sum = 0.0;
+      for (const double th : *pitch) sum += th;
+      for (const double th : *pitch) p.pitch_angles_rad.push_back(th / sum * 2.0 * kPi);  // exactly one revolution
+    }
+    if (runout)
+      for (const double r : *runout) p.runout_m.push_back(r * 1e-6);
+    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
+    Band band = kCoefficientBand;
+    band.symbol = "K_t";
+    warn_band(*process, kt, kTangential, band);
+    if (*kr.si > 0.0 && !process->has("radial_coefficient_ratio")) {  // K_r = 0 is a deliberate idealisation: no radial force
+      warn_band(*process, kr, kRadial, kRadialBand);
+      const double ratio = *kr.si / *kt.si;
+      if (ratio < kRatioLo || ratio > kRatioHi)
+        doc.warn(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+                 "K_r/K_t = " + number_text(ratio) +
+                     ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                     "titanium 0.3 to 0.8); are " +
+                     std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
+    } else if (ratio_given && *ratio_given > 0.0 && (*ratio_given < kRatioLo || *ratio_given > kRatioHi)) {
+      doc.warn(process->path_of("radial_coefficient_ratio"), *process->find("radial_coefficient_ratio"),
+               "K_r/K_t = " + number_text(*ratio_given) +
+                   ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                   "titanium 0.3 to 0.8)");
+    }
+    return model_checked(*process, [&] { return Process::milling(p); });
+  }
+  doc.fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
+}
+
+}  // namespace chatter::config_detail

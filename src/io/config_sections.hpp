@@ -1,0 +1,49 @@
+// Internal (not installed): the section readers of the TOML config reader,
+// one file each, called by read_config (src/io/config.cpp) in this order:
+// process, tool and workpiece, positions, sweep, then (only when everything
+// above read without errors) uncertainty; after the errors, the warnings
+// that need the whole config (warn_frequency_vs_speeds). Each reader records
+// its errors on the Document and throws Skip to abandon its table
+// (config_read.hpp explains the pattern; a new section is one more file and
+// one more declaration here). Key reference: docs/config.md.
+#pragma once
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "chatter/io/config.hpp"
+#include "config_read.hpp"
+
+namespace chatter::config_detail {
+
+// config_process.cpp
+/// `[process]`: turning or milling (with the real-cutter keys). Also sets the
+/// feed (`feed_per_rev_mm` / `feed_per_tooth_mm`) and the flute length when given.
+Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m);
+
+// config_structure.cpp
+/// `[tool]` / `[workpiece]`: modes (given, or from a cantilever bar) and
+/// measured FRF terms; absent, or without `modes`, means rigid.
+Body read_body(const Table& root, std::string_view name);
+/// The cantilever workpiece modes of a config read without errors: their
+/// index in model.workpiece.modes and their bar length (m).
+std::vector<CantileverModeRef> cantilever_refs(const toml::table& root_table);
+
+// config_positions.cpp
+/// `[[positions]]`: mode sets along the path; `top` is the model of the
+/// top-level [tool] and [workpiece].
+std::vector<PositionStation> read_positions(const Table& root, const StructuralModel& top);
+
+// config_sweep.cpp
+/// `[sweep]`: defaults for the CLI sweep flags.
+SweepDefaults read_sweep(const Table& root);
+/// Warns about modes the [sweep] speeds cannot excite in a usual lobe.
+void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc, const Config& config);
+
+// config_uncertainty.cpp
+/// `[uncertainty]`: spreads checked against the model and process read.
+std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const StructuralModel& model,
+                                                   const Process& process);
+
+}  // namespace chatter::config_detail
