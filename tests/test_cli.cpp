@@ -388,7 +388,9 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
   const int n_points = *cfg.sweep.rpm_points;
 
   const fs::path table = path("lobes.csv"), json = path("lobes.json");
-  const auto r = run({"lobes", cfg_file.string(), "--table", table.string(), "--json", json.string()});
+  // The transfer-function formulas are analytic's (the default, auto, is sdm for milling).
+  const auto r = run({"lobes", cfg_file.string(), "--method", "analytic", "--table", table.string(), "--json",
+                      json.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::exists(table));
   ASSERT_TRUE(fs::exists(json));
@@ -499,7 +501,7 @@ TEST_P(CliConfigTest, LobesTableIsTheEnvelope) {
   if (!ph.scalar()) GTEST_SKIP() << "independent envelope scan implemented for one eigenvalue branch only";
 
   const fs::path table = path("lobes.csv");
-  const auto r = run({"lobes", cfg_file.string(), "--table", table.string()});
+  const auto r = run({"lobes", cfg_file.string(), "--method", "analytic", "--table", table.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = parse_lobe_csv(slurp(table));
   ASSERT_FALSE(rows.empty());
@@ -853,7 +855,7 @@ TEST_F(CliTest, RejectsBadSweepOptions) {
   expect_rejected(run({"lobes", cfg, "--depth-max-mm", "0", "--table", T, "--json", J}), {"depth-max-mm"}, {t, js},
                   "--depth-max-mm 0");
   expect_rejected(run({"lobes", cfg, "--method", "nonsense", "--table", T, "--json", J}),
-                  {"--method", "method \"nonsense\": unknown (this build has: analytic, coupled, sdm, time-domain)"},
+                  {"--method", "method \"nonsense\": unknown (this build has: auto, analytic, coupled, sdm, time-domain)"},
                   {t, js}, "--method nonsense");
   expect_rejected(run({"lobes", cfg, "--frobnicate", "--table", T, "--json", J}), {"frobnicate"}, {t, js},
                   "--frobnicate");
@@ -946,11 +948,16 @@ TEST_F(CliTest, SdmPointGivesFloquetVerdict) {
   ASSERT_EQ(bad.exit_code, 0) << bad.err;
   const auto jb = nlohmann::json::parse(bad.out);
   EXPECT_FALSE(jb["stable"].get<bool>());
-  EXPECT_EQ(jb["multiplier_type"], "flip");
+  EXPECT_EQ(jb["multiplier_type"], "flip");            // at the limit
+  EXPECT_EQ(jb["dominant_multiplier_type"], "flip");   // at the asked depth
   EXPECT_GT(jb["spectral_radius"].get<double>(), 1.0);
   EXPECT_LT(jb["dominant_multiplier"][0].get<double>(), -1.0);
+  // The default (auto) is sdm for milling: the same verdict without --method.
+  const auto dflt = run({"point", cfg.string(), "--rpm", "18000", "--depth-mm", "1.5"});
+  ASSERT_EQ(dflt.exit_code, 0) << dflt.err;
+  EXPECT_EQ(nlohmann::json::parse(dflt.out), jb);
   // The transfer-function method misses this flip lobe: 1.5 mm looks stable to it.
-  const auto tf = run({"point", cfg.string(), "--rpm", "18000", "--depth-mm", "1.5"});
+  const auto tf = run({"point", cfg.string(), "--method", "analytic", "--rpm", "18000", "--depth-mm", "1.5"});
   ASSERT_EQ(tf.exit_code, 0) << tf.err;
   EXPECT_TRUE(nlohmann::json::parse(tf.out)["stable"].get<bool>()) << tf.out;
   const auto good = run({"point", cfg.string(), "--method", "sdm", "--rpm", "18000", "--depth-mm", "1.0"});
@@ -986,8 +993,8 @@ TEST_F(CliTest, RejectsBadSolverOptions) {
   const fs::path t = path("t.csv");
   expect_rejected(run({"lobes", cfg, "--method", "sdm", "--steps", "0", "--table", t.string()}), {"steps"}, {t},
                   "--steps 0");
-  expect_rejected(run({"lobes", cfg, "--steps", "40", "--table", t.string()}), {"steps"}, {t},
-                  "--steps without sdm");
+  expect_rejected(run({"lobes", cfg, "--method", "analytic", "--steps", "40", "--table", t.string()}), {"steps"},
+                  {t}, "--steps without sdm");
   expect_rejected(run({"lobes", cfg, "--threads", "-1", "--table", t.string()}), {"threads"}, {t}, "--threads -1");
 }
 

@@ -344,9 +344,9 @@ TEST(Check, MillingRowsWithOverridesUseTheirOwnProcess) {
 TEST(Check, MethodResolution) {
   const Config a = case_a(), c = case_c();
   std::string w;
-  EXPECT_EQ(resolve_lobe_method(a.process, "auto", &w), "analytic");
+  EXPECT_EQ(resolve_lobe_method("auto", a.model, a.process, &w), "analytic");
   EXPECT_TRUE(w.empty());
-  const std::string m = resolve_lobe_method(c.process, "auto", &w);
+  const std::string m = resolve_lobe_method("auto", c.model, c.process, &w);
   if (has_lobe_method("sdm")) {
     EXPECT_EQ(m, "sdm");
     EXPECT_TRUE(w.empty());
@@ -354,7 +354,11 @@ TEST(Check, MethodResolution) {
     EXPECT_EQ(m, "analytic");
     EXPECT_EQ(w, kFlipLobeWarning);
   }
-  EXPECT_THROW(resolve_lobe_method(a.process, "magic", nullptr), InputError);
+  // Asked for: the name itself, with the warning for milling by an averaged method.
+  w.clear();
+  EXPECT_EQ(resolve_lobe_method("analytic", c.model, c.process, &w), "analytic");
+  EXPECT_EQ(w, kFlipLobeWarning);
+  EXPECT_THROW(resolve_lobe_method("magic", a.model, a.process, nullptr), InputError);
 }
 
 // ========================================================== recommendation

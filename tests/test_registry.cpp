@@ -176,15 +176,13 @@ TEST(Registry, DiagnosticsAgreeWithTheLimit) {
         }
       }
       if (!r.limit.bounded()) continue;
-      const SolverValues below = s->point_diagnostics(rpm, kBelow * r.limit.depth_limit_m);
-      const SolverValues above = s->point_diagnostics(rpm, kAbove * r.limit.depth_limit_m);
-      if (below.empty()) continue;  // the method judges from limit_at alone
-      ASSERT_TRUE(below.count("stable") && above.count("stable")) << d.name;
+      const PointAnalysis below = s->analyse_point(rpm, kBelow * r.limit.depth_limit_m);
+      const PointAnalysis above = s->analyse_point(rpm, kAbove * r.limit.depth_limit_m);
+      if (!below.stable) continue;  // the method judges from limit_at alone
+      ASSERT_TRUE(above.stable.has_value()) << d.name;
       ++verdicts_checked;
-      EXPECT_TRUE(std::get<bool>(below.at("stable"))) << d.name << " at " << rpm << " rev/min, "
-                                                      << kBelow * r.limit.depth_limit_m << " m";
-      EXPECT_FALSE(std::get<bool>(above.at("stable"))) << d.name << " at " << rpm << " rev/min, "
-                                                       << kAbove * r.limit.depth_limit_m << " m";
+      EXPECT_TRUE(*below.stable) << d.name << " at " << rpm << " rev/min, " << kBelow * r.limit.depth_limit_m << " m";
+      EXPECT_FALSE(*above.stable) << d.name << " at " << rpm << " rev/min, " << kAbove * r.limit.depth_limit_m << " m";
     }
   }
   EXPECT_GE(rho_checked, 1) << "no bounded Floquet limit: the test checked nothing";

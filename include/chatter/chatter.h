@@ -66,15 +66,50 @@ const char* chatter_model_warning(const chatter_model* model, size_t i);
 size_t chatter_method_count(void);
 const char* chatter_method_name(size_t i);
 
-/* Builds a solver. method: one of chatter_method_name(), e.g. "analytic",
- * "coupled", "sdm" (semi-discretisation: Floquet, flip lobes; ~2 ms per
- * speed) or "time-domain" (simulation; ~0.3 s per speed) (NULL = the first,
- * "analytic"). A method that does not handle the model (e.g. measured FRFs)
- * fails with CHATTER_INPUT_ERROR naming the method and what it lacks.
- * depth_max_mm: deepest cut searched (> 0); limits above it are unbounded. */
+/* Builds a solver. method: "auto" (or NULL: the default of every interface:
+ * turning "analytic", milling "sdm", or "analytic" when sdm does not handle
+ * the model, e.g. measured FRFs; chatter_solver_method says which) or one of
+ * chatter_method_name(), e.g. "analytic", "coupled", "sdm"
+ * (semi-discretisation: Floquet, flip lobes; ~2 ms per speed) or
+ * "time-domain" (simulation; ~0.3 s per speed). A method that does not
+ * handle the model fails with CHATTER_INPUT_ERROR naming the method and what
+ * it lacks. depth_max_mm: deepest cut searched (> 0); limits above it are
+ * unbounded. */
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out);
 void chatter_solver_free(chatter_solver* solver);
+/* The method the solver uses ("auto" resolved), valid while the solver
+ * lives; NULL when solver is NULL. */
+const char* chatter_solver_method(const chatter_solver* solver);
+
+/* `chatter point` (docs/results.md): the limit at one speed (the lobe-table
+ * row) and the method's own analysis at the asked depth, each in its own
+ * fields. Strings are static; NAN where the method gives no value. */
+typedef struct chatter_point_result {
+  chatter_limit limit;              /* the lobe-table row at the speed: depth limit, chatter frequency, lobe */
+  const char* multiplier_type;      /* at the limit: "hopf", "flip", "fold" (sdm); "" when the method gives none */
+  double depth_mm;                  /* as asked */
+  int stable;                       /* 1: stable at depth_mm (the method's own verdict, else depth < limit) */
+  double margin;                    /* depth_limit_mm / depth_mm; HUGE_VAL when limit.bounded == 0 */
+  double tooth_passing_hz;          /* N * N_t / 60, whatever the pitch */
+  double tooth_period_s;            /* 1 / tooth_passing_hz */
+  double floquet_period_s;          /* the period multipliers refer to; 0 when the method has none */
+  double spectral_radius;           /* at depth_mm (sdm): max |mu|, < 1 stable */
+  double growth_per_period;         /* at depth_mm (time-domain): measured |mu| */
+  double dominant_multiplier_re;    /* the dominant multiplier mu at depth_mm */
+  double dominant_multiplier_im;
+  double dominant_frequency_hz;     /* the frequency of its vibration at depth_mm */
+  const char* dominant_multiplier_type;  /* at depth_mm: "hopf", "flip", "fold"; "" when none */
+} chatter_point_result;
+
+/* One operating point (spindle_rpm in (0, 500000], depth_mm in (0, 1000]):
+ * the numbers of `chatter point` with the solver's method. */
+chatter_status chatter_point(const chatter_solver* solver, double spindle_rpm, double depth_mm,
+                             chatter_point_result* out);
+/* The same as `chatter point`'s JSON record, text valid until the next
+ * chatter_point_json call on this thread. */
+chatter_status chatter_point_json(const chatter_solver* solver, double spindle_rpm, double depth_mm,
+                                  const char** json);
 
 /* Stability limit at one spindle speed (rev/min > 0). */
 chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm, chatter_limit* out);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -12,6 +13,8 @@
 #include <string>
 #include <variant>
 #include <vector>
+
+#include "chatter/results.hpp"  // MultiplierType
 
 namespace chatter {
 
@@ -76,6 +79,35 @@ struct DiagnosedLimit {
   std::vector<SolverValue> values;
 };
 
+/// A method's own analysis at one (speed, depth) point: what belongs to the
+/// asked depth, never to the limit (docs/results.md). What a method does not
+/// give stays empty (the analytic methods give nothing: their verdict is the
+/// depth against the limit).
+struct PointAnalysis {
+  /// The method's verdict at the depth: sdm ρ < 1, time-domain its simulation.
+  std::optional<bool> stable;
+  /// ρ = max |μ| over the multipliers of the Floquet map at the depth (sdm),
+  /// per floquet_period_s; < 1 is stable.
+  std::optional<double> spectral_radius;
+  /// The same measured: the growth per Floquet period of a simulation
+  /// (time-domain); NaN-free (empty when it could not be measured).
+  std::optional<double> growth_per_period;
+  /// The dominant multiplier μ (Im μ >= 0), per floquet_period_s.
+  std::optional<std::complex<double>> dominant_multiplier;
+  /// The frequency (Hz) of the dominant vibration at the depth: sdm the
+  /// chatter-frequency rule applied to the dominant multiplier; time-domain
+  /// the largest spectral line that is not a forced one.
+  std::optional<double> dominant_frequency_hz;
+  /// How the dominant multiplier lies: complex pair (hopf), real negative
+  /// (flip), real positive (fold).
+  std::optional<MultiplierType> dominant_multiplier_type;
+  /// The period (s) multipliers and growth refer to (Process::floquet_period_s).
+  std::optional<double> floquet_period_s;
+  /// Method-specific values, names with units (sdm steps_per_period;
+  /// time-domain verdict, verdict_measure, max_amplitude_mm, ...).
+  SolverValues extra;
+};
+
 /// What every lobe solver offers. Implementations are immutable after
 /// construction: every const member is safe to call from several threads.
 class LobeSolver {
@@ -94,11 +126,10 @@ class LobeSolver {
   /// search (no extra cost beyond what the solver keeps). The limit is
   /// bitwise the one limit_at() returns. Default: limit_at(), no values.
   virtual DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const { return {limit_at(spindle_rpm), {}}; }
-  /// The solver's own verdict at one point (rev/min > 0, depth m >= 0) as
-  /// named values, e.g. "stable" (bool) and what backs it; empty by default
-  /// (the caller then judges from limit_at()). Cost: one analysis at the
-  /// point (sdm: one Floquet map; time-domain: one simulation).
-  virtual SolverValues point_diagnostics(double spindle_rpm, double depth_m) const {
+  /// The solver's own analysis at one point (rev/min > 0, depth m >= 0);
+  /// empty by default (the caller then judges from limit_at()). Cost: one
+  /// analysis at the point (sdm: one Floquet map; time-domain: one simulation).
+  virtual PointAnalysis analyse_point(double spindle_rpm, double depth_m) const {
     (void)spindle_rpm;
     (void)depth_m;
     return {};

@@ -7,10 +7,8 @@
 // says `rpm`. The operations file itself is in shop units (mm), converted on
 // reading. The user guide is docs/operations.md.
 //
-// Solvers come only from make_lobe_solver() (chatter/solvers.hpp). Method
-// "auto" means: turning → "analytic" (exact for turning); milling → "sdm"
-// when this build has it (sees the flip lobes of low radial immersion), else
-// "analytic" with a warning (the zeroth-order average misses flip lobes).
+// Solvers come only from make_lobe_solver() (chatter/solvers.hpp); method
+// "auto" (the default) is resolved by resolve_lobe_method there.
 //
 // Thread safety: every function here is re-entrant; LobeTableQuery is
 // immutable after construction, so any number of threads may query one table.
@@ -47,17 +45,6 @@ struct MachineLimits {
   /// "MachineLimits::rpm_max = 100: must be > rpm_min (200)".
   std::string validate() const;
 };
-
-/// Resolves the solver method for a process. `requested` is "auto" or a name
-/// of lobe_methods(). For "auto": turning → "analytic"; milling → "sdm" if
-/// has_lobe_method("sdm"), else "analytic". Whenever milling ends up with
-/// "analytic" (auto or asked for), `*warning` (if not null) is set to
-/// kFlipLobeWarning. @throws InputError on an unknown method name.
-std::string resolve_lobe_method(const Process& process, const std::string& requested, std::string* warning);
-
-/// The warning printed when milling is checked with the analytic method.
-inline constexpr std::string_view kFlipLobeWarning =
-    "milling checked with the zeroth-order analytic method, which misses flip lobes at low radial immersion";
 
 // ======================================================= fast lobe queries
 
@@ -241,8 +228,10 @@ struct OperationRow {
   std::string id;                                ///< unique, non-empty
   double spindle_rpm = 0.0;                      ///< rev/min, in the machine range
   double depth_m = 0.0;                          ///< depth of cut (axial in milling), m, > 0
+  double depth_mm = 0.0;                         ///< the same as written (mm): what the reports echo
   std::optional<double> radial_immersion;        ///< a_e/D in (0, 1]; empty = the config's (milling only)
   std::optional<double> feed_per_tooth_m;        ///< m (per revolution in turning), > 0; empty = not given
+  std::optional<double> feed_per_tooth_mm;       ///< the same as written (mm)
   std::optional<int> teeth;                      ///< override of the config's teeth (milling only)
   std::optional<MillingDirection> direction;     ///< override of the config's direction (milling only)
 };
@@ -405,7 +394,7 @@ struct Recommendation {
   double margin = 0.0;             ///< limit / depth (>= 1/safety; +inf if unbounded)
   /// The four depth caps at spindle_rpm (m; +inf when not limited); depth_m
   /// is their minimum.
-  double depth_stability_m = 0.0;  ///< safety × limit
+  double depth_stability_m = 0.0;  ///< safety × the worst limit over the speed band (pocket.worst_limit_m)
   double depth_power_m = 0.0;
   double depth_torque_m = 0.0;
   double depth_cap_m = 0.0;        ///< options.depth_max_m

@@ -39,4 +39,52 @@ namespace chatter {
 /// −1 when f_c is not a finite number >= 0 or f_tp is not > 0.
 int lobe_number(double chatter_frequency_hz, double tooth_passing_hz);
 
+/// The physical range of an asked operating point (docs/results.md): the
+/// fastest spindles turn about 200 000 rev/min, and no cut is a metre deep,
+/// so a value outside is a unit mistake (rev/s, µm), refused with the rule.
+inline constexpr double kMaxSpindleRpm = 500000.0;
+inline constexpr double kMaxDepthMm = 1000.0;
+/// @throws InputError "<name> = x: must be > 0 rev/min" or "... at most
+///         500000 rev/min (...)" when rpm is outside (0, kMaxSpindleRpm].
+void check_spindle_rpm(double rpm, const std::string& name);
+/// @throws InputError when depth_mm is outside (0, kMaxDepthMm] (`allow_zero`:
+///         [0, kMaxDepthMm]).
+void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero = false);
+
+/// Everything `chatter point` reports (and Python's chatter.point, the C API's
+/// chatter_point): the lobe-table row at the speed, the process's
+/// frequencies, and the method's own analysis at the asked depth, each in
+/// its own field (docs/results.md).
+struct PointReport {
+  std::string method;
+  double spindle_rpm = 0.0;
+  double depth_m = 0.0;      ///< the asked depth, m
+  double depth_mm = 0.0;     ///< the asked depth as given, mm (echoed as is: docs/results.md)
+  double depth_max_m = 0.0;  ///< the deepest cut searched for the limit
+  /// The limit: exactly the lobe-table row at this speed (depth limit,
+  /// chatter frequency and lobe of the limit, and the method's table
+  /// columns, e.g. sdm's multiplier_type at the limit).
+  DiagnosedLimit limit;
+  std::vector<DiagnosticColumn> columns;  ///< the names of limit.values
+  double tooth_passing_hz = 0.0;  ///< Process::tooth_passing_hz
+  double tooth_period_s = 0.0;    ///< 1 / tooth_passing_hz
+  /// The verdict at the asked depth: the method's own (at_depth.stable) when
+  /// it has one, else depth < limit.
+  bool stable = false;
+  /// depth limit / asked depth (> 1: stable with that factor to spare);
+  /// +inf when no limit lies below depth_max_m.
+  double margin = std::numeric_limits<double>::infinity();
+  PointAnalysis at_depth;  ///< the method's analysis at the asked depth
+  /// Sentences for the reader, e.g. when the method's verdict at the depth
+  /// differs from the depth against the first limit (a stable island).
+  std::vector<std::string> notes;
+};
+
+/// The report of one point: limit_with_diagnostics(rpm) (the table row),
+/// analyse_point(rpm, depth), the process's frequencies. The depth is taken
+/// in mm as the user gave it (the report echoes it unchanged). Cost: one
+/// limit and one analysis. @pre rpm > 0, depth_mm > 0 (check_spindle_rpm,
+/// check_depth_mm).
+PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm);
+
 }  // namespace chatter

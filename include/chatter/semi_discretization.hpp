@@ -157,9 +157,9 @@ class SemiDiscretizationSolver final : public LobeSolver {
   /// Defined with the registry entry (factory.cpp).
   std::vector<DiagnosticColumn> diagnostic_columns() const override;
   DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const override;
-  /// analyse() at the point: stable, spectral_radius, multiplier_type,
-  /// chatter_frequency_hz, dominant_multiplier [re, im], steps_per_period.
-  SolverValues point_diagnostics(double spindle_rpm, double depth_m) const override;
+  /// analyse() at the point: stable, spectral_radius, the dominant
+  /// multiplier, its frequency and type, floquet_period_s, steps_per_period.
+  PointAnalysis analyse_point(double spindle_rpm, double depth_m) const override;
   /// Depth limit (m) at `spindle_rpm`: the first depth from 0 up where the
   /// spectral radius reaches 1 (bracketing, then Brent's method on ln ρ to
   /// depth_tolerance); +inf if stable up to depth_max_m. `lobe` is the number

@@ -6,7 +6,7 @@
 // How to add a solver:
 //  1. Implement LobeSolver in one new source file (with its header): limit_at,
 //     and, if it reports more than the limit, diagnostic_columns() /
-//     limit_with_diagnostics() (extra table columns) and point_diagnostics()
+//     limit_with_diagnostics() (extra table columns) and analyse_point()
 //     (the `chatter point` verdict).
 //  2. Add one SolverDescriptor to the table in src/solvers/factory.cpp: its
 //     name, summary, the inputs it accepts (SolverFeature), its tuning
@@ -22,6 +22,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "chatter/lobes.hpp"
@@ -141,6 +142,27 @@ std::vector<std::string> lobe_methods();
 
 /// True when `method` names a solver this build provides.
 bool has_lobe_method(const std::string& method);
+
+/// The default method of every command and interface (CLI --method, Python
+/// method=, C API NULL): resolved per job by resolve_lobe_method.
+inline constexpr const char* kAutoMethod = "auto";
+
+/// The warning given when milling is judged by an averaged method.
+inline constexpr std::string_view kFlipLobeWarning =
+    "milling checked with the zeroth-order analytic method, which misses flip lobes at low radial immersion";
+
+/// The method `requested` stands for on (model, process): a registered name
+/// is itself; "auto" picks by the registry's rule (docs/results.md): turning
+/// → the first averaged method that accepts the inputs (exact for turning:
+/// analytic); milling → the first Floquet method that accepts them (sdm: it
+/// sees flip lobes), else the first method that does (measured FRFs:
+/// analytic). Whenever milling ends up with an averaged method (auto or
+/// asked for), `*warning` (if not null) is set to kFlipLobeWarning.
+/// @throws InputError on an unknown name ("method \"x\": unknown (this build
+///         has: auto, analytic, ...)"), or, for "auto", when no method accepts
+///         the inputs (check_accepts' message).
+std::string resolve_lobe_method(const std::string& requested, const StructuralModel& model, const Process& process,
+                                std::string* warning = nullptr);
 
 /// Refuses a (model, process) the method does not handle. @throws InputError
 /// `method "x" does not handle <feature> (<what>)`, naming the first missing feature.

@@ -179,11 +179,11 @@ class TimeDomainSolver final : public LobeSolver {
   TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {},
                    std::shared_ptr<const LobeSolver> starting_guess = nullptr);
   std::string method() const override { return "time-domain"; }
-  /// verdict_run() at the point: stable, verdict, verdict_measure,
-  /// growth_per_period (null if not measured), chatter_frequency_hz (if
-  /// found), max_amplitude_mm, out_of_cut_fraction, periods. Defined with the
-  /// registry entry (factory.cpp).
-  SolverValues point_diagnostics(double spindle_rpm, double depth_m) const override;
+  /// verdict_run() at the point: stable, growth_per_period and the dominant
+  /// multiplier (if measured), the dominant frequency (if found),
+  /// floquet_period_s; extra: verdict, verdict_measure, max_amplitude_mm,
+  /// out_of_cut_fraction, periods. Defined with the registry entry (factory.cpp).
+  PointAnalysis analyse_point(double spindle_rpm, double depth_m) const override;
   /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
   /// The search starts at 1/16 of the guess's bounded limit (capped at
   /// depth_max_m), or of depth_max_m/4 without a guess, where the guess finds

@@ -4,6 +4,7 @@
 #include "chatter/solvers.hpp"
 
 #include <cmath>
+#include <variant>
 #include <exception>
 #include <memory>
 #include <new>
@@ -14,7 +15,11 @@
 #include "chatter/io/table_writer.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/position.hpp"
+#include "chatter/records.hpp"
+#include "chatter/report.hpp"
 #include "chatter/transfer_function.hpp"
+
+#include <nlohmann/json.hpp>
 
 struct chatter_model {
   chatter::Config config;
@@ -22,6 +27,9 @@ struct chatter_model {
 
 struct chatter_solver {
   std::unique_ptr<chatter::LobeSolver> solver;
+  std::string method;                 // "auto" resolved
+  chatter::Process process;           // for the point report's frequencies
+  chatter::RecordSource source;       // warnings and notes for the point record
 };
 
 namespace {
@@ -49,6 +57,14 @@ chatter_status guarded(F&& body) {
   } catch (...) {
     return fail(CHATTER_INTERNAL_ERROR, "unknown internal error");
   }
+}
+
+// Static storage for a multiplier type's name ("" if unknown).
+const char* type_name(const std::string& t) {
+  if (t == "hopf") return "hopf";
+  if (t == "flip") return "flip";
+  if (t == "fold") return "fold";
+  return "";
 }
 
 chatter_limit to_c(const chatter::StabilityLimit& l) {
@@ -105,14 +121,66 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
       throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
-    auto s = chatter::make_lobe_solver(method ? method : chatter::solver_registry().front().name,
-                                       model->config.model, model->config.process,
-                                       depth_max_mm * 1e-3);
-    *out = new chatter_solver{std::move(s)};
+    const chatter::Config& cfg = model->config;
+    std::string averaged_milling;
+    const std::string m = chatter::resolve_lobe_method(method ? method : chatter::kAutoMethod, cfg.model,
+                                                       cfg.process, &averaged_milling);
+    auto s = chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3);
+    chatter::RecordSource source = chatter::record_source(cfg);
+    source.notes = chatter::ignored_feature_notes(chatter::find_lobe_method(m), cfg.process);
+    if ((!method || std::string(method) == chatter::kAutoMethod) && !averaged_milling.empty())
+      source.notes.insert(source.notes.begin(), "method auto chose \"" + m +
+                                                    "\" (no Floquet method handles this input): " + averaged_milling);
+    *out = new chatter_solver{std::move(s), m, cfg.process, std::move(source)};
   });
 }
 
 void chatter_solver_free(chatter_solver* solver) { delete solver; }
+
+const char* chatter_solver_method(const chatter_solver* solver) { return solver ? solver->method.c_str() : nullptr; }
+
+chatter_status chatter_point(const chatter_solver* solver, double spindle_rpm, double depth_mm,
+                             chatter_point_result* out) {
+  if (!solver || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_point: solver and out must not be NULL");
+  return guarded([&] {
+    chatter::check_spindle_rpm(spindle_rpm, "chatter_point: spindle_rpm");
+    chatter::check_depth_mm(depth_mm, "chatter_point: depth_mm");
+    const chatter::PointReport r = chatter::report_point(*solver->solver, solver->process, spindle_rpm, depth_mm);
+    chatter_point_result c{};
+    c.limit = to_c(r.limit.limit);
+    c.multiplier_type = "";
+    for (std::size_t i = 0; i < r.columns.size() && i < r.limit.values.size(); ++i)
+      if (r.columns[i].name == "multiplier_type")
+        if (const auto* t = std::get_if<std::string>(&r.limit.values[i])) c.multiplier_type = type_name(*t);
+    c.depth_mm = depth_mm;
+    c.stable = r.stable ? 1 : 0;
+    c.margin = std::isfinite(r.margin) ? r.margin : HUGE_VAL;
+    c.tooth_passing_hz = r.tooth_passing_hz;
+    c.tooth_period_s = r.tooth_period_s;
+    const chatter::PointAnalysis& a = r.at_depth;
+    c.floquet_period_s = a.floquet_period_s.value_or(0.0);
+    c.spectral_radius = a.spectral_radius.value_or(NAN);
+    c.growth_per_period = a.growth_per_period.value_or(NAN);
+    c.dominant_multiplier_re = a.dominant_multiplier ? a.dominant_multiplier->real() : NAN;
+    c.dominant_multiplier_im = a.dominant_multiplier ? a.dominant_multiplier->imag() : NAN;
+    c.dominant_frequency_hz = a.dominant_frequency_hz.value_or(NAN);
+    c.dominant_multiplier_type = a.dominant_multiplier_type ? type_name(chatter::to_string(*a.dominant_multiplier_type)) : "";
+    *out = c;
+  });
+}
+
+chatter_status chatter_point_json(const chatter_solver* solver, double spindle_rpm, double depth_mm,
+                                  const char** json) {
+  if (!solver || !json) return fail(CHATTER_NULL_ARGUMENT, "chatter_point_json: solver and json must not be NULL");
+  thread_local std::string text;
+  return guarded([&] {
+    chatter::check_spindle_rpm(spindle_rpm, "chatter_point_json: spindle_rpm");
+    chatter::check_depth_mm(depth_mm, "chatter_point_json: depth_mm");
+    const chatter::PointReport r = chatter::report_point(*solver->solver, solver->process, spindle_rpm, depth_mm);
+    text = chatter::point_record(r, solver->source).dump(2);
+    *json = text.c_str();
+  });
+}
 
 chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm, chatter_limit* out) {
   if (!solver || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_limit_at: solver and out must not be NULL");
@@ -197,7 +265,7 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
     const chatter::SurfacePositions pos = chatter::surface_positions(cfg, position_min_mm, position_max_mm,
                                                                      position_points);
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
-    const std::string m = method ? method : chatter::solver_registry().front().name;
+    const std::string m = chatter::resolve_lobe_method(method ? method : chatter::kAutoMethod, cfg.model, cfg.process);
     const double depth_max_m = depth_max_mm * 1e-3;
     // The method checked on the first position before the sweep (as the CLI).
     (void)chatter::make_lobe_solver(m, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m);

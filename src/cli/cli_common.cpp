@@ -27,12 +27,12 @@ std::string fmt(double x, int digits) {
 }
 
 void add_common(po::options_description& d, Common& c) {
-  std::string help = "solver: ";
+  std::string help = "solver: 'auto' (the default: turning analytic, milling sdm; the output names the method used), ";
   const auto& registry = solver_registry();
   for (std::size_t i = 0; i < registry.size(); ++i)
     help += (i == 0 ? "" : i + 1 == registry.size() ? " or " : ", ") + ("'" + registry[i].name + "' (") +
             registry[i].summary + ")";
-  c.method = registry.front().name;
+  c.method = kAutoMethod;
   d.add_options()("method", po::value<std::string>(&c.method)->default_value(c.method), help.c_str());
 }
 
@@ -328,9 +328,13 @@ SolverValues solver_option_values(const SolverDescriptor& descriptor, const Conf
   return options;
 }
 
-BuiltSolver build_solver(const std::string& method, const Config& cfg, double depth_max_m,
+BuiltSolver build_solver(const std::string& requested, const Config& cfg, double depth_max_m,
                          const po::variables_map& vm, bool check_options) {
   BuiltSolver b;
+  std::string averaged_milling;
+  const std::string method =
+      with_flag("--method", [&] { return resolve_lobe_method(requested, cfg.model, cfg.process, &averaged_milling); });
+  b.method = method;
   b.descriptor = &method_descriptor(method);
   if (check_options) check_solver_options({method}, vm, "--method");
   const SolverValues options = solver_option_values(*b.descriptor, cfg, vm);
@@ -339,6 +343,10 @@ BuiltSolver build_solver(const std::string& method, const Config& cfg, double de
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options_json = j.dump();
   b.notes = ignored_feature_notes(*b.descriptor, cfg.process);
+  // "auto" fell back to an averaged method for milling (measured FRFs).
+  if (requested == kAutoMethod && !averaged_milling.empty())
+    b.notes.insert(b.notes.begin(), "method auto chose \"" + method + "\" (no Floquet method handles this input): " +
+                                        averaged_milling);
   // A method that sees runout only through its nonlinear static chip does
   // not see it in its linear mode.
   if (const auto it = options.find("linear"); it != options.end() && std::get_if<bool>(&it->second) &&

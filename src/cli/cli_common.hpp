@@ -42,7 +42,7 @@ std::string fmt(double x, int digits = 6);
 
 struct Common {
   std::string config_path;
-  std::string method;  ///< --method; add_common() sets the default (the first registered method)
+  std::string method;  ///< --method as given; add_common() sets the default "auto" (build_solver resolves it)
   bool strict = false;  ///< --strict: the config's plausibility warnings are errors
   /// --position-mm: the tool position along a position-dependent model
   /// (docs/position.md); load_checked() then returns the model there.
@@ -131,6 +131,7 @@ std::string option_flag(const SolverOption& o);
 
 /// The solver chosen by --method, built with the sweep depth.
 struct BuiltSolver {
+  std::string method;  ///< the method used ("auto" resolved: resolve_lobe_method)
   const SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<LobeSolver> solver;
   std::string options_json;  ///< the solver's effective options, for the JSON provenance

@@ -113,6 +113,7 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
   }
   plan.threads = thread_count(vm);
   plan.built = build_solver(common.method, cfg, s.depth_max_mm * 1e-3, vm);
+  plan.common.method = plan.built.method;  // "auto" resolved: the samples use the same method
   if (plan.uncertainty) check_uncertainty_config(cfg);  // before any solve
   if (!adaptive) plan.speeds_rpm = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
   return plan;

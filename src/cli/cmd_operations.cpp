@@ -14,6 +14,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/operations.hpp"
+#include "chatter/records.hpp"
 #include "chatter/solvers.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -23,18 +24,11 @@ namespace {
 
 using nlohmann::json;
 
-// Exit statuses of `chatter check` (also in its --help and docs/operations.md).
-constexpr int kExitAllStable = 0;
-constexpr int kExitSomeRowsInvalid = 2;
-constexpr int kExitSomeUnstable = 3;
-
-json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 std::string method_help() {
   std::string known;
   for (const auto& m : lobe_methods()) known += ", '" + m + "'";
-  return "solver: 'auto' (turning: analytic; milling: sdm when this build has it, else analytic with a "
-         "flip-lobe warning)" + known;
+  return "solver: 'auto' (the default, as every command: turning analytic; milling sdm, or analytic with a "
+         "flip-lobe warning when sdm does not handle the input)" + known;
 }
 
 MachineLimits machine_range(const po::variables_map& vm, const Config& cfg) {
@@ -94,21 +88,6 @@ std::string text_table(const std::vector<std::vector<std::string>>& rows) {
   return os.str();
 }
 
-json pocket_json(const SpeedPocket& p) {
-  return {{"speed_tolerance_pct", p.speed_tolerance * 100.0},
-          {"worst_limit_mm", finite_or_null(p.worst_limit_m * 1e3)},
-          {"worst_margin", finite_or_null(p.worst_margin)},
-          {"pocket_min_rpm", p.pocket_min_rpm},
-          {"pocket_max_rpm", p.pocket_max_rpm}};
-}
-
-json limit_json(const StabilityLimit& l) {
-  return {{"spindle_rpm", l.spindle_rpm},
-          {"depth_limit_mm", l.bounded() ? json(l.depth_limit_m * 1e3) : json(nullptr)},
-          {"chatter_frequency_hz", l.bounded() ? json(l.chatter_frequency_hz) : json(nullptr)},
-          {"lobe", l.bounded() ? json(l.lobe) : json(nullptr)}};
-}
-
 // Writes `text` to stdout for "-", else to the file (all or nothing).
 void emit_json(const std::string& path, const json& j) {
   const std::string text = j.dump(2) + "\n";
@@ -166,7 +145,7 @@ int cmd_check(const std::vector<std::string>& args) {
   opt.threads = thread_count(vm);
   opt.speed_tolerance = speed_tolerance(vm);
   opt.flute_length_m = cfg.flute_length_m;
-  with_flag("--method", [&] { return resolve_lobe_method(cfg.process, method, nullptr); });  // fail before reading the file
+  with_flag("--method", [&] { return resolve_lobe_method(method, cfg.model, cfg.process); });  // fail before reading the file
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
   CheckReport report;
   {
@@ -207,9 +186,7 @@ int cmd_check(const std::vector<std::string>& args) {
     t.push_back(std::move(r));
   }
 
-  const int status = !file.rejected.empty() ? kExitSomeRowsInvalid
-                     : report.unstable() > 0 ? kExitSomeUnstable
-                                             : kExitAllStable;
+  const int status = check_exit_status(report, file);
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
       << fmt(opt.machine.rpm_min) << "-" << fmt(opt.machine.rpm_max) << " rev/min";
@@ -227,60 +204,12 @@ int cmd_check(const std::vector<std::string>& args) {
       << " unstable, " << file.rejected.size() << " rejected; exit status " << status << "\n";
 
   if (!json_path.empty()) {
-    json j;
-    j["format"] = "chatter-operation-check";
-    j["version"] = version();
-    j["config"] = cfg.source.string();
-    if (common.position_mm) j["position_mm"] = *common.position_mm;
-    j["operations_file"] = ops_path;
-    j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
-    j["method_requested"] = method;
-    j["warnings"] = cfg.warnings;  // the config's plausibility warnings, then the check's
-    for (const auto& w : report.warnings) j["warnings"].push_back(w);
-    j["search_depth_rule"] = "max(4 x depth_mm, 20 mm)";
-    j["speed_tolerance_pct"] = opt.speed_tolerance * 100.0;
-    j["flute_length_mm"] = opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr);
-    json ops = json::array();
-    for (const auto& c : report.checks) {
-      json o = {{"id", c.op.id},
-                {"line", c.op.line},
-                {"spindle_rpm", c.op.spindle_rpm},
-                {"depth_mm", c.op.depth_m * 1e3},
-                {"feed_per_tooth_mm", c.op.feed_per_tooth_m ? json(*c.op.feed_per_tooth_m * 1e3) : json(nullptr)},
-                {"method", c.method},
-                {"stable", c.stable},
-                {"depth_limit_mm", c.limit.bounded() ? json(c.limit.depth_limit_m * 1e3) : json(nullptr)},
-                {"searched_depth_mm", c.search_depth_m * 1e3},
-                {"margin", finite_or_null(c.margin)},
-                {"worst_margin", finite_or_null(c.worst_margin)},
-                {"chatter_frequency_hz", c.limit.bounded() ? json(c.limit.chatter_frequency_hz) : json(nullptr)},
-                {"lobe", c.limit.bounded() ? json(c.limit.lobe) : json(nullptr)}};
-      if (milling) {
-        const auto& mp = cfg.process.milling_parameters();
-        o["radial_immersion"] = c.op.radial_immersion.value_or(mp.radial_immersion);
-        o["teeth"] = c.op.teeth.value_or(mp.teeth);
-        o["milling_direction"] = c.op.direction.value_or(mp.direction) == MillingDirection::kDown ? "down" : "up";
-      }
-      if (c.suggestion) {
-        json s = limit_json(*c.suggestion);
-        s["margin"] = finite_or_null(c.suggestion_margin);
-        s.update(pocket_json(*c.suggestion_pocket));
-        o["suggestion"] = s;
-      } else {
-        o["suggestion"] = nullptr;
-      }
-      ops.push_back(o);
-    }
-    j["operations"] = ops;
-    json rej = json::array();
-    for (const auto& b : file.rejected) rej.push_back({{"line", b.line}, {"id", b.id}, {"reason", b.reason}});
-    j["rejected"] = rej;
-    j["summary"] = {{"checked", report.checks.size()},
-                    {"stable", report.checks.size() - report.unstable()},
-                    {"unstable", report.unstable()},
-                    {"rejected", file.rejected.size()}};
-    j["exit_status"] = status;
-    emit_json(json_path, j);
+    CheckRecordInputs in;
+    in.operations_origin = ops_path;
+    in.method_requested = method;
+    in.options = &opt;
+    in.process = &cfg.process;
+    emit_json(json_path, check_record(report, file, in, record_source(cfg, common.position_mm)));
   }
   (json_path == "-" ? std::cerr : std::cout) << out.str();
   return status;
@@ -362,7 +291,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
   if (vm.count("tangential-coefficient-n-per-m2"))
     opt.cutting_coefficient_n_per_m2 = positive("tangential-coefficient-n-per-m2");
   opt.method = method;
-  with_flag("--method", [&] { return resolve_lobe_method(cfg.process, method, nullptr); });
+  with_flag("--method", [&] { return resolve_lobe_method(method, cfg.model, cfg.process); });
   opt.threads = thread_count(vm);
   opt.speed_tolerance = speed_tolerance(vm);
   if (milling) opt.flute_length_m = cfg.flute_length_m;
@@ -400,53 +329,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
   }
   const std::string text = explain(r, opt);
 
-  if (!json_path.empty()) {
-    json j;
-    j["format"] = "chatter-recommendation";
-    j["version"] = version();
-    j["config"] = cfg.source.string();
-    if (common.position_mm) j["position_mm"] = *common.position_mm;
-    j["method"] = r.method;
-    j["inputs"] = {{"rpm_min", opt.machine.rpm_min},
-                   {"rpm_max", opt.machine.rpm_max},
-                   {"max_power_kw", finite_or_null(opt.machine.max_power_w * 1e-3)},
-                   {"max_torque_nm", finite_or_null(opt.machine.max_torque_n_m)},
-                   {"feed_per_tooth_mm", opt.feed_per_tooth_m * 1e3},
-                   {"safety", opt.safety},
-                   {"depth_max_mm", opt.depth_max_m * 1e3},
-                   {"flute_length_mm", opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr)},
-                   {"speed_tolerance_pct", opt.speed_tolerance * 100.0},
-                   {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)}};
-    if (milling) {
-      const auto& mp = process.milling_parameters();
-      j["inputs"]["radial_immersion"] = mp.radial_immersion;
-      j["inputs"]["teeth"] = mp.teeth;
-      j["inputs"]["milling_direction"] = mp.direction == MillingDirection::kDown ? "down" : "up";
-    }
-    j["spindle_rpm"] = r.spindle_rpm;
-    j["depth_mm"] = r.depth_m * 1e3;
-    j["limit"] = limit_json(r.limit);
-    j["searched_depth_mm"] = r.search_depth_m * 1e3;
-    j["margin"] = finite_or_null(r.margin);
-    j["depth_caps_mm"] = {{"stability", finite_or_null(r.depth_stability_m * 1e3)},
-                          {"power", finite_or_null(r.depth_power_m * 1e3)},
-                          {"torque", finite_or_null(r.depth_torque_m * 1e3)},
-                          {"depth_max", finite_or_null(r.depth_cap_m * 1e3)},
-                          {"flute_length", finite_or_null(r.depth_flute_m * 1e3)}};
-    j["speed_band"] = pocket_json(r.pocket);
-    json b = json::array();
-    for (auto x : r.binding) b.push_back(to_string(x));
-    j["binding"] = b;
-    j["mean_force_n"] = finite_or_null(r.force_n);
-    j["torque_nm"] = finite_or_null(r.torque_n_m);
-    j["power_kw"] = finite_or_null(r.power_w * 1e-3);
-    j["mrr_cm3_per_min"] = finite_or_null(r.mrr_m3_per_s * 6e7);
-    j["mrr_cm3_per_min_per_mm_diameter"] = r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3;
-    j["warnings"] = cfg.warnings;  // the config's plausibility warnings, then the recommendation's
-    for (const auto& w : r.warnings) j["warnings"].push_back(w);
-    j["explanation"] = text;
-    emit_json(json_path, j);
-  }
+  if (!json_path.empty()) emit_json(json_path, recommend_record(r, opt, process, record_source(cfg, common.position_mm)));
   (json_path == "-" ? std::cerr : std::cout) << text;
   return 0;
 }

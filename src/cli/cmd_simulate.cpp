@@ -12,13 +12,12 @@
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/records.hpp"
 #include "chatter/time_domain.hpp"
 
 namespace chatter::cli {
 
 namespace {
-
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 // Size (MB) of a series file above which simulate warns (a 50 MB CSV is
 // about 400 000 samples: more than a spreadsheet or a plot wants).
@@ -124,47 +123,14 @@ int cmd_simulate(const std::vector<std::string>& args) {
   st.record_series = !out_path.empty() || !plot_path.empty();
   const SimulationResult r = sim.simulate(st);
 
-  nlohmann::json j;
-  j["method"] = "time-domain";
-  j["config"] = cfg.name;
-  j["warnings"] = cfg.warnings;
-  if (common.position_mm) j["position_mm"] = *common.position_mm;
-  j["spindle_rpm"] = rpm;
-  j["depth_mm"] = depth_mm;
-  j["feed_per_tooth_mm"] = st.linear ? nlohmann::json(nullptr) : nlohmann::json(feed_mm);
-  j["linear"] = st.linear;
-  j["multiple_regeneration"] = st.multiple_regeneration;
-  j["verdict"] = to_string(r.verdict);
-  j["stable"] = r.verdict == SimulationVerdict::kStable;
-  j["verdict_measure"] = r.verdict_measure;
-  j["growth_per_period"] = number_or_null(r.growth_per_period);
-  j["dominant_multiplier"] = std::isfinite(r.growth_per_period)
-                                 ? nlohmann::json{r.dominant_multiplier.real(), r.dominant_multiplier.imag()}
-                                 : nlohmann::json(nullptr);
-  j["chatter_frequency_hz"] = number_or_null(r.chatter_frequency_hz);
-  j["dominant_nonharmonic_hz"] = number_or_null(r.dominant_nonharmonic_hz);
-  j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
-  j["out_of_cut_fraction"] = r.out_of_cut_fraction;
-  j["floquet_period_s"] = r.floquet_period_s;  // growth_per_period is per this
-  j["tooth_passing_hz"] = r.tooth_passing_hz;
-  j["tooth_period_s"] = cfg.process.delay_s(rpm);
-  j["periods"] = r.periods;
-  j["revolutions"] = static_cast<double>(r.periods) / per_rev;
-  j["analysed_from_period"] = r.analysed_from_period;
-  nlohmann::json harmonics = nlohmann::json::array();
-  for (std::size_t k = 0; k < r.harmonics.size() && k < 10; ++k)
-    harmonics.push_back({{"harmonic", r.harmonics[k].harmonic},
-                         {"frequency_hz", r.harmonics[k].frequency_hz},
-                         {"amplitude_um", r.harmonics[k].amplitude_m * 1e6}});
-  j["harmonics"] = harmonics;
-  j["integrator"] = {{"name", "SUNDIALS CVODE, Adams-Moulton order <= 5, fixed-point iteration"},
-                     {"relative_tolerance", rtol},
-                     {"steps", r.steps},
-                     {"rhs_evaluations", r.rhs_evaluations},
-                     {"restarts", r.restarts},
-                     {"root_stops", r.root_stops},
-                     {"samples_per_period", r.samples_per_period},
-                     {"history_capacity", r.history_capacity}};
+  SimulationRequest request;
+  request.settings = st;
+  request.relative_tolerance = rtol;
+  request.periods_per_revolution = per_rev;
+  request.tooth_period_s = cfg.process.delay_s(rpm);
+  request.depth_mm = depth_mm;
+  request.feed_mm = feed_mm;
+  nlohmann::json j = simulation_record(r, request, record_source(cfg, common.position_mm));
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {
@@ -188,15 +154,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
   if (!spectrum_path.empty()) {
     std::ostringstream os;
     os << "frequency_hz,amplitude_um,harmonic\n";
-    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
-      const double f = r.spectrum_hz[k];
-      const double h = f * r.floquet_period_s;
-      const long hk = std::lround(h);
-      const double res = r.spectrum_hz.size() > 1 ? r.spectrum_hz[1] - r.spectrum_hz[0] : 0.0;
-      const bool is_harmonic = hk >= 1 && std::abs(f - static_cast<double>(hk) / r.floquet_period_s) <= 0.5 * res;
-      os << table_number(f) << ',' << table_number(r.spectrum_amplitude_m[k] * 1e6) << ','
-         << (is_harmonic ? std::to_string(hk) : std::string("")) << '\n';
-    }
+    const std::vector<int> harmonic = spectrum_harmonics(r);
+    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k)
+      os << table_number(r.spectrum_hz[k]) << ',' << table_number(r.spectrum_amplitude_m[k] * 1e6) << ','
+         << (harmonic[k] > 0 ? std::to_string(harmonic[k]) : std::string("")) << '\n';
     files.emplace_back(spectrum_path, os.str());
   }
   if (!files.empty()) write_text_files(files);

@@ -133,6 +133,7 @@ std::optional<SurfacePlan> plan_surface(const std::vector<std::string>& args, bo
   Config first = cfg;
   first.model = with_flag("--position-min-mm", [&] { return model_at_position(cfg, positions_m.front()); });
   const BuiltSolver built = build_solver(common.method, first, plan.depth_max_m, vm);
+  plan.common.method = built.method;  // "auto" resolved
   plan.solver_options = solver_option_values(*built.descriptor, cfg, vm);
   plan.method = built.solver->method();
   plan.threads = thread_count(vm);

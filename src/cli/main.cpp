@@ -26,6 +26,8 @@
 #include "chatter/io/plot_uncertainty.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/records.hpp"
+#include "chatter/report.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
 
@@ -113,9 +115,8 @@ int cmd_point(const std::vector<std::string>& args) {
              d, common, vm))
     return 0;
   const chatter::Config cfg = load_checked(common);
-  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
-  if (!(std::isfinite(depth_mm) && depth_mm > 0.0))
-    throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be > 0 mm (a cut of no depth cannot chatter)");
+  chatter::check_spindle_rpm(rpm, "--rpm");
+  chatter::check_depth_mm(depth_mm, "--depth-mm");
   double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);
   if (vm.count("depth-max-mm")) {
     depth_max_mm = vm["depth-max-mm"].as<double>();
@@ -123,26 +124,15 @@ int cmd_point(const std::vector<std::string>& args) {
       throw InputError("--depth-max-mm = " + fmt(depth_max_mm) + ": must be > --depth-mm (" + fmt(depth_mm) + ")");
   }
   const BuiltSolver built = build_solver(common.method, cfg, depth_max_mm * 1e-3, vm);
-  const chatter::StabilityLimit lim = built.solver->limit_at(rpm);
-  const double depth_m = depth_mm * 1e-3;
-  nlohmann::json j;
-  j["method"] = built.solver->method();
-  j["warnings"] = cfg.warnings;
-  j["notes"] = built.notes;
-  if (common.position_mm) j["position_mm"] = *common.position_mm;
-  j["spindle_rpm"] = rpm;
-  j["depth_mm"] = depth_mm;
-  j["stable"] = depth_m < lim.depth_limit_m;
-  j["depth_limit_mm"] = lim.bounded() ? nlohmann::json(lim.depth_limit_m * 1e3) : nlohmann::json(nullptr);
-  j["chatter_frequency_hz"] = lim.bounded() ? nlohmann::json(lim.chatter_frequency_hz) : nlohmann::json(nullptr);
-  j["lobe"] = lim.bounded() ? nlohmann::json(lim.lobe) : nlohmann::json(nullptr);
-  j["margin"] = (lim.bounded() && depth_m > 0.0) ? nlohmann::json(lim.depth_limit_m / depth_m) : nlohmann::json(nullptr);
-  j["depth_max_mm"] = depth_max_mm;
-  // The method's own verdict at the point itself (sdm: Floquet analysis;
-  // time-domain: one simulation), where it gives one.
-  for (const auto& [key, value] : built.solver->point_diagnostics(rpm, depth_m)) j[key] = to_json(value);
-  std::cout << j.dump(2) << "\n";
-  return (vm.count("fail-on-chatter") && !(depth_m < lim.depth_limit_m)) ? kExitChatter : 0;
+  // The limit (the lobe-table row), the process's frequencies and the
+  // method's own analysis at the depth: one report, one record
+  // (chatter/report.hpp, chatter/records.hpp; docs/results.md).
+  const chatter::PointReport report = chatter::report_point(*built.solver, cfg.process, rpm, depth_mm);
+  chatter::RecordSource source = chatter::record_source(cfg, common.position_mm);
+  source.notes = built.notes;
+  for (const std::string& n : report.notes) std::cerr << "note: " << n << "\n";
+  std::cout << chatter::point_record(report, source).dump(2) << "\n";
+  return (vm.count("fail-on-chatter") && !report.stable) ? kExitChatter : 0;
 }
 
 int cmd_frf(const std::vector<std::string>& args) {
@@ -255,6 +245,7 @@ int cmd_map(const std::vector<std::string>& args) {
                    "the type of the dominant multiplier at every unstable point (slower).\n",
              d, common, vm))
     return 0;
+  if (common.method == chatter::kAutoMethod) common.method = floquet_method;
   if (common.method != floquet_method || floquet_method.empty())
     throw InputError("--method " + common.method + ": map needs --method " + floquet_method);
   if (depth_points < 2) throw InputError("--depth-points = " + std::to_string(depth_points) + ": must be >= 2");

@@ -21,7 +21,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -34,6 +36,38 @@
 
 namespace chatter::config_detail {
 namespace {
+
+// A table as written: numbers exactly as parsed (integers as int when they
+// fit), arrays of numbers as lists, strings and booleans as they are, any
+// other value as its TOML text.
+std::vector<std::pair<std::string, SolverValue>> as_given(const toml::table& t) {
+  std::vector<std::pair<std::string, SolverValue>> out;
+  for (const auto& [key, node] : t) {
+    SolverValue v;
+    if (const auto* i = node.as_integer()) {
+      const std::int64_t x = i->get();
+      if (x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max()) v = static_cast<int>(x);
+      else v = static_cast<double>(x);
+    } else if (const auto* f = node.as_floating_point()) {
+      v = f->get();
+    } else if (const auto* s = node.as_string()) {
+      v = s->get();
+    } else if (const auto* b = node.as_boolean()) {
+      v = b->get();
+    } else if (const auto* a = node.as_array();
+               a && !a->empty() && std::all_of(a->begin(), a->end(), [](const toml::node& e) { return e.is_number(); })) {
+      std::vector<double> xs;
+      for (const toml::node& e : *a) xs.push_back(e.value<double>().value_or(0.0));
+      v = xs;
+    } else {
+      std::ostringstream os;
+      os << toml::toml_formatter{node};
+      v = os.str();
+    }
+    out.emplace_back(std::string(key.str()), std::move(v));
+  }
+  return out;
+}
 
 Config read_config(const toml::table& root_table, const Document& doc) {
   const Table root(doc, root_table, "");
@@ -50,6 +84,7 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     config.name = stem.empty() ? doc.origin() : stem;
   }
   attempt_void([&] { config.process = read_process(root, &config.feed_mm, &config.flute_length_m); });
+  if (const toml::table* p = root_table["process"].as_table()) config.process_given = as_given(*p);
   const std::size_t before_bodies = doc.error_count();
   attempt_void([&] { config.model.tool = read_body(root, "tool"); });
   attempt_void([&] { config.model.workpiece = read_body(root, "workpiece"); });

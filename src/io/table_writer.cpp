@@ -35,7 +35,7 @@ nlohmann::json body_json(const Body& b) {
   return {{"modes", modes}};
 }
 
-nlohmann::json process_json(const Process& p) {
+nlohmann::json model_process_json(const Process& p) {
   if (p.operation() == Operation::kTurning) {
     const TurningParameters& t = p.turning_parameters();
     nlohmann::json j = {{"operation", "turning"}, {"feed_force_coefficient_n_per_m2", t.feed_force_coefficient_n_per_m2}};
@@ -75,6 +75,24 @@ nlohmann::json process_json(const Process& p) {
   return j;
 }
 
+nlohmann::json given_json(const SolverValue& v) {
+  return std::visit(
+      [](const auto& x) -> nlohmann::json {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, std::monostate>) return nullptr;
+        else return nlohmann::json(x);
+      },
+      v);
+}
+
+// The process of the model (SI keys), with every key of the config's
+// [process] table as written on top (docs/results.md: "Inputs echoed"): the
+// cutter keys in their own units (degrees, um, mm) exactly as given.
+nlohmann::json process_json(const Process& p, const std::vector<std::pair<std::string, SolverValue>>& given) {
+  nlohmann::json j = model_process_json(p);
+  for (const auto& [key, value] : given) j[key] = given_json(value);
+  return j;
+}
+
 }  // namespace
 
 std::string version() { return CHATTER_VERSION; }
@@ -104,7 +122,7 @@ void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, 
   if (p.config) {
     j["config"] = {{"file", p.config->source.string()},
                    {"name", p.config->name},
-                   {"process", process_json(p.config->process)},
+                   {"process", process_json(p.config->process, p.config->process_given)},
                    {"tool", body_json(p.config->model.tool)},
                    {"workpiece", body_json(p.config->model.workpiece)}};
   }

@@ -92,30 +92,6 @@ std::string MachineLimits::validate() const {
   return os.str();
 }
 
-std::string resolve_lobe_method(const Process& process, const std::string& requested, std::string* warning) {
-  const bool milling = process.operation() == Operation::kMilling;
-  if (requested == "auto") {
-    // The first registered method of the wanted kind: turning → an averaged
-    // (exact) one; milling → a Floquet one if the build has it.
-    const auto first_of = [](SolverKind kind) -> const SolverDescriptor* {
-      for (const auto& d : solver_registry())
-        if (d.kind == kind) return &d;
-      return nullptr;
-    };
-    if (milling)
-      if (const SolverDescriptor* d = first_of(SolverKind::kFloquet)) return d->name;
-    const SolverDescriptor* d = first_of(SolverKind::kAveraged);
-    if (!d) throw InputError("method \"auto\": this build has no transfer-function method");
-    if (milling && warning) *warning = std::string(kFlipLobeWarning);
-    return d->name;
-  }
-  if (!has_lobe_method(requested))
-    throw InputError("method \"" + requested + "\": unknown (this build has: auto, " + known_methods() + ")");
-  if (find_lobe_method(requested).kind == SolverKind::kAveraged && milling && warning)
-    *warning = std::string(kFlipLobeWarning);
-  return requested;
-}
-
 // ===================================================== fast lobe queries
 
 std::string LobeTableQueryOptions::validate() const {
@@ -825,6 +801,7 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       reasons.push_back("depth_mm = " + num(depth_mm) + ": must be > 0 mm");
     row.spindle_rpm = rpm;
     row.depth_m = depth_mm * 1e-3;
+    row.depth_mm = depth_mm;
 
     if (const std::string_view s = field("radial_immersion"); !s.empty()) {
       double ae = 0.0;
@@ -839,7 +816,10 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       double fz = 0.0;
       if (number("feed_per_tooth_mm", fz)) {
         if (!(fz > 0.0)) reasons.push_back("feed_per_tooth_mm = " + num(fz) + ": must be > 0 mm");
-        else row.feed_per_tooth_m = fz * 1e-3;
+        else {
+          row.feed_per_tooth_m = fz * 1e-3;
+          row.feed_per_tooth_mm = fz;
+        }
       }
     }
     if (const std::string_view s = field("teeth"); !s.empty()) {
@@ -953,7 +933,7 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
     if (g.method.empty()) {
       g.process = process_for(process, r);
       std::string warning;
-      g.method = resolve_lobe_method(g.process, options.method, &warning);
+      g.method = resolve_lobe_method(options.method, model, g.process, &warning);
       std::vector<std::string> notes = ignored_feature_notes(find_lobe_method(g.method), g.process);
       if (!warning.empty()) notes.insert(notes.begin(), warning);
       for (const std::string& n : notes)
@@ -1112,7 +1092,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
                                                                  : "workpiece diameter (RecommendOptions::diameter_m)"));
   Recommendation rec;
   std::string warning;
-  rec.method = resolve_lobe_method(process, options.method, &warning);
+  rec.method = resolve_lobe_method(options.method, model, process, &warning);
   if (!warning.empty()) rec.warnings.push_back(warning);
   for (const std::string& n : ignored_feature_notes(find_lobe_method(rec.method), process)) rec.warnings.push_back(n);
   std::vector<std::string> model_warnings;
@@ -1248,8 +1228,16 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
     if (i) os << "; ";
     switch (r.binding[i]) {
       case Binding::kStability:
-        os << "stability (depth = " << f(o.safety, 3) << " x limit " << f(r.limit.depth_limit_m * 1e3, 3)
-           << " mm at this speed)";
+        // The cap is safety x the worst limit over the speed band (the limit
+        // at the speed itself when the tolerance is 0).
+        if (o.speed_tolerance > 0.0)
+          os << "stability (depth = " << f(o.safety, 3) << " x the worst limit "
+             << f(r.pocket.worst_limit_m * 1e3, 3) << " mm over the speed band +/-"
+             << f(o.speed_tolerance * 100.0, 1) << " %; " << f(r.limit.depth_limit_m * 1e3, 3)
+             << " mm at this speed)";
+        else
+          os << "stability (depth = " << f(o.safety, 3) << " x limit " << f(r.limit.depth_limit_m * 1e3, 3)
+             << " mm at this speed)";
         break;
       case Binding::kPower:
         os << "spindle power (mean cutting power = " << f(o.machine.max_power_w * 1e-3, 3) << " kW limit)";

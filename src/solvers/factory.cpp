@@ -298,6 +298,29 @@ bool has_lobe_method(const std::string& method) {
   return std::any_of(r.begin(), r.end(), [&](const SolverDescriptor& d) { return d.name == method; });
 }
 
+std::string resolve_lobe_method(const std::string& requested, const StructuralModel& model, const Process& process,
+                                std::string* warning) {
+  const bool milling = process.operation() == Operation::kMilling;
+  const auto flag_averaged = [&](const SolverDescriptor& d) {
+    if (milling && d.kind == SolverKind::kAveraged && warning) *warning = std::string(kFlipLobeWarning);
+    return d.name;
+  };
+  if (requested != kAutoMethod) {
+    if (!has_lobe_method(requested))
+      throw InputError("method \"" + requested + "\": unknown (this build has: " + kAutoMethod + ", " +
+                       known_methods() + ")");
+    return flag_averaged(find_lobe_method(requested));
+  }
+  const FeatureSet needed = needed_features(model, process);
+  const SolverKind preferred = milling ? SolverKind::kFloquet : SolverKind::kAveraged;
+  for (const auto& d : solver_registry())
+    if (d.kind == preferred && d.accepts.missing(needed).empty()) return flag_averaged(d);
+  for (const auto& d : solver_registry())
+    if (d.kind != SolverKind::kSimulation && d.accepts.missing(needed).empty()) return flag_averaged(d);
+  check_accepts(solver_registry().front(), model, process);  // throws, naming what is missing
+  return solver_registry().front().name;
+}
+
 void check_accepts(const SolverDescriptor& d, const StructuralModel& model, const Process& process) {
   const auto missing = d.accepts.missing(needed_features(model, process));
   if (missing.empty()) return;
@@ -350,31 +373,39 @@ DiagnosedLimit SemiDiscretizationSolver::limit_with_diagnostics(double spindle_r
   return r;
 }
 
-SolverValues SemiDiscretizationSolver::point_diagnostics(double spindle_rpm, double depth_m) const {
-  // The Floquet verdict at the point itself.
+PointAnalysis SemiDiscretizationSolver::analyse_point(double spindle_rpm, double depth_m) const {
+  // The Floquet analysis at the point itself (the limit's values come from
+  // limit_with_diagnostics).
   const FloquetResult f = analyse(spindle_rpm, depth_m);
-  return {{"stable", f.stable()},
-          {"spectral_radius", f.spectral_radius},
-          {"multiplier_type", to_string(f.type)},
-          {"chatter_frequency_hz", f.chatter_frequency_hz},
-          {"dominant_multiplier", std::vector<double>{f.dominant_multiplier.real(), f.dominant_multiplier.imag()}},
-          {"steps_per_period", f.steps},
-          {"period_s", f.period_s}};
+  PointAnalysis a;
+  a.stable = f.stable();
+  a.spectral_radius = f.spectral_radius;
+  a.dominant_multiplier = f.dominant_multiplier;
+  a.dominant_frequency_hz = f.chatter_frequency_hz;
+  a.dominant_multiplier_type = f.type;
+  a.floquet_period_s = f.period_s;
+  a.extra = {{"steps_per_period", f.steps}};
+  return a;
 }
 
-SolverValues TimeDomainSolver::point_diagnostics(double spindle_rpm, double depth_m) const {
-  // The simulation verdict at the point itself.
+PointAnalysis TimeDomainSolver::analyse_point(double spindle_rpm, double depth_m) const {
+  // The simulation at the point itself.
   const SimulationResult r = verdict_run(spindle_rpm, depth_m);
-  SolverValues v = {{"stable", r.verdict == SimulationVerdict::kStable},
-                    {"verdict", to_string(r.verdict)},
-                    {"verdict_measure", r.verdict_measure},
-                    {"growth_per_period", std::isfinite(r.growth_per_period) ? SolverValue(r.growth_per_period)
-                                                                             : SolverValue(std::monostate{})},
-                    {"max_amplitude_mm", r.max_amplitude_m * 1e3},
-                    {"out_of_cut_fraction", r.out_of_cut_fraction},
-                    {"periods", r.periods}};
-  if (std::isfinite(r.chatter_frequency_hz)) v["chatter_frequency_hz"] = r.chatter_frequency_hz;
-  return v;
+  PointAnalysis a;
+  a.stable = r.verdict == SimulationVerdict::kStable;
+  if (std::isfinite(r.growth_per_period)) {
+    a.growth_per_period = r.growth_per_period;
+    a.dominant_multiplier = r.dominant_multiplier;
+  }
+  const double f = std::isfinite(r.chatter_frequency_hz) ? r.chatter_frequency_hz : r.dominant_nonharmonic_hz;
+  if (std::isfinite(f)) a.dominant_frequency_hz = f;
+  a.floquet_period_s = r.floquet_period_s;
+  a.extra = {{"verdict", to_string(r.verdict)},
+             {"verdict_measure", r.verdict_measure},
+             {"max_amplitude_mm", r.max_amplitude_m * 1e3},
+             {"out_of_cut_fraction", r.out_of_cut_fraction},
+             {"periods", r.periods}};
+  return a;
 }
 
 }  // namespace chatter

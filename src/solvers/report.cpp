@@ -2,6 +2,9 @@
 #include "chatter/report.hpp"
 
 #include <cmath>
+#include <sstream>
+
+#include "chatter/error.hpp"
 
 namespace chatter {
 
@@ -12,6 +15,63 @@ int lobe_number(double chatter_frequency_hz, double tooth_passing_hz) {
   const double k = std::round(x);
   if (std::abs(x - k) <= 1e-9 * std::max(1.0, x)) return static_cast<int>(k);
   return static_cast<int>(std::floor(x));
+}
+
+namespace {
+
+std::string number(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+}  // namespace
+
+void check_spindle_rpm(double rpm, const std::string& name) {
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(name + " = " + number(rpm) + ": must be > 0 rev/min");
+  if (rpm > kMaxSpindleRpm)
+    throw InputError(name + " = " + number(rpm) + ": at most " + number(kMaxSpindleRpm) +
+                     " rev/min (the fastest spindles turn about 200 000); a speed in rev/min?");
+}
+
+void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
+  if (!(std::isfinite(depth_mm) && (allow_zero ? depth_mm >= 0.0 : depth_mm > 0.0)))
+    throw InputError(name + " = " + number(depth_mm) +
+                     (allow_zero ? ": must be >= 0 mm" : ": must be > 0 mm (a cut of no depth cannot chatter)"));
+  if (depth_mm > kMaxDepthMm)
+    throw InputError(name + " = " + number(depth_mm) + ": at most " + number(kMaxDepthMm) +
+                     " mm (no cut is a metre deep); a depth in mm, not um?");
+}
+
+PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm) {
+  const double depth_m = depth_mm * 1e-3;
+  PointReport r;
+  r.depth_mm = depth_mm;
+  r.method = solver.method();
+  r.spindle_rpm = spindle_rpm;
+  r.depth_m = depth_m;
+  r.depth_max_m = solver.depth_max_m();
+  r.limit = solver.limit_with_diagnostics(spindle_rpm);
+  r.columns = solver.diagnostic_columns();
+  r.tooth_passing_hz = process.tooth_passing_hz(spindle_rpm);
+  r.tooth_period_s = process.delay_s(spindle_rpm);
+  r.at_depth = solver.analyse_point(spindle_rpm, depth_m);
+  const bool below_limit = depth_m < r.limit.limit.depth_limit_m;
+  r.stable = r.at_depth.stable.value_or(below_limit);
+  r.margin = r.limit.limit.bounded() ? r.limit.limit.depth_limit_m / depth_m : std::numeric_limits<double>::infinity();
+  if (r.at_depth.stable && *r.at_depth.stable != below_limit) {
+    std::ostringstream os;
+    os.precision(4);
+    os << "method \"" << r.method << "\" finds the cut " << (r.stable ? "stable" : "unstable") << " at "
+       << depth_m * 1e3 << " mm although the first limit at this speed is at " << r.limit.limit.depth_limit_m * 1e3
+       << " mm: "
+       << (r.stable ? "a stable band above the first limit (deeper cuts chatter again); the limit is the safe depth"
+                    : "an unstable band below the first limit that the depth search stepped over, or a verdict "
+                      "this close to the limit within the method's tolerance");
+    r.notes.push_back(os.str());
+  }
+  return r;
 }
 
 }  // namespace chatter

@@ -144,3 +144,24 @@ def test_simulate_matches_cli(tmp_path):
         f, a, h = l.split(",")
         assert (cell(spectrum["frequency_hz"][i]), cell(spectrum["amplitude_um"][i])) == (f, a)
         assert (str(spectrum["harmonic"][i]) if spectrum["harmonic"][i] else "") == h
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=[c.stem for c in CONFIGS])
+def test_default_method_is_the_clis(config):
+    """No method given: the module and the CLI both use auto (analytic for
+    turning, sdm for milling), name it, and give the same record."""
+    job = chatter.load(config)
+    s = job.sweep
+    rpm = 0.5 * (s["rpm_min"] + s["rpm_max"])
+    status, out, err = run_cli("point", config, "--rpm", repr(rpm), "--depth-mm", "0.5")
+    assert status == 0, err
+    want = json.loads(out)
+    got = chatter.point(job, rpm=rpm, depth_mm=0.5)
+    assert got == want
+    assert got["method"] == ("sdm" if job.operation == "milling" else "analytic")
+    if job.operation == "turning":
+        assert got["tooth_passing_hz"] == rpm / 60.0
+    t = chatter.lobes(job, rpm_points=3)
+    status, out, err = run_cli("lobes", config, "--rpm-points", "3")
+    assert status == 0, err
+    assert out.splitlines()[0].split(",") == list(t.keys())

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/lobes.hpp"  // SolverValue
 #include "chatter/position.hpp"
 #include "chatter/process.hpp"
 #include "chatter/structural_model.hpp"
@@ -54,6 +55,11 @@ struct Config {
   /// fractions, checked against `model` (the first [[positions]] set, whose
   /// mode count every set shares) and `process`; absent without the table.
   std::optional<UncertaintySpreads> uncertainty;
+  /// The `[process]` table exactly as written, key by key (in key order)
+  /// (numbers as parsed: they write back as the shortest decimal that reads
+  /// the same, so `helix_angle_deg = 30` is echoed as 30; arrays of numbers
+  /// as lists; other values as text). The records echo it (docs/results.md).
+  std::vector<std::pair<std::string, SolverValue>> process_given;
 };
 
 /// The structure the tool sees at `position_m` (m from the clamp of a

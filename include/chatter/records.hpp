@@ -1,0 +1,91 @@
+// The records a user reads: one function per command result turns the
+// library's result struct into its JSON record (shop units: mm, rev/min, Hz,
+// µm where a key says so). The CLI prints these records, Python hands them on
+// as dicts (python/, through one JSON -> Python converter), the C API returns
+// them as text: nobody builds a record twice (docs/results.md defines every
+// key once).
+//
+// Layer: above io (Config) and ops (check, recommend); below the CLI, the C
+// API and Python. Uses nlohmann-json (header-only): a consumer of these
+// functions includes <nlohmann/json.hpp> to use the returned values.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "chatter/io/config.hpp"
+#include "chatter/lobes.hpp"
+#include "chatter/operations.hpp"
+#include "chatter/report.hpp"
+#include "chatter/results.hpp"
+#include "chatter/time_domain.hpp"
+
+namespace chatter {
+
+/// What every record says about its inputs.
+struct RecordSource {
+  std::string config_name;     ///< the config's `name`
+  std::string config_path;     ///< the file it came from ("" for text)
+  std::vector<std::string> warnings;  ///< the config's plausibility warnings
+  std::vector<std::string> notes;     ///< what the method does not see (ignored_feature_notes)
+  std::optional<double> position_mm;  ///< --position-mm / position_mm=, when given
+};
+/// The source of a loaded config (warnings copied), with the given position.
+RecordSource record_source(const Config& config, std::optional<double> position_mm = std::nullopt);
+
+/// A number, or null when it is not finite (JSON has no inf/NaN).
+nlohmann::json finite_or_null(double x);
+/// A solver value (option or diagnostic) as JSON (monostate: null).
+nlohmann::json value_json(const SolverValue& v);
+
+/// `chatter point`: the limit (the lobe-table row at the speed, with the
+/// method's columns), stable and margin, tooth_passing_hz, tooth_period_s,
+/// and what belongs to the asked depth under its own keys (spectral_radius,
+/// growth_per_period, dominant_multiplier [re, im], dominant_frequency_hz,
+/// dominant_multiplier_type, floquet_period_s, and the method's extras).
+nlohmann::json point_record(const PointReport& report, const RecordSource& source);
+
+/// What a simulation was asked (for its record).
+struct SimulationRequest {
+  SimulationSettings settings;
+  double relative_tolerance = 1e-7;
+  /// Floquet periods per revolution (simulation_periods_per_revolution).
+  int periods_per_revolution = 1;
+  double tooth_period_s = 0.0;  ///< Process::delay_s at the speed
+  double depth_mm = 0.0;        ///< the depth as given (echoed as is)
+  double feed_mm = 0.0;         ///< the feed as given (echoed as is)
+};
+/// `chatter simulate`: verdict and its measure, growth per Floquet period,
+/// frequencies and periods, amplitude, the first ten forced lines, the
+/// integrator's cost. The series and spectrum are tables, not in the record.
+nlohmann::json simulation_record(const SimulationResult& result, const SimulationRequest& request,
+                                 const RecordSource& source);
+
+/// The spectrum's harmonic index per line: k where f is within half a
+/// resolution of k / floquet_period_s (k >= 1), else 0 (the `harmonic`
+/// column of simulate --spectrum and of Python's spectrum).
+std::vector<int> spectrum_harmonics(const SimulationResult& result);
+
+/// `chatter check --json`: every operation (verdict, limit, margins,
+/// suggestion and pocket), the rejected rows, the summary and the exit
+/// status (0 all stable, 3 some unstable, 2 some rows not judged).
+struct CheckRecordInputs {
+  std::string operations_origin;   ///< the file (or "<operations>")
+  std::string method_requested;    ///< "auto" or a method name
+  const CheckOptions* options = nullptr;
+  const Process* process = nullptr;  ///< the config's process (row overrides on top)
+};
+nlohmann::json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
+                            const RecordSource& source);
+/// The exit status of a check (0, 2 or 3; docs/operations.md).
+int check_exit_status(const CheckReport& report, const OperationsFile& file);
+
+/// `chatter recommend --json`: the speed, depth, limit, caps, binding
+/// constraints, force, torque, power, removal rate and the explanation.
+nlohmann::json recommend_record(const Recommendation& r, const RecommendOptions& options, const Process& process,
+                                const RecordSource& source);
+
+}  // namespace chatter

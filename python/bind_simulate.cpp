@@ -1,0 +1,126 @@
+// chatter.simulate: chatter simulate's record (chatter/records.hpp) as a
+// dict, plus the series, once-per-period samples and spectrum as NumPy
+// arrays (docs/python.md).
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "bindings.hpp"
+#include "chatter/records.hpp"
+#include "chatter/time_domain.hpp"
+#include "module.hpp"
+
+namespace chatter_py {
+
+using namespace pybind11::literals;
+
+namespace {
+
+// ------------------------------------------------------------------ simulate
+
+py::dict series_dict(const std::vector<chatter::SeriesSample>& rows) {
+  const auto n = static_cast<py::ssize_t>(rows.size());
+  const char* const names[] = {"time_s",        "tool_x_um", "tool_y_um", "workpiece_x_um", "workpiece_y_um",
+                               "rel_x_um",      "rel_y_um",  "force_x_n", "force_y_n",      "chip_um"};
+  std::vector<py::array_t<double>> cols;
+  for (std::size_t c = 0; c < std::size(names); ++c) cols.emplace_back(n);
+  py::array_t<bool> in_cut(n);
+  std::vector<double*> p;
+  for (auto& c : cols) p.push_back(c.mutable_data());
+  bool* q = in_cut.mutable_data();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const chatter::SeriesSample& r = rows[static_cast<std::size_t>(i)];
+    // The units of chatter simulate --out's columns.
+    const double v[] = {r.t_s,           r.tool_x_m * 1e6, r.tool_y_m * 1e6, r.workpiece_x_m * 1e6,
+                        r.workpiece_y_m * 1e6, r.rel_x_m * 1e6,  r.rel_y_m * 1e6,  r.force_x_n,
+                        r.force_y_n,     r.chip_m * 1e6};
+    for (std::size_t c = 0; c < std::size(names); ++c) p[c][i] = v[c];
+    q[i] = r.in_cut;
+  }
+  py::dict d;
+  for (std::size_t c = 0; c < std::size(names); ++c) d[names[c]] = cols[c];
+  d["in_cut"] = in_cut;
+  return d;
+}
+
+py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<double> feed_per_tooth_mm,
+                  std::optional<int> revolutions, std::optional<int> periods, bool linear, bool multiple_regeneration,
+                  double rtol, bool record_series, std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
+  const chatter::Config& cfg = *job.cfg;
+  const double feed_mm = feed_per_tooth_mm.value_or(cfg.feed_mm.value_or(kDefaultFeedMm));
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("rpm = " + fmt(rpm) + ": must be > 0 rev/min");
+  if (!(std::isfinite(depth_mm) && depth_mm >= 0.0 && depth_mm <= 1000.0))
+    throw InputError("depth_mm = " + fmt(depth_mm) + ": must be in [0, 1000] mm");
+  if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
+    throw InputError("feed_per_tooth_mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
+  if (revolutions && periods) throw InputError("revolutions and periods: give one of them");
+  const int per_rev = chatter::simulation_periods_per_revolution(cfg.process, rpm, linear);
+  int n_periods = 200;
+  if (revolutions) {
+    if (*revolutions < 1 || *revolutions > 1000000)
+      throw InputError("revolutions = " + std::to_string(*revolutions) + ": must be in [1, 1000000]");
+    n_periods = *revolutions * per_rev;
+  } else if (periods) {
+    n_periods = *periods;
+  }
+  if (n_periods < 4 || n_periods > 10000000)
+    throw InputError("periods = " + std::to_string(n_periods) + ": must be in [4, 10000000]");
+  if (!(rtol >= 1e-12 && rtol <= 1e-2)) throw InputError("rtol = " + fmt(rtol) + ": must be in [1e-12, 1e-2]");
+  chatter::TimeDomainOptions o;
+  o.relative_tolerance = rtol;
+  chatter::SimulationSettings st;
+  st.spindle_rpm = rpm;
+  st.depth_m = depth_mm * 1e-3;
+  st.periods = n_periods;
+  st.feed_m = feed_mm * 1e-3;
+  st.linear = linear;
+  st.multiple_regeneration = multiple_regeneration;
+  st.record_series = record_series;
+  chatter::SimulationResult r;
+  {
+    py::gil_scoped_release release;
+    const chatter::TimeDomainSimulator sim(cfg.model, cfg.process, o);
+    r = sim.simulate(st);
+  }
+  // The record of chatter simulate (chatter/records.hpp), then the arrays.
+  chatter::SimulationRequest request;
+  request.settings = st;
+  request.relative_tolerance = rtol;
+  request.periods_per_revolution = per_rev;
+  request.tooth_period_s = cfg.process.delay_s(rpm);
+  request.depth_mm = depth_mm;
+  request.feed_mm = feed_mm;
+  py::dict j = chatter_py::to_python(chatter::simulation_record(r, request, chatter::record_source(cfg, position_mm)));
+  j["series"] = series_dict(r.series);
+  j["periodic"] = series_dict(r.once_per_period);
+  // The spectrum of chatter simulate --spectrum (harmonic: 0 where not one).
+  const auto ns = static_cast<py::ssize_t>(r.spectrum_hz.size());
+  py::array_t<double> fr(ns), amp(ns);
+  py::array_t<int> harm(ns);
+  const std::vector<int> harmonic = chatter::spectrum_harmonics(r);
+  for (py::ssize_t k = 0; k < ns; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    fr.mutable_data()[k] = r.spectrum_hz[i];
+    amp.mutable_data()[k] = r.spectrum_amplitude_m[i] * 1e6;
+    harm.mutable_data()[k] = harmonic[i];
+  }
+  py::dict spec;
+  spec["frequency_hz"] = fr;
+  spec["amplitude_um"] = amp;
+  spec["harmonic"] = harm;
+  j["spectrum"] = spec;
+  return j;
+}
+
+}  // namespace
+
+void bind_simulate(py::module_& m) {
+  m.def("simulate", &simulate, "job"_a, py::kw_only(), "rpm"_a, "depth_mm"_a, "feed_per_tooth_mm"_a = py::none(),
+        "revolutions"_a = py::none(), "periods"_a = py::none(), "linear"_a = false,
+        "multiple_regeneration"_a = false, "rtol"_a = kDefaultSimRtol, "record_series"_a = true,
+        "position_mm"_a = py::none(),
+        "One time-domain simulation (chatter simulate's JSON plus the series arrays).");
+}
+
+}  // namespace chatter_py

@@ -1,0 +1,14 @@
+// The bindings of the Python module, one function per command family, each
+// in its own bind_*.cpp; chatter_module.cpp calls them all.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace chatter_py {
+
+void bind_job(pybind11::module_& m);         // Job, load, methods (bind_job.cpp)
+void bind_lobes(pybind11::module_& m);       // lobes, point, surface, uncertain_lobes (bind_lobes.cpp)
+void bind_operations(pybind11::module_& m);  // check, recommend (bind_operations.cpp)
+void bind_simulate(pybind11::module_& m);    // simulate (bind_simulate.cpp)
+
+}  // namespace chatter_py

@@ -1,0 +1,152 @@
+// The records of check and recommend (chatter/records.hpp): the same JSON
+// for `chatter check --json`, `chatter recommend --json`, Python's
+// chatter.check / chatter.recommend and the C API.
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/records.hpp"
+#include "chatter/io/table_writer.hpp"  // version()
+
+namespace chatter {
+
+using nlohmann::json;
+
+namespace {
+
+json pocket_json(const SpeedPocket& p) {
+  return {{"speed_tolerance_pct", p.speed_tolerance * 100.0},
+          {"worst_limit_mm", finite_or_null(p.worst_limit_m * 1e3)},
+          {"worst_margin", finite_or_null(p.worst_margin)},
+          {"pocket_min_rpm", p.pocket_min_rpm},
+          {"pocket_max_rpm", p.pocket_max_rpm}};
+}
+
+json limit_json(const StabilityLimit& l) {
+  return {{"spindle_rpm", l.spindle_rpm},
+          {"depth_limit_mm", l.bounded() ? json(l.depth_limit_m * 1e3) : json(nullptr)},
+          {"chatter_frequency_hz", l.bounded() ? finite_or_null(l.chatter_frequency_hz) : json(nullptr)},
+          {"lobe", l.bounded() && l.lobe >= 0 ? json(l.lobe) : json(nullptr)}};
+}
+
+const char* direction_name(MillingDirection d) { return d == MillingDirection::kDown ? "down" : "up"; }
+
+}  // namespace
+
+int check_exit_status(const CheckReport& report, const OperationsFile& file) {
+  if (!file.rejected.empty()) return 2;
+  return report.unstable() > 0 ? 3 : 0;
+}
+
+json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
+                  const RecordSource& source) {
+  const CheckOptions& opt = *in.options;
+  const bool milling = in.process->operation() == Operation::kMilling;
+  json j;
+  j["format"] = "chatter-operation-check";
+  j["version"] = version();
+  j["config"] = source.config_path;
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  j["operations_file"] = in.operations_origin;
+  j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
+  j["method_requested"] = in.method_requested;
+  j["warnings"] = source.warnings;  // the config's plausibility warnings, then the check's
+  for (const auto& w : report.warnings) j["warnings"].push_back(w);
+  j["search_depth_rule"] = "max(4 x depth_mm, 20 mm)";
+  j["speed_tolerance_pct"] = opt.speed_tolerance * 100.0;
+  j["flute_length_mm"] = opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr);
+  json ops = json::array();
+  for (const auto& c : report.checks) {
+    json o = {{"id", c.op.id},
+              {"line", c.op.line},
+              {"spindle_rpm", c.op.spindle_rpm},
+              {"depth_mm", c.op.depth_mm > 0.0 ? c.op.depth_mm : c.op.depth_m * 1e3},  // as written
+              {"feed_per_tooth_mm", c.op.feed_per_tooth_mm   ? json(*c.op.feed_per_tooth_mm)
+                                    : c.op.feed_per_tooth_m ? json(*c.op.feed_per_tooth_m * 1e3)
+                                                            : json(nullptr)},
+              {"method", c.method},
+              {"stable", c.stable},
+              {"depth_limit_mm", c.limit.bounded() ? json(c.limit.depth_limit_m * 1e3) : json(nullptr)},
+              {"searched_depth_mm", c.search_depth_m * 1e3},
+              {"margin", finite_or_null(c.margin)},
+              {"worst_margin", finite_or_null(c.worst_margin)},
+              {"chatter_frequency_hz", c.limit.bounded() ? finite_or_null(c.limit.chatter_frequency_hz) : json(nullptr)},
+              {"lobe", c.limit.bounded() && c.limit.lobe >= 0 ? json(c.limit.lobe) : json(nullptr)}};
+    if (milling) {
+      const auto& mp = in.process->milling_parameters();
+      o["radial_immersion"] = c.op.radial_immersion.value_or(mp.radial_immersion);
+      o["teeth"] = c.op.teeth.value_or(mp.teeth);
+      o["milling_direction"] = direction_name(c.op.direction.value_or(mp.direction));
+    }
+    if (c.suggestion) {
+      json s = limit_json(*c.suggestion);
+      s["margin"] = finite_or_null(c.suggestion_margin);
+      s.update(pocket_json(*c.suggestion_pocket));
+      o["suggestion"] = s;
+    } else {
+      o["suggestion"] = nullptr;
+    }
+    ops.push_back(o);
+  }
+  j["operations"] = ops;
+  json rej = json::array();
+  for (const auto& b : file.rejected) rej.push_back({{"line", b.line}, {"id", b.id}, {"reason", b.reason}});
+  j["rejected"] = rej;
+  j["summary"] = {{"checked", report.checks.size()},
+                  {"stable", report.checks.size() - report.unstable()},
+                  {"unstable", report.unstable()},
+                  {"rejected", file.rejected.size()}};
+  j["exit_status"] = check_exit_status(report, file);
+  return j;
+}
+
+json recommend_record(const Recommendation& r, const RecommendOptions& opt, const Process& process,
+                      const RecordSource& source) {
+  json j;
+  j["format"] = "chatter-recommendation";
+  j["version"] = version();
+  j["config"] = source.config_path;
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  j["method"] = r.method;
+  j["inputs"] = {{"rpm_min", opt.machine.rpm_min},
+                 {"rpm_max", opt.machine.rpm_max},
+                 {"max_power_kw", finite_or_null(opt.machine.max_power_w * 1e-3)},
+                 {"max_torque_nm", finite_or_null(opt.machine.max_torque_n_m)},
+                 {"feed_per_tooth_mm", opt.feed_per_tooth_m * 1e3},
+                 {"safety", opt.safety},
+                 {"depth_max_mm", opt.depth_max_m * 1e3},
+                 {"flute_length_mm", opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr)},
+                 {"speed_tolerance_pct", opt.speed_tolerance * 100.0},
+                 {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)}};
+  if (process.operation() == Operation::kMilling) {
+    const auto& mp = process.milling_parameters();
+    j["inputs"]["radial_immersion"] = mp.radial_immersion;
+    j["inputs"]["teeth"] = mp.teeth;
+    j["inputs"]["milling_direction"] = direction_name(mp.direction);
+  }
+  j["spindle_rpm"] = r.spindle_rpm;
+  j["depth_mm"] = r.depth_m * 1e3;
+  j["limit"] = limit_json(r.limit);
+  j["searched_depth_mm"] = r.search_depth_m * 1e3;
+  j["margin"] = finite_or_null(r.margin);
+  j["depth_caps_mm"] = {{"stability", finite_or_null(r.depth_stability_m * 1e3)},
+                        {"power", finite_or_null(r.depth_power_m * 1e3)},
+                        {"torque", finite_or_null(r.depth_torque_m * 1e3)},
+                        {"depth_max", finite_or_null(r.depth_cap_m * 1e3)},
+                        {"flute_length", finite_or_null(r.depth_flute_m * 1e3)}};
+  j["speed_band"] = pocket_json(r.pocket);
+  json b = json::array();
+  for (auto x : r.binding) b.push_back(to_string(x));
+  j["binding"] = b;
+  j["mean_force_n"] = finite_or_null(r.force_n);
+  j["torque_nm"] = finite_or_null(r.torque_n_m);
+  j["power_kw"] = finite_or_null(r.power_w * 1e-3);
+  j["mrr_cm3_per_min"] = finite_or_null(r.mrr_m3_per_s * 6e7);
+  j["mrr_cm3_per_min_per_mm_diameter"] = r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3;
+  j["warnings"] = source.warnings;  // the config's plausibility warnings, then the recommendation's
+  for (const auto& w : r.warnings) j["warnings"].push_back(w);
+  j["explanation"] = explain(r, opt);
+  return j;
+}
+
+}  // namespace chatter

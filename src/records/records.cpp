@@ -1,0 +1,133 @@
+// The records of point and simulate (chatter/records.hpp), and what every
+// record shares. Keys and their meaning: docs/results.md.
+#include "chatter/records.hpp"
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace chatter {
+
+using nlohmann::json;
+
+RecordSource record_source(const Config& config, std::optional<double> position_mm) {
+  RecordSource s;
+  s.config_name = config.name;
+  s.config_path = config.source.string();
+  s.warnings = config.warnings;
+  s.position_mm = position_mm;
+  return s;
+}
+
+json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json value_json(const SolverValue& v) {
+  return std::visit(
+      [](const auto& x) -> json {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::monostate>) return nullptr;
+        else if constexpr (std::is_same_v<T, double>) return finite_or_null(x);
+        else return json(x);
+      },
+      v);
+}
+
+namespace {
+
+json multiplier_json(const std::complex<double>& mu) { return json::array({mu.real(), mu.imag()}); }
+
+}  // namespace
+
+json point_record(const PointReport& r, const RecordSource& source) {
+  const StabilityLimit& lim = r.limit.limit;
+  json j;
+  j["method"] = r.method;
+  j["warnings"] = source.warnings;
+  json notes = source.notes;
+  for (const std::string& n : r.notes) notes.push_back(n);
+  j["notes"] = notes;
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  j["spindle_rpm"] = r.spindle_rpm;
+  j["depth_mm"] = r.depth_mm;  // as given
+  j["depth_max_mm"] = r.depth_max_m * 1e3;
+  j["stable"] = r.stable;
+  j["margin"] = finite_or_null(r.margin);
+  // The limit: the lobe-table row at this speed.
+  j["depth_limit_mm"] = lim.bounded() ? json(lim.depth_limit_m * 1e3) : json(nullptr);
+  j["chatter_frequency_hz"] = lim.bounded() ? finite_or_null(lim.chatter_frequency_hz) : json(nullptr);
+  j["lobe"] = lim.bounded() && lim.lobe >= 0 ? json(lim.lobe) : json(nullptr);
+  for (std::size_t c = 0; c < r.columns.size(); ++c)
+    j[r.columns[c].name] = c < r.limit.values.size() ? value_json(r.limit.values[c]) : json(nullptr);
+  j["tooth_passing_hz"] = r.tooth_passing_hz;
+  j["tooth_period_s"] = r.tooth_period_s;
+  // The method's own analysis at the asked depth.
+  const PointAnalysis& a = r.at_depth;
+  if (a.floquet_period_s) j["floquet_period_s"] = *a.floquet_period_s;
+  if (a.spectral_radius) j["spectral_radius"] = finite_or_null(*a.spectral_radius);
+  if (a.growth_per_period) j["growth_per_period"] = finite_or_null(*a.growth_per_period);
+  if (a.dominant_multiplier) j["dominant_multiplier"] = multiplier_json(*a.dominant_multiplier);
+  if (a.dominant_frequency_hz) j["dominant_frequency_hz"] = finite_or_null(*a.dominant_frequency_hz);
+  if (a.dominant_multiplier_type) j["dominant_multiplier_type"] = to_string(*a.dominant_multiplier_type);
+  for (const auto& [key, value] : a.extra) j[key] = value_json(value);
+  return j;
+}
+
+std::vector<int> spectrum_harmonics(const SimulationResult& r) {
+  std::vector<int> out(r.spectrum_hz.size(), 0);
+  if (!(r.floquet_period_s > 0.0)) return out;
+  const double res = r.spectrum_hz.size() > 1 ? r.spectrum_hz[1] - r.spectrum_hz[0] : 0.0;
+  for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
+    const double f = r.spectrum_hz[k];
+    const long hk = std::lround(f * r.floquet_period_s);
+    if (hk >= 1 && std::abs(f - static_cast<double>(hk) / r.floquet_period_s) <= 0.5 * res)
+      out[k] = static_cast<int>(hk);
+  }
+  return out;
+}
+
+json simulation_record(const SimulationResult& r, const SimulationRequest& q, const RecordSource& source) {
+  const SimulationSettings& st = q.settings;
+  json j;
+  j["method"] = "time-domain";
+  j["config"] = source.config_name;
+  j["warnings"] = source.warnings;
+  j["notes"] = source.notes;
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  j["spindle_rpm"] = st.spindle_rpm;
+  j["depth_mm"] = q.depth_mm;  // as given
+  j["feed_per_tooth_mm"] = st.linear ? json(nullptr) : json(q.feed_mm);
+  j["linear"] = st.linear;
+  j["multiple_regeneration"] = st.multiple_regeneration;
+  j["verdict"] = to_string(r.verdict);
+  j["stable"] = r.verdict == SimulationVerdict::kStable;
+  j["verdict_measure"] = r.verdict_measure;
+  j["growth_per_period"] = finite_or_null(r.growth_per_period);
+  j["dominant_multiplier"] = std::isfinite(r.growth_per_period) ? multiplier_json(r.dominant_multiplier) : json(nullptr);
+  j["chatter_frequency_hz"] = finite_or_null(r.chatter_frequency_hz);
+  j["dominant_frequency_hz"] = finite_or_null(r.dominant_nonharmonic_hz);
+  j["max_amplitude_mm"] = r.max_amplitude_m * 1e3;
+  j["out_of_cut_fraction"] = r.out_of_cut_fraction;
+  j["floquet_period_s"] = r.floquet_period_s;  // growth_per_period and the harmonics refer to it
+  j["tooth_passing_hz"] = r.tooth_passing_hz;
+  j["tooth_period_s"] = q.tooth_period_s;
+  j["periods"] = r.periods;
+  j["revolutions"] = static_cast<double>(r.periods) / q.periods_per_revolution;
+  j["analysed_from_period"] = r.analysed_from_period;
+  json harmonics = json::array();
+  for (std::size_t k = 0; k < r.harmonics.size() && k < 10; ++k)
+    harmonics.push_back({{"harmonic", r.harmonics[k].harmonic},
+                         {"frequency_hz", r.harmonics[k].frequency_hz},
+                         {"amplitude_um", r.harmonics[k].amplitude_m * 1e6}});
+  j["harmonics"] = harmonics;
+  j["integrator"] = {{"name", "SUNDIALS CVODE, Adams-Moulton order <= 5, fixed-point iteration"},
+                     {"relative_tolerance", q.relative_tolerance},
+                     {"steps", r.steps},
+                     {"rhs_evaluations", r.rhs_evaluations},
+                     {"restarts", r.restarts},
+                     {"root_stops", r.root_stops},
+                     {"samples_per_period", r.samples_per_period},
+                     {"history_capacity", r.history_capacity}};
+  return j;
+}
+
+}  // namespace chatter
