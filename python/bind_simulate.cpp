@@ -7,6 +7,7 @@
 
 #include "bindings.hpp"
 #include "chatter/records.hpp"
+#include "chatter/report.hpp"
 #include "chatter/time_domain.hpp"
 #include "module.hpp"
 
@@ -49,9 +50,8 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   const double feed_mm = feed_per_tooth_mm.value_or(cfg.feed_mm.value_or(kDefaultFeedMm));
-  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("rpm = " + fmt(rpm) + ": must be > 0 rev/min");
-  if (!(std::isfinite(depth_mm) && depth_mm >= 0.0 && depth_mm <= 1000.0))
-    throw InputError("depth_mm = " + fmt(depth_mm) + ": must be in [0, 1000] mm");
+  chatter::check_spindle_rpm(rpm, "rpm");
+  chatter::check_depth_mm(depth_mm, "depth_mm", /*allow_zero=*/true);
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("feed_per_tooth_mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (revolutions && periods) throw InputError("revolutions and periods: give one of them");

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/operations.hpp"
+#include "chatter/report.hpp"
 
 namespace chatter_py {
 
@@ -146,7 +147,8 @@ std::vector<double> even_speeds(const chatter::Config& cfg, std::optional<double
   const double lo = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
   const double hi = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
   const int n = rpm_points.value_or(cfg.sweep.rpm_points.value_or(kDefaultRpmPoints));
-  if (!(std::isfinite(lo) && lo > 0.0)) throw InputError("rpm_min = " + fmt(lo) + ": must be > 0 rev/min");
+  chatter::check_spindle_rpm(lo, "rpm_min");
+  chatter::check_spindle_rpm(hi, "rpm_max");
   if (!(std::isfinite(hi) && hi > lo))
     throw InputError("rpm_max = " + fmt(hi) + ": must be > rpm_min (" + fmt(lo) + ")");
   if (n < 2) throw InputError("rpm_points = " + std::to_string(n) + ": must be >= 2");

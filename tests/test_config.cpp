@@ -1110,5 +1110,30 @@ TEST(ConfigCutter, ImpossibleCuttersAreRefusedWithKeyAndRule) {
                                {"process.helix_angle_deg = 30: only for operation = \"milling\""}));
 }
 
+// Plausibility of the cutter and the sweep (issue 26): a steep helix, a helix
+// in radians, a feed that is no feed, a sweep typed in rev/s.
+TEST(ConfigWarning, CutterAndSweepPlausibility) {
+  const std::string cutter = kMillingKeys + "tool_diameter_mm = 12\n";
+  EXPECT_TRUE(WarnsOnce(Milling(cutter + "helix_angle_deg = 89\n"),
+                        {"process.helix_angle_deg = 89: a helix of 89 deg (60 or more) is beyond end mills"}));
+  EXPECT_TRUE(WarnsOnce(Milling(cutter + "helix_angle_deg = 0.52\n"),
+                        {"process.helix_angle_deg = 0.52: a helix of 0.52 deg is hardly a helix: a value in radians",
+                         "29.79 deg"}));
+  EXPECT_TRUE(WarnsOnce(Milling(cutter + "helix_angle_deg = [30, 0.5]\n"), {"a helix of 0.5 deg"}));
+  EXPECT_TRUE(WarningsOf(Milling(cutter + "helix_angle_deg = 30\n")).empty());
+  EXPECT_TRUE(WarningsOf(Milling(cutter + "helix_angle_deg = 0\n")).empty());  // straight teeth
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys + "feed_per_tooth_mm = 8\n"),
+                        {"process.feed_per_tooth_mm = 8: a feed of 8 mm per tooth is above"}));
+  EXPECT_TRUE(WarnsOnce(Turning("feed_per_rev_mm = 3\n" + kOneToolMode),
+                        {"process.feed_per_rev_mm = 3: a feed of 3 mm per revolution"}));
+  // 50-250 rev/min for a 100 Hz mode and 2 teeth: the highest tooth passing
+  // (8.33 Hz) is below 1/10 of the mode; 500-20000 is not warned.
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 50\nrpm_max = 250\n",
+                        {"sweep.rpm_max = 250: the highest tooth-passing frequency of the sweep (8.333 Hz) is below "
+                         "1/10 of the lowest natural frequency (100 Hz)",
+                         "rev/s"}));
+  EXPECT_TRUE(WarningsOf(Milling(kMillingKeys) + "[sweep]\nrpm_min = 500\nrpm_max = 20000\n").empty());
+}
+
 }  // namespace
 }  // namespace chatter

@@ -290,5 +290,23 @@ TEST_F(ConsistencyCli, GivenNumbersAreEchoedExactly) {
   EXPECT_EQ(json::parse(q.out)["depth_mm"].dump(), "0.123");
 }
 
+// A speed or depth beyond anything physical is a unit mistake: refused with
+// the rule, by every command that takes one.
+TEST_F(ConsistencyCli, PointsBeyondThePhysicalRangeAreRefused) {
+  const std::string file = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml").string();
+  const RunResult fast = run({"point", file, "--rpm", "1e7", "--depth-mm", "1"});
+  EXPECT_EQ(fast.exit_code, 2);
+  EXPECT_TRUE(contains(fast.err, "--rpm = 1e+07: at most 500000 rev/min")) << fast.err;
+  const RunResult deep = run({"point", file, "--rpm", "1000", "--depth-mm", "1e6"});
+  EXPECT_EQ(deep.exit_code, 2);
+  EXPECT_TRUE(contains(deep.err, "--depth-mm = 1e+06: at most 1000 mm (no cut is a metre deep)")) << deep.err;
+  const RunResult sim = run({"simulate", file, "--rpm", "1000", "--depth-mm", "5000"});
+  EXPECT_EQ(sim.exit_code, 2);
+  EXPECT_TRUE(contains(sim.err, "--depth-mm = 5000: at most 1000 mm")) << sim.err;
+  const RunResult sweep = run({"lobes", file, "--rpm-min", "100", "--rpm-max", "6e6"});
+  EXPECT_EQ(sweep.exit_code, 2);
+  EXPECT_TRUE(contains(sweep.err, "--rpm-max = 6e+06: at most 500000 rev/min")) << sweep.err;
+}
+
 }  // namespace
 }  // namespace chatter::test

@@ -209,10 +209,10 @@ TEST(OperationsFile, HeaderProblemsFailTheWholeFile) {
                        "ops.csv:1: header column 'depth': unknown column"));
   EXPECT_TRUE(contains(message("id,id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"), "given twice"));
   EXPECT_TRUE(contains(message("# nothing\n\n"), "ops.csv: no header line"));
-  // A header with no rows is a valid, empty file.
-  const auto f = parse_operations("id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n", "x", Operation::kTurning, m);
-  EXPECT_TRUE(f.rows.empty());
-  EXPECT_TRUE(f.rejected.empty());
+  // A header with no rows lists nothing to check: refused (a post-processor
+  // must not read "0 stable, 0 unstable" as a go).
+  EXPECT_EQ(message("id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"),
+            "ops.csv: no operations (a header and no rows): nothing to check");
 }
 
 // ================================================================== check
@@ -852,7 +852,7 @@ TEST_F(OperationsCli, BadRowsAreReportedOthersCheckedExitTwo) {
   EXPECT_TRUE(contains(r.out, ops.string() + ":5: id 'fast': spindle_rpm = 2500: outside the machine range [50, 2000]"))
       << r.out;
   EXPECT_TRUE(contains(r.out, ops.string() + ":6: id 'word': spindle_rpm = 'abc': not a number")) << r.out;
-  EXPECT_TRUE(contains(r.out, "summary: 1 stable, 1 unstable, 4 rejected; exit status 2")) << r.out;
+  EXPECT_TRUE(contains(r.out, "summary: 1 stable, 1 unstable, 4 rejected, 0 not judged; exit status 2")) << r.out;
   const auto j = nlohmann::json::parse(slurp(js));
   EXPECT_EQ(j["format"], "chatter-operation-check");
   ASSERT_EQ(j["operations"].size(), 2u);
@@ -871,7 +871,7 @@ TEST_F(OperationsCli, ExitStatusZeroWhenAllStableThreeWhenSomeUnstable) {
   const fs::path ok = write("ok.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\nb,900,1.0,,\n");
   Run r = run({"check", cfg, "--operations", ok.string()});
   EXPECT_EQ(r.code, 0) << r.out << r.err;
-  EXPECT_TRUE(contains(r.out, "summary: 2 stable, 0 unstable, 0 rejected; exit status 0")) << r.out;
+  EXPECT_TRUE(contains(r.out, "summary: 2 stable, 0 unstable, 0 rejected, 0 not judged; exit status 0")) << r.out;
   const fs::path some = write("some.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\nb,1200,2.0,,0.2\n");
   r = run({"check", cfg, "--operations", some.string(), "--json", "-"});
   EXPECT_EQ(r.code, 3) << r.out << r.err;
@@ -1040,6 +1040,115 @@ TEST_F(OperationsCli, RecommendNeverExceedsTheFluteLength) {
   EXPECT_EQ(j["inputs"]["flute_length_mm"], 16.0);
   EXPECT_EQ(j["depth_caps_mm"]["flute_length"], 16.0);
   EXPECT_TRUE(contains(r.out, "Speed band +/-0.0 %")) << r.out;
+}
+
+}  // namespace
+
+// ================================================= a check to trust (issue 26)
+
+namespace {
+
+const char* const kOpsHeader = "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,teeth\n";
+
+TEST_F(OperationsCli, NoOperationsIsAnErrorNotAGoSignal) {
+  const fs::path ops = write("empty.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n");
+  const Run r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", ops.string()});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, ops.string() + ": no operations (a header and no rows): nothing to check")) << r.err;
+  // A missing file says why.
+  const Run m = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations",
+                     (dir_ / "nope.csv").string()});
+  EXPECT_EQ(m.code, 2);
+  EXPECT_TRUE(contains(m.err, "nope.csv: cannot read file (No such file or directory)")) << m.err;
+}
+
+TEST_F(OperationsCli, ARowThatCannotBeJudgedIsThatRowsErrorOnly) {
+  // Teeth 3 contradicts the config's four pitch angles: that row is not
+  // judged (named with its line and the rule); the others are.
+  const std::string cfg = config_path("milling_variable_pitch_helix.toml").string();
+  const fs::path ops = write("ops.csv", std::string(kOpsHeader) + "a,9000,1.0,,,\nthree,9000,1.0,,,3\nb,6000,0.5,,,\n");
+  const fs::path js = dir_ / "c.json";
+  const Run r = run({"check", cfg, "--operations", ops.string(), "--json", js.string(), "--rpm-min", "3000",
+                     "--rpm-max", "12000"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, ops.string() + ":3: id 'three': ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "pitch")) << r.out;
+  EXPECT_TRUE(contains(r.out, "1 not judged; exit status 2")) << r.out;
+  const auto j = nlohmann::json::parse(slurp(js));
+  ASSERT_EQ(j["operations"].size(), 2u);
+  EXPECT_EQ(j["operations"][0]["id"], "a");
+  EXPECT_EQ(j["operations"][1]["id"], "b");
+  ASSERT_EQ(j["not_judged"].size(), 1u);
+  EXPECT_EQ(j["not_judged"][0]["line"], 3);
+  EXPECT_EQ(j["summary"]["not_judged"], 1);
+  EXPECT_EQ(j["exit_status"], 2);
+}
+
+TEST_F(OperationsCli, AbsurdRowsRefusedImplausibleRowsWarned) {
+  const std::string cfg = config_path("seed_turning_1dof.toml").string();
+  // 5000 mm (typed in um) is refused for that row; 30 mm is 10x beyond the
+  // limit and 8 mm per revolution is no feed: both warned, naming the row.
+  const fs::path ops = write("ops.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\n"
+                                        "um,1200,5000,,\ndeep,1200,30,,\nfeed,1800,1,,8\nok,1800,1,,0.2\n");
+  const fs::path js = dir_ / "c.json";
+  const Run r = run({"check", cfg, "--operations", ops.string(), "--json", js.string()});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, ":2: id 'um': depth_mm = 5000: at most 1000 mm")) << r.out;
+  EXPECT_TRUE(contains(r.out, "operation 'deep' (line 3): depth 30 mm is over 10 times the stability limit")) << r.out;
+  EXPECT_TRUE(contains(r.out, "operation 'feed' (line 4): feed 8 mm per revolution is above 1 mm")) << r.out;
+  const auto j = nlohmann::json::parse(slurp(js));
+  EXPECT_EQ(j["operations"].size(), 3u);
+  EXPECT_EQ(j["rejected"].size(), 1u);
+}
+
+TEST_F(OperationsCli, ASoftModeIsSolvedNotAnInternalError) {
+  // A mode of 12 N/m (warned: a unit mistake) makes every depth tried first
+  // overflow the period map; sdm must still find the (tiny) limit.
+  std::string text = slurp(config_path("milling_benchmark_ae005_down.toml"));
+  const auto at = text.find("mass_kg");
+  ASSERT_NE(at, std::string::npos) << "the case C config gives a modal mass";
+  const auto eol = text.find('\n', at);
+  text.replace(at, eol - at, "stiffness_n_per_m = 12");
+  const fs::path cfg = write("soft.toml", text);
+  const Run p = run({"point", cfg.string(), "--rpm", "12000", "--depth-mm", "1"});
+  EXPECT_EQ(p.code, 0) << p.err;
+  EXPECT_FALSE(contains(p.err, "internal error")) << p.err;
+  const auto j = nlohmann::json::parse(p.out);
+  ASSERT_FALSE(j["depth_limit_mm"].is_null());
+  // k 1.3e6 / 12 times softer than case C: the limit scales with k.
+  EXPECT_LT(j["depth_limit_mm"].get<double>(), 1e-3);
+  EXPECT_FALSE(j["stable"].get<bool>());
+  const fs::path ops = write("ops.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nr,12000,1,,\n");
+  const Run c = run({"check", cfg.string(), "--operations", ops.string(), "--rpm-min", "10000", "--rpm-max", "14000"});
+  EXPECT_EQ(c.code, 3) << c.out << c.err;
+  EXPECT_FALSE(contains(c.err, "internal error")) << c.err;
+}
+
+TEST_F(OperationsCli, ProgressLinesOnANonTerminalWhenAsked) {
+  const fs::path ops = write("ops.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nr,900,1,,\n");
+  const Run r = run({"check", config_path("milling_benchmark_ae005_down.toml").string(), "--operations", ops.string(),
+                     "--rpm-min", "800", "--rpm-max", "25000", "--progress"});
+  ASSERT_TRUE(r.code == 0 || r.code == 3) << r.err;
+  // At least the closing line (a line a second while it runs).
+  EXPECT_TRUE(contains(r.err, "check: done after ")) << r.err;
+  const Run q = run({"check", config_path("milling_benchmark_ae005_down.toml").string(), "--operations", ops.string(),
+                     "--rpm-min", "800", "--rpm-max", "25000"});
+  EXPECT_FALSE(contains(q.err, "check: ")) << q.err;  // not a terminal, not asked: silent
+}
+
+TEST_F(OperationsCli, RecommendStatesTheLimitItUsed) {
+  // Stability binds: the depth is safety x the worst limit over the speed
+  // band, and the explanation names that number (not the limit at the speed).
+  const std::string cfg = config_path("milling_benchmark_ae005_down.toml").string();
+  const Run r = run({"recommend", cfg, "--feed-per-tooth-mm", "0.05", "--json", "-", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["binding"][0], "stability") << j["binding"];
+  const double worst = j["speed_band"]["worst_limit_mm"].get<double>(), depth = j["depth_mm"].get<double>();
+  EXPECT_NEAR(depth, 0.8 * worst, 1e-3 * depth);
+  char text[64];
+  std::snprintf(text, sizeof text, "x the worst limit %.3f mm over the speed band", worst);
+  EXPECT_TRUE(contains(j["explanation"].get<std::string>(), text)) << j["explanation"] << "\nwanted: " << text;
 }
 
 }  // namespace

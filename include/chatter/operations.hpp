@@ -322,8 +322,12 @@ struct OperationCheck {
 };
 
 struct CheckReport {
-  std::vector<OperationCheck> checks;    ///< in file order
-  std::vector<std::string> warnings;     ///< e.g. kFlipLobeWarning, once each
+  std::vector<OperationCheck> checks;    ///< in file order (the rows that could be judged)
+  /// Rows read but not judged, in line order, with the reason: overrides
+  /// that make no cutter (teeth that contradict the config's pitch angles),
+  /// or a solver that failed on the row. The other rows are still checked.
+  std::vector<RejectedRow> not_judged;
+  std::vector<std::string> warnings;     ///< e.g. kFlipLobeWarning, once each; per-row plausibility
   std::size_t unstable() const;
 };
 

@@ -70,8 +70,10 @@ nlohmann::json simulation_record(const SimulationResult& result, const Simulatio
 std::vector<int> spectrum_harmonics(const SimulationResult& result);
 
 /// `chatter check --json`: every operation (verdict, limit, margins,
-/// suggestion and pocket), the rejected rows, the summary and the exit
-/// status (0 all stable, 3 some unstable, 2 some rows not judged).
+/// suggestion and pocket), the rows that could not be read (`rejected`) or
+/// judged (`not_judged`: a solver failure, overrides that make no cutter),
+/// the summary and the exit status (0 all stable, 3 some unstable, 2 some
+/// rows not read or not judged: the others are still reported).
 struct CheckRecordInputs {
   std::string operations_origin;   ///< the file (or "<operations>")
   std::string method_requested;    ///< "auto" or a method name

@@ -15,6 +15,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
+#include "chatter/report.hpp"
 #include "../io/text.hpp"
 
 namespace chatter::cli {
@@ -112,8 +113,8 @@ Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   else if (cfg.sweep.rpm_points) s.rpm_points = *cfg.sweep.rpm_points;
   if (vm.count("depth-max-mm")) s.depth_max_mm = vm["depth-max-mm"].as<double>();
   else if (cfg.sweep.depth_max_mm) s.depth_max_mm = *cfg.sweep.depth_max_mm;
-  if (!(std::isfinite(s.rpm_min) && s.rpm_min > 0.0))
-    throw InputError("--rpm-min = " + fmt(s.rpm_min) + ": must be > 0 rev/min");
+  check_spindle_rpm(s.rpm_min, "--rpm-min");
+  check_spindle_rpm(s.rpm_max, "--rpm-max");
   if (!(std::isfinite(s.rpm_max) && s.rpm_max > s.rpm_min))
     throw InputError("--rpm-max = " + fmt(s.rpm_max) + ": must be > --rpm-min (" + fmt(s.rpm_min) + ")");
   if (s.rpm_points < 2) throw InputError("--rpm-points = " + std::to_string(s.rpm_points) + ": must be >= 2");
@@ -358,7 +359,8 @@ BuiltSolver build_solver(const std::string& requested, const Config& cfg, double
 }
 
 Progress::Progress(const po::variables_map& vm, std::size_t total, std::string label, double show_after_s)
-    : enabled_(vm.count("quiet") == 0 && ::isatty(STDERR_FILENO) == 1 && total > 1),
+    : enabled_(vm.count("quiet") == 0 && total > 1 && (::isatty(STDERR_FILENO) == 1 || vm.count("progress") > 0)),
+      lines_(::isatty(STDERR_FILENO) != 1),
       total_(total),
       label_(std::move(label)),
       start_(std::chrono::steady_clock::now()),
@@ -366,7 +368,12 @@ Progress::Progress(const po::variables_map& vm, std::size_t total, std::string l
       show_after_(show_after_s) {}
 
 Progress::~Progress() {
-  if (enabled_ && shown_) std::cerr << "\r\033[K" << std::flush;  // clear the line
+  if (enabled_ && shown_ && !lines_) std::cerr << "\r\033[K" << std::flush;  // clear the line
+  // A log asked for with --progress ends with a line saying so, however short the work.
+  if (enabled_ && lines_)
+    std::cerr << label_ << ": done after "
+              << fmt(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(), 3) << " s\n"
+              << std::flush;
 }
 
 void Progress::tick(std::size_t done) {
@@ -374,12 +381,20 @@ void Progress::tick(std::size_t done) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto now = std::chrono::steady_clock::now();
   if (now - start_ < show_after_) return;
-  if (shown_ && done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
+  // A log (--progress on a non-terminal) gets a line a second, a terminal a
+  // redrawn bar ten times a second.
+  if (shown_ && done < total_ && now - last_ < std::chrono::milliseconds(lines_ ? 1000 : 100)) return;
   last_ = now;
   shown_ = true;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double frac = static_cast<double>(done) / static_cast<double>(total_);
   const double left = frac > 0 ? elapsed * (1 - frac) / frac : 0.0;
+  if (lines_) {
+    std::cerr << label_ << ": " << static_cast<int>(frac * 100) << "% after " << fmt(elapsed, 3) << " s, about "
+              << fmt(left, 2) << " s left\n"
+              << std::flush;
+    return;
+  }
   const int width = 30, filled = static_cast<int>(frac * width);
   std::cerr << "\r" << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
             << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << static_cast<int>(frac * 100)

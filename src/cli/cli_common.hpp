@@ -183,6 +183,7 @@ class Progress {
 
  private:
   bool enabled_;
+  bool lines_ = false;  ///< --progress on a non-terminal: one line per second, newline-terminated
   std::size_t total_;
   std::string label_;
   std::chrono::steady_clock::time_point start_;

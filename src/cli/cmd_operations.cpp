@@ -112,11 +112,14 @@ worst_margin is the smallest margin over the row's own speed band.
 Rows that cannot be read are listed with their line number and reason; the
 other rows are still checked.
 
-Exit status: 0 every row read and every operation stable;
-             3 every row read, some operations unstable (chatter predicted);
-             2 some rows invalid (the others are still checked and reported),
-               or the config, the options or the file header is invalid
-               (then nothing is checked);
+Exit status: 0 every row read and judged, every operation stable;
+             3 every row read and judged, some operations unstable (chatter
+               predicted);
+             2 some rows invalid or not judged (a row whose overrides make no
+               cutter, a solver that failed on it: each listed with its line
+               and reason; the others are still checked and reported), or the
+               config, the options or the file header is invalid, or the file
+               has no operations (then nothing is checked);
              1 internal failure.
 )";
 
@@ -134,7 +137,9 @@ int cmd_check(const std::vector<std::string>& args) {
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
       ("speed-tolerance-pct", po::value<double>()->default_value(2.0, "2"), "speed error the suggestion must tolerate, % in [0, 50) (0 = exact speed: the lobe's cusp)")
       ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
-      ("quiet,q", "no progress bar");
+      ("quiet,q", "no progress bar")
+      ("progress", "show the progress (fraction done, time left) even when standard error is not a terminal: "
+                   "one line a second, for logs");
   po::variables_map vm;
   if (!parse(args, kCheckUsage, d, common, vm)) return 0;
   check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
@@ -200,8 +205,15 @@ int cmd_check(const std::vector<std::string>& args) {
       out << "  " << ops_path << ":" << b.line << ": " << (b.id.empty() ? "" : "id '" + b.id + "': ") << b.reason
           << "\n";
   }
+  if (!report.not_judged.empty()) {
+    out << "rows that could not be judged (the others are checked):\n";
+    for (const auto& b : report.not_judged)
+      out << "  " << ops_path << ":" << b.line << ": " << (b.id.empty() ? "" : "id '" + b.id + "': ") << b.reason
+          << "\n";
+  }
   out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
-      << " unstable, " << file.rejected.size() << " rejected; exit status " << status << "\n";
+      << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size()
+      << " not judged; exit status " << status << "\n";
 
   if (!json_path.empty()) {
     CheckRecordInputs in;
@@ -238,7 +250,9 @@ int cmd_recommend(const std::vector<std::string>& args) {
       ("json", po::value<std::string>(&json_path), "also write every number as JSON to this file ('-': standard output, the explanation then goes to standard error)")
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
       ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
-      ("quiet,q", "no progress bar");
+      ("quiet,q", "no progress bar")
+      ("progress", "show the progress (fraction done, time left) even when standard error is not a terminal: "
+                   "one line a second, for logs");
   po::variables_map vm;
   if (!parse(args,
              "Usage: chatter recommend CONFIG --feed-per-tooth-mm F [options]\n\n"

@@ -13,6 +13,7 @@
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records.hpp"
+#include "chatter/report.hpp"
 #include "chatter/time_domain.hpp"
 
 namespace chatter::cli {
@@ -92,9 +93,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   if (!(std::isfinite(warn_mb) && warn_mb > 0.0)) throw InputError("--warn-size-mb = " + fmt(warn_mb) + ": must be > 0");
   const Config cfg = load_checked(common);
   if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
-  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError("--rpm = " + fmt(rpm) + ": must be > 0 rev/min");
-  if (!(std::isfinite(depth_mm) && depth_mm >= 0.0 && depth_mm <= 1000.0))
-    throw InputError("--depth-mm = " + fmt(depth_mm) + ": must be in [0, 1000] mm");
+  check_spindle_rpm(rpm, "--rpm");
+  check_depth_mm(depth_mm, "--depth-mm", /*allow_zero=*/true);
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (vm.count("revolutions") && vm.count("periods"))

@@ -86,6 +86,20 @@ constexpr std::string_view kProcessKeys[] = {"operation",
 // scaled to sum to exactly one revolution.
 constexpr double kPitchSumToleranceDeg = 1e-3;
 const Range kHelixDeg{"in [0, 90) (deg)", 0.0, false, 90.0, true};
+// Plausibility of the cutter (warnings; --strict refuses them): a helix at or
+// above 60 deg, a helix below 1.6 deg (radians typed as degrees), a feed
+// above 1 mm per tooth or per revolution (um typed as mm is refused by the
+// range, 1 to 10 mm is possible but rare).
+constexpr double kSteepHelixDeg = 60.0;
+constexpr double kRadianLikeHelixDeg = 1.6;
+constexpr double kPlausibleFeedMm = 1.0;
+
+void warn_feed(const Table& process, std::string_view key, const std::optional<double>& feed, const char* per) {
+  if (feed && *feed > kPlausibleFeedMm)
+    process.doc().warn(process.path_of(key), *process.find(key),
+                       "a feed of " + number_text(*feed) + " mm " + per + " is above the 0.01 to 1 mm of cutting; "
+                       "a feed per revolution given per tooth, or in the wrong unit?");
+}
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
   for (const std::string_view key : keys) {
@@ -120,6 +134,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     reject_keys_of(*process, kMillingKeys, "milling");
     const Given kf = read_coefficient(*process, kFeedForce, kPositive);
     *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
+    warn_feed(*process, "feed_per_rev_mm", *feed_mm, "per revolution");
     const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
     const auto dw = process->number("workpiece_diameter_mm", kPositive);
     if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
@@ -198,6 +213,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     else
       doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+    warn_feed(*process, "feed_per_tooth_mm", *feed_mm, "per tooth");
     if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
     // The cutter (docs/config.md, "Real cutters").
     const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
@@ -210,6 +226,23 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     };
     if (helix && std::any_of(helix->begin(), helix->end(), [](double b) { return b > 0.0; }))
       need_diameter("helix_angle_deg", "the helix lag of a slice at height z is z tan(beta) / R");
+    if (helix) {
+      // End mills have 0 to ~50 deg; a few rad look like degrees below 1.6.
+      const double top = *std::max_element(helix->begin(), helix->end());
+      double low = kInf;
+      for (const double b : *helix)
+        if (b > 0.0) low = std::min(low, b);
+      const toml::node& node = *process->find("helix_angle_deg");
+      if (top >= kSteepHelixDeg)
+        doc.warn(process->path_of("helix_angle_deg"), node,
+                 "a helix of " + number_text(top) + " deg (" + number_text(kSteepHelixDeg) +
+                     " or more) is beyond end mills (0 to about 50 deg); is it the helix angle, not the lead angle "
+                     "(90 - helix)?");
+      else if (low < kRadianLikeHelixDeg)
+        doc.warn(process->path_of("helix_angle_deg"), node,
+                 "a helix of " + number_text(low) + " deg is hardly a helix: a value in radians (" + number_text(low) +
+                     " rad = " + number_text(low * 180.0 / kPi) + " deg)? the key is in degrees");
+    }
     if (cpd && *cpd > 0.0)
       need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
     if (teeth) {

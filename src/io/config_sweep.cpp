@@ -14,6 +14,9 @@ namespace {
 // divided by kToothPassingOverModeMax, is out of reach of the sweep.
 constexpr double kLobeNumberMax = 200.0;
 constexpr double kToothPassingOverModeMax = 20.0;
+// A sweep whose highest tooth-passing frequency is below 1/10 of the lowest
+// natural frequency: lobe numbers above 10 everywhere.
+constexpr double kSweepBelowLowestModeFactor = 10.0;
 
 }  // namespace
 
@@ -39,6 +42,7 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
   if (!config.sweep.rpm_min || !config.sweep.rpm_max) return;
   const double z = config.process.delays_per_revolution();
   const double ftp_min = *config.sweep.rpm_min * z / 60.0, ftp_max = *config.sweep.rpm_max * z / 60.0;
+  bool mode_warned = false;
   for (const std::string_view name : {"tool", "workpiece"}) {
     const Body& body = name == "tool" ? config.model.tool : config.model.workpiece;
     const toml::array* modes = root_table.at_path(std::string(name) + ".modes").as_array();
@@ -59,6 +63,7 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
                " Hz): every speed of the sweep is far past the last lobe; is the frequency in Hz (not kHz) and "
                "the speed in rev/min?";
       if (what.empty()) continue;
+      mode_warned = true;
       const Path path = element(child(Path(name), "modes"), i);
       if (const toml::node* n = t->get("frequency_hz"))
         doc.warn(child(path, "frequency_hz"), *n, what);
@@ -66,6 +71,16 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
         doc.warn_key(child(path, "cantilever"), "gives f = " + number_text(f) + " Hz: " + what);
     }
   }
+  // The whole sweep far below the lowest mode (no mode said so already):
+  // lobe numbers above 10 everywhere, speeds typed in rev/s?
+  const double f_low = config.model.min_omega() / (2.0 * kPi);
+  if (!mode_warned && f_low > 0.0 && ftp_max * kSweepBelowLowestModeFactor < f_low)
+    if (const toml::node* n = root_table.at_path("sweep.rpm_max").node())
+      doc.warn("sweep.rpm_max", *n,
+               "the highest tooth-passing frequency of the sweep (" + number_text(ftp_max) + " Hz) is below 1/" +
+                   number_text(kSweepBelowLowestModeFactor) + " of the lowest natural frequency (" +
+                   number_text(f_low) + " Hz): every speed lies in the dense low-speed lobes; speeds in rev/s "
+                   "instead of rev/min (x 60)?");
 }
 
 }  // namespace chatter::config_detail

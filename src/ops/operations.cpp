@@ -6,7 +6,9 @@
 #include <atomic>
 #include <initializer_list>
 #include <charconv>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -16,6 +18,7 @@
 #include <tuple>
 
 #include "chatter/error.hpp"
+#include "chatter/report.hpp"
 #include "chatter/solvers.hpp"
 #include "../io/text.hpp"
 #include "../solvers/extremum.hpp"
@@ -324,6 +327,11 @@ constexpr double kEdgeRelativeWidth = 1e-4;
 // The band's two ends are balanced when their limits agree to this (relative).
 constexpr double kBalanceRelative = 1e-6;
 constexpr int kEdgeMaxIterations = 60;
+// A row deeper than this many times its own limit is probably typed in the
+// wrong unit (um for mm): warned, naming the row. Feeds above 1 mm per tooth
+// (or per revolution in turning) likewise.
+constexpr double kImplausibleMarginFactor = 10.0;
+constexpr double kPlausibleFeedM = 1e-3;
 // Progress estimates (solves): a scan of a few lobes and its refinements per
 // process, the band and pocket searches per row; the reported fraction stops
 // at kProgressCeiling until the work is done.
@@ -797,8 +805,12 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
         reasons.push_back("spindle_rpm = " + num(rpm) + ": outside the machine range [" + num(machine.rpm_min) +
                           ", " + num(machine.rpm_max) + "] rev/min");
     }
-    if (number("depth_mm", depth_mm) && !(depth_mm > 0.0))
-      reasons.push_back("depth_mm = " + num(depth_mm) + ": must be > 0 mm");
+    if (number("depth_mm", depth_mm)) {
+      if (!(depth_mm > 0.0)) reasons.push_back("depth_mm = " + num(depth_mm) + ": must be > 0 mm");
+      else if (depth_mm > kMaxDepthMm)
+        reasons.push_back("depth_mm = " + num(depth_mm) + ": at most " + num(kMaxDepthMm) +
+                          " mm (no cut is a metre deep); a depth in um?");
+    }
     row.spindle_rpm = rpm;
     row.depth_m = depth_mm * 1e-3;
     row.depth_mm = depth_mm;
@@ -856,12 +868,19 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
     for (const auto& r : kRequiredColumns) req += (req.empty() ? "" : ",") + r;
     throw InputError(origin + ": no header line (expected the columns " + req + ")");
   }
+  // A file that lists nothing must not read as "all stable" to a
+  // post-processor: nothing checked is an error.
+  if (out.rows.empty() && out.rejected.empty())
+    throw InputError(origin + ": no operations (a header and no rows): nothing to check");
   return out;
 }
 
 OperationsFile read_operations(const std::filesystem::path& file, Operation operation, const MachineLimits& machine) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string() + ": cannot read file");
+  if (!in) {
+    const int err = errno;
+    throw InputError(file.string() + ": cannot read file (" + (err ? std::strerror(err) : "unknown reason") + ")");
+  }
   std::ostringstream os;
   os << in.rdbuf();
   return parse_operations(os.str(), file.string(), operation, machine);
@@ -927,8 +946,23 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
             static_cast<int>(r.direction.value_or(m.direction))};
   };
   std::map<Key, Group> by_key;
+  std::vector<char> judged(rows.size(), 1);  // 0: the row could not be judged (report.not_judged says why)
+  auto not_judged = [&](std::size_t i, const std::string& why) {
+    judged[i] = 0;
+    report.not_judged.push_back({rows[i].line, rows[i].id, why});
+  };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const OperationRow& r = rows[i];
+    if (!by_key.count(key_of(r))) {
+      // A row whose overrides make no cutter (e.g. teeth that contradict
+      // the config's pitch angles) is that row's error, not the file's.
+      try {
+        (void)process_for(process, r);
+      } catch (const InputError& e) {
+        not_judged(i, e.what());
+        continue;
+      }
+    }
     Group& g = by_key[key_of(r)];
     if (g.method.empty()) {
       g.process = process_for(process, r);
@@ -946,6 +980,11 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
       report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): depth " +
                                 num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
                                 num(*options.flute_length_m * 1e3) + " mm");
+    if (r.feed_per_tooth_m && *r.feed_per_tooth_m > kPlausibleFeedM)
+      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): feed " +
+                                num(*r.feed_per_tooth_m * 1e3) + " mm per " +
+                                (process.operation() == Operation::kMilling ? "tooth" : "revolution") +
+                                " is above 1 mm: a feed in um, or per revolution?");
   }
   std::vector<Group*> groups;
   for (auto& [key, g] : by_key) groups.push_back(&g);
@@ -964,47 +1003,83 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
     if (options.progress) options.progress(std::min(f, kProgressCeiling));
   };
   const double tol = options.speed_tolerance;
+  // One row: its exact limit and margins, and the suggested speed with its
+  // pocket (SpeedSearch caches the solves shared by the rows of a process).
+  auto check_row = [&](SpeedSearch& s, const Group& g, std::size_t i) {
+    const OperationRow& r = rows[i];
+    const double ds = search_depth(r);
+    auto clipped = [&](double w) { return w > ds ? kInf : w; };
+    OperationCheck& c = checks[i];
+    c.op = r;
+    c.method = g.method;
+    c.search_depth_m = ds;
+    c.limit = clip(s.at(r.spindle_rpm), ds);
+    c.stable = r.depth_m < c.limit.depth_limit_m;
+    c.margin = c.limit.depth_limit_m / r.depth_m;
+    const double own_worst = clipped(s.band_min(r.spindle_rpm));
+    c.worst_margin = own_worst / r.depth_m;
+    // The speed whose band has the largest worst limit (unbounded for this
+    // row's searched depth: the nearest such speed); the row's own speed
+    // when it is as good.
+    double n = r.spindle_rpm;
+    if (std::isfinite(own_worst)) {
+      const double best = s.best(ds, r.spindle_rpm);
+      if (clipped(s.band_min(best)) > own_worst) n = best;
+    }
+    const double worst = clipped(s.band_min(n));
+    if (worst > r.depth_m) {
+      c.suggestion = clip(s.at(n), ds);
+      c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
+      SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
+      p.limit = *c.suggestion;
+      p.worst_limit_m = worst;
+      p.worst_margin = worst / r.depth_m;
+      c.suggestion_pocket = p;
+    }
+  };
+  std::vector<std::vector<std::pair<std::size_t, std::string>>> failed(groups.size());  // per group, in row order
   parallel_for(groups.size(), options.threads, [&](std::size_t gi) {
     const Group& g = *groups[gi];
-    const auto solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
-    SpeedSearch s(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
-    s.on_solve = tick;
-    s.scan();
+    std::unique_ptr<LobeSolver> solver;
+    std::optional<SpeedSearch> search;
+    try {
+      solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
+      search.emplace(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
+      search->on_solve = tick;
+      search->scan();
+    } catch (const std::exception& e) {
+      // A solver that fails on this process fails every row of it; the
+      // other processes' rows are still checked.
+      for (const std::size_t i : g.rows)
+        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed on this row's process: " +
+                                       e.what());
+      return;
+    }
+    SpeedSearch& s = *search;
     for (const std::size_t i : g.rows) {
-      const OperationRow& r = rows[i];
-      const double ds = search_depth(r);
-      auto clipped = [&](double w) { return w > ds ? kInf : w; };
-      OperationCheck& c = checks[i];
-      c.op = r;
-      c.method = g.method;
-      c.search_depth_m = ds;
-      c.limit = clip(s.at(r.spindle_rpm), ds);
-      c.stable = r.depth_m < c.limit.depth_limit_m;
-      c.margin = c.limit.depth_limit_m / r.depth_m;
-      const double own_worst = clipped(s.band_min(r.spindle_rpm));
-      c.worst_margin = own_worst / r.depth_m;
-      // The speed whose band has the largest worst limit (unbounded for this
-      // row's searched depth: the nearest such speed); the row's own speed
-      // when it is as good.
-      double n = r.spindle_rpm;
-      if (std::isfinite(own_worst)) {
-        const double best = s.best(ds, r.spindle_rpm);
-        if (clipped(s.band_min(best)) > own_worst) n = best;
-      }
-      const double worst = clipped(s.band_min(n));
-      if (worst > r.depth_m) {
-        c.suggestion = clip(s.at(n), ds);
-        c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
-        SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
-        p.limit = *c.suggestion;
-        p.worst_limit_m = worst;
-        p.worst_margin = worst / r.depth_m;
-        c.suggestion_pocket = p;
+      try {
+        check_row(s, g, i);
+      } catch (const std::exception& e) {
+        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed at this row: " + e.what());
       }
     }
   });
+  for (const auto& f : failed)
+    for (const auto& [i, why] : f) not_judged(i, why);
+  std::sort(report.not_judged.begin(), report.not_judged.end(),
+            [](const RejectedRow& a, const RejectedRow& b) { return a.line < b.line; });
+  // Depths far beyond the limit are probably typed in the wrong unit.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const OperationCheck& c = checks[i];
+    if (judged[i] && c.limit.bounded() && rows[i].depth_m > kImplausibleMarginFactor * c.limit.depth_limit_m)
+      report.warnings.push_back("operation '" + rows[i].id + "' (line " + std::to_string(rows[i].line) + "): depth " +
+                                num(rows[i].depth_m * 1e3) + " mm is over " + num(kImplausibleMarginFactor) +
+                                " times the stability limit " + num(c.limit.depth_limit_m * 1e3) +
+                                " mm at its speed: a depth in um?");
+  }
   if (options.progress) options.progress(1.0);
-  report.checks = std::move(checks);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (judged[i]) report.checks.push_back(std::move(checks[i]));
   return report;
 }
 

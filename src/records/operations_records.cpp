@@ -34,7 +34,7 @@ const char* direction_name(MillingDirection d) { return d == MillingDirection::k
 }  // namespace
 
 int check_exit_status(const CheckReport& report, const OperationsFile& file) {
-  if (!file.rejected.empty()) return 2;
+  if (!file.rejected.empty() || !report.not_judged.empty()) return 2;
   return report.unstable() > 0 ? 3 : 0;
 }
 
@@ -92,10 +92,14 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
   json rej = json::array();
   for (const auto& b : file.rejected) rej.push_back({{"line", b.line}, {"id", b.id}, {"reason", b.reason}});
   j["rejected"] = rej;
+  json nj = json::array();
+  for (const auto& b : report.not_judged) nj.push_back({{"line", b.line}, {"id", b.id}, {"reason", b.reason}});
+  j["not_judged"] = nj;
   j["summary"] = {{"checked", report.checks.size()},
                   {"stable", report.checks.size() - report.unstable()},
                   {"unstable", report.unstable()},
-                  {"rejected", file.rejected.size()}};
+                  {"rejected", file.rejected.size()},
+                  {"not_judged", report.not_judged.size()}};
   j["exit_status"] = check_exit_status(report, file);
   return j;
 }

@@ -379,12 +379,14 @@ PointAnalysis SemiDiscretizationSolver::analyse_point(double spindle_rpm, double
   const FloquetResult f = analyse(spindle_rpm, depth_m);
   PointAnalysis a;
   a.stable = f.stable();
-  a.spectral_radius = f.spectral_radius;
-  a.dominant_multiplier = f.dominant_multiplier;
-  a.dominant_frequency_hz = f.chatter_frequency_hz;
-  a.dominant_multiplier_type = f.type;
+  a.spectral_radius = f.spectral_radius;  // +inf (null in JSON) when the map overflowed
   a.floquet_period_s = f.period_s;
   a.extra = {{"steps_per_period", f.steps}};
+  if (std::isfinite(f.spectral_radius)) {
+    a.dominant_multiplier = f.dominant_multiplier;
+    if (std::isfinite(f.chatter_frequency_hz)) a.dominant_frequency_hz = f.chatter_frequency_hz;
+    a.dominant_multiplier_type = f.type;
+  }
   return a;
 }
 

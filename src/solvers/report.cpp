@@ -32,7 +32,7 @@ void check_spindle_rpm(double rpm, const std::string& name) {
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(name + " = " + number(rpm) + ": must be > 0 rev/min");
   if (rpm > kMaxSpindleRpm)
     throw InputError(name + " = " + number(rpm) + ": at most " + number(kMaxSpindleRpm) +
-                     " rev/min (the fastest spindles turn about 200 000); a speed in rev/min?");
+                     " rev/min (the fastest spindles turn about 200 000 rev/min): check the unit");
 }
 
 void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
@@ -41,7 +41,7 @@ void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
                      (allow_zero ? ": must be >= 0 mm" : ": must be > 0 mm (a cut of no depth cannot chatter)"));
   if (depth_mm > kMaxDepthMm)
     throw InputError(name + " = " + number(depth_mm) + ": at most " + number(kMaxDepthMm) +
-                     " mm (no cut is a metre deep); a depth in mm, not um?");
+                     " mm (no cut is a metre deep): typed in um?");
 }
 
 PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm) {

@@ -365,6 +365,22 @@ struct Dominant {
   Eigen::VectorXcd vec;  // empty unless requested
 };
 
+// Thrown inside the eigen-solvers when the period map's values overflowed
+// (a cut so far beyond the limit that the vibration grows by more than 1e308
+// per period): caught by SdmKernel::dominant, which reports ρ = +inf.
+struct MapOverflow {};
+
+// The Dominant of a map that overflowed: ρ = +inf (unstable beyond doubt;
+// the depth searches then go down, analyse() reports no finite multiplier).
+Dominant overflowed() {
+  Dominant d;
+  const double inf = std::numeric_limits<double>::infinity();
+  d.mu = Cplx(inf, 0.0);
+  d.rho_left = d.rho_right = inf;
+  d.mu_left = d.mu_right = Cplx(inf, 0.0);
+  return d;
+}
+
 std::string bad_speed(double rpm) {
   std::ostringstream os;
   os << "spindle speed " << rpm << " rev/min: must be > 0 and finite";
@@ -758,13 +774,18 @@ class SdmKernel {
 
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
+  // A map whose values overflow (growth beyond 1e308 per period: a depth far
+  // above the limit, e.g. on a mode of 12 N/m) is unstable beyond doubt: ρ =
+  // +inf, never an error (the depth search then goes down).
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const {
-    if (pm.branch_roots) {
+    try {
       Dominant d;
-      if (branches(pm, d)) return d;
+      if (pm.branch_roots && branches(pm, d) && std::isfinite(std::abs(d.mu))) return d;
+      d = pm.dim <= o_.dense_max_dimension && !decide ? dense(pm, want_vector) : arnoldi(pm, want_vector, decide);
+      return std::isfinite(std::abs(d.mu)) ? d : overflowed();
+    } catch (const MapOverflow&) {
+      return overflowed();
     }
-    if (pm.dim <= o_.dense_max_dimension && !decide) return dense(pm, want_vector);
-    return arnoldi(pm, want_vector, decide);
   }
 
   // Turning: every step is the same map D, x_{i+1} = P x_i + R0 z_{i−m} +
@@ -870,6 +891,7 @@ class SdmKernel {
       e(j) = 1.0;
       apply(pm, Wx_, e.data(), Phi.col(j).data(), work.data());
     }
+    if (!Phi.allFinite()) throw MapOverflow{};
     Eigen::EigenSolver<MatrixXd> es(Phi, want_vector);
     if (es.info() != Eigen::Success) throw NumericalError("sdm: eigen-decomposition of the period map failed");
     Dominant out;
@@ -897,6 +919,7 @@ class SdmKernel {
   // Dominant eigenvalue of a small Hessenberg matrix and its unit eigenvector.
   static void hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
                                   std::vector<std::pair<double, Index>>* order, Eigen::VectorXcd* eigs) {
+    if (!Hk.allFinite()) throw MapOverflow{};
     Eigen::EigenSolver<MatrixXd> es(Hk, false);
     if (es.info() != Eigen::Success) throw NumericalError("sdm: Arnoldi Hessenberg eigen-decomposition failed");
     const Index kk = Hk.rows();
@@ -1579,9 +1602,11 @@ FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap
   r.dominant_multiplier = d.mu;
   r.type = classify(d.mu);
   // Branch roots (turning at low speed) give the exponent s itself: the
-  // solution is e^{st} sampled at the steps, Im s its frequency.
-  r.chatter_frequency_hz = d.branch_s != Cplx(0.0, 0.0) ? std::abs(d.branch_s.imag()) / kTwoPi
-                                                         : chatter_frequency(d.mu, d.vec, pm, g, A, Wx, f_max_hz);
+  // solution is e^{st} sampled at the steps, Im s its frequency. A map that
+  // overflowed (ρ = +inf) has no eigenvector to take a frequency from: NaN.
+  r.chatter_frequency_hz = !std::isfinite(r.spectral_radius) ? std::numeric_limits<double>::quiet_NaN()
+                           : d.branch_s != Cplx(0.0, 0.0)    ? std::abs(d.branch_s.imag()) / kTwoPi
+                                                              : chatter_frequency(d.mu, d.vec, pm, g, A, Wx, f_max_hz);
   r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.period_s = pm.tau;
