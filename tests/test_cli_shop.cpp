@@ -298,6 +298,49 @@ TEST_F(ShopCli, DetectChecksTheSuggestionsAgainstTheModel) {
   EXPECT_TRUE(contains(bad.err, "--depth-mm")) << bad.err;
 }
 
+TEST_F(ShopCli, DetectRefusesARecordingThatDoesNotShowTheGivenSpeed) {
+  // A stable cut at 12 000 rev/min (tooth passing 400 Hz) analysed as if at
+  // 9 000: nothing stands at 300 or 600 Hz. Refused (exit 2, nothing judged),
+  // naming the speed the strongest line implies; --force analyses anyway.
+  simulate("12000", "0.2", "s.csv");
+  series_to_wav("s.csv", "rel_x_um", "s.wav");
+  const auto r = run({"detect", path("s.wav").string(), "--rpm", "9000", "--teeth", "2", "--json", path("d.json").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "no line stands within +/-2 % of the tooth-passing frequency 300 Hz")) << r.err;
+  EXPECT_TRUE(contains(r.err, "is --rpm (or --teeth) right?")) << r.err;
+  EXPECT_TRUE(contains(r.err, "12000 rev/min")) << r.err;  // 400 Hz as the tooth passing, or 800 Hz as its 2nd harmonic
+  EXPECT_FALSE(std::filesystem::exists(path("d.json")));
+  const auto f = run({"detect", path("s.wav").string(), "--rpm", "9000", "--teeth", "2", "--force", "--json", "-"});
+  ASSERT_TRUE(f.exit_code == 0 || f.exit_code == 3) << f.err;
+  const json j = json::parse(f.out);
+  EXPECT_FALSE(j.at("tooth_passing_found").get<bool>());
+  EXPECT_TRUE(contains(f.err, "warning: no line stands at the tooth-passing frequency")) << f.err;
+  // The right speed finds its line.
+  const auto ok = run({"detect", path("s.wav").string(), "--rpm", "12000", "--teeth", "2", "--json", "-"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(json::parse(ok.out).at("tooth_passing_found").get<bool>());
+}
+
+TEST_F(ShopCli, DetectWarnsAboutALineSteadyFromTheStart) {
+  // Tooth passing 400 Hz (12 000 rev/min, 2 teeth) and a 1 100 Hz line twice
+  // as strong at a constant level from t = 0: called chatter by the
+  // thresholds, but chatter grows out of a stable cut: warned.
+  const int rate = 20000;
+  std::vector<double> x(static_cast<std::size_t>(2 * rate));
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / rate;
+    x[i] = 0.2 * std::sin(2 * M_PI * 400 * t) + 0.05 * std::sin(2 * M_PI * 800 * t) + 0.4 * std::sin(2 * M_PI * 1100 * t) +
+           1e-4 * std::sin(2 * M_PI * 2711.3 * t * t);
+  }
+  write_wav("steady.wav", x, 1, rate);
+  const auto r = run({"detect", path("steady.wav").string(), "--rpm", "12000", "--teeth", "2", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_TRUE(contains(r.err, "is there from t = 0 and steady")) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_NEAR(j.at("chatter_frequency_hz").get<double>(), 1100.0, 1.0);
+  EXPECT_EQ(j.at("warnings").size(), 1u);
+}
+
 TEST_F(ShopCli, DetectStereoPicksTheChannel) {
   // Channel 1: forced lines and runout only; channel 2: the same plus chatter at 1777 Hz.
   const int rate = 44100;

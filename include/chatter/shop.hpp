@@ -189,7 +189,16 @@ struct ChatterDetection {
   std::vector<SpeedSuggestion> suggestions;  ///< nearest to N first; empty without chatter
   /// The amplitude spectrum (single-sided, Hann window), for plots.
   std::vector<double> spectrum_frequency_hz, spectrum_amplitude;
-  std::vector<std::string> warnings;  ///< e.g. clipping
+  std::vector<std::string> warnings;  ///< e.g. clipping, a chatter line steady from t = 0
+  /// A line stands (kLineOverFloor x the noise floor) within ±2 % of the
+  /// tooth-passing frequency N N_t / 60 or its second harmonic. false: the
+  /// given speed or teeth do not match the recording (the CLI refuses to
+  /// judge it unless --force).
+  bool tooth_passing_found = false;
+  /// The speeds the spectrum's strongest line implies, rev/min: that line as
+  /// the tooth passing (k = 1) or its k-th harmonic (k = 2, 3), 60 f/(N_t k).
+  std::vector<double> implied_rpm;
+  double strongest_line_hz = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Spectrum of `samples` (uniformly sampled at sample_rate_hz), classified

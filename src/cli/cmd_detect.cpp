@@ -14,6 +14,7 @@
 #include "chatter/io/plot_shop.hpp"
 #include "chatter/io/shop_io.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/report.hpp"
 #include "chatter/shop.hpp"
 #include "chatter/solvers.hpp"
 #include "cli_common.hpp"
@@ -49,10 +50,18 @@ over the recording and when it started.
 
 Speed correction: a tooth-passing multiple placed on the chatter frequency,
   N_k = 60 x f_chatter / (teeth x k),  k = 1, 2, ...
-inside [--rpm-min, --rpm-max] (default 0.5x to 1.5x the current speed),
+inside [--rpm-min, --rpm-max] (default: the config's [sweep] with --config,
+else 0.5x to 1.5x the current speed),
 nearest to the current speed first. With --config and --depth-mm each speed
 is also checked against the model (sdm stability limit at that speed), and
 carries its margin = depth limit / depth (above 1: stable).
+
+The recording must show the tooth-passing line of --rpm and --teeth (within
++/-2 %, or its second harmonic): otherwise the speed is probably wrong and
+nothing is judged (exit 2, with the speeds the strongest line implies);
+--force analyses it anyway. A chatter line present from the first moment at
+a steady level gets a warning (chatter grows; a steady line is more likely
+forced, or an input error).
 
 Exit status: 0 no chatter, 3 chatter, 2 bad input (nothing written).
 
@@ -85,7 +94,9 @@ int cmd_detect(const std::vector<std::string>& args) {
                                                   "line labelled (.png, .svg or .pdf)")
       ("config", po::value<std::string>(&config_path), "a config of this machine and tool: check each suggested "
                                                       "speed against the model (needs --depth-mm)")
-      ("depth-mm", po::value<double>(&depth_mm), "depth of cut to check the suggestions at, mm (with --config)");
+      ("depth-mm", po::value<double>(&depth_mm), "depth of cut to check the suggestions at, mm (with --config)")
+      ("force", "analyse the recording even when it holds no line at the tooth-passing frequency of --rpm and "
+                "--teeth (by default that is refused: the speed or the teeth are probably wrong)");
   po::options_description hidden;
   hidden.add_options()("recording", po::value<std::string>(&rec_path), "RECORDING");
   po::options_description all;
@@ -103,14 +114,10 @@ int cmd_detect(const std::vector<std::string>& args) {
   po::notify(vm);
 
   // ---- options, all checked before anything is read or written ----
-  if (!(std::isfinite(rpm) && rpm > 0.0 && rpm < 1e6)) throw InputError("--rpm = " + fmt(rpm) + ": must be in (0, 1e6) rev/min");
+  check_spindle_rpm(rpm, "--rpm");
   if (teeth < 1 || teeth > 1000) throw InputError("--teeth = " + std::to_string(teeth) + ": must be in [1, 1000]");
   if (vm.count("rpm-min") && !(std::isfinite(rpm_min) && rpm_min > 0.0))
     throw InputError("--rpm-min = " + fmt(rpm_min) + ": must be > 0 rev/min");
-  if (!vm.count("rpm-min")) rpm_min = 0.5 * rpm;
-  if (!vm.count("rpm-max")) rpm_max = 1.5 * rpm;
-  if (!(std::isfinite(rpm_max) && rpm_max > rpm_min))
-    throw InputError("--rpm-max = " + fmt(rpm_max) + ": must be > --rpm-min (" + fmt(rpm_min) + ")");
   if (!(std::isfinite(ratio) && ratio > 0.0)) throw InputError("--peak-ratio = " + fmt(ratio) + ": must be > 0");
   if (vm.count("config") != vm.count("depth-mm"))
     throw InputError(vm.count("config") ? "--config: give --depth-mm too (the depth to check the speeds at)"
@@ -127,6 +134,12 @@ int cmd_detect(const std::vector<std::string>& args) {
       throw InputError(config_path + ": the process has " + std::to_string(cfg->process.delays_per_revolution()) +
                        " delay period(s) per revolution (teeth; 1 for turning) but --teeth = " + std::to_string(teeth));
   }
+  // The speeds to suggest: the flags, else the config's [sweep] (the
+  // machine this config describes), else 0.5x to 1.5x the current speed.
+  if (!vm.count("rpm-min")) rpm_min = cfg && cfg->sweep.rpm_min ? *cfg->sweep.rpm_min : 0.5 * rpm;
+  if (!vm.count("rpm-max")) rpm_max = cfg && cfg->sweep.rpm_max ? *cfg->sweep.rpm_max : 1.5 * rpm;
+  if (!(std::isfinite(rpm_max) && rpm_max > rpm_min))
+    throw InputError("--rpm-max = " + fmt(rpm_max) + ": must be > --rpm-min (" + fmt(rpm_min) + ")");
 
   // ---- read and analyse ----
   const Recording rec = read_recording(rec_path, channel);
@@ -142,6 +155,22 @@ int cmd_detect(const std::vector<std::string>& args) {
   } catch (const InputError& e) {
     throw InputError(rec_path + ": " + e.what());
   }
+  // A recording without the tooth-passing line of the given speed is the
+  // wrong speed (or teeth): refuse to judge it rather than cry wolf.
+  if (!det.tooth_passing_found && !vm.count("force")) {
+    std::string implied;
+    for (std::size_t k = 0; k < det.implied_rpm.size(); ++k)
+      implied += (k == 0 ? "the tooth passing at " : k == 1 ? ", its 2nd harmonic at " : ", its 3rd at ") +
+                 fmt(std::round(det.implied_rpm[k])) + " rev/min";
+    throw InputError(rec_path + ": no line stands within +/-2 % of the tooth-passing frequency " +
+                     fmt(rpm * teeth / 60.0) + " Hz (--rpm " + fmt(rpm) + " x --teeth " + std::to_string(teeth) +
+                     " / 60) or its second harmonic: is --rpm (or --teeth) right? The strongest line, " +
+                     fmt(det.strongest_line_hz) + " Hz, would be " + implied +
+                     ". --force analyses the recording anyway.");
+  }
+  if (!det.tooth_passing_found)
+    det.warnings.push_back("no line stands at the tooth-passing frequency of --rpm and --teeth (analysed anyway: "
+                           "--force); the verdict assumes a speed the recording does not show");
 
   // ---- the model's view of each suggestion ----
   struct Checked {
@@ -207,6 +236,9 @@ int cmd_detect(const std::vector<std::string>& args) {
   j["chatter_frequency_hz"] = num_or_null(det.chatter_frequency_hz);
   j["tooth_passing_hz"] = det.tooth_passing_hz;
   j["spindle_hz"] = det.spindle_hz;
+  j["tooth_passing_found"] = det.tooth_passing_found;
+  j["strongest_line_hz"] = num_or_null(det.strongest_line_hz);
+  j["implied_rpm"] = det.implied_rpm;
   json sug = json::array(), full = json::array();
   for (std::size_t i = 0; i < det.suggestions.size(); ++i) {
     sug.push_back(det.suggestions[i].spindle_rpm);

@@ -38,6 +38,21 @@ constexpr double kMinChatterHz = 10.0;
 constexpr double kClippedFraction = 0.002;
 // Windows for the growth / onset estimate.
 constexpr int kGrowthWindows = 8;
+// A spectral line "stands" when it is this many times the noise floor (the
+// median of the spectrum): only then is the tooth-passing line trusted to
+// refine the spindle speed, or taken as proof that the given speed is right.
+constexpr double kLineOverFloor = 10.0;
+// How far from N N_t / 60 (relative) the tooth-passing line may sit for the
+// given speed to count as right (a loaded spindle runs within ~1 %).
+constexpr double kToothPassingMatchRel = 0.02;
+// ... and stands this many times above the spectrum 3 bins away on both
+// sides (the Hann window's main lobe is ±2 bins; its first sidelobe is 31 dB
+// down, so a line gives about 30 here and a neighbour's skirt about 1).
+constexpr double kLineOverSkirt = 3.0;
+// A chatter line whose amplitude changes by less than this factor over the
+// recording, present from its first window, is steady: a forced line or a
+// wrong speed, more likely than chatter (which grows from the stable cut).
+constexpr double kSteadyGrowth = 1.5;
 
 std::string num(double x) {
   char b[48];
@@ -164,14 +179,52 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
     return best;
   };
 
-  // Spindle frequency refined from the tooth-passing line.
+  // A first noise floor: the median of the spectrum above the lowest chatter
+  // frequency (most bins hold noise only).
+  const double f_lo0 = std::max(kMinChatterHz, kMinChatterSpindleFraction * f_sp0);
+  double floor0 = 0.0;
+  {
+    std::vector<double> v(amp.begin() + static_cast<std::ptrdiff_t>(std::min(index(f_lo0), amp.size() - 1)), amp.end());
+    if (!v.empty()) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      floor0 = v[v.size() / 2];
+    }
+  }
+  // A line "stands" at bin k: a local maximum above the floor that also
+  // stands out of its own surroundings (kLineOverSkirt x the bins 3 away,
+  // beyond the Hann main lobe), so the skirt of a strong neighbouring line
+  // is not taken for one.
+  auto stands = [&](std::size_t k) {
+    if (k < 3 || k + 3 >= amp.size() || !(amp[k] > 0.0)) return false;
+    return amp[k] >= amp[k - 1] && amp[k] >= amp[k + 1] && amp[k] >= kLineOverFloor * floor0 &&
+           amp[k] >= kLineOverSkirt * std::max(amp[k - 3], amp[k + 3]);
+  };
+  // Does the recording hold the tooth-passing line of the given speed (or
+  // its second harmonic)? If not, the speed or the teeth are wrong.
   const double ftp0 = f_sp0 * o.teeth;
+  for (int k = 1; k <= 2 && !r.tooth_passing_found; ++k) {
+    const double fk = k * ftp0;
+    if (fk * (1 + kToothPassingMatchRel) >= nyquist) break;
+    for (std::size_t b = index(fk * (1 - kToothPassingMatchRel)); b <= index(fk * (1 + kToothPassingMatchRel)); ++b)
+      if (stands(b)) {
+        r.tooth_passing_found = true;
+        break;
+      }
+  }
+  // The speeds the strongest line implies (for the message when it does not match).
+  {
+    const std::size_t top = argmax(f_lo0, std::min(0.95 * nyquist, static_cast<double>(amp.size() - 1) * df));
+    r.strongest_line_hz = interpolate(amp, top, df);
+    for (int k = 1; k <= 3; ++k) r.implied_rpm.push_back(60.0 * r.strongest_line_hz / (o.teeth * k));
+  }
+  // Spindle frequency refined from the tooth-passing line, when it stands
+  // out of the noise (else a noise bin near N N_t / 60 would "refine" it).
   double f_sp = f_sp0, speed_rel = kSpeedSearchRel;
   {
     const double lo = ftp0 * (1 - kSpeedSearchRel), hi = ftp0 * (1 + kSpeedSearchRel);
     const std::size_t k = argmax(lo - bin, hi + bin);
     const double f = interpolate(amp, k, df);
-    if (k > index(lo - bin) && k < index(hi + bin) && f >= lo && f <= hi) {
+    if (k > index(lo - bin) && k < index(hi + bin) && f >= lo && f <= hi && stands(k)) {
       f_sp = f / o.teeth;
       speed_rel = kRefinedSpeedRel;
     }
@@ -255,6 +308,12 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
         }
     }
   }
+  if (r.chatter && r.onset_s == 0.0 && std::isfinite(r.growth_ratio) && r.growth_ratio < kSteadyGrowth &&
+      r.growth_ratio > 1.0 / kSteadyGrowth)
+    r.warnings.push_back("the chatter line at " + num(fc) + " Hz is there from t = 0 and steady (x" +
+                         num(r.growth_ratio) + " over the recording): chatter grows out of a stable cut; a line "
+                         "present from the start at a steady level is more likely forced, or an input error (--rpm, "
+                         "--teeth)?");
   if (r.chatter) {
     r.chatter_frequency_hz = fc;
     DetectedPeak p;
