@@ -1,5 +1,6 @@
 // chatter.Job, chatter.load, chatter.methods: a config loaded from a file,
 // TOML text or Python dicts, through the config loader (docs/python.md).
+#include <cmath>
 #include <cstdio>
 
 #include "bindings.hpp"
@@ -45,7 +46,15 @@ std::string toml_double(double x) {
 std::string toml_value(const py::handle& v, const std::string& key) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
   if (py::isinstance<py::int_>(v)) return py::str(v).cast<std::string>();
-  if (py::isinstance<py::float_>(v)) return toml_double(v.cast<double>());
+  if (py::isinstance<py::float_>(v)) {
+    // An integral float (4.0, often from NumPy) is written as an integer, so
+    // it is accepted where the loader wants one (teeth); number keys take
+    // integers too.
+    const double x = v.cast<double>();
+    if (std::isfinite(x) && x == std::trunc(x) && std::abs(x) < 9007199254740992.0)
+      return std::to_string(static_cast<long long>(x));
+    return toml_double(x);
+  }
   if (py::isinstance<py::str>(v)) return toml_string(v.cast<std::string>());
   if (py::hasattr(v, "tolist") && !py::isinstance<py::dict>(v))  // NumPy arrays and scalars
     return toml_value(v.attr("tolist")(), key);

@@ -20,6 +20,14 @@ using chatter::InputError;
 namespace py = pybind11;
 
 PYBIND11_MODULE(chatter, m) {
+  // Every table comes back as NumPy arrays: without NumPy, say so at import
+  // (not as a ModuleNotFoundError at the first call).
+  try {
+    py::module_::import("numpy");
+  } catch (py::error_already_set& e) {
+    throw py::import_error(std::string("chatter needs NumPy, which this Python cannot import (") + e.what() +
+                           "): install it (Debian: apt install python3-numpy) or use the interpreter that has it");
+  }
   m.doc() = "chatter: regenerative chatter prediction and stability lobes (docs/python.md)";
   m.attr("__version__") = chatter::version();
   static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);

@@ -1,4 +1,4 @@
-// Subcommands implemented outside main.cpp. Each takes the arguments after
+// The subcommands (main.cpp lists them in its command table). Each takes the arguments after
 // the subcommand name and returns the exit status (0, or throws).
 #pragma once
 
@@ -16,5 +16,8 @@ int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coef
 int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
 int cmd_surface(const std::vector<std::string>& args);       // src/cli/cmd_surface.cpp
 int cmd_lobes(const std::vector<std::string>& args);         // src/cli/cmd_lobes.cpp
+int cmd_point(const std::vector<std::string>& args);         // src/cli/cmd_point.cpp
+int cmd_frf(const std::vector<std::string>& args);           // src/cli/cmd_frf.cpp
+int cmd_map(const std::vector<std::string>& args);           // src/cli/cmd_map.cpp
 
 }  // namespace chatter::cli

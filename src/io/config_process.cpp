@@ -120,7 +120,12 @@ Given read_coefficient(const Table& process, const Quantity& q, const Range& ran
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
   const auto process = root.table("process");
   const Document& doc = root.doc();
-  if (!process) doc.fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
+  if (!process) {
+    // A near miss ([proces]) was reported as unknown with "did you mean
+    // process?": not missing as well.
+    if (root.meant("process")) throw Skip{};
+    doc.fail_key("process", "missing (required table: [process] with operation = \"turning\" or \"milling\")");
+  }
   process->reject_unknown(kProcessKeys);
 
   constexpr std::string_view kOperationRule = R"(must be "turning" or "milling")";

@@ -787,10 +787,14 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
     row.line = line_no;
     row.id = std::string(field("id"));
     bad.id = row.id;
-    if (row.id.empty()) reasons.push_back("id: empty");
+    if (row.id.empty()) reasons.push_back("id: missing (required)");
 
     auto number = [&](const std::string& name, double& x) -> bool {
       const std::string_view s = field(name);
+      if (s.empty()) {  // only the required columns are read without a value
+        reasons.push_back(name + ": missing (required)");
+        return false;
+      }
       if (const std::string e = parse_number(s, x); !e.empty()) {
         reasons.push_back(name + " = " + in_quotes(s) + ": " + e);
         return false;

@@ -95,3 +95,44 @@ def test_rejected_operation_rows_are_reported_not_raised():
     assert [o["id"] for o in r["operations"]] == ["ok"]
     assert r["rejected"][0]["line"] == 3 and "depth_mm" in r["rejected"][0]["reason"]
     assert r["exit_status"] == 2
+
+
+def test_check_with_no_operations_is_an_error():
+    """An empty list checks nothing: InputError, never a go signal."""
+    job = chatter.load(SOURCE_DIR / "configs" / "seed_turning_1dof.toml")
+    with pytest.raises(chatter.InputError) as e:
+        chatter.check(job, [])
+    assert "no operations" in str(e.value)
+
+
+def test_absent_key_is_missing_not_a_bad_number():
+    job = chatter.load(SOURCE_DIR / "configs" / "seed_turning_1dof.toml")
+    r = chatter.check(job, [{"id": "a", "spindle_rpm": 1200}, {"id": "b", "spindle_rpm": 1800, "depth_mm": 1.0}])
+    assert [x["id"] for x in r["operations"]] == ["b"]
+    assert r["rejected"][0]["reason"] == "depth_mm: missing (required)"
+    assert r["exit_status"] == 2
+
+
+def test_integral_floats_where_an_integer_is_expected():
+    """teeth = 4.0 (NumPy often hands floats) is the integer 4."""
+    import numpy as np
+    modes = [{"frequency_hz": 922.0, "damping_ratio": 0.011, "mass_kg": 0.03993, "direction": "x"}]
+    for teeth in (4.0, np.float64(4.0)):
+        job = chatter.Job(process={"operation": "milling", "teeth": teeth, "tangential_coefficient_n_per_m2": 6e8,
+                                   "radial_coefficient_n_per_m2": 2e8, "radial_immersion": 0.05},
+                          tool_modes=modes)
+        assert chatter.point(job, rpm=10000, depth_mm=0.5)["tooth_passing_hz"] == 10000 * 4 / 60
+    with pytest.raises(chatter.InputError) as e:
+        chatter.Job(process={"operation": "milling", "teeth": 4.5, "tangential_coefficient_n_per_m2": 6e8,
+                             "radial_coefficient_n_per_m2": 2e8, "radial_immersion": 0.05}, tool_modes=modes)
+    assert "process.teeth" in str(e.value)
+
+
+def test_import_without_numpy_names_numpy():
+    """A Python without NumPy is told so at import, not at the first call."""
+    import subprocess
+    import sys
+    code = "import sys; sys.modules['numpy'] = None; import chatter"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode != 0
+    assert "ImportError: chatter needs NumPy" in p.stderr, p.stderr

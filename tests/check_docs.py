@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""Docs that cannot drift (ctest `docs`): checks README.md and docs/*.md
+against the binary they describe.
+
+1. The command list of `chatter --help` and README's command table agree:
+   the same commands, in the same order, with the same one-line purpose and
+   doc page; every such page exists and shows `chatter <command>`.
+2. README links every page of docs/.
+3. Every flag the docs show on a `chatter <command>` line (in a code block,
+   with its continuation lines, or in inline code) is accepted by that
+   command (`chatter <command> --help` lists it).
+
+Usage: check_docs.py SOURCE_DIR CHATTER_BINARY
+Prints every problem; exit status 1 if there is one."""
+import pathlib
+import re
+import subprocess
+import sys
+
+src = pathlib.Path(sys.argv[1])
+cli = sys.argv[2]
+problems = []
+
+
+def run(*args):
+    p = subprocess.run([cli, *args], capture_output=True, text=True)
+    return p.stdout + p.stderr
+
+
+# ---- 1. the command list
+help_text = run("--help")
+commands = []  # (name, purpose, doc)
+in_list = False
+for line in help_text.splitlines():
+    if line.startswith("Commands:"):
+        in_list = True
+        continue
+    if in_list:
+        if not line.strip():
+            break
+        m = re.match(r"^  (\S+)\s+(.+?) \((docs/\S+\.md)\)$", line)
+        if not m:
+            problems.append(f"chatter --help: cannot read the command line {line!r}")
+            continue
+        commands.append(m.groups())
+if not commands:
+    problems.append("chatter --help: no command list")
+
+readme = (src / "README.md").read_text()
+rows = re.findall(r"^\| `([a-z-]+)` \| (.+?) \| \[(docs/\S+\.md)\]\((docs/\S+\.md)\) \|$", readme, re.M)
+readme_commands = [(n, p, d) for n, p, d, d2 in rows if d == d2]
+if [c[0] for c in readme_commands] != [c[0] for c in commands]:
+    problems.append("README's command table lists " + ", ".join(c[0] for c in readme_commands) +
+                    "; chatter --help lists " + ", ".join(c[0] for c in commands))
+for name, purpose, doc in commands:
+    mine = [r for r in readme_commands if r[0] == name]
+    if mine and (mine[0][1], mine[0][2]) != (purpose, doc):
+        problems.append(f"command {name}: README says {mine[0][1]!r} ({mine[0][2]}), "
+                        f"chatter --help says {purpose!r} ({doc})")
+    page = src / doc
+    if not page.exists():
+        problems.append(f"command {name}: its page {doc} does not exist")
+    elif not re.search(rf"chatter {re.escape(name)}\b", page.read_text()):
+        problems.append(f"command {name}: {doc} never shows `chatter {name}`")
+
+# ---- 2. every docs page linked from README
+for page in sorted((src / "docs").glob("*.md")):
+    if f"docs/{page.name}" not in readme:
+        problems.append(f"README does not link docs/{page.name}")
+
+# ---- 3. flags shown against the command's own --help
+names = {c[0] for c in commands}
+accepted = {}
+
+
+def flags_of(command):
+    if command not in accepted:
+        accepted[command] = set(re.findall(r"--([a-z][a-z0-9-]*)", run(command, "--help")))
+    return accepted[command]
+
+
+start = re.compile(r"(?:^|[\s$`(])(?:build/)?chatter\s+([a-z-]+)\b(.*)")
+
+
+def check_flags(where, command, text):
+    for flag in re.findall(r"(?<![\w-])--([a-z][a-z0-9-]*)", text):
+        if flag in ("help", "version"):
+            continue
+        if flag not in flags_of(command):
+            problems.append(f"{where}: `chatter {command}` shows --{flag}, which `chatter {command} --help` "
+                            "does not list")
+
+
+for path in [src / "README.md", *sorted((src / "docs").glob("*.md"))]:
+    text = path.read_text()
+    lines = text.splitlines()
+    fenced = False
+    current = None  # the command a continuation line belongs to
+    for i, line in enumerate(lines, 1):
+        where = f"{path.relative_to(src)}:{i}"
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            current = None
+            continue
+        if fenced:
+            m = start.search(line)
+            if m and m.group(1) in names and "chatter-mpi" not in line:
+                current = m.group(1)
+                check_flags(where, current, m.group(2))
+            elif current and (line.startswith((" ", "\t")) or lines[i - 2].rstrip().endswith("\\")):
+                check_flags(where, current, line)
+            else:
+                current = None
+            continue
+        # Inline code: `chatter <command> ...`
+        for code in re.findall(r"`([^`]*)`", line):
+            m = start.search(code)
+            if m and m.group(1) in names and "chatter-mpi" not in code:
+                check_flags(where, m.group(1), m.group(2))
+
+for p in problems:
+    print(p)
+print(f"docs: {len(commands)} commands, {len(problems)} problem(s)")
+sys.exit(1 if problems else 0)
