@@ -290,6 +290,31 @@ TEST_F(ConsistencyCli, GivenNumbersAreEchoedExactly) {
   EXPECT_EQ(json::parse(q.out)["depth_mm"].dump(), "0.123");
 }
 
+// Along an adaptive sdm table the lobe number never flickers (k, k+1, k
+// between neighbouring rows), fold rows included: a fold chatters on a
+// harmonic, f_c = k f_tp exactly, and round-off must not make it k-1 on one
+// row and k on the next (the variable-pitch config has 20-odd fold rows).
+TEST_F(ConsistencyCli, LobeNumbersDoNotFlickerAlongAnAdaptiveTable) {
+  const std::string file = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_variable_pitch_helix.toml").string();
+  const fs::path t = path("t.json");
+  const RunResult l = run({"lobes", file, "--method", "sdm", "--rpm-spacing", "adaptive", "--rpm-points", "400",
+                           "--json", t.string(), "--quiet"});
+  ASSERT_EQ(l.exit_code, 0) << l.err;
+  const json rows = json::parse(slurp(t))["rows"];
+  int folds = 0;
+  for (std::size_t i = 1; i + 1 < rows.size(); ++i) {
+    if (rows[i - 1]["lobe"].is_null() || rows[i]["lobe"].is_null() || rows[i + 1]["lobe"].is_null()) continue;
+    const int a = rows[i - 1]["lobe"].get<int>(), b = rows[i]["lobe"].get<int>(), c = rows[i + 1]["lobe"].get<int>();
+    EXPECT_FALSE(a == c && b != a) << "lobe " << a << ", " << b << ", " << c << " at " << rows[i]["spindle_rpm"];
+    if (rows[i]["multiplier_type"] == "fold") {
+      ++folds;
+      const double ratio = rows[i]["chatter_frequency_hz"].get<double>() / (rows[i]["spindle_rpm"].get<double>() * 4 / 60);
+      EXPECT_EQ(b, static_cast<int>(std::floor(ratio + 1e-6))) << rows[i];
+    }
+  }
+  EXPECT_GT(folds, 0) << "the table has no fold row: the test checks no fold";
+}
+
 // A speed or depth beyond anything physical is a unit mistake: refused with
 // the rule, by every command that takes one.
 TEST_F(ConsistencyCli, PointsBeyondThePhysicalRangeAreRefused) {
