@@ -16,5 +16,6 @@ int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coef
 int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
 int cmd_surface(const std::vector<std::string>& args);       // src/cli/cmd_surface.cpp
 int cmd_lobes(const std::vector<std::string>& args);         // src/cli/cmd_lobes.cpp
+int cmd_grind(const std::vector<std::string>& args);         // src/cli/cmd_grind.cpp (docs/grinding.md)
 
 }  // namespace chatter::cli

@@ -65,6 +65,8 @@ Commands:
              positions of a position-dependent structure (cantilever workpiece
              or [[positions]]); --position-mm X gives lobes, point, check the
              structure at one position.
+  grind      Robotic grinding at controlled power (a [grinding] config):
+             predict, sweep, fit, impacts, simulate, plan (chatter grind --help).
 
 On the shop floor:
   1. Describe the tool and workpiece modes (from a tap test) and the cut in a
@@ -351,7 +353,7 @@ int main(int argc, char** argv) {
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
         cmd == "simulate" || cmd == "fit" || cmd == "compare" || cmd == "coefficients" || cmd == "detect" ||
-        cmd == "surface")
+        cmd == "surface" || cmd == "grind")
       command = cmd;
     if (cmd == "coefficients") return chatter::cli::cmd_coefficients(args);
     if (cmd == "detect") return chatter::cli::cmd_detect(args);
@@ -365,8 +367,9 @@ int main(int argc, char** argv) {
     if (cmd == "fit") return cmd_fit(args);
     if (cmd == "compare") return cmd_compare(args);
     if (cmd == "surface") return chatter::cli::cmd_surface(args);
+    if (cmd == "grind") return chatter::cli::cmd_grind(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect, surface; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect, surface, grind; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     // A malformed value (e.g. --revolutions 0.5): say what it must look like.
