@@ -25,6 +25,7 @@
 #include <variant>
 #include <vector>
 
+#include "bindings.hpp"
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
@@ -1061,4 +1062,5 @@ PYBIND11_MODULE(chatter, m) {
         "One time-domain simulation (chatter simulate's JSON plus the series arrays).");
   m.def("_time_lobes_cpp", &time_lobes_cpp, "job"_a, "method"_a, "rpm"_a, "depth_max_mm"_a, "threads"_a = 1,
         "Benchmark hook: seconds of the C++ work of lobes() alone.");
+  bind_grinding(m);
 }
