@@ -21,6 +21,10 @@ constexpr double kIdentityRel = 1e-12;
 // The trapezoidal rule on the per-impact force (kinks at phi = 0, ends):
 // 200 001 points put its error far below this (relative).
 constexpr double kQuadratureRel = 1e-6;
+// A round trip power -> groove -> power: the inverse is exact on its linear
+// piece, the forward Newton stops at a few ulps, the geometry's pow(., 2/3)
+// and cbrt lose a few more; 1e-9 (relative) is a million times that.
+constexpr double kRoundTripRel = 1e-9;
 
 TEST(GrindingSeed001, Chapter4SetAt1000W) {
   const Process p = cases::seed001_ch4();
@@ -31,7 +35,7 @@ TEST(GrindingSeed001, Chapter4SetAt1000W) {
   EXPECT_NEAR(r.max_depth_m * 1e3, 0.101, half_unit(0.001));
   EXPECT_NEAR(*r.friction_power_w, 477.0, half_unit(1.0));
   EXPECT_NEAR(*r.chip_power_w, 523.0, half_unit(1.0));
-  EXPECT_NEAR(*r.impacts_per_turn, 1.29, 1e-12);
+  EXPECT_DOUBLE_EQ(*r.impacts_per_turn, 1.29);
   EXPECT_EQ(r.removal_source, "mechanistic");
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
 }
@@ -72,7 +76,10 @@ TEST(GrindingSeed001, ImpactForceIntegratesToTheMeanForce) {
     EXPECT_NEAR(mean, r.tangential_force_n, kQuadratureRel * r.tangential_force_n) << P << " W";
     // Zero at the ends of the contact (the notch enters and leaves the groove).
     EXPECT_EQ(impact_tangential_force_n(p, h0, nc, phi0), 0.0);
-    EXPECT_NEAR(impact_tangential_force_n(p, h0, nc, phi0 * (1 - 1e-9)), 0.0, 1e-6 * r.tangential_force_n);
+    // Just inside the edge the force tends to 0 continuously (1 - (1 - e)^3 ~ 3e).
+    constexpr double kInside = 1e-9;
+    EXPECT_NEAR(impact_tangential_force_n(p, h0, nc, phi0 * (1 - kInside)), 0.0,
+                kQuadratureRel * r.tangential_force_n);
   }
 }
 
@@ -81,17 +88,17 @@ TEST(GrindingSeed001, InverseOfForwardIsIdentity) {
   for (double P : {300.0, 500.0, 800.0, 1000.0, 1250.0, 1999.0, 2600.0}) {
     const Prediction f = predict_at_power(p, P);
     const Prediction by_depth = predict_for_depth(p, f.max_depth_m);
-    EXPECT_NEAR(by_depth.power_w, P, 1e-9 * P) << P << " W";
+    EXPECT_NEAR(by_depth.power_w, P, kRoundTripRel * P) << P << " W";
     EXPECT_EQ(by_depth.mode, "target_depth");
     const Prediction by_removal = predict_for_removal(p, f.removal_rate_m3_per_s);
-    EXPECT_NEAR(by_removal.power_w, P, 1e-9 * P) << P << " W";
-    EXPECT_NEAR(by_removal.max_depth_m, f.max_depth_m, 1e-9 * f.max_depth_m);
+    EXPECT_NEAR(by_removal.power_w, P, kRoundTripRel * P) << P << " W";
+    EXPECT_NEAR(by_removal.max_depth_m, f.max_depth_m, kRoundTripRel * f.max_depth_m);
   }
   // And forward of inverse.
   for (double h0_mm : {0.02, 0.1, 0.2, 0.35}) {
     const Prediction i = predict_for_depth(p, h0_mm * 1e-3);
     const Prediction f = predict_at_power(p, i.power_w);
-    EXPECT_NEAR(f.max_depth_m, h0_mm * 1e-3, 1e-9 * h0_mm * 1e-3);
+    EXPECT_NEAR(f.max_depth_m, h0_mm * 1e-3, kRoundTripRel * h0_mm * 1e-3);
   }
 }
 
@@ -100,7 +107,7 @@ TEST(GrindingSeed001, EnergyPartitionModels) {
   const Prediction r = predict_at_power(p, 1000.0);
   const double u = r.specific_energy_j_per_m3;
   EXPECT_NEAR(r.energy_partition->fraction, (u - 0.6 * 13.8e9) / u, kIdentityRel);
-  EXPECT_NEAR(r.energy_partition->heat_into_part_w, r.energy_partition->fraction * 1000.0, 1e-9);
+  EXPECT_NEAR(r.energy_partition->heat_into_part_w, r.energy_partition->fraction * 1000.0, kIdentityRel * 1000.0);
   p.partition->model = PartitionModel::kMalkin;
   EXPECT_NEAR(predict_at_power(p, 1000.0).energy_partition->fraction, (u - 0.45 * 13.8e9) / u, kIdentityRel);
   p.partition->model = PartitionModel::kPower;
@@ -274,16 +281,18 @@ TEST(GrindingPlan, WheelsTimeAndChangesFromAConstantGRatio) {
   o.wheel_change_s = 3 * 3600.0;
   const Plan plan = plan_repair(p, o);
   const double usable = std::numbers::pi / 4 * 6.8e-3 * (0.230 * 0.230 - 0.150 * 0.150);
-  EXPECT_NEAR(plan.usable_wheel_volume_m3, usable, 1e-15);
-  // A constant G: each wheel removes G x its usable volume.
-  EXPECT_NEAR(plan.removal_per_wheel_m3, 2.0 * usable, 1e-9 * usable);
-  EXPECT_NEAR(plan.wheels, o.volume_m3 / (2.0 * usable), 1e-9 * plan.wheels);
+  EXPECT_NEAR(plan.usable_wheel_volume_m3, usable, kIdentityRel * usable);
+  // A constant G: each wheel removes G x its usable volume (the midpoint
+  // sum over 200 rings adds rounding only: the rates cancel ring by ring).
+  EXPECT_NEAR(plan.removal_per_wheel_m3, 2.0 * usable, kRoundTripRel * usable);
+  EXPECT_NEAR(plan.wheels, o.volume_m3 / (2.0 * usable), kRoundTripRel * plan.wheels);
   EXPECT_EQ(plan.wheels_needed, static_cast<int>(std::ceil(plan.wheels)));
   EXPECT_EQ(plan.wheel_changes, plan.wheels_needed - 1);
-  EXPECT_NEAR(plan.total_time_s, plan.grinding_time_s + plan.wheel_changes * o.wheel_change_s, 1e-6);
+  EXPECT_NEAR(plan.total_time_s, plan.grinding_time_s + plan.wheel_changes * o.wheel_change_s,
+              kIdentityRel * plan.total_time_s);
   // The time is the removal per wheel over the rates along its life, per wheel.
-  EXPECT_NEAR(plan.grinding_time_s, plan.wheels * plan.wheel_life_s, 1e-9 * plan.grinding_time_s);
-  EXPECT_NEAR(plan.life.back().time_s, plan.wheel_life_s, 1e-9 * plan.wheel_life_s);
+  EXPECT_NEAR(plan.grinding_time_s, plan.wheels * plan.wheel_life_s, kRoundTripRel * plan.grinding_time_s);
+  EXPECT_NEAR(plan.life.back().time_s, plan.wheel_life_s, kRoundTripRel * plan.wheel_life_s);
   EXPECT_EQ(plan.life.size(), 201u);
   // Without the used-up diameter or a wear rate: refused.
   p.min_wheel_diameter_m.reset();
