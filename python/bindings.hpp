@@ -12,3 +12,6 @@ void bind_operations(pybind11::module_& m);  // check, recommend (bind_operation
 void bind_simulate(pybind11::module_& m);    // simulate (bind_simulate.cpp)
 
 }  // namespace chatter_py
+
+/// grind_predict, grind_fit (python/bind_grinding.cpp; docs/python.md, docs/grinding.md).
+void bind_grinding(pybind11::module_& m);

@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 mkdir -p plots
 for cfg in configs/*.toml; do
   stem=$(basename "$cfg" .toml)
+  [[ $stem == grinding_* ]] && continue  # grinding configs: below
   ./build/chatter lobes "$cfg" --table "plots/${stem}_lobes.csv" --plot "plots/${stem}_lobes.png" > /dev/null
   ./build/chatter frf "$cfg" --out /dev/null --plot "plots/${stem}_frf.png" > /dev/null
   echo "plots/${stem}_lobes.png plots/${stem}_frf.png"
@@ -70,3 +71,13 @@ echo "plots/*_surface.png"
   --probability-table plots/seed_turning_1dof_uncertain_probability.csv \
   --plot plots/seed_turning_1dof_uncertain_samples.png > /dev/null
 echo "plots/seed_turning_1dof_uncertain_samples.png"
+# Grinding (docs/grinding.md): seed 001's sweep against power at three feeds,
+# its simulated last turns, and the fit of seed 000's printed tests.
+./build/chatter grind sweep configs/grinding_scompi_ch4.toml --power-w-min 250 --power-w-max 2500 \
+  --feed-mm-per-s-list 40,60,80 --table plots/grinding_scompi_ch4_sweep.csv --plot plots/grinding_scompi_ch4_sweep.png \
+  2> /dev/null > /dev/null
+./build/chatter grind simulate configs/grinding_scompi_ch4.toml --power-w 1000 \
+  --plot plots/grinding_scompi_ch4_simulate.png > /dev/null
+./build/chatter grind fit examples/grinding/underwater_tests_seed000.csv --model poly11 \
+  --plot plots/grinding_underwater_seed000_fit.png > /dev/null 2>&1
+echo "plots/grinding_scompi_ch4_sweep.png plots/grinding_scompi_ch4_simulate.png plots/grinding_underwater_seed000_fit.png"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The include rules of the layers (docs/architecture.md), checked on the
 # sources: prints every #include that breaks one and fails if any does.
-#   core (src/model, src/solvers, include/chatter/*.hpp but operations.hpp):
+#   core (src/model, src/solvers, src/grinding, include/chatter/*.hpp but operations.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
 #   io   (src/io, include/chatter/io): core data headers and the solver
@@ -29,9 +29,9 @@ check() {
 core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
   'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
-  src/model/* src/solvers/* $core_headers
+  src/model/* src/solvers/* src/grinding/* $core_headers
 check "io includes a solver class header, ops, records or Boost" \
-  'chatter/(semi_discretization|time_domain|transfer_function)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
+  'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
   src/io/* include/chatter/io/*
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
@@ -39,7 +39,7 @@ check "ops includes io, records, a file-format library or Boost" \
 check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|(\.\./)+cli/' src/records/* include/chatter/records.hpp
 check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
 check "MPI outside src/mpi (the library and the chatter CLI link no MPI: docs/scaling.md)" 'mpi\.h|openmpi' \
-  src/model/* src/solvers/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
+  src/model/* src/solvers/* src/grinding/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
   include/chatter/chatter.h
 if [[ $bad -ne 0 ]]; then
   echo "layer rules broken (docs/architecture.md)"

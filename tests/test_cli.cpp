@@ -323,10 +323,14 @@ struct EnvelopeScan {
 
 // ---------------------------------------------------------------- the configs
 
+// The lobe configs (configs/grinding_*.toml are grinding configs, tested in
+// tests/test_cli_grinding.cpp).
 std::vector<std::string> shipped_configs() {
   std::vector<std::string> out;
   for (const auto& e : fs::directory_iterator(fs::path(CHATTER_SOURCE_DIR) / "configs"))
-    if (e.is_regular_file() && e.path().extension() == ".toml") out.push_back(e.path().filename().string());
+    if (e.is_regular_file() && e.path().extension() == ".toml" &&
+        !e.path().filename().string().starts_with("grinding_"))
+      out.push_back(e.path().filename().string());
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -42,7 +42,8 @@ constexpr double kCheckVsTableRel = 2e-4;
 std::vector<std::string> shipped_configs() {
   std::vector<std::string> out;
   for (const auto& e : fs::directory_iterator(fs::path(CHATTER_SOURCE_DIR) / "configs"))
-    if (e.path().extension() == ".toml") out.push_back(e.path().filename().string());
+    if (e.path().extension() == ".toml" && !contains(slurp(e.path()), "[grinding]"))  // lobe configs only
+      out.push_back(e.path().filename().string());
   std::sort(out.begin(), out.end());
   return out;
 }

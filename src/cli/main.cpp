@@ -52,6 +52,8 @@ const Command kCommands[] = {
      chatter::cli::cmd_coefficients},
     {"detect", "chatter in a recording of the cut, and the spindle speeds to try", "docs/shop_data.md",
      chatter::cli::cmd_detect},
+    {"grind", "robotic grinding at controlled power: predict, sweep, fit, impacts, simulate, plan",
+     "docs/grinding.md", chatter::cli::cmd_grind},
 };
 
 std::string main_help() {
