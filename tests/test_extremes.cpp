@@ -66,7 +66,7 @@ std::vector<Extreme> extremes() {
       {"soft_mode", milling("2", "6e8", "0.05", "", "922", "0.011", "1"), 12000},
       {"stiff_mode", milling("2", "6e8", "0.05", "", "922", "0.011", "1e15"), 12000},
       {"slow_mode", turning("0.1", "0.03", "4.5e7"), 1000},
-      {"fast_mode", milling("2", "6e8", "0.05", "", "1e6", "0.011", "1e8"), 20000},
+      {"fast_mode", milling("2", "6e8", "0.05", "", "1e5", "0.011", "1e8"), 20000},
       {"undamped", milling("2", "6e8", "0.05", "", "922", "1e-6", "1.34e6"), 12000},
       {"overdamped", turning("94.22", "0.99", "4.5e7"), 1000},
       {"huge_coefficient", milling("2", "1e13", "0.05"), 12000},
