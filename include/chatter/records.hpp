@@ -58,6 +58,11 @@ struct SimulationRequest {
   double depth_mm = 0.0;        ///< the depth as given (echoed as is)
   double feed_mm = 0.0;         ///< the feed as given (echoed as is)
 };
+/// The request of a run as the user gave it: depth and feed in mm as typed,
+/// the periods per revolution and the tooth period from the process.
+SimulationRequest simulation_request(const SimulationSettings& settings, const Process& process,
+                                     double relative_tolerance, double depth_mm, double feed_mm);
+
 /// `chatter simulate`: verdict and its measure, growth per Floquet period,
 /// frequencies and periods, amplitude, the first ten forced lines, the
 /// integrator's cost. The series and spectrum are tables, not in the record.

@@ -123,14 +123,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   st.record_series = !out_path.empty() || !plot_path.empty();
   const SimulationResult r = sim.simulate(st);
 
-  SimulationRequest request;
-  request.settings = st;
-  request.relative_tolerance = rtol;
-  request.periods_per_revolution = per_rev;
-  request.tooth_period_s = cfg.process.delay_s(rpm);
-  request.depth_mm = depth_mm;
-  request.feed_mm = feed_mm;
-  nlohmann::json j = simulation_record(r, request, record_source(cfg, common.position_mm));
+  nlohmann::json j = simulation_record(r, simulation_request(st, cfg.process, rtol, depth_mm, feed_mm),
+                                       record_source(cfg, common.position_mm));
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {

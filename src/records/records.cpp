@@ -85,6 +85,18 @@ std::vector<int> spectrum_harmonics(const SimulationResult& r) {
   return out;
 }
 
+SimulationRequest simulation_request(const SimulationSettings& settings, const Process& process,
+                                     double relative_tolerance, double depth_mm, double feed_mm) {
+  SimulationRequest q;
+  q.settings = settings;
+  q.relative_tolerance = relative_tolerance;
+  q.periods_per_revolution = simulation_periods_per_revolution(process, settings.spindle_rpm, settings.linear);
+  q.tooth_period_s = process.delay_s(settings.spindle_rpm);
+  q.depth_mm = depth_mm;
+  q.feed_mm = feed_mm;
+  return q;
+}
+
 json simulation_record(const SimulationResult& r, const SimulationRequest& q, const RecordSource& source) {
   const SimulationSettings& st = q.settings;
   json j;
