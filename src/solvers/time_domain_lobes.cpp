@@ -1,0 +1,107 @@
+// Lobes by simulation (TimeDomainSolver): per speed, the depth where the
+// simulated cut starts to chatter, by the depth search shared with sdm
+// (depth_search.hpp), each verdict one run of TimeDomainSimulator.
+#include "chatter/report.hpp"
+#include "chatter/time_domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "chatter/error.hpp"
+#include "chatter/transfer_function.hpp"
+#include "depth_search.hpp"
+#include "time_domain_model.hpp"
+
+namespace chatter {
+
+using td_detail::simulation_period;
+
+namespace {
+
+/// The zeroth-order analytic solver as the depth search's starting guess, or
+/// null when the analytic method does not apply to this model and process
+/// (its constructor's rules, e.g. a model with both bodies rigid).
+std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulator& sim) {
+  TransferFunctionOptions to;
+  to.depth_max_m = sim.options().depth_max_m;
+  if (!to.validate().empty() || sim.model().rigid()) return nullptr;
+  try {
+    return std::make_shared<const AnalyticSolver>(sim.model(), sim.process(), to);
+  } catch (const InputError&) {
+    return nullptr;  // e.g. a cutter feature the analytic method refuses: no guess
+  }
+}
+
+}  // namespace
+
+TimeDomainSolver::TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options,
+                                   std::shared_ptr<const LobeSolver> starting_guess)
+    : simulator_(std::move(model), std::move(process), options), starting_guess_(std::move(starting_guess)) {
+  if (!starting_guess_) starting_guess_ = default_starting_guess(simulator_);
+}
+
+SimulationResult TimeDomainSolver::verdict_run(double rpm, double depth_m) const {
+  SimulationSettings st;
+  st.spindle_rpm = rpm;
+  st.depth_m = depth_m;
+  st.feed_m = simulator_.options().feed_m;
+  st.linear = simulator_.options().linear;
+  // options.periods counts tooth periods (header): the same simulated time
+  // when the run's period is a revolution.
+  const double tooth_periods_per_period = simulation_period(simulator_.process(), st) / simulator_.process().delay_s(rpm);
+  st.periods = tooth_periods_per_period > 1.5
+                   ? std::max(20, static_cast<int>(std::ceil(simulator_.options().periods / tooth_periods_per_period)))
+                   : simulator_.options().periods;
+  st.multiple_regeneration = simulator_.options().multiple_regeneration;
+  st.record_series = false;
+  return simulator_.simulate(st);
+}
+
+StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
+  if (!(rpm > 0.0 && std::isfinite(rpm))) throw InputError("spindle speed must be > 0 rev/min");
+  const TimeDomainOptions& o = simulator_.options();
+  StabilityLimit out;
+  out.spindle_rpm = rpm;
+  // Starting guess (header): only places the scan, never the answer.
+  double guess = o.depth_max_m / 4.0;
+  if (starting_guess_) {
+    std::optional<StabilityLimit> g;
+    try {
+      g = starting_guess_->limit_at(rpm);
+    } catch (const InputError&) {
+      // The guess refuses this speed (documented in the header): no guess.
+    }
+    if (g && g->bounded() && g->depth_limit_m > 0.0) guess = std::min(g->depth_limit_m, o.depth_max_m);
+  }
+  // Scan by factors of 2 from guess / 16 (down if already chatter), then
+  // bisection to depth_tolerance (depth_search.hpp, shared with sdm).
+  auto probe = [&](double depth) { return verdict_run(rpm, depth); };
+  auto chatter = [](const SimulationResult& r) { return r.verdict == SimulationVerdict::kChatter; };
+  constexpr double kScanRatio = 2.0;
+  constexpr int kMaxHalvings = 30;
+  const double a = guess / 16.0;
+  SimulationResult first = probe(a);
+  detail::DepthBracket<SimulationResult> b;
+  if (chatter(first)) {
+    b = detail::descend_to_stable(a, std::move(first), kScanRatio, kMaxHalvings, probe, chatter);
+    if (!b.found) {
+      out.depth_limit_m = 0.0;
+      return out;
+    }
+  } else {
+    b = detail::climb_to_unstable(a, std::move(first), kScanRatio, o.depth_max_m, probe, chatter);
+    if (!b.found) return out;  // stable up to the searched depth
+  }
+  detail::bisect_bracket(b, o.depth_tolerance, probe, chatter);
+  const double lo = b.lo, hi = b.hi;
+  const SimulationResult& at_hi = b.at_hi;
+  out.depth_limit_m = 0.5 * (lo + hi);
+  out.chatter_frequency_hz = at_hi.chatter_frequency_hz;
+  if (std::isnan(out.chatter_frequency_hz)) out.chatter_frequency_hz = at_hi.dominant_nonharmonic_hz;
+  out.lobe = lobe_number(out.chatter_frequency_hz, at_hi.tooth_passing_hz);
+  return out;
+}
+
+}  // namespace chatter
