@@ -114,6 +114,13 @@ struct SimulationSettings {
   /// Ignored in linear mode.
   double feed_m = 1e-4;
   bool linear = false;
+  /// Linear mode only: keep the static chip (f_j sin φ + ρ_j − ρ_{j−1},
+  /// never clipped), so that the run converges to the linear forced
+  /// response of chatter/forced.hpp instead of measuring the growth of a
+  /// perturbation. The run then starts at rest (unless the feed is 0), is
+  /// not rescaled, and its growth and verdict come from the once-per-period
+  /// increments, as in nonlinear mode.
+  bool linear_static_chip = false;
   bool multiple_regeneration = false;
   /// Initial condition. Default: at rest (nonlinear mode; the static chip
   /// starts the motion) or, in linear mode, every modal displacement set so

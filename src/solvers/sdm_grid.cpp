@@ -39,6 +39,7 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process) 
   ss.A = MatrixXd::Zero(2 * n, 2 * n);
   ss.B = MatrixXd::Zero(2 * n, 2);
   ss.Sv = MatrixXd::Zero(2, 2 * n);
+  ss.Sr = MatrixXd::Zero(2, 2 * n);
   for (Index i = 0; i < n; ++i) {
     const double w = mm.omega(i);
     ss.A(i, n + i) = w;
@@ -46,6 +47,7 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process) 
     ss.A(n + i, n + i) = -2.0 * mm.damping_ratio(i) * w;
     ss.B.row(n + i) = mm.S.col(i).transpose() / (mm.mass_kg(i) * w);
     ss.Sv.col(n + i) = mm.S.col(i) * w;  // ṙ = S q̇ = S diag(ω) (q̇/ω)
+    ss.Sr.col(i) = mm.S.col(i);          // r = S q
     const double z = mm.damping_ratio(i);
     if (z < 1.0) {
       ss.free_poles.emplace_back(-z * w, w * std::sqrt(1.0 - z * z));

@@ -12,6 +12,8 @@
 //   sdm_floquet.cpp      the Floquet analysis at a point: multiplier type
 //                        and the chatter-frequency rule;
 //   sdm_search.cpp       the depth search (limit_at);
+// and the forced response (forced_periodic.cpp) solves for the periodic
+// response on the same grid and step maps with the static chip force.
 //   semi_discretization.cpp  the solver class: options, construction,
 //                        analyse, spectral_radius_map.
 // Method and references: include/chatter/semi_discretization.hpp, docs/sdm.md.
@@ -66,6 +68,7 @@ struct SdmStateSpace {
   MatrixXd Wx;  // n_r × 2n, z = Wx x
   MatrixXd U;   // n_L × n_r
   MatrixXd Sv;  // 2 × 2n: relative velocity ṙ = Sv x (process damping)
+  MatrixXd Sr;  // 2 × 2n: relative displacement r = Sr x (the forced response)
   double f_max_hz = 0.0;
   double slowest_decay_per_s = 0.0;  // min −Re λ_i (= min ζ_i ω_i)
   std::vector<Cplx> free_poles;      // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
@@ -121,6 +124,13 @@ struct CutterStep {
   // rest is storage kept from an earlier depth, reused without reallocation).
   std::vector<std::pair<int, MatrixXd>> terms;
   int n_terms = 0;
+  // The forced response only (CutterMap::forcing): G = ∫₀ʰ e^{Ã s} ds B
+  // (2n × 2), the state at the step's end driven by a force held constant
+  // over the step (Ã: the step's present-state matrix), and gF = G F̄ for
+  // the step's static chip force F̄ (set by forced_periodic.cpp). Empty
+  // otherwise and for free steps.
+  MatrixXd G;
+  VectorXd gF;
 };
 
 // Where each delayed sample of a step falls on the stored samples: for the
@@ -146,6 +156,9 @@ struct CutterMap {
   std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T
   std::vector<CutterStep> steps;
   int L = 0;
+  // Set before build_map to also build each cutting step's forcing gain G
+  // (the forced response, forced_periodic.cpp); false for the stability solver.
+  bool forcing = false;
   CutterCache cache;
   mutable std::vector<double> buf, x, xn;  // apply() workspace
   // cutter_map() workspace (kept to avoid reallocating at every depth).
@@ -219,8 +232,9 @@ class SdmKernel {
   // Dispatches to fixed-size loops for the common small models.
   static void apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work);
   // out = Φ y on the real-cutter map; `record` (if given) receives x at t_0 … t_M.
+  // `forcing`: out = Φ y + r, each step also adding its gF (forced response).
   static void apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
-                           std::vector<double>* record);
+                           std::vector<double>* record, bool forcing = false);
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const;
@@ -237,7 +251,7 @@ class SdmKernel {
                   const std::shared_ptr<const CutterGrid>* shared) const;
   template <int N2, int NR>
   static void apply_cutter_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
-                             std::vector<double>* record);
+                             std::vector<double>* record, bool forcing);
   static bool better(const Cplx& a, const Cplx& b);
   Dominant dense(const PeriodMap& pm, bool want_vector) const;
   static void half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out);

@@ -450,6 +450,20 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
         R1[ku].noalias() = Q1 * HU[ku];
       }
     }
+    if (cm.forcing) {
+      // The forced response (forced_periodic.cpp): G = ∫₀ʰ e^{Ã s} ds B, the
+      // (1,2) block of exp([[Ã h, B h], [0, 0]]).
+      MatrixXd Pf, Gf, Gf2;
+      const MatrixXd Bh = B_ * h;
+      if (!augmented_exp(Xh, Bh, 0.0, Pf, Gf, Gf2)) {
+        MatrixXd augf = MatrixXd::Zero(n2 + nb, n2 + nb);
+        augf.topLeftCorner(n2, n2) = Xh;
+        augf.topRightCorner(n2, nb) = Bh;
+        const MatrixXd Ef = augf.exp();
+        Gf = Ef.topRightCorner(n2, nb);
+      }
+      st.G = Gf;
+    }
     auto add = [&](int gi, double w, const MatrixXd& C) {
       if (w == 0.0) return;
       gmin = std::min(gmin, gi);
@@ -493,17 +507,17 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
 
 // out = Φ y on the real-cutter map; `record` (if given) receives x at t_0 … t_M.
 void SdmKernel::apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
-                             std::vector<double>* record) {
-  if (pm.n2 == 4 && pm.nr == 2) return apply_cutter_n<4, 2>(pm, Wx, y, out, record);
-  if (pm.n2 == 2 && pm.nr == 1) return apply_cutter_n<2, 1>(pm, Wx, y, out, record);
-  return apply_cutter_n<0, 0>(pm, Wx, y, out, record);
+                             std::vector<double>* record, bool forcing) {
+  if (pm.n2 == 4 && pm.nr == 2) return apply_cutter_n<4, 2>(pm, Wx, y, out, record, forcing);
+  if (pm.n2 == 2 && pm.nr == 1) return apply_cutter_n<2, 1>(pm, Wx, y, out, record, forcing);
+  return apply_cutter_n<0, 0>(pm, Wx, y, out, record, forcing);
 }
 
 // N2, NR: compile-time sizes, or 0 for run-time ones (same operations in
 // the same order either way).
 template <int N2, int NR>
 void SdmKernel::apply_cutter_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
-                               std::vector<double>* record) {
+                               std::vector<double>* record, bool forcing) {
   const CutterMap& c = pm.cm;
   const int n2 = N2 > 0 ? N2 : pm.n2, nr = NR > 0 ? NR : pm.nr, L = c.L, M = static_cast<int>(c.steps.size());
   c.buf.resize(static_cast<std::size_t>((L + M + 1) * nr));
@@ -545,6 +559,8 @@ void SdmKernel::apply_cutter_n(const PeriodMap& pm, const MatrixXd& Wx, const do
       for (int r = 0; r < nr; ++r)
         for (int row = 0; row < n2; ++row) xn[row] += Cd[row + r * n2] * z[r];
     }
+    if (forcing && st.gF.size() == n2)  // the static chip force (forced response)
+      for (int row = 0; row < n2; ++row) xn[row] += st.gF[row];
     std::copy(xn, xn + n2, x);
     project(x, buf + (L + i + 1) * nr);
     if (record) record->insert(record->end(), x, x + n2);

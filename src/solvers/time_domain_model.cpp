@@ -37,7 +37,7 @@ bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
 /// otherwise, and of the runout too in nonlinear mode (the linear equation
 /// has no static chip, which is all runout changes).
 double simulation_period(const Process& p, const SimulationSettings& s) {
-  return p.floquet_period_s(s.spindle_rpm, p.has_runout() && !s.linear);
+  return p.floquet_period_s(s.spindle_rpm, p.has_runout() && !homogeneous(s));
 }
 
 Model::Model(const StructuralModel& model, const Process& process, const SimulationSettings& s, double tau,
@@ -57,7 +57,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
     kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
   }
   pd_per_depth_ = process.process_damping_per_depth(s.spindle_rpm);
-  general_ = general_cutter(process, options, s.linear);
+  general_ = general_cutter(process, options, homogeneous(s));
   if (general_) build_elements(options);
   in_arc_.assign(general_ ? elements_.size() : static_cast<std::size_t>(teeth_), milling_ ? 0 : 1);
   chips_.assign(in_arc_.size(), 0.0);
@@ -118,7 +118,7 @@ void Model::chips(double t, const double* q, double* h) const {
   double rd[2];
   history_->displacement(t - tau_, rd);
   const double dx = r[0] - rd[0], dy = r[1] - rd[1];
-  const double feed = settings_.linear ? 0.0 : settings_.feed_m;
+  const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   for (int j = 0; j < teeth_; ++j) {
     if (!in_arc_[j]) {
       h[j] = 1.0;
@@ -354,7 +354,7 @@ void Model::general_chips(double t, const double* q, double* h) const {
   double r[2];
   relative(q, r);
   for (std::size_t i = 0; i < delays_.size(); ++i) history_->displacement(t - delays_[i], &delayed_[2 * i]);
-  const double feed = settings_.linear ? 0.0 : settings_.feed_m;
+  const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   const bool multiple = !settings_.linear && settings_.multiple_regeneration;
   element_angles(t);
   for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
@@ -373,6 +373,8 @@ void Model::general_chips(double t, const double* q, double* h) const {
     };
     if (settings_.linear) {
       h[ei] = regen(0);
+      // Linear forced run: the static chip, never clipped (docs/forced.md).
+      if (settings_.linear_static_chip) h[ei] += teeth_ * feed * e.advance[0] * sn + e.runout_diff[0];
     } else if (!multiple) {
       // Without runout static_chip_m is N_t f_z θ_j/2π sin φ (k = 1), taken
       // directly here (sin φ is at hand; the arc has sin φ >= 0 but for
@@ -420,6 +422,24 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
   }
   modal_accelerations(q, qd, F, ydot);
   if (diag) *diag = diagnostics(F, chip_max, any_arc, cutting, touching);
+}
+
+void Model::tally_air(std::vector<double>& arc, std::vector<double>& air) const {
+  if (general_) {
+    for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+      const double frac = engaged_[ei];
+      if (!(frac > 0.0)) continue;
+      const auto j = static_cast<std::size_t>(elements_[ei].tooth);
+      arc[j] += frac;
+      if (chips_[ei] < -air_margin_) air[j] += frac;
+    }
+    return;
+  }
+  for (int j = 0; j < teeth_; ++j) {
+    if (!in_arc_[static_cast<std::size_t>(j)]) continue;
+    arc[static_cast<std::size_t>(j)] += 1.0;
+    if (chips_[static_cast<std::size_t>(j)] < -air_margin_) air[static_cast<std::size_t>(j)] += 1.0;
+  }
 }
 
 }  // namespace chatter::td_detail

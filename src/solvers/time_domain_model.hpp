@@ -63,6 +63,10 @@ struct CutElement {
   std::vector<double> next_delay_sum;  // τ_{j+1}(z) + … + τ_{j+k}(z), s (root images)
 };
 
+/// The homogeneous linear equation (linear mode without the static chip):
+/// the run measures the growth of a perturbation, sdm's multiplier.
+inline bool homogeneous(const SimulationSettings& s) { return s.linear && !s.linear_static_chip; }
+
 /// True when the run takes the per-tooth, per-slice path (real cutters):
 /// milling with a helix, a variable pitch or helix, process damping, runout
 /// (nonlinear mode only: linear mode ignores it), or an explicit axial_slices.
@@ -144,6 +148,11 @@ class Model {
   /// chip of a converged forced response touches 0 at the arc ends.
   void set_air_margin(double margin) { air_margin_ = margin; }
   const std::vector<char>& in_arc() const { return in_arc_; }
+  /// Adds, per tooth, the share of it inside the arc at the last chips()
+  /// call (1 per tooth; the engaged fraction of each slice of a real
+  /// cutter) to `arc`, and the part of that share out of the cut (chip
+  /// below −margin) to `air`.
+  void tally_air(std::vector<double>& arc, std::vector<double>& air) const;
 
  private:
   // ---- the real cutter (general path) ----

@@ -41,6 +41,7 @@ void validate_settings(const SimulationSettings& s) {
   if (!(s.depth_m >= 0.0 && std::isfinite(s.depth_m)))
     throw InputError("depth " + std::to_string(s.depth_m * 1e3) + " mm: must be >= 0");
   if (s.periods < 4) throw InputError("periods = " + std::to_string(s.periods) + ": must be >= 4");
+  if (s.linear_static_chip && !s.linear) throw InputError("linear_static_chip: only in linear mode (linear = true)");
   if (!(s.feed_m >= 0.0 && std::isfinite(s.feed_m)))
     throw InputError("feed " + std::to_string(s.feed_m * 1e3) + " mm: must be >= 0");
   if (!(s.analysed_fraction > 0.0 && s.analysed_fraction <= 1.0))
@@ -90,7 +91,7 @@ void SimulationRun::set_initial_state() {
   y0_.assign(2 * n_, 0.0);
   if (!s_.initial_state.empty()) {
     y0_ = s_.initial_state;
-  } else if (s_.linear || s_.feed_m == 0.0) {
+  } else if (homogeneous(s_) || s_.feed_m == 0.0) {
     for (int i = 0; i < n_; ++i) {
       y0_[i] = 1e-6;
       y0_[n_ + i] = 0.5e-6 * m_.modal().omega(i);
@@ -98,7 +99,7 @@ void SimulationRun::set_initial_state() {
   }
   double scale = 0.0;
   for (int i = 0; i < n_; ++i) scale = std::max(scale, std::abs(y0_[i]));
-  if (!s_.linear && s_.feed_m > 0.0) {
+  if (!homogeneous(s_) && s_.feed_m > 0.0) {
     double kmin = std::numeric_limits<double>::infinity();
     for (int i = 0; i < n_; ++i)
       kmin = std::min(kmin, m_.modal().mass_kg(i) * m_.modal().omega(i) * m_.modal().omega(i));
@@ -193,6 +194,8 @@ void SimulationRun::init_integrator() {
   zdim_ = 2 * M_ + 2 * n_;
   period_r_.resize(2 * M_);
   ydot_.assign(2 * n_, 0.0);
+  tooth_arc_.assign(static_cast<std::size_t>(teeth_), 0.0);
+  tooth_air_.assign(static_cast<std::size_t>(teeth_), 0.0);
 }
 
 SeriesSample SimulationRun::make_sample(double t, const double* yy, const Diagnostics& d) const {
@@ -399,6 +402,7 @@ void SimulationRun::step_to_grid_point(long i) {
     win_y_.push_back(smp.rel_y_m);
     max_amp_ = std::max(max_amp_, std::hypot(smp.rel_x_m, smp.rel_y_m));
     if (left.any_in_arc) air_.add(left.in_air, 2 * (period - first_analysed_) >= (s_.periods - first_analysed_));
+    if (!s_.linear) m_.tally_air(tooth_arc_, tooth_air_);
   }
   if ((i % M_) == 0) {
     res_.once_per_period.push_back(smp);
@@ -426,7 +430,7 @@ void SimulationRun::end_of_period(bool at_stop, bool& root_at_grid) {
     roots_on_ = true;
     need_restart = true;
   }
-  if (s_.linear) {
+  if (homogeneous(s_)) {
     // Keep the state near the initial scale (linear: exact rescaling).
     double norm = 0.0;
     for (int k = 0; k < n_; ++k) norm = std::max(norm, std::abs(y[k]));

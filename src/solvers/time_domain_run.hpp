@@ -64,6 +64,9 @@ class SimulationRun {
   SeriesSample make_sample(double t, const double* yy, const Diagnostics& d) const;
   // --- outputs ---
   SimulationResult finish();
+  // The forced vibration of the last period and the teeth out of the cut
+  // (issue 27), into res_.
+  void measure_forced(bool converged);
 
   const Process& process_;
   const TimeDomainOptions& options_;
@@ -101,6 +104,9 @@ class SimulationRun {
   double log_scale_ = 0.0;  // linear mode: true state = stored × exp(log_scale)
   std::vector<double> win_x_, win_y_;  // uniform samples of r over the analysed window
   AirCounts air_;
+  // Per tooth: the arc share sampled in the analysed window and its part
+  // out of the cut (Model::tally_air), for out_of_cut_fraction.
+  std::vector<double> tooth_arc_, tooth_air_;
   double max_amp_ = 0.0;
 
   std::vector<double> ydot_;
