@@ -33,6 +33,7 @@
 #include "chatter/solvers.hpp"
 #include "chatter/time_domain.hpp"
 #include "chatter/uncertainty.hpp"
+#include "bindings.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -768,6 +769,27 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   integ["samples_per_period"] = r.samples_per_period;
   integ["history_capacity"] = r.history_capacity;
   j["integrator"] = integ;
+  // ---- issue 27 (the forced vibration the run measured, the teeth out of
+  // the cut, the linear-limit warning): one block, the keys of chatter
+  // simulate's (src/cli/cmd_simulate.cpp), for the shared records function.
+  {
+    j["linear_static_chip"] = st.linear_static_chip;
+    j["out_of_cut_fraction_per_tooth"] = r.out_of_cut_fraction_per_tooth;
+    j["teeth_leave_cut"] = r.teeth_leave_cut;
+    py::dict forced, pp, sd;
+    pp["x"] = r.forced_peak_to_peak_x_m * 1e6;
+    pp["y"] = r.forced_peak_to_peak_y_m * 1e6;
+    sd["x"] = r.forced_static_x_m * 1e6;
+    sd["y"] = r.forced_static_y_m * 1e6;
+    forced["steady"] = r.forced_steady;
+    forced["peak_to_peak_um"] = pp;
+    forced["static_deflection_um"] = sd;
+    forced["surface_location_error_um"] = finite_or_none(r.forced_surface_location_error_m * 1e6);
+    j["forced"] = forced;
+    j["linear_limit_warning"] =
+        r.linear_limit_warning.empty() ? py::object(py::none()) : py::object(py::str(r.linear_limit_warning));
+  }
+  // ---- end of the issue 27 block
   j["series"] = series_dict(r.series);
   j["periodic"] = series_dict(r.once_per_period);
   // The spectrum of chatter simulate --spectrum (harmonic: 0 where not one).
@@ -962,6 +984,8 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
   return out;
 }
 
+std::shared_ptr<const chatter::Config> job_config(const py::handle& job) { return job.cast<const Job&>().cfg; }
+
 PYBIND11_MODULE(chatter, m) {
   m.doc() = "chatter: regenerative chatter prediction and stability lobes (docs/python.md)";
   m.attr("__version__") = chatter::version();
@@ -1061,4 +1085,5 @@ PYBIND11_MODULE(chatter, m) {
         "One time-domain simulation (chatter simulate's JSON plus the series arrays).");
   m.def("_time_lobes_cpp", &time_lobes_cpp, "job"_a, "method"_a, "rpm"_a, "depth_max_mm"_a, "threads"_a = 1,
         "Benchmark hook: seconds of the C++ work of lobes() alone.");
+  bind_forced(m);
 }

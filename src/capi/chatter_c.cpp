@@ -15,41 +15,29 @@
 #include "chatter/operations.hpp"
 #include "chatter/position.hpp"
 #include "chatter/transfer_function.hpp"
-
-struct chatter_model {
-  chatter::Config config;
-};
-
-struct chatter_solver {
-  std::unique_ptr<chatter::LobeSolver> solver;
-};
+#include "capi_internal.hpp"
 
 namespace {
 
 thread_local std::string g_last_error;
+
+}  // namespace
+
+namespace chatter::capi_detail {
 
 chatter_status fail(chatter_status s, std::string message) {
   g_last_error = std::move(message);
   return s;
 }
 
-// Runs `body`, mapping exceptions to status codes and the thread's message.
-template <class F>
-chatter_status guarded(F&& body) {
-  g_last_error.clear();
-  try {
-    body();
-    return CHATTER_OK;
-  } catch (const chatter::InputError& e) {
-    return fail(CHATTER_INPUT_ERROR, e.what());
-  } catch (const std::bad_alloc&) {
-    return fail(CHATTER_INTERNAL_ERROR, "out of memory");
-  } catch (const std::exception& e) {
-    return fail(CHATTER_INTERNAL_ERROR, e.what());
-  } catch (...) {
-    return fail(CHATTER_INTERNAL_ERROR, "unknown internal error");
-  }
-}
+void clear_error() { g_last_error.clear(); }
+
+}  // namespace chatter::capi_detail
+
+namespace {
+
+using chatter::capi_detail::fail;
+using chatter::capi_detail::guarded;
 
 chatter_limit to_c(const chatter::StabilityLimit& l) {
   chatter_limit c;

@@ -58,6 +58,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                          "else 0.1)")
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
+      ("linear-forced", "linear delay equation with the static chip (the feed; the tool never leaves the cut): the "
+                        "run converges to the forced response of chatter forced, which it cross-checks")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
       ("fail-on-chatter", "exit with status 3 when the verdict is chatter (for scripts: 0 stable, 3 chatter, 2 bad "
                           "input)")
@@ -100,6 +102,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (vm.count("revolutions") && vm.count("periods"))
     throw InputError("--revolutions and --periods: give one of them");
+  if (vm.count("linear") && vm.count("linear-forced"))
+    throw InputError("--linear and --linear-forced: give one of them (--linear-forced is linear with the feed)");
   const int per_rev = simulation_periods_per_revolution(cfg.process, rpm, vm.count("linear") > 0);
   if (vm.count("revolutions")) {
     if (revolutions < 1 || revolutions > 1000000)
@@ -119,7 +123,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   st.depth_m = depth_mm * 1e-3;
   st.periods = periods;
   st.feed_m = feed_mm * 1e-3;
-  st.linear = vm.count("linear") > 0;
+  st.linear = vm.count("linear") > 0 || vm.count("linear-forced") > 0;
+  st.linear_static_chip = vm.count("linear-forced") > 0;
   st.multiple_regeneration = vm.count("multiple-regeneration") > 0;
   st.record_series = !out_path.empty() || !plot_path.empty();
   const SimulationResult r = sim.simulate(st);
@@ -165,6 +170,21 @@ int cmd_simulate(const std::vector<std::string>& args) {
                      {"root_stops", r.root_stops},
                      {"samples_per_period", r.samples_per_period},
                      {"history_capacity", r.history_capacity}};
+  // ---- issue 27 (the forced vibration the run measured, the teeth out of
+  // the cut, the linear-limit warning): one block, for the shared records
+  // function. Keys as python/chatter_module.cpp's simulate.
+  if (st.linear_static_chip) j["feed_per_tooth_mm"] = feed_mm;
+  j["linear_static_chip"] = st.linear_static_chip;
+  j["out_of_cut_fraction_per_tooth"] = r.out_of_cut_fraction_per_tooth;
+  j["teeth_leave_cut"] = r.teeth_leave_cut;
+  j["forced"] = {{"steady", r.forced_steady},
+                 {"peak_to_peak_um", {{"x", r.forced_peak_to_peak_x_m * 1e6}, {"y", r.forced_peak_to_peak_y_m * 1e6}}},
+                 {"static_deflection_um", {{"x", r.forced_static_x_m * 1e6}, {"y", r.forced_static_y_m * 1e6}}},
+                 {"surface_location_error_um", number_or_null(r.forced_surface_location_error_m * 1e6)}};
+  j["linear_limit_warning"] =
+      r.linear_limit_warning.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.linear_limit_warning);
+  if (!r.linear_limit_warning.empty()) std::cerr << "warning: " << r.linear_limit_warning << "\n";
+  // ---- end of the issue 27 block
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {

@@ -16,5 +16,7 @@ int cmd_coefficients(const std::vector<std::string>& args);  // src/cli/cmd_coef
 int cmd_detect(const std::vector<std::string>& args);        // src/cli/cmd_detect.cpp
 int cmd_surface(const std::vector<std::string>& args);       // src/cli/cmd_surface.cpp
 int cmd_lobes(const std::vector<std::string>& args);         // src/cli/cmd_lobes.cpp
+int cmd_forced(const std::vector<std::string>& args);        // src/cli/cmd_forced.cpp
+int cmd_sle(const std::vector<std::string>& args);           // src/cli/cmd_forced.cpp
 
 }  // namespace chatter::cli

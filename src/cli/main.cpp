@@ -65,6 +65,11 @@ Commands:
              positions of a position-dependent structure (cantilever workpiece
              or [[positions]]); --position-mm X gives lobes, point, check the
              structure at one position.
+  forced     The forced vibration of a stable cut: surface location error,
+             peak to peak, diametral error (turning), and whether the teeth
+             leave the cut (then the linear limit does not hold).
+  sle        Surface location error and peak-to-peak vibration against spindle
+             speed, under the lobes.
 
 On the shop floor:
   1. Describe the tool and workpiece modes (from a tap test) and the cut in a
@@ -89,7 +94,7 @@ plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
 and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable; lobes --depth-mm D, point and
-simulate with --fail-on-chatter: 3 on chatter).
+simulate with --fail-on-chatter: 3 on chatter; forced: 3 when the cut is unstable).
 )";
 
 int cmd_point(const std::vector<std::string>& args) {
@@ -351,7 +356,7 @@ int main(int argc, char** argv) {
     args.erase(args.begin());
     if (cmd == "lobes" || cmd == "point" || cmd == "frf" || cmd == "map" || cmd == "check" || cmd == "recommend" ||
         cmd == "simulate" || cmd == "fit" || cmd == "compare" || cmd == "coefficients" || cmd == "detect" ||
-        cmd == "surface")
+        cmd == "surface" || cmd == "forced" || cmd == "sle")
       command = cmd;
     if (cmd == "coefficients") return chatter::cli::cmd_coefficients(args);
     if (cmd == "detect") return chatter::cli::cmd_detect(args);
@@ -365,8 +370,10 @@ int main(int argc, char** argv) {
     if (cmd == "fit") return cmd_fit(args);
     if (cmd == "compare") return cmd_compare(args);
     if (cmd == "surface") return chatter::cli::cmd_surface(args);
+    if (cmd == "forced") return chatter::cli::cmd_forced(args);
+    if (cmd == "sle") return chatter::cli::cmd_sle(args);
     std::cerr << "chatter: unknown command '" << cmd
-              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect, surface; see chatter --help)\n";
+              << "' (commands: lobes, point, check, recommend, map, compare, simulate, fit, frf, coefficients, detect, surface, forced, sle; see chatter --help)\n";
     return 2;
   } catch (const po::error& e) {
     // A malformed value (e.g. --revolutions 0.5): say what it must look like.
