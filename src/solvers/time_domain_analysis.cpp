@@ -64,11 +64,14 @@ SimulationResult SimulationRun::finish() {
   vin.linear = homogeneous(s_);
   vin.growth = growth;
   vin.air = air_;
-  vin.analysed_periods = s_.periods - first_analysed_;
+  vin.analysed_periods = res_.periods - first_analysed_;
   vin.relative_tolerance = rtol;
   const VerdictOutcome v = decide_verdict(vin);
   res_.verdict = v.verdict;
   res_.verdict_measure = v.measure;
+  if (res_.periods < s_.periods)
+    res_.verdict_measure += " (settled: stopped after " + std::to_string(res_.periods) + " of " +
+                            std::to_string(s_.periods) + " periods)";
   res_.chatter_frequency_hz = res_.verdict == SimulationVerdict::kChatter ? best_f : kNaN;
   measure_forced(growth.converged);
   if (history_->extrapolations() > 0)
@@ -111,6 +114,7 @@ void SimulationRun::measure_forced(bool converged) {
       const double nx = 0.0, ny = phi_w == 0.0 ? 1.0 : -1.0;  // n_w = (sin φ_w, cos φ_w), exactly
       const double rev = 60.0 / s_.spindle_rpm, omega = 2.0 * std::numbers::pi / rev, ex = std::exp(log_scale_);
       const int heights = process_.has_helix() ? kWallHeights : 0;
+      const double t_now = history_->newest().t;  // the end of the run (the last grid point)
       double worst = kNaN;
       for (int i = 0; i <= heights; ++i) {
         const double z = heights > 0 ? s_.depth_m * i / heights : 0.0;
@@ -118,8 +122,8 @@ void SimulationRun::measure_forced(bool converged) {
         for (int j = 0; j < teeth_; ++j) {
           const double base = (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad_per_m(j) * z) / omega;
           // The last pass, <= t_end (min: round-off may put a pass at t_end a hair beyond it).
-          const double t = std::min(base + std::floor((t_end_ - base) / rev) * rev, t_end_);
-          if (!(t > t_end_ - tau_ * (1.0 + 1e-9))) continue;                  // not in the last period
+          const double t = std::min(base + std::floor((t_now - base) / rev) * rev, t_now);
+          if (!(t > t_now - tau_ * (1.0 + 1e-9))) continue;                   // not in the last period
           double r[2];
           history_->displacement(t, r);
           wall = std::min(wall, -(nx * r[0] + ny * r[1]) * ex - process_.runout_m(j) + 0.0);

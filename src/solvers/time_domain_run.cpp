@@ -18,6 +18,10 @@ namespace {
 
 using detail::HistoryEntry;
 
+// stop_when_periodic: at least this many periods before a run may stop, and
+// this many quiet increments in a row (SimulationSettings::stop_when_periodic).
+constexpr int kMinPeriodsBeforeStop = 20;
+constexpr int kQuietPeriods = 3;
 // Delay-propagated images of the start discontinuity that are stop points:
 // the k-th image is a jump in the k-th derivative, beyond Adams order 5 after 6.
 constexpr int kStartImages = 6;
@@ -423,6 +427,18 @@ void SimulationRun::end_of_period(bool at_stop, bool& root_at_grid) {
   }
   snapshots_.states.push_back(z);
   snapshots_.log_scale.push_back(log_scale_);
+  if (s_.stop_when_periodic && !homogeneous(s_)) {
+    // Settled: the last kQuietPeriods increments below the verdict's floor
+    // (growth_per_period's 1e4 × rtol × |snapshot|).
+    const auto& st = snapshots_.states;
+    const std::size_t K = st.size();
+    if (K >= static_cast<std::size_t>(std::max(kMinPeriodsBeforeStop, kQuietPeriods + 1))) {
+      const double floor = 1e4 * options_.relative_tolerance * std::max(st.back().norm(), 1e-300);
+      bool quiet = true;
+      for (std::size_t k = K - kQuietPeriods; k < K && quiet; ++k) quiet = (st[k] - st[k - 1]).norm() <= floor;
+      settled_ = quiet;
+    }
+  }
   roots_this_period_ = 0;
   bool need_restart = at_stop;
   if (use_roots_ && !roots_on_) {
@@ -448,7 +464,19 @@ void SimulationRun::end_of_period(bool at_stop, bool& root_at_grid) {
 SimulationResult SimulationRun::run() {
   start();
   const long total = static_cast<long>(s_.periods) * M_;
-  for (long i = 1; i <= total; ++i) step_to_grid_point(i);
+  for (long i = 1; i <= total; ++i) {
+    step_to_grid_point(i);
+    if (settled_ && i % M_ == 0 && i < total) {
+      // Settled (stop_when_periodic): the run is its first i / M periods,
+      // analysed over their last analysed_fraction.
+      const int done = static_cast<int>(i / M_);
+      res_.periods = done;
+      first_analysed_ = std::clamp(static_cast<int>(std::floor(done * (1.0 - s_.analysed_fraction))), 0, done - 2);
+      res_.analysed_from_period = first_analysed_;
+      t_end_ = static_cast<double>(i) * tau_ / M_;  // the last grid point, as stored
+      break;
+    }
+  }
   return finish();
 }
 

@@ -120,6 +120,7 @@ class SimulationRun {
   double t_ = 0.0;
   int roots_this_period_ = 0;
   long steps_done_ = 0, rhs_done_ = 0;  // CVodeReInit resets CVODE's counters
+  bool settled_ = false;  // stop_when_periodic: the run has settled (end_of_period)
 };
 
 }  // namespace chatter::td_detail
