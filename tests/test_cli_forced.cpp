@@ -192,6 +192,12 @@ TEST_F(CliForced, SimulateReportsTheForcedVibrationAndWarnsWhenTeethLeaveTheCut)
   EXPECT_GT(j["forced"]["peak_to_peak_um"]["y"].get<double>(), 20.0);
   EXPECT_TRUE(j["linear_limit_warning"].is_string());
   EXPECT_TRUE(contains(r.err, "warning: the linear stability limit does not hold: forced vibration")) << r.err;
+  // compare names the cause of the simulation's deeper limit.
+  const RunResult c = run({"compare", cfg, "--methods", "sdm,time-domain", "--rpm-min", "12000", "--rpm-max", "12100",
+                           "--rpm-points", "2", "--quiet", "--table", path("c.csv").string()});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_TRUE(contains(c.out, "time-domain is ") && contains(c.out, "% deeper than sdm at 12")) << c.out;
+  EXPECT_TRUE(contains(c.out, "the teeth leave the cut (linear chip negative over")) << c.out;
   // forced agrees that the linear model does not hold there.
   const RunResult f = run({"forced", cfg, "--rpm", "12000", "--depth-mm", "4.2", "--json", "-"});
   ASSERT_EQ(f.exit_code, 0) << f.err;
