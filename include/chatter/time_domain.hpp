@@ -191,8 +191,8 @@ class TimeDomainSolver final : public LobeSolver {
   /// Null: built here, once, on the same model and process (depth_max_m of
   /// these options): sdm for a helical cutter (it sees the helix; its limit
   /// is the linear limit, so the search brackets it by 10 %, growing, and
-  /// its runs use 8 axial slices when axial_slices is automatic: 1.75 s →
-  /// ~0.3 s per speed on the issue-27 cutter, docs/performance.md), else the
+  /// its runs use 12 axial slices when axial_slices is automatic: about 3×
+  /// faster on the issue-27 cutter, docs/performance.md), else the
   /// zeroth-order analytic solver (the wide scan below); when the analytic
   /// method does not apply to the model (or refuses the process), the search
   /// has no guess.
