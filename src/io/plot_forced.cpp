@@ -86,6 +86,15 @@ PlotFiles plot_forced(const fs::path& image, const std::string& title, const For
     dat << '\n';
   }
 
+  // The SLE axis: every pass and the nominal wall (0), with a margin.
+  double sle_lo = 0.0, sle_hi = 0.0;
+  for (const double v : r.tooth_wall_sle_m) {
+    sle_lo = std::min(sle_lo, v * 1e6);
+    sle_hi = std::max(sle_hi, v * 1e6);
+  }
+  const double pad = std::max(0.1 * (sle_hi - sle_lo), 0.5);
+  sle_lo -= pad;
+  sle_hi += pad;
   std::ostringstream gp;
   gp << preamble(f, "Forced response: tool path and machined wall");
   std::ostringstream t;
@@ -106,8 +115,9 @@ PlotFiles plot_forced(const fs::path& image, const std::string& title, const For
      << "     data index 1 using 1:2:(sprintf('%d', $3)) with labels offset 0,1.1 font ','.(fs-3) notitle\n"
      << "set offsets 0, 0, 0, 0\n"
      << "set xlabel 'surface location error (µm, + = material left)'\nset ylabel 'height above the tool tip (mm)'\n"
-     << "set autoscale x\nset yrange [0:" << g(r.depth_m * 1e3) << "]\n"
-     << "set offsets graph 0.15, graph 0.15, 0, 0\n"
+     << "set xrange [" << g(sle_lo) << ":" << g(sle_hi) << "]   # the nominal wall (0) always in view\n"
+     << "set yrange [0:" << g(r.depth_m * 1e3) << "]\n"
+     << "set arrow from 0, graph 0 to 0, graph 1 nohead dt 3 lw 1 lc rgb '#7f7f7f'\n"
      << "plot ";
   for (std::size_t j = 0; j < nt; ++j)
     gp << "data index 2 using " << j + 3 << ":1 with lines lw 1 dt 2 lc rgb '#7f7f7f' "
@@ -132,22 +142,33 @@ PlotFiles plot_sle(const fs::path& image, const std::string& title, const std::v
   std::ostringstream dat;
   dat << "# " << head << ": surface location error and forced vibration under the lobes (chatter " << version()
       << ")\n# depth of cut " << g(depth_mm) << " mm\n\n"
-      << "# index 0: per speed; numbers '?' where the cut is unstable (no forced response)\n"
-      << "# spindle_rpm depth_limit_mm sle_um peak_to_peak_x_um peak_to_peak_y_um teeth_leave_cut_sle_um\n";
+      << "# index 0: the lobes (sdm), '?' where no limit was found below the searched depth\n"
+      << "# spindle_rpm depth_limit_mm\n";
   double deepest = depth_mm;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const ForcedResponse& r = rows[i];
     const StabilityLimit& l = limits[i];
     if (l.bounded()) deepest = std::max(deepest, l.depth_limit_m * 1e3);
-    const bool s = r.stable;
-    dat << g(r.spindle_rpm, 10) << ' ' << (l.bounded() ? g(l.depth_limit_m * 1e3) : "?") << ' '
-        << (s ? d(r.surface_location_error_m * 1e6) : "?") << ' ' << (s ? d(r.peak_to_peak_x_m * 1e6) : "?") << ' '
-        << (s ? d(r.peak_to_peak_y_m * 1e6) : "?") << ' '
-        << (s && r.teeth_leave_cut ? d(r.surface_location_error_m * 1e6) : "?") << '\n';
+    dat << g(l.spindle_rpm, 10) << ' ' << (l.bounded() ? g(l.depth_limit_m * 1e3) : "?") << '\n';
   }
+  dat << "\n\n# index 1: the stable speeds (the unstable ones have no forced response: a blank line\n"
+      << "# ends a run of stable speeds, so the lines break there)\n"
+      << "# spindle_rpm sle_um peak_to_peak_x_um peak_to_peak_y_um teeth_leave_cut_sle_um ('?' where they stay in)\n";
+  bool any = false, gap = false;
+  for (const ForcedResponse& r : rows) {
+    if (!r.stable) {
+      gap = any;
+      continue;
+    }
+    if (gap) dat << '\n';
+    gap = false;
+    any = true;
+    dat << g(r.spindle_rpm, 10) << ' ' << d(r.surface_location_error_m * 1e6) << ' ' << d(r.peak_to_peak_x_m * 1e6)
+        << ' ' << d(r.peak_to_peak_y_m * 1e6) << ' '
+        << (r.teeth_leave_cut ? d(r.surface_location_error_m * 1e6) : "?") << '\n';
+  }
+  if (!any) dat << "? ? ? ? ?\n";
   std::ostringstream gp;
   gp << preamble(f, "Surface location error and forced vibration under the lobes");
-  gp << "# using 1:($n): a missing value breaks the line (an unstable speed is a gap).\n";
   gp << "set multiplot layout 2,1 title " << gnuplot_quote(head) << " noenhanced font ','.(fs+2) "
      << "margins 0.09,0.97,0.08,0.91 spacing 0,0.06\n"
      << "set xrange [" << g(rows.front().spindle_rpm, 10) << ":" << g(rows.back().spindle_rpm, 10) << "]\n"
@@ -158,15 +179,15 @@ PlotFiles plot_sle(const fs::path& image, const std::string& title, const std::v
      << " nohead lw 1.6 dt 2 lc rgb '#d62728'\n"
      << "set label " << gnuplot_quote("this cut: " + g(depth_mm, 4) + " mm") << " at graph 0.01, first "
      << g(depth_mm) << " offset 0,0.7 tc rgb '#d62728' font ','.(fs-3)\n"
-     << "plot data index 0 using 1:($2) with lines lw 2 lc rgb '#d95f02' title 'stability limit (sdm)'\n"
+     << "plot data index 0 using 1:2 with lines lw 2 lc rgb '#d95f02' title 'stability limit (sdm)'\n"
      << "unset arrow\nunset label\nset format x '%g'\n"
      << "set xlabel 'spindle speed (rev/min)'\nset ylabel 'µm'\nset autoscale y\n"
      << "set offsets 0, 0, graph 0.2, graph 0.05\n"
-     << "plot data index 0 using 1:($3) with lines lw 2.4 lc rgb '#202020' title 'surface location error (+ = "
+     << "plot data index 1 using 1:2 with lines lw 2.4 lc rgb '#202020' title 'surface location error (+ = "
         "material left)', \\\n"
-     << "     data index 0 using 1:($4) with lines lw 1.2 lc rgb '#1f77b4' title 'peak to peak x', \\\n"
-     << "     data index 0 using 1:($5) with lines lw 1.2 lc rgb '#ff7f0e' title 'peak to peak y', \\\n"
-     << "     data index 0 using 1:6 with points pt 6 ps 0.9 lc rgb '#d62728' title 'teeth leave the cut "
+     << "     data index 1 using 1:3 with lines lw 1.2 lc rgb '#1f77b4' title 'peak to peak x', \\\n"
+     << "     data index 1 using 1:4 with lines lw 1.2 lc rgb '#ff7f0e' title 'peak to peak y', \\\n"
+     << "     data index 1 using 1:5 with points pt 6 ps 0.9 lc rgb '#d62728' title 'teeth leave the cut "
         "(linear model not valid)'\n"
      << "unset multiplot\n";
   write_text_files({{f.data, dat.str()}, {f.script, gp.str()}});
