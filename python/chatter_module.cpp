@@ -27,6 +27,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/io/forced_records.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/operations.hpp"
@@ -572,9 +573,22 @@ py::dict check(const Job& job_in, const py::object& operations, const std::strin
     py::gil_scoped_release release;
     report = chatter::check_operations(cfg.model, cfg.process, file.rows, opt);
   }
+  // ---- issue 27: the forced vibration of every row with a feed and the
+  // part's tolerance (chatter check's block in src/cli/cmd_operations.cpp).
+  std::vector<std::optional<chatter::OperationForced>> forced(report.checks.size());
+  std::size_t out_of_tolerance = 0;
+  {
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      forced[i] = chatter::forced_check(cfg.model, cfg.process, report.checks[i].op);
+      if (forced[i] && report.checks[i].op.max_error_m && !forced[i]->within_tolerance) ++out_of_tolerance;
+    }
+  }
+  const py::object json_loads = py::module_::import("json").attr("loads");
+  // ---- end of the issue 27 block
   // The JSON of chatter check --json, key for key.
   const bool milling = cfg.process.operation() == chatter::Operation::kMilling;
-  const int status = !file.rejected.empty() ? 2 : report.unstable() > 0 ? 3 : 0;
+  const int status = !file.rejected.empty() ? 2 : report.unstable() > 0 || out_of_tolerance > 0 ? 3 : 0;
   py::dict j;
   j["format"] = "chatter-operation-check";
   j["version"] = chatter::version();
@@ -615,6 +629,10 @@ py::dict check(const Job& job_in, const py::object& operations, const std::strin
       o["teeth"] = c.op.teeth.value_or(mp.teeth);
       o["milling_direction"] = c.op.direction.value_or(mp.direction) == chatter::MillingDirection::kDown ? "down" : "up";
     }
+    if (const auto& f = forced[static_cast<std::size_t>(&c - report.checks.data())])  // issue 27
+      o["forced"] = json_loads(chatter::forced_check_json(f->response, c.op.max_error_m, f->within_tolerance));
+    else
+      o["forced"] = py::none();
     if (c.suggestion) {
       py::dict s = limit_dict(*c.suggestion);
       s["margin"] = finite_or_none(c.suggestion_margin);
@@ -645,6 +663,7 @@ py::dict check(const Job& job_in, const py::object& operations, const std::strin
   summary["stable"] = report.checks.size() - report.unstable();
   summary["unstable"] = report.unstable();
   summary["rejected"] = file.rejected.size();
+  summary["out_of_tolerance"] = out_of_tolerance;  // issue 27
   j["summary"] = summary;
   j["exit_status"] = status;
   return j;

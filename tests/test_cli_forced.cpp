@@ -168,6 +168,36 @@ TEST_F(CliForced, BadInputExits2NamingFileFlagAndRule) {
   EXPECT_TRUE(contains(r.err, "bad.toml") && contains(r.err, "damping_ratio")) << r.err;
 }
 
+TEST_F(CliForced, CheckReportsTheSleAndTheToleranceVerdict) {
+  // examples/forced/case_c_xy.toml at 2 mm, 0.05 mm/tooth: SLE 23.95 um at
+  // 14 000 rev/min, 75.05 um at 13 800 (docs/forced.md). A 30 um tolerance
+  // passes the first, fails the second: exit 3 although every row is stable.
+  const std::string cfg = std::string(CHATTER_SOURCE_DIR) + "/examples/forced/case_c_xy.toml";
+  std::ofstream(path("ops.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,max_sle_um\n"
+                                    "fin1,14000,2,,0.05,30\nfin2,13800,2,,0.05,30\nnofeed,14000,1,,,\n"
+                                    "badtol,14000,1,,0.05,-3\n";
+  const RunResult r = run({"check", cfg, "--operations", path("ops.csv").string(), "--quiet", "--json",
+                           path("c.json").string()});
+  EXPECT_EQ(r.exit_code, 2) << "a rejected row wins: " << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "max_sle_um = -3: must be > 0 um")) << r.out;
+  std::ofstream(path("ops2.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,tolerance_um\n"
+                                     "fin1,14000,2,,0.05,30\nfin2,13800,2,,0.05,30\nnofeed,14000,1,,,\n";
+  const RunResult r2 = run({"check", cfg, "--operations", path("ops2.csv").string(), "--quiet", "--json",
+                            path("c2.json").string()});
+  EXPECT_EQ(r2.exit_code, 3) << r2.out << r2.err;
+  EXPECT_TRUE(contains(r2.out, "sle_um") && contains(r2.out, "leaves_cut") && contains(r2.out, "OUT")) << r2.out;
+  EXPECT_TRUE(contains(r2.out, "3 stable, 0 unstable, 0 rejected, 1 out of tolerance")) << r2.out;
+  const auto j = nlohmann::json::parse(slurp(path("c2.json")));
+  const auto& ops = j["operations"];
+  ASSERT_EQ(ops.size(), 3u);
+  EXPECT_NEAR(ops[0]["forced"]["surface_location_error_um"].get<double>(), 23.951, 1e-3);
+  EXPECT_TRUE(ops[0]["forced"]["within_tolerance"].get<bool>());
+  EXPECT_NEAR(ops[1]["forced"]["surface_location_error_um"].get<double>(), 75.05, 1e-2);
+  EXPECT_FALSE(ops[1]["forced"]["within_tolerance"].get<bool>());
+  EXPECT_TRUE(ops[2]["forced"].is_null());
+  EXPECT_EQ(j["summary"]["out_of_tolerance"], 1);
+}
+
 TEST_F(CliForced, SimulateReportsTheForcedVibrationAndWarnsWhenTeethLeaveTheCut) {
   // A variable-pitch helix cutter in a resonant forced vibration below its
   // linear limit (docs/forced.md): the simulation is stable, the teeth leave

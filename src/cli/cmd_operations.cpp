@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/io/forced_records.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/solvers.hpp"
@@ -207,9 +208,38 @@ int cmd_check(const std::vector<std::string>& args) {
     t.push_back(std::move(r));
   }
 
+  // ---- issue 27: the forced vibration of every row with a feed (its SLE or
+  // diametral error, teeth leaving the cut, the part's tolerance: exit 3
+  // when out of it). One block, over chatter::forced_check (ops).
+  std::vector<std::optional<OperationForced>> forced(report.checks.size());
+  std::size_t out_of_tolerance = 0;
+  bool any_forced = false, any_tolerance = false;
+  for (std::size_t i = 0; i < report.checks.size(); ++i) {
+    forced[i] = forced_check(cfg.model, cfg.process, report.checks[i].op);
+    if (!forced[i]) continue;
+    any_forced = true;
+    if (!report.checks[i].op.max_error_m) continue;
+    any_tolerance = true;
+    if (!forced[i]->within_tolerance) ++out_of_tolerance;
+  }
+  if (any_forced) {
+    t.front().insert(t.front().end(), {milling ? "sle_um" : "diam_err_um", "leaves_cut", "tolerance"});
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& f = forced[i];
+      const auto& op = report.checks[i].op;
+      if (!f || !f->response.stable) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", op.max_error_m && f ? "OUT" : "-"});
+        continue;
+      }
+      t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
+      t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
+      t[i + 1].push_back(!op.max_error_m ? "-" : f->within_tolerance ? "ok" : "OUT");
+    }
+  }
+  // ---- end of the issue 27 block
   const int status = !file.rejected.empty() ? kExitSomeRowsInvalid
-                     : report.unstable() > 0 ? kExitSomeUnstable
-                                             : kExitAllStable;
+                     : report.unstable() > 0 || out_of_tolerance > 0 ? kExitSomeUnstable
+                                                                     : kExitAllStable;
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
       << fmt(opt.machine.rpm_min) << "-" << fmt(opt.machine.rpm_max) << " rev/min";
@@ -224,7 +254,9 @@ int cmd_check(const std::vector<std::string>& args) {
           << "\n";
   }
   out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
-      << " unstable, " << file.rejected.size() << " rejected; exit status " << status << "\n";
+      << " unstable, " << file.rejected.size() << " rejected"
+      << (any_tolerance ? ", " + std::to_string(out_of_tolerance) + " out of tolerance" : "") << "; exit status "
+      << status << "\n";
 
   if (!json_path.empty()) {
     json j;
@@ -261,6 +293,11 @@ int cmd_check(const std::vector<std::string>& args) {
         o["teeth"] = c.op.teeth.value_or(mp.teeth);
         o["milling_direction"] = c.op.direction.value_or(mp.direction) == MillingDirection::kDown ? "down" : "up";
       }
+      // issue 27: the forced vibration (null without a feed).
+      if (const auto& f = forced[static_cast<std::size_t>(&c - report.checks.data())])
+        o["forced"] = json::parse(forced_check_json(f->response, c.op.max_error_m, f->within_tolerance));
+      else
+        o["forced"] = nullptr;
       if (c.suggestion) {
         json s = limit_json(*c.suggestion);
         s["margin"] = finite_or_null(c.suggestion_margin);
@@ -278,7 +315,8 @@ int cmd_check(const std::vector<std::string>& args) {
     j["summary"] = {{"checked", report.checks.size()},
                     {"stable", report.checks.size() - report.unstable()},
                     {"unstable", report.unstable()},
-                    {"rejected", file.rejected.size()}};
+                    {"rejected", file.rejected.size()},
+                    {"out_of_tolerance", out_of_tolerance}};
     j["exit_status"] = status;
     emit_json(json_path, j);
   }

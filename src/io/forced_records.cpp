@@ -63,6 +63,21 @@ std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& c, i
   return j.dump(indent);
 }
 
+std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m, bool within_tolerance) {
+  const bool s = r.stable;
+  json j;
+  j["stable"] = s;
+  j[r.milling ? "surface_location_error_um" : "diametral_error_um"] =
+      s ? um(r.milling ? r.surface_location_error_m : r.diametral_error_m) : json(nullptr);
+  j["peak_to_peak_um"] = s ? xy_um(r.peak_to_peak_x_m, r.peak_to_peak_y_m) : json(nullptr);
+  j["min_chip_thickness_um"] = s ? um(r.min_chip_m) : json(nullptr);
+  j["teeth_leave_cut"] = s ? json(r.teeth_leave_cut) : json(nullptr);
+  j["linear_limit_holds"] = r.linear_limit_holds;
+  j["max_error_um"] = max_error_m ? json(*max_error_m * 1e6) : json(nullptr);
+  j["within_tolerance"] = within_tolerance;
+  return j.dump();
+}
+
 std::string forced_path_csv(const ForcedResponse& r) {
   std::ostringstream os;
   os << "time_s,rel_x_um,rel_y_um,wall_normal_um\n";

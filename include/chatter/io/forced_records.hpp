@@ -38,6 +38,13 @@ struct ForcedRecordContext {
 /// are null. `indent` as nlohmann's dump (−1: one line).
 std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& context, int indent = 2);
 
+/// The `forced` object of one `chatter check --json` operation (issue 27,
+/// docs/operations.md): stable, surface_location_error_um (milling) or
+/// diametral_error_um (turning), peak_to_peak_um {x, y},
+/// min_chip_thickness_um, teeth_leave_cut, linear_limit_holds, max_error_um
+/// (null without a tolerance) and within_tolerance; one line.
+std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m, bool within_tolerance);
+
 /// The tool path over one period as CSV:
 /// time_s,rel_x_um,rel_y_um,wall_normal_um (empty table when not recorded).
 std::string forced_path_csv(const ForcedResponse& r);
