@@ -47,4 +47,5 @@ PYBIND11_MODULE(chatter, m) {
   chatter_py::bind_operations(m);
   chatter_py::bind_simulate(m);
   bind_grinding(m);
+  bind_forced(m);
 }

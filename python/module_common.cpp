@@ -1,4 +1,5 @@
 // Shared pieces of the Python module (python/module.hpp).
+#include "bindings.hpp"
 #include "module.hpp"
 
 #include <cmath>
@@ -156,6 +157,14 @@ std::vector<double> even_speeds(const chatter::Config& cfg, std::optional<double
     throw InputError("rpm_points = " + std::to_string(n) + ": at most " + std::to_string(kMaxRpmPoints) + " speeds");
   return chatter::evenly_spaced_speeds(lo, hi, n);
 }
+
+}  // namespace chatter_py
+
+std::shared_ptr<const chatter::Config> job_config(const pybind11::handle& job) {
+  return job.cast<const chatter_py::Job&>().cfg;
+}
+
+namespace chatter_py {
 
 py::object to_python(const nlohmann::json& j) {
   switch (j.type()) {

@@ -44,7 +44,9 @@ case "$target" in
           src/grinding/process.cpp src/grinding/empirical.cpp
           src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/model/position.cpp src/model/uncertainty.cpp src/solvers/phase_search.cpp
           src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp
-          src/solvers/factory.cpp src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
+          src/solvers/factory.cpp src/solvers/semi_discretization.cpp src/solvers/sdm_grid.cpp src/solvers/sdm_map.cpp
+          src/solvers/sdm_multipliers.cpp src/solvers/sdm_floquet.cpp src/solvers/sdm_search.cpp src/solvers/time_domain_model.cpp
+          src/solvers/time_domain_run.cpp src/solvers/time_domain_analysis.cpp src/solvers/time_domain_lobes.cpp"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus prefix="" ;;
   frf)
     srcs="src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
@@ -52,7 +54,9 @@ case "$target" in
   operations)
     srcs="src/ops/operations.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
           src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp src/solvers/factory.cpp
-          src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
+          src/solvers/semi_discretization.cpp src/solvers/sdm_grid.cpp src/solvers/sdm_map.cpp
+          src/solvers/sdm_multipliers.cpp src/solvers/sdm_floquet.cpp src/solvers/sdm_search.cpp src/solvers/time_domain_model.cpp
+          src/solvers/time_domain_run.cpp src/solvers/time_domain_analysis.cpp src/solvers/time_domain_lobes.cpp"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
     srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp"
