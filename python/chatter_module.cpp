@@ -46,6 +46,7 @@ PYBIND11_MODULE(chatter, m) {
   chatter_py::bind_lobes(m);
   chatter_py::bind_operations(m);
   chatter_py::bind_simulate(m);
+  chatter_py::bind_optimization(m);
   bind_grinding(m);
   bind_forced(m);
 }

@@ -41,6 +41,7 @@ case "$target" in
   config)
     srcs="src/io/config.cpp src/io/config_read.cpp src/io/config_process.cpp src/io/config_structure.cpp
           src/io/config_positions.cpp src/io/config_sweep.cpp src/io/config_uncertainty.cpp src/io/config_grinding.cpp
+          src/io/config_optimization.cpp src/model/optimization_problem.cpp
           src/grinding/process.cpp src/grinding/empirical.cpp
           src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/model/position.cpp src/model/uncertainty.cpp src/solvers/phase_search.cpp
           src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp
