@@ -81,7 +81,8 @@ struct Performance {
   double depth_limit_m = 0.0;
   /// Where that limit is (m along the part; NaN without positions).
   double weakest_position_m = 0.0;
-  /// depth_limit / depth (+inf unbounded; NaN not evaluated).
+  /// depth_limit / depth (+inf unbounded; NaN not evaluated, or a depth
+  /// beyond the searched depth / the required margin with no limit found).
   double stability_margin = 0.0;
   /// Where the dimensional error is largest (m; NaN without positions).
   double worst_error_position_m = 0.0;

@@ -3,6 +3,7 @@
 // loss map, and the adaptive loop of seed 003. The numbers come from the
 // library (chatter/optimization.hpp), the records from the records layer,
 // the plot from the io layer (io/plot_optimization.hpp).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -89,10 +90,16 @@ std::optional<Bounds> depth_override(const po::variables_map& vm) {
   return Bounds{v.front(), v.back()};
 }
 
-OptimizationModel build_model(const Loaded& l, const po::variables_map& vm) {
+// `performance_depth_m`: performance's one depth (a number, not bounds): the
+// bounds widen to take it, so the lobe solvers search deep enough for it.
+OptimizationModel build_model(const Loaded& l, const po::variables_map& vm,
+                              std::optional<double> performance_depth_m = std::nullopt) {
   OptimizationSpec spec = *l.cfg.optimization;
   if (vm.count("no-stability")) spec.constraints.stability = false;
-  if (const auto d = depth_override(vm)) spec.depth_m = *d;
+  if (performance_depth_m)
+    spec.depth_m = {std::min(spec.depth_m.lo, *performance_depth_m), std::max(spec.depth_m.hi, *performance_depth_m)};
+  else if (const auto d = depth_override(vm))
+    spec.depth_m = *d;
   ModelOptions o;
   o.method = vm["method"].as<std::string>();
   o.position_m = l.position_m;
@@ -196,13 +203,13 @@ int cmd_performance(const std::vector<std::string>& args) {
   IndexValues measured = unknown_indices();
   if (vm.count("index"))
     for (const std::string& a : vm["index"].as<std::vector<std::string>>()) parse_index(a, op, measured);
-  const OptimizationModel model = build_model(l, vm);
-  const double diameter = l.cfg.optimization->diameter_m;
   auto positive = [&](const std::string& flag) {
     const double x = vm[flag].as<double>();
     if (!(std::isfinite(x) && x > 0.0)) throw InputError("--" + flag + " = " + fmt(x) + ": must be > 0");
     return x;
   };
+  const OptimizationModel model = build_model(l, vm, positive("depth-mm") * 1e-3);
+  const double diameter = l.cfg.optimization->diameter_m;
   SetPoint p;
   p.spindle_rpm = vm.count("rpm") ? positive("rpm") : spindle_rpm_of(diameter, positive("cutting-speed-m-per-min"));
   p.feed_m = positive(right) * 1e-3;

@@ -202,6 +202,10 @@ Performance OptimizationModel::evaluate(const SetPoint& p, const Corrections& co
     }
     if (!positions_m_.empty()) r.weakest_position_m = positions_m_[static_cast<std::size_t>(where)];
     r.stability_margin = r.depth_limit_m / p.depth_m;
+    // No limit below the searched depth proves the margin only up to it: a
+    // depth beyond the search over the margin is not judged (NaN: fails).
+    if (std::isinf(r.depth_limit_m) && p.depth_m * spec_.constraints.stability_margin > depth_search_m_)
+      r.stability_margin = kNaN;
   }
 
   r.loss = 0.0;
