@@ -1,5 +1,5 @@
 // Choosing and correcting cutting parameters under every constraint,
-// stability included (issue 29, docs/optimization.md, docs/physics.md §13):
+// stability included (issue 29, docs/optimization.md):
 // the forward models of the performance indices at a set-point
 // (OptimizationModel::evaluate: `chatter performance`), the constrained
 // optimum over the bounds (optimize: `chatter optimize`), and the adaptive
@@ -236,7 +236,7 @@ struct AdaptStepResult {
   double step = 0.0;               ///< the move, in bound ranges
 };
 
-/// One step of the loop (docs/physics.md §13): correct each measured index's
+/// One step of the loop (docs/optimization.md): correct each measured index's
 /// model by measured / predicted at state.point (an unmeasured index keeps
 /// its correction), find the corrected optimum, and move toward it: along
 /// the segment from the set-point to the optimum, at most settings.max_step

@@ -1,5 +1,5 @@
 // The process-optimisation problem as plain data (docs/optimization.md,
-// docs/physics.md §13): the performance indices of a cut, the weighted loss
+// docs/optimization.md): the performance indices of a cut, the weighted loss
 // that combines them (a Taguchi-style loss, seed 003), the constraints, the
 // bounds of the set-point and the closed-form index models (removal rate,
 // roughness, tool life, cost and production rate). Read from a config's
@@ -63,7 +63,7 @@ std::string_view sense_name(Sense sense);
 
 /// P = Σ α_i g_i(x_i): α_i = β_i P_c / x_c,i² with g = x² for a smaller-is-
 /// better index, α_i = β_i P_c x_c,i with g = 1/x for a larger-is-better
-/// one (docs/physics.md §13; seed 003 eq. 1.13–1.18).
+/// one (docs/optimization.md; seed 003 eq. 1.13–1.18).
 struct LossSpec {
   /// P_c, the critical loss (currency per part, > 0): the part's value plus
   /// the cost of the operations before and of this one in the seed.
@@ -98,7 +98,7 @@ struct RoughnessModel {
 
 /// Tool life, cost and production rate of one operation per part (seed 003
 /// eq. 0.2–0.9, with Taylor's law the right way round: V T^n = C, T =
-/// (C/V)^(1/n); docs/physics.md §13). Times in minutes, rates per hour.
+/// (C/V)^(1/n); docs/optimization.md). Times in minutes, rates per hour.
 struct Economics {
   double taylor_c_m_per_min = 0.0;  ///< C: the speed of a one-minute tool life, m/min (> 0)
   double taylor_n = 0.0;            ///< n in (0, 1)
@@ -151,7 +151,7 @@ struct Bounds {
   bool fixed() const { return lo == hi; }
 };
 
-/// The adaptive loop's tuning (docs/physics.md §13, docs/optimization.md).
+/// The adaptive loop's tuning (docs/optimization.md).
 struct AdaptSettings {
   /// γ in (0, 1]: each step aims at a loss γ × the current one (never below
   /// the corrected optimum's); 0.95 in seed 003.

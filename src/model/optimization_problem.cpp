@@ -1,6 +1,6 @@
 // The optimisation problem's closed forms (include/chatter/optimization_problem.hpp):
 // index names, the loss and its coefficients, roughness, tool life, cost and
-// production rate (docs/physics.md §13; seed 003 eq. 0.2–0.9 and 1.13–1.18).
+// production rate (docs/optimization.md; seed 003 eq. 0.2–0.9 and 1.13–1.18).
 #include "chatter/optimization_problem.hpp"
 
 #include <algorithm>

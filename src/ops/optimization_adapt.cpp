@@ -1,5 +1,5 @@
-// The adaptive loop of seed 003 (include/chatter/optimization.hpp, docs/physics.md
-// §13): adapt_step corrects the models from one measurement and moves the
+// The adaptive loop of seed 003 (include/chatter/optimization.hpp, docs/optimization.md):
+// adapt_step corrects the models from one measurement and moves the
 // set-point toward the corrected optimum; adapt runs it against a plant.
 #include <algorithm>
 #include <cmath>
