@@ -198,7 +198,10 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
 typedef enum chatter_grinding_target {
   CHATTER_GRINDING_POWER_W = 0,          /* value: useful grinding power, W */
   CHATTER_GRINDING_DEPTH_MM = 1,         /* value: target maximum depth of the groove, mm */
-  CHATTER_GRINDING_REMOVAL_MM3_PER_S = 2 /* value: target removal rate, mm^3/s */
+  CHATTER_GRINDING_REMOVAL_MM3_PER_S = 2, /* value: target removal rate, mm^3/s */
+  /* Not a target: makes the enum int-sized so any int a caller passes is a
+   * representable value (it is refused with CHATTER_INPUT_ERROR). */
+  CHATTER_GRINDING_TARGET_FORCE_INT = 0x7fffffff
 } chatter_grinding_target;
 
 /* What a power set-point gives (or the power of a target), as `chatter grind

@@ -8,12 +8,21 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
 #include "chatter/error.hpp"
 
 namespace chatter::td_detail {
+
+// A relative displacement beyond these stops a run with a static chip: 1 m
+// (no machine structure moves that far), or 10 mm when the integrator gave
+// up on it (CV_TOO_MUCH_WORK on a runaway) — both far beyond any chatter.
+// Found by the extremes test: a mode of 1 N/m (30 m of static deflection)
+// ran 88 s and ended in an internal error.
+constexpr double kRunawayDisplacementM = 1.0;
+constexpr double kFailedRunawayDisplacementM = 1e-2;
 namespace {
 
 using detail::HistoryEntry;
@@ -323,6 +332,34 @@ double SimulationRun::segment_mid(double tt, double t_next) const {
   return 0.5 * (tt + (t_next > tt + 1e-9 * tau_ ? std::min(t_next, tt + dt_) : tt + dt_));
 }
 
+double SimulationRun::displacement_now() const {
+  const double* y = y_->data();
+  double r[2] = {0.0, 0.0};
+  for (int i = 0; i < n_; ++i) {
+    r[0] += m_.modal().S(0, i) * y[i];
+    r[1] += m_.modal().S(1, i) * y[i];
+  }
+  return std::hypot(r[0], r[1]);
+}
+
+void SimulationRun::check_step(int flag) {
+  // A linear run rescales its state every period (end_of_period); only a run
+  // with a static chip (nonlinear, or linear with the feed) can run away.
+  if (!homogeneous(s_)) {
+    const double r = displacement_now();
+    if (r > kRunawayDisplacementM || (flag < 0 && r > kFailedRunawayDisplacementM)) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "the simulated displacement reached %.3g mm at t = %.3g s (%.3g periods)",
+                    r * 1e3, t_, t_ / tau_);
+      throw InputError("time-domain: " + std::string(buf) +
+                       ": no machine structure moves that far; the cut runs away, which with an accepted config "
+                       "means a stiffness or a cutting coefficient in the wrong unit (N/m for N/um, N/m^2 for "
+                       "N/mm^2)?");
+    }
+  }
+  cv_->check(flag, "CVode");
+}
+
 void SimulationRun::restart(double tt) {
   long ns = 0, nf = 0;
   CVodeGetNumSteps(mem_, &ns);
@@ -359,7 +396,7 @@ void SimulationRun::step_to_grid_point(long i) {
   bool root_at_grid = false;
   while (true) {
     const int flag = CVode(mem_, target, *y_, &t_, CV_NORMAL);
-    cv_->check(flag, "CVode");
+    check_step(flag);
     if (t_ >= target - 1e-12 * tau_) {  // at the grid point (possibly also a stop or a root)
       if (flag == CV_ROOT_RETURN) {
         on_root(t_);

@@ -60,6 +60,11 @@ class SimulationRun {
   void on_root(double tr);
   double segment_mid(double tt, double t_next) const;
   void restart(double tt);
+  // |r| of the current state (relative displacement, m).
+  double displacement_now() const;
+  // The integrator's flag, with a runaway (a displacement no machine shows)
+  // turned into InputError naming the likely unit mistake.
+  void check_step(int flag);
   Diagnostics store(double t, bool segment_changes, double t_next_mid);
   SeriesSample make_sample(double t, const double* yy, const Diagnostics& d) const;
   // --- outputs ---
