@@ -62,7 +62,7 @@ void add_model_options(po::options_description& d) {
   d.add_options()
       ("method", po::value<std::string>()->default_value("auto"), "lobe method of the stability constraint (auto: "
                                                                   "analytic for turning, sdm for milling)")
-      ("no-stability", "leave the stability constraint out (what seed 003 does): for comparison only")
+      ("no-stability", "leave the stability constraint out (as a loss without a lobe model): for comparison only")
       ("threads", po::value<int>()->default_value(0), "threads of the scans (0 = every core); the result does not "
                                                      "depend on it");
 }
@@ -322,7 +322,7 @@ int cmd_adapt(const std::vector<std::string>& args) {
   if (!parse(args,
              "Usage: chatter adapt CONFIG --iterations K [--gamma 0.95] [--start V,f] [--bias INDEX=PCT@ITER ...]\n"
              "                     [--measurements FILE] [--json -] [--plot loop.png]\n\n"
-             "The adaptive loop of seed 003 (docs/optimization.md): measure the indices at the current\n"
+             "The adaptive loop of an inverse-model controller (docs/optimization.md): measure the indices at the current\n"
              "set-point (a plant: the forward models with the given biases, or the rows of a measurements\n"
              "file), correct each index's model by measured / predicted, move toward the corrected\n"
              "optimum with the relaxed target gamma x loss and a step limit, never to a set-point that\n"

@@ -27,7 +27,7 @@ const Band kTaylorNBand{0.05, 0.8, "n", "", " the 0.1 (HSS) to 0.7 (ceramics) of
 constexpr UnitKey kNoseKeys[] = {{"nose_radius_mm", 1e-3, "mm"}};
 const Band kNoseBand{0.05e-3, 5e-3, "r", "m", " the 0.05 to 5 mm of tool nose radii"};
 constexpr UnitKey kGammaKeys[] = {{"gamma", 1.0, ""}};
-const Band kGammaBand{0.8, 1.0, "gamma", "", " the 0.9 to 0.98 seed 003 tried (0.95 kept)"};
+const Band kGammaBand{0.8, 1.0, "gamma", "", " the 0.9 to 0.98 of inverse-model control (0.95 usual)"};
 
 constexpr Range kPercent{"in [0, 100]", 0.0, false, 100.0, false};
 constexpr Range kMargin{">= 1", 1.0, false, kInf, true};
