@@ -272,7 +272,7 @@ TEST(Adapt, ConvergesFromThreeStartsWithin30Iterations) {
 
 // A 5 % bias of every index from iteration 15: the corrections take it in,
 // the loop settles again by iteration 30 within 5 % of the corrected models'
-// optimum, and the loss moves by a few percent.
+// optimum, and the loss moves by under 3 %.
 TEST(Adapt, ReconvergesAfterA5PercentBiasMidRun) {
   const Config c = load_config(kSeed);
   const OptimizationModel m = seed_model(c);
@@ -290,7 +290,7 @@ TEST(Adapt, ReconvergesAfterA5PercentBiasMidRun) {
   EXPECT_TRUE(run.final_state.converged);
   const double change = (final_loss(run) - before) / before;
   EXPECT_GT(change, 0.0);
-  EXPECT_LT(change, 0.10);
+  EXPECT_LT(change, 0.03);  // 1.7 % here; the source study reports about 1.3 %
 }
 
 TEST(Adapt, StepNeverMovesToAFailingPointAndKeepsUnmeasuredCorrections) {
