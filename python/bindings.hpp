@@ -2,7 +2,13 @@
 // in its own bind_*.cpp; chatter_module.cpp calls them all.
 #pragma once
 
+#include <memory>
+
 #include <pybind11/pybind11.h>
+
+namespace chatter {
+struct Config;
+}
 
 namespace chatter_py {
 
@@ -17,3 +23,10 @@ void bind_shop(pybind11::module_& m);        // coefficients, detect, fit (bind_
 
 /// grind_predict, grind_fit (python/bind_grinding.cpp; docs/python.md, docs/grinding.md).
 void bind_grinding(pybind11::module_& m);
+
+/// The config of a chatter.Job (python/module_common.cpp, where Job lives).
+/// @throws pybind11::cast_error when `job` is not a chatter.Job.
+std::shared_ptr<const chatter::Config> job_config(const pybind11::handle& job);
+
+/// chatter.forced, chatter.sle (python/bind_forced.cpp; docs/python.md).
+void bind_forced(pybind11::module_& m);

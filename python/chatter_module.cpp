@@ -50,4 +50,5 @@ PYBIND11_MODULE(_chatter, m) {
   chatter_py::bind_tables(m);
   chatter_py::bind_shop(m);
   bind_grinding(m);
+  bind_forced(m);
 }

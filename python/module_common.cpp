@@ -1,4 +1,5 @@
 // Shared pieces of the Python module (python/module.hpp).
+#include "bindings.hpp"
 #include "module.hpp"
 
 #include <cmath>
@@ -161,6 +162,14 @@ py::array_t<double> array_of(const std::vector<double>& v) {
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
 }
+
+}  // namespace chatter_py
+
+std::shared_ptr<const chatter::Config> job_config(const pybind11::handle& job) {
+  return job.cast<const chatter_py::Job&>().cfg;
+}
+
+namespace chatter_py {
 
 py::object to_python(const nlohmann::json& j) {
   switch (j.type()) {

@@ -1266,7 +1266,8 @@ TEST_F(CliTest, StiffnessInNPerUmWarnsInEveryJsonOutput) {
            "--quiet"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   has_warning(nlohmann::json::parse(slurp(js)), "compare --json");
-  r = run({"simulate", cfg.string(), "--rpm", "1000", "--depth-mm", "0.0001", "--periods", "20"});
+  // 1e-7 mm: below the (k = 45 N/m) limit of 1.3e-6 mm; deeper, the cut runs away to metres and is refused.
+  r = run({"simulate", cfg.string(), "--rpm", "1000", "--depth-mm", "1e-7", "--periods", "20"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   has_warning(nlohmann::json::parse(r.out), "simulate");
   r = run({"check", cfg.string(), "--operations",

@@ -263,7 +263,8 @@ TEST_F(ConsistencyCli, TimeDomainLobeHasTheSameDefinition) {
   const RunResult l = run({"lobes", file, "--method", "time-domain", "--rpm-min", "1500", "--rpm-max", "1600",
                            "--rpm-points", "2", "--periods", "60", "--json", t.string(), "--quiet"});
   ASSERT_EQ(l.exit_code, 0) << l.err;
-  for (const json& row : json::parse(slurp(t))["rows"]) {
+  const json table = json::parse(slurp(t));
+  for (const json& row : table["rows"]) {
     if (row["depth_limit_mm"].is_null()) continue;
     const double ratio = row["chatter_frequency_hz"].get<double>() / (row["spindle_rpm"].get<double>() / 60.0);
     EXPECT_EQ(row["lobe"].get<int>(), static_cast<int>(std::floor(ratio))) << row;

@@ -198,7 +198,10 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
 typedef enum chatter_grinding_target {
   CHATTER_GRINDING_POWER_W = 0,          /* value: useful grinding power, W */
   CHATTER_GRINDING_DEPTH_MM = 1,         /* value: target maximum depth of the groove, mm */
-  CHATTER_GRINDING_REMOVAL_MM3_PER_S = 2 /* value: target removal rate, mm^3/s */
+  CHATTER_GRINDING_REMOVAL_MM3_PER_S = 2, /* value: target removal rate, mm^3/s */
+  /* Not a target: makes the enum int-sized so any int a caller passes is a
+   * representable value (it is refused with CHATTER_INPUT_ERROR). */
+  CHATTER_GRINDING_TARGET_FORCE_INT = 0x7fffffff
 } chatter_grinding_target;
 
 /* What a power set-point gives (or the power of a target), as `chatter grind
@@ -266,6 +269,37 @@ chatter_status chatter_grinding_fit(const char* tests_csv, const char* model, co
  * (buffer, size, length as chatter_grinding_predict_json). */
 chatter_status chatter_grinding_fit_json(const char* tests_csv, const char* model, const char* variable, char* buffer,
                                          size_t size, size_t* length);
+/* --- Forced vibration of a stable cut (docs/forced.md) ---------------
+ * Below the stability limit the cutting force still drives the structure:
+ * the surface location error (milling), the diametral error (turning), the
+ * vibration, and whether a tooth leaves the cut (then the linear limit of
+ * the lobes does not hold). The numbers of `chatter forced --json`. */
+
+typedef struct chatter_forced_result {
+  int stable;                       /* 1: stable (sdm spectral radius < 1); 0: unstable, no forced response:
+                                       every field below but spectral_radius and depth_limit_mm is NaN */
+  double spectral_radius;           /* sdm, per Floquet period */
+  double depth_limit_mm;            /* sdm depth limit at the speed; HUGE_VAL: none below the searched depth */
+  double surface_location_error_um; /* milling: the machined wall's offset, + = material left (the value of
+                                       largest magnitude over the wall height); turning: the deflection
+                                       along the radius */
+  double sle_min_um, sle_max_um;    /* over the wall height (milling); = the SLE in turning */
+  double peak_to_peak_x_um, peak_to_peak_y_um;       /* relative vibration over one period */
+  double static_deflection_x_um, static_deflection_y_um; /* mean relative displacement */
+  double min_chip_thickness_um;     /* smallest linear chip over the teeth and the period */
+  double negative_chip_arc_deg;     /* longest arc of one tooth with a negative chip */
+  int teeth_leave_cut;              /* 1: that arc exceeds 5 % of the engaged arc */
+  int linear_limit_holds;           /* 1: stable and no tooth leaves the cut */
+  double diametral_error_um;        /* turning: 2 x the deflection; NaN in milling */
+} chatter_forced_result;
+
+/* The forced response at spindle_rpm (> 0) and depth_mm (> 0) with the
+ * feed feed_mm (> 0): per tooth in milling, per revolution in turning.
+ * CHATTER_OK for an unstable cut too (out->stable = 0). Cost: one sdm
+ * analysis and depth-limit search at the speed plus the response (a few
+ * ms to a few tens of ms). Thread-safe on the same model. */
+chatter_status chatter_forced_response(const chatter_model* model, double spindle_rpm, double depth_mm, double feed_mm,
+                                       chatter_forced_result* out);
 
 #ifdef __cplusplus
 }

@@ -18,20 +18,9 @@
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "chatter/transfer_function.hpp"
-#include "capi_guard.hpp"
+#include "capi_internal.hpp"
 
 #include <nlohmann/json.hpp>
-
-struct chatter_model {
-  chatter::Config config;
-};
-
-struct chatter_solver {
-  std::unique_ptr<chatter::LobeSolver> solver;
-  std::string method;                 // "auto" resolved
-  chatter::Process process;           // for the point report's frequencies
-  chatter::RecordSource source;       // warnings and notes for the point record
-};
 
 namespace {
 

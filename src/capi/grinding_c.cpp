@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "capi_guard.hpp"
+#include "capi_internal.hpp"
 #include "chatter/chatter.h"
 #include "chatter/error.hpp"
 #include "chatter/grinding.hpp"

@@ -1,6 +1,7 @@
 // `chatter check` and `chatter recommend`: the operation check and the speed
 // recommendation of include/chatter/operations.hpp, for CAM post-processors.
 // User guide: docs/operations.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -79,7 +80,7 @@ const char* const kCheckUsage = R"(Usage: chatter check CONFIG --operations OPS.
 
 Checks each planned operation against the stability lobes. OPS.csv has a header
 and one operation per line:
-  id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm[,teeth,milling_direction]
+  id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm[,teeth,milling_direction,max_sle_um|tolerance_um]
 (radial_immersion = a_e/D, empty = the config's; leave it, teeth and
 milling_direction empty for turning; feed_per_tooth_mm may be empty.)
 For each operation: stable?, margin = depth limit / depth (> 1 is stable; 'inf'
@@ -92,9 +93,15 @@ worst_margin is the smallest margin over the row's own speed band.
 Rows that cannot be read are listed with their line number and reason; the
 other rows are still checked.
 
-Exit status: 0 every row read and judged, every operation stable;
+With a feed, each row also gets its forced vibration (docs/forced.md): the
+surface location error (milling) or diametral error (turning), whether the
+teeth leave the cut, and with a max_sle_um (or tolerance_um) column whether
+the part is within that tolerance.
+
+Exit status: 0 every row read and judged, every operation stable (and within
+               its tolerance);
              3 every row read and judged, some operations unstable (chatter
-               predicted);
+               predicted) or out of their tolerance;
              2 some rows invalid or not judged (a row whose overrides make no
                cutter, a solver that failed on it: each listed with its line
                and reason; the others are still checked and reported), or the
@@ -166,6 +173,26 @@ int cmd_check(const std::vector<std::string>& args) {
     t.push_back(std::move(r));
   }
 
+  // The forced vibration of the rows with a feed (their SLE or diametral
+  // error, teeth leaving the cut, the part's tolerance; docs/forced.md).
+  const bool any_forced = std::any_of(report.checks.begin(), report.checks.end(),
+                                      [](const OperationCheck& c) { return c.forced.has_value(); });
+  const bool any_tolerance = std::any_of(report.checks.begin(), report.checks.end(),
+                                         [](const OperationCheck& c) { return c.forced && c.op.max_error_m; });
+  if (any_forced) {
+    t.front().insert(t.front().end(), {milling ? "sle_um" : "diam_err_um", "leaves_cut", "tolerance"});
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& f = report.checks[i].forced;
+      const auto& op = report.checks[i].op;
+      if (!f || !f->response.stable) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", op.max_error_m && f ? "OUT" : "-"});
+        continue;
+      }
+      t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
+      t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
+      t[i + 1].push_back(!op.max_error_m ? "-" : f->within_tolerance ? "ok" : "OUT");
+    }
+  }
   const int status = check_exit_status(report, file);
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
@@ -187,8 +214,9 @@ int cmd_check(const std::vector<std::string>& args) {
           << "\n";
   }
   out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
-      << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size()
-      << " not judged; exit status " << status << "\n";
+      << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size() << " not judged"
+      << (any_tolerance ? ", " + std::to_string(report.out_of_tolerance()) + " out of tolerance" : "")
+      << "; exit status " << status << "\n";
 
   if (!json_path.empty()) {
     CheckRecordInputs in;

@@ -60,6 +60,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                          "else 0.1)")
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
+      ("linear-forced", "linear delay equation with the static chip (the feed; the tool never leaves the cut): the "
+                        "run converges to the forced response of chatter forced, which it cross-checks")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
       ("fail-on-chatter", "exit with status 3 when the verdict is chatter (for scripts: 0 stable, 3 chatter, 2 bad "
                           "input)")
@@ -105,6 +107,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (vm.count("revolutions") && vm.count("periods"))
     throw InputError("--revolutions and --periods: give one of them");
+  if (vm.count("linear") && vm.count("linear-forced"))
+    throw InputError("--linear and --linear-forced: give one of them (--linear-forced is linear with the feed)");
   const int per_rev = simulation_periods_per_revolution(cfg.process, rpm, vm.count("linear") > 0);
   if (vm.count("revolutions")) {
     if (revolutions < 1 || revolutions > 1000000)
@@ -124,7 +128,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   st.depth_m = depth_mm * 1e-3;
   st.periods = periods;
   st.feed_m = feed_mm * 1e-3;
-  st.linear = vm.count("linear") > 0;
+  st.linear = vm.count("linear") > 0 || vm.count("linear-forced") > 0;
+  st.linear_static_chip = vm.count("linear-forced") > 0;
   st.multiple_regeneration = vm.count("multiple-regeneration") > 0;
   st.record_series = !out_path.empty() || !plot_path.empty() || show.requested;
   double f_max = 0.0;  // the spectrum of the plots reaches 2.5 x the highest natural frequency
@@ -149,6 +154,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
 
   nlohmann::json j = simulation_record(r, simulation_request(st, cfg.process, rtol, depth_mm, feed_mm),
                                        record_source(cfg, common.position_mm));
+  if (!r.linear_limit_warning.empty()) std::cerr << "warning: " << r.linear_limit_warning << "\n";
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {

@@ -20,5 +20,7 @@ int cmd_point(const std::vector<std::string>& args);         // src/cli/cmd_poin
 int cmd_frf(const std::vector<std::string>& args);           // src/cli/cmd_frf.cpp
 int cmd_map(const std::vector<std::string>& args);           // src/cli/cmd_map.cpp
 int cmd_grind(const std::vector<std::string>& args);         // src/cli/cmd_grind.cpp (docs/grinding.md)
+int cmd_forced(const std::vector<std::string>& args);        // src/cli/cmd_forced.cpp
+int cmd_sle(const std::vector<std::string>& args);           // src/cli/cmd_forced.cpp
 
 }  // namespace chatter::cli

@@ -45,6 +45,10 @@ const Command kCommands[] = {
      "docs/time_domain.md", chatter::cli::cmd_simulate},
     {"surface", "lobes along the part: the limit over tool position x speed", "docs/position.md",
      chatter::cli::cmd_surface},
+    {"forced", "the forced vibration of a stable cut: surface location error, diametral error, teeth out of the cut",
+     "docs/forced.md", chatter::cli::cmd_forced},
+    {"sle", "surface location error and peak-to-peak vibration against spindle speed, under the lobes",
+     "docs/forced.md", chatter::cli::cmd_sle},
     {"fit", "modes (frequency, damping, stiffness) fitted to a measured FRF (tap test)", "docs/frf.md",
      chatter::cli::cmd_fit},
     {"frf", "receptance of the tool, the workpiece and the relative motion", "docs/frf.md", chatter::cli::cmd_frf},
@@ -96,7 +100,8 @@ plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
 and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable; lobes --depth-mm D, point and
-simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter).
+simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter;
+forced: 3 when the cut is unstable).
 )";
   return os.str();
 }

@@ -653,7 +653,7 @@ namespace {
 
 const std::vector<std::string> kRequiredColumns = {"id", "spindle_rpm", "depth_mm", "radial_immersion",
                                                    "feed_per_tooth_mm"};
-const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction"};
+const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction", "max_sle_um", "tolerance_um"};
 
 using detail::text::trim;
 
@@ -847,6 +847,17 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       else if (nt > kMaxTeeth) reasons.push_back("teeth = " + std::to_string(nt) + ": must be <= " + std::to_string(kMaxTeeth));
       else row.teeth = nt;
     }
+    // Issue 27: the part's tolerance on the surface location error (milling)
+    // or the diametral error (turning), µm; either name.
+    for (const char* name : {"max_sle_um", "tolerance_um"})
+      if (const std::string_view s = field(name); !s.empty()) {
+        double tol = 0.0;
+        if (number(name, tol)) {
+          if (!(tol > 0.0)) reasons.push_back(std::string(name) + " = " + num(tol) + ": must be > 0 um");
+          else if (row.max_error_m) reasons.push_back(std::string(name) + ": max_sle_um and tolerance_um both given");
+          else row.max_error_m = tol * 1e-6;
+        }
+      }
     if (const std::string_view s = field("milling_direction"); !s.empty()) {
       if (!milling)
         reasons.push_back("milling_direction = " + in_quotes(s) + ": only for milling (leave empty for turning)");
@@ -921,6 +932,12 @@ std::string CheckOptions::validate() const {
   else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
     os << "CheckOptions::flute_length_m = " << *flute_length_m << ": must be > 0 m";
   return os.str();
+}
+
+std::size_t CheckReport::out_of_tolerance() const {
+  return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
+    return c.forced && c.op.max_error_m && !c.forced->within_tolerance;
+  }));
 }
 
 std::size_t CheckReport::unstable() const {
@@ -1080,6 +1097,20 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
                                 num(rows[i].depth_m * 1e3) + " mm is over " + num(kImplausibleMarginFactor) +
                                 " times the stability limit " + num(c.limit.depth_limit_m * 1e3) +
                                 " mm at its speed: a depth in um?");
+  }
+  // The forced vibration of every judged row with a feed (issue 27): its
+  // surface location or diametral error and the part's tolerance. A solver
+  // that cannot give it (e.g. measured FRFs) leaves the row without it, said
+  // once in the warnings.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!judged[i]) continue;
+    try {
+      checks[i].forced = forced_check(model, process, rows[i]);
+    } catch (const std::exception& e) {
+      const std::string w = std::string("forced vibration not computed: ") + e.what();
+      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
+        report.warnings.push_back(w);
+    }
   }
   if (options.progress) options.progress(1.0);
   for (std::size_t i = 0; i < rows.size(); ++i)

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/forced.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/lobes.hpp"
 
@@ -206,6 +207,72 @@ void explain_simulation(const ComparedMethod& r, bool turning, std::size_t flips
               "average out.\n";
 }
 
+// A simulation deeper than the linear methods by more than this (relative)
+// at some speed is checked for teeth leaving the cut below the linear limit.
+constexpr double kForcedExplainRel = 0.05;
+// The forced response is read this far below the linear limit (a stable
+// cut: a forced response exists).
+constexpr double kBelowLinearLimit = 0.95;
+
+// The simulation with the real chip finds a cut stable deeper than the
+// linear methods when the forced vibration below the linear limit already
+// throws the teeth out of the cut (the linear limit does not hold there). At
+// the speed where the simulation is deepest relative to the linear reference
+// (sdm, else the averaged method), the forced response at 0.95 x that limit
+// says whether this is the cause.
+void explain_forced(const Config& cfg, const Comparison& c, std::ostream& report) {
+  const std::vector<double>& speeds = c.speeds_rpm;
+  const ComparedMethod *sim = nullptr, *lin = nullptr;
+  for (const auto& r : c.methods) {
+    if (r.descriptor->kind == SolverKind::kSimulation && !sim) sim = &r;
+    if (r.descriptor->kind == SolverKind::kFloquet && !lin) lin = &r;
+  }
+  for (const auto& r : c.methods)
+    if (!lin && r.descriptor->kind == SolverKind::kAveraged) lin = &r;
+  if (!sim || !lin || cfg.process.operation() != Operation::kMilling) return;
+  if (const auto it = sim->options.find("linear"); it != sim->options.end() && std::get<bool>(it->second)) return;
+  std::size_t at = speeds.size();
+  double worst = kForcedExplainRel;
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    const StabilityLimit &a = sim->rows[i], &b = lin->rows[i];
+    if (!b.bounded()) continue;
+    const double rel = a.bounded() ? a.depth_limit_m / b.depth_limit_m - 1.0 : 1.0;
+    if (rel > worst) {
+      worst = rel;
+      at = i;
+    }
+  }
+  if (at == speeds.size()) return;
+  const double feed_m = std::get<double>(sim->options.at("feed_m"));
+  ForcedResponse f;
+  try {
+    ForcedSettings st;
+    st.spindle_rpm = speeds[at];
+    st.depth_m = kBelowLinearLimit * lin->rows[at].depth_limit_m;
+    st.feed_m = feed_m;
+    st.record_path = false;
+    f = ForcedResponseSolver(cfg.model, cfg.process).response(st);
+  } catch (const InputError&) {
+    return;  // e.g. measured FRFs: no forced response to explain with
+  }
+  if (!f.stable) return;
+  report << "  " << sim->descriptor->name << " is " << fmt(100.0 * worst, 3) << " % deeper than "
+         << lin->descriptor->name << " at " << fmt(speeds[at]) << " rev/min. ";
+  if (f.teeth_leave_cut)
+    report << "There the forced vibration at " << fmt(100.0 * kBelowLinearLimit, 3) << " % of the\n  "
+           << lin->descriptor->name << " limit (" << fmt(f.depth_m * 1e3, 4) << " mm, feed " << fmt(feed_m * 1e3, 4)
+           << " mm) is " << fmt(1e6 * std::max(f.peak_to_peak_x_m, f.peak_to_peak_y_m), 3)
+           << " um peak to peak and the teeth leave the cut (linear chip negative over "
+           << fmt(f.negative_chip_arc_deg, 3) << " deg,\n  " << fmt(100.0 * f.negative_chip_fraction, 3)
+           << " % of the arc): below its limit the linear model no longer holds, and the simulation with the real "
+              "chip\n  finds the cut stable deeper (check the part with chatter forced / chatter sle; "
+              "docs/forced.md).\n";
+  else
+    report << "The forced vibration there stays inside the chip (no tooth leaves the cut at\n  "
+           << fmt(100.0 * kBelowLinearLimit, 3) << " % of the " << lin->descriptor->name
+           << " limit): the difference is not the forced vibration.\n";
+}
+
 std::string explanation(const Config& cfg, const Comparison& c) {
   std::ostringstream report;
   const std::vector<double>& speeds = c.speeds_rpm;
@@ -232,6 +299,7 @@ std::string explanation(const Config& cfg, const Comparison& c) {
       flips = std::max(flips, explain_floquet(r, averaged, cfg, speeds.size(), report));
   for (const auto& r : c.methods)
     if (r.descriptor->kind == SolverKind::kSimulation) explain_simulation(r, turning, flips, report);
+  explain_forced(cfg, c, report);
   return report.str();
 }
 

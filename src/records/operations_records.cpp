@@ -8,7 +8,8 @@
 
 #include "chatter/error.hpp"
 #include "chatter/records.hpp"
-#include "chatter/io/table_writer.hpp"  // version()
+#include "chatter/io/forced_records.hpp"  // forced_check_json
+#include "chatter/io/table_writer.hpp"    // version()
 
 namespace chatter {
 
@@ -167,7 +168,7 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
 
 int check_exit_status(const CheckReport& report, const OperationsFile& file) {
   if (!file.rejected.empty() || !report.not_judged.empty()) return 2;
-  return report.unstable() > 0 ? 3 : 0;
+  return report.unstable() > 0 || report.out_of_tolerance() > 0 ? 3 : 0;
 }
 
 json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
@@ -210,6 +211,10 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
       o["teeth"] = c.op.teeth.value_or(mp.teeth);
       o["milling_direction"] = direction_name(c.op.direction.value_or(mp.direction));
     }
+    // The forced vibration (null without a feed; docs/forced.md).
+    o["forced"] = c.forced ? json::parse(forced_check_json(c.forced->response, c.op.max_error_m,
+                                                           c.forced->within_tolerance))
+                           : json(nullptr);
     if (c.suggestion) {
       json s = limit_json(*c.suggestion);
       s["margin"] = finite_or_null(c.suggestion_margin);
@@ -231,7 +236,8 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
                   {"stable", report.checks.size() - report.unstable()},
                   {"unstable", report.unstable()},
                   {"rejected", file.rejected.size()},
-                  {"not_judged", report.not_judged.size()}};
+                  {"not_judged", report.not_judged.size()},
+                  {"out_of_tolerance", report.out_of_tolerance()}};
   j["exit_status"] = check_exit_status(report, file);
   return j;
 }

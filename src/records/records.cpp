@@ -167,6 +167,17 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
                          {"frequency_hz", r.harmonics[k].frequency_hz},
                          {"amplitude_um", r.harmonics[k].amplitude_m * 1e6}});
   j["harmonics"] = harmonics;
+  // What the run measured of the forced vibration, the teeth out of the cut
+  // and the linear limit's validity (docs/forced.md).
+  if (st.linear_static_chip) j["feed_per_tooth_mm"] = q.feed_mm;
+  j["linear_static_chip"] = st.linear_static_chip;
+  j["out_of_cut_fraction_per_tooth"] = r.out_of_cut_fraction_per_tooth;
+  j["teeth_leave_cut"] = r.teeth_leave_cut;
+  j["forced"] = {{"steady", r.forced_steady},
+                 {"peak_to_peak_um", {{"x", r.forced_peak_to_peak_x_m * 1e6}, {"y", r.forced_peak_to_peak_y_m * 1e6}}},
+                 {"static_deflection_um", {{"x", r.forced_static_x_m * 1e6}, {"y", r.forced_static_y_m * 1e6}}},
+                 {"surface_location_error_um", finite_or_null(r.forced_surface_location_error_m * 1e6)}};
+  j["linear_limit_warning"] = r.linear_limit_warning.empty() ? json(nullptr) : json(r.linear_limit_warning);
   j["integrator"] = {{"name", "SUNDIALS CVODE, Adams-Moulton order <= 5, fixed-point iteration"},
                      {"relative_tolerance", q.relative_tolerance},
                      {"steps", r.steps},

@@ -1,15 +1,32 @@
-// Internal: the one error channel of the C API (chatter_c.cpp, grinding_c.cpp):
-// the thread's last message and the wrapper that maps exceptions to status
-// codes. Nothing propagates into C.
+// Internal to the C API (src/capi/*.cpp; not installed): the handles'
+// definitions and the one error channel every entry point runs its body in
+// (the thread's last message and the wrapper that maps exceptions to status
+// codes: nothing propagates into C).
 #pragma once
 
 #include <exception>
+#include <memory>
 #include <new>
 #include <string>
 #include <utility>
 
 #include "chatter/chatter.h"
 #include "chatter/error.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/lobes.hpp"
+#include "chatter/process.hpp"
+#include "chatter/records.hpp"
+
+struct chatter_model {
+  chatter::Config config;
+};
+
+struct chatter_solver {
+  std::unique_ptr<chatter::LobeSolver> solver;
+  std::string method;            // "auto" resolved
+  chatter::Process process;      // for the point report's frequencies
+  chatter::RecordSource source;  // warnings and notes for the point record
+};
 
 namespace chatter::capi {
 
