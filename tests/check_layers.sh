@@ -9,6 +9,10 @@
 #        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
 #        nlohmann; no solver class header, no ops, no Boost.
 #   ops  (src/ops, include/chatter/operations.hpp, optimization.hpp): core only.
+#   records (src/records, include/chatter/records.hpp, include/chatter/records/):
+#        no Boost, toml++ or CLI header.
+#   gnuplot-iostream (and Boost.Iostreams) only in src/cli/live_plot.cpp
+#        (the `chatter` executable's live plots; nothing else links them).
 #   MPI  (mpi.h) only in src/mpi (chatter-mpi).
 # Usage: check_layers.sh SOURCE_DIR
 set -uo pipefail
@@ -37,7 +41,10 @@ check "io includes a solver class header, ops, records or Boost" \
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
   src/ops/* include/chatter/operations.hpp include/chatter/optimization.hpp
-check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|(\.\./)+cli/' src/records/* include/chatter/records.hpp
+check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|gnuplot-iostream|(\.\./)+cli/' src/records/* include/chatter/records.hpp \
+  include/chatter/records/*
+check "gnuplot-iostream (and the Boost.Iostreams it pulls in) outside src/cli/live_plot.cpp" \
+  'gnuplot-iostream|boost/iostreams' $(ls src/*/*.cpp src/*/*.hpp include/chatter/*.hpp include/chatter/*/*.hpp python/*.cpp python/*.hpp | grep -v 'src/cli/live_plot\.cpp$')
 check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
 check "MPI outside src/mpi (the library and the chatter CLI link no MPI: docs/scaling.md)" 'mpi\.h|openmpi' \
   src/model/* src/solvers/* src/grinding/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \

@@ -136,7 +136,9 @@ TEST_P(Consistency, TableRowEqualsPointEqualsCApiEqualsCheck) {
           EXPECT_EQ(p["chatter_frequency_hz"], first["chatter_frequency_hz"]);
         }
         EXPECT_EQ(p["lobe"], row["lobe"]) << rpm;
-        if (row.contains("multiplier_type")) EXPECT_EQ(p["multiplier_type"], row["multiplier_type"]) << rpm;
+        if (row.contains("multiplier_type")) {
+          EXPECT_EQ(p["multiplier_type"], row["multiplier_type"]) << rpm;
+        }
         EXPECT_EQ(p["tooth_passing_hz"].get<double>(), ftp);
         EXPECT_DOUBLE_EQ(p["tooth_period_s"].get<double>(), 1.0 / ftp);
         EXPECT_EQ(p["depth_mm"].get<double>(), depth);  // echoed as given
@@ -152,7 +154,9 @@ TEST_P(Consistency, TableRowEqualsPointEqualsCApiEqualsCheck) {
         EXPECT_EQ(c.limit.chatter_frequency_hz, first["chatter_frequency_hz"].get<double>());
         EXPECT_EQ(c.limit.lobe, row["lobe"].get<int>());
       }
-      if (row.contains("multiplier_type") && bounded) EXPECT_EQ(std::string(c.multiplier_type), row["multiplier_type"]);
+      if (row.contains("multiplier_type") && bounded) {
+        EXPECT_EQ(std::string(c.multiplier_type), row["multiplier_type"]);
+      }
       EXPECT_EQ(c.tooth_passing_hz, ftp);
       const char* text = nullptr;
       ASSERT_EQ(chatter_point_json(cs, rpm, 0.4 * lim, &text), CHATTER_OK) << chatter_last_error();
@@ -190,8 +194,8 @@ TEST_P(Consistency, TableRowEqualsPointEqualsCApiEqualsCheck) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedConfigs, Consistency, ::testing::ValuesIn(shipped_configs()),
-                         [](const auto& info) {
-                           std::string n = info.param.substr(0, info.param.size() - 5);
+                         [](const auto& test_info) {
+                           std::string n = test_info.param.substr(0, test_info.param.size() - 5);
                            for (char& ch : n)
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;

@@ -46,6 +46,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <functional>
 #include <vector>
 
 #include "chatter/lobes.hpp"
@@ -133,6 +134,12 @@ struct SimulationSettings {
   bool record_series = true;
   /// Analyse the last `analysed_fraction` of the periods (in (0, 1]).
   double analysed_fraction = 0.5;
+  /// Called at the end of every period with the run so far: `series` (with
+  /// record_series) and `once_per_period` up to now, `periods` the total
+  /// asked; no spectrum, verdict or growth yet (a live plot: the CLI's
+  /// simulate --show). Empty: not called. Cost: the call itself; a caller
+  /// that redraws should throttle by time.
+  std::function<void(const SimulationResult& so_far)> on_period;
   /// Stop as soon as the run has settled into its periodic forced response
   /// (nonlinear mode, or linear with the static chip): the once-per-period
   /// increments below the verdict's floor (1e4 × relative_tolerance of the

@@ -95,6 +95,7 @@ Examples:
   chatter lobes configs/seed_turning_1dof.toml --table lobes.csv --plot lobes.png
   chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
   chatter lobes configs/milling_benchmark_ae005_down.toml --plot sdm.png
+  chatter lobes configs/milling_benchmark_ae005_down.toml --show     (a live gnuplot window)
   chatter check configs/seed_turning_1dof.toml --operations examples/operations/case_a_ops.csv
   chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv --plot frf.png
   chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 --plot sim.png

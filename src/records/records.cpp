@@ -6,9 +6,37 @@
 
 #include <nlohmann/json.hpp>
 
+#include "chatter/io/table_writer.hpp"  // table_number
+
 namespace chatter {
 
 using nlohmann::json;
+
+std::string arg_name(ArgStyle style, const std::string& key) {
+  if (style == ArgStyle::kKeyword) return key;
+  std::string flag = "--" + key;
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
+std::vector<std::string> method_notes(const std::string& requested, const SolverDescriptor& descriptor,
+                                      const Process& process, const SolverValues& options,
+                                      const std::string& averaged_milling, ArgStyle style) {
+  std::vector<std::string> notes = ignored_feature_notes(descriptor, process);
+  // "auto" fell back to an averaged method for milling (measured FRFs).
+  if (requested == kAutoMethod && !averaged_milling.empty())
+    notes.insert(notes.begin(), "method auto chose \"" + descriptor.name +
+                                    "\" (no Floquet method handles this input): " + averaged_milling);
+  // A method that sees runout only through its nonlinear static chip does
+  // not see it in its linear mode.
+  if (const auto it = options.find("linear"); it != options.end() && std::get_if<bool>(&it->second) &&
+      std::get<bool>(it->second) && process.has_runout() && descriptor.accepts.contains(SolverFeature::kRunout))
+    notes.push_back("runout (process.runout_um) is ignored with " +
+                    std::string(style == ArgStyle::kFlag ? "--linear" : "linear = True") +
+                    ": the linear delay equation has no static chip, which is all runout changes");
+  return notes;
+}
 
 RecordSource record_source(const Config& config, std::optional<double> position_mm) {
   RecordSource s;
@@ -30,6 +58,14 @@ json value_json(const SolverValue& v) {
         else return json(x);
       },
       v);
+}
+
+std::string value_text(const SolverValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return *s;
+  if (const auto* x = std::get_if<double>(&v)) return table_number(*x);
+  if (const auto* i = std::get_if<int>(&v)) return std::to_string(*i);
+  if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  return "";
 }
 
 namespace {

@@ -448,6 +448,7 @@ void SimulationRun::step_to_grid_point(long i) {
   if ((i % M_) == 0) {
     res_.once_per_period.push_back(smp);
     end_of_period(at_stop, root_at_grid);
+    if (s_.on_period) s_.on_period(res_);
   }
   if (at_stop || root_at_grid) restart(target);
 }
