@@ -49,10 +49,8 @@ case "$target" in
     srcs="src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
     max_len=8192 corpus=corpus-frf prefix="frf-" ;;
   operations)
-    srcs="src/ops/operations.cpp src/model/structural_model.cpp src/model/process.cpp src/solvers/phase_search.cpp
-          src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp src/solvers/factory.cpp
-          src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
-    libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
+    srcs="src/ops/operations_file.cpp src/model/structural_model.cpp src/model/process.cpp"
+    max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
     srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp"
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
