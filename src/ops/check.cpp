@@ -178,7 +178,7 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
       solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
       search.emplace(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
       search->on_solve = tick;
-      search->scan();
+      search->scan(true);
     } catch (const std::exception& e) {
       // A solver that fails on this process fails every row of it; the
       // other processes' rows are still checked.
