@@ -5,6 +5,10 @@
 // Also one depth limit by simulation (lobes --method time-domain, per speed).
 // Real cutters (issue 16): case C with a 10 mm cutter and a 30° helix on 20
 // axial slices, 200 tooth periods: target under 100 ms.
+// Lobes by simulation of a real cutter (issue 27): one depth limit per speed
+// on the issue's 4-flute variable-pitch (85/95°) 30° helix 12 mm cutter,
+// modes 1 150 / 1 230 Hz, 12 / 14 N/µm, ζ 0.02, half immersion climb, at
+// 6 000 … 16 000 rev/min: target 0.3 s per speed on one core.
 // Run: ./build/bench/bench_time_domain --benchmark_repetitions=5
 // (figures in docs/performance.md).
 #include <benchmark/benchmark.h>
@@ -76,6 +80,28 @@ void BM_CaseC_LimitAt_20000rpm(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(20000).depth_limit_m);
 }
 
+StructuralModel issue27_tool() {
+  StructuralModel m;
+  m.tool.modes.push_back(Mode::from_stiffness(1150.0, 0.02, 12e6, {1.0, 0.0}));
+  m.tool.modes.push_back(Mode::from_stiffness(1230.0, 0.02, 14e6, {0.0, 1.0}));
+  return m;
+}
+Process issue27_cutter() {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  MillingParameters p{4, 6e8, 1.8e8, 0.5, MillingDirection::kDown};
+  p.tool_diameter_m = 0.012;
+  p.helix_angles_rad = {30.0 * kDeg};
+  p.pitch_angles_rad = {85.0 * kDeg, 95.0 * kDeg, 85.0 * kDeg, 95.0 * kDeg};
+  return Process::milling(p);
+}
+
+// One limit per speed, the speed given in the argument (rev/min): what
+// `chatter lobes --method time-domain` spends per row on one core.
+void BM_VariablePitchHelix_LimitAt(benchmark::State& state) {
+  TimeDomainSolver td(issue27_tool(), issue27_cutter());
+  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(static_cast<double>(state.range(0))).depth_limit_m);
+}
+
 BENCHMARK(BM_CaseC_Stable_20000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_FlipChatter_17000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_FlipChatter_Multiple_17000rpm)->Unit(benchmark::kMillisecond);
@@ -86,6 +112,8 @@ BENCHMARK(BM_CaseC_Helix20_Chatter_10000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_Helix20_Linear_10000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_Helix1_Stable_20000rpm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaseC_Helix80_Stable_20000rpm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VariablePitchHelix_LimitAt)->Arg(8000)->Arg(10000)->Arg(12000)->Arg(14000)->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime();
 
 }  // namespace
 

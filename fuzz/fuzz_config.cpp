@@ -9,7 +9,10 @@
 // with an InputError when only rigid modes are left); where it has an
 // [uncertainty] table (docs/uncertainty.md), the spreads must pass their own
 // rules and a 3-sigma-bounded sample must still be a physical model and
-// process.
+// process. A grinding config ([grinding], docs/grinding.md) goes to
+// parse_grinding_config: accepted, its process must validate, its modes be
+// physical and its prediction at a few powers finite (or refused with an
+// InputError, an empirical model negative there).
 //
 // Build and run: see docs/reliability.md (scripts/fuzz.sh). The same entry
 // point runs over fuzz/corpus/config/ in the test suite (test_fuzz_corpus).
@@ -22,7 +25,9 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/grinding.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/io/grinding_config.hpp"
 #include "chatter/position.hpp"
 #include "chatter/uncertainty.hpp"
 #include "chatter/transfer_function.hpp"
@@ -110,8 +115,30 @@ void check_position(const chatter::Config& cfg, double x, bool range_start) {
 
 }  // namespace
 
+void check_grinding(const std::string& text) {
+  chatter::GrindingConfig g;
+  try {
+    g = chatter::parse_grinding_config(text, "fuzz.toml");
+  } catch (const chatter::InputError&) {
+    return;  // refused with a message: fine
+  }
+  if (!g.process.validate().empty()) fail("accepted an invalid grinding process");
+  check_body(g.robot.tool);
+  check_body(g.robot.workpiece);
+  for (double power : {1.0, 1000.0, 1e5}) {
+    try {
+      const chatter::grinding::Prediction r = chatter::grinding::predict_at_power(g.process, power);
+      if (!(std::isfinite(r.removal_rate_m3_per_s) && r.removal_rate_m3_per_s > 0 && std::isfinite(r.max_depth_m) &&
+            std::isfinite(r.normal_force_n) && std::isfinite(r.specific_energy_j_per_m3)))
+        fail("grinding prediction not finite");
+    } catch (const chatter::InputError&) {
+    }
+  }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
+  check_grinding(text);
   chatter::Config cfg;
   try {
     cfg = chatter::parse_config(text, "fuzz.toml");

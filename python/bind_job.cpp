@@ -2,6 +2,7 @@
 // TOML text or Python dicts, through the config loader (docs/python.md).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "bindings.hpp"
 #include "module.hpp"
@@ -169,6 +170,29 @@ void bind_job(py::module_& m) {
       },
       "path"_a, "strict"_a = false, "Reads and validates a TOML config (as the CLI does).");
   m.def("methods", &chatter::lobe_methods, "The lobe methods of this build, in registry order.");
+  m.def(
+      "_plot_styles",
+      [] {
+        // Each method's line in the compare plots (the registry's PlotStyle):
+        // colour, gnuplot width, dash lengths, gnuplot point type (0: a line).
+        py::dict out;
+        for (const auto& d : chatter::solver_registry()) {
+          std::vector<double> dash;
+          for (const char* c = d.plot.dash; *c;) {
+            char* end = nullptr;
+            const double x = std::strtod(c, &end);
+            if (end != c) {
+              dash.push_back(x);
+              c = end;
+            } else {
+              ++c;
+            }
+          }
+          out[py::str(d.name)] = py::make_tuple(d.plot.colour, d.plot.width, dash, d.plot.point_type);
+        }
+        return out;
+      },
+      "The compare plot's style of each method (registry): (colour, width, dashes, point type).");
 }
 
 }  // namespace chatter_py

@@ -19,7 +19,20 @@ using namespace pybind11::literals;
 
 namespace {
 
-py::dict lobes(const Job& job_in, const std::string& method, std::optional<double> rpm_min,
+// What a table's dict does not hold (its keys are the CSV's columns): the
+// method used, the config's name and warnings, the method's notes, the depth
+// searched. The Python package keeps it beside the table (Lobes.info).
+py::dict table_info(const chatter::Config& cfg, const Built& built, double depth_max_mm) {
+  py::dict info;
+  info["method"] = built.solver->method();
+  info["name"] = cfg.name;
+  info["warnings"] = cfg.warnings;
+  info["notes"] = built.notes;
+  info["depth_max_mm"] = depth_max_mm;
+  return info;
+}
+
+py::tuple lobes(const Job& job_in, const std::string& method, std::optional<double> rpm_min,
                std::optional<double> rpm_max, std::optional<int> rpm_points, std::optional<double> depth_max_mm,
                const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& rpm, int threads,
                const std::optional<py::dict>& options, std::optional<double> position_mm) {
@@ -103,7 +116,7 @@ py::dict lobes(const Job& job_in, const std::string& method, std::optional<doubl
       out[py::str(columns[c].name)] = np_array(col, "dtype"_a = "str");
     }
   }
-  return out;
+  return py::make_tuple(out, table_info(cfg, *built, dmax));
 }
 
 // ------------------------------------------------------------------ point
@@ -158,7 +171,7 @@ double time_lobes_cpp(const Job& job, const std::string& method,
 
 /// `chatter surface`'s table as arrays: positions placed by the io layer
 /// (chatter::surface_positions, the CLI's), the sweep by lobe_surface.
-py::dict surface(const Job& job, const std::string& requested, std::optional<double> position_min_mm,
+py::tuple surface(const Job& job, const std::string& requested, std::optional<double> position_min_mm,
                  std::optional<double> position_max_mm, int position_points, std::optional<double> rpm_min,
                  std::optional<double> rpm_max, std::optional<int> rpm_points, std::optional<double> depth_max_mm,
                  int threads, const std::optional<py::dict>& options) {
@@ -213,7 +226,13 @@ py::dict surface(const Job& job, const std::string& requested, std::optional<dou
   out["depth_limit_mm"] = d;
   out["chatter_frequency_hz"] = f;
   out["lobe"] = k;
-  return out;
+  py::dict info;
+  info["method"] = method;
+  info["name"] = cfg.name;
+  info["warnings"] = cfg.warnings;
+  info["notes"] = chatter::method_notes(requested, descriptor, cfg.process, values, "", chatter::ArgStyle::kKeyword);
+  info["depth_max_mm"] = dmax;
+  return py::make_tuple(out, info);
 }
 
 // ------------------------------------------------------------------ Monte Carlo

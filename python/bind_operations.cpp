@@ -1,5 +1,7 @@
 // chatter.check and chatter.recommend: chatter check --json's and chatter
-// recommend --json's records (chatter/records.hpp) as dicts (docs/python.md).
+// recommend --json's records (chatter/records.hpp) as dicts (docs/python.md),
+// with the CLI's checks and defaults (chatter::check_options,
+// chatter::recommend_plan) naming the keywords.
 #include <cmath>
 #include <cstdio>
 
@@ -80,32 +82,9 @@ py::dict check(const Job& job_in, const py::object& operations, const std::strin
                std::optional<double> position_mm) {
   const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
-  chatter::CheckOptions opt;
-  const auto pick = [&](const std::optional<double>& given, const std::optional<double>& from_cfg, const char* arg,
-                        const char* key) {
-    if (given) return *given;
-    if (from_cfg) return *from_cfg;
-    throw InputError(cfg.source.string() + ": missing " + arg + " (or " + key +
-                     " in the config): the machine's spindle speed range");
-  };
-  opt.machine.rpm_min = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
-  opt.machine.rpm_max = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
-  if (!(std::isfinite(opt.machine.rpm_min) && opt.machine.rpm_min > 0.0))
-    throw InputError("rpm_min = " + fmt(opt.machine.rpm_min) + ": must be > 0 rev/min");
-  if (!(std::isfinite(opt.machine.rpm_max) && opt.machine.rpm_max > opt.machine.rpm_min))
-    throw InputError("rpm_max = " + fmt(opt.machine.rpm_max) + ": must be > rpm_min (" + fmt(opt.machine.rpm_min) + ")");
-  opt.method = method;
-  opt.threads = thread_count(threads);
-  if (const std::string e = chatter::validate_speed_tolerance(speed_tolerance_pct / 100.0, "speed_tolerance_pct");
-      !e.empty())
-    throw InputError(e);
-  opt.speed_tolerance = speed_tolerance_pct / 100.0;
-  opt.flute_length_m = cfg.flute_length_m;
-  try {
-    chatter::resolve_lobe_method(method, cfg.model, cfg.process);
-  } catch (const InputError& e) {
-    throw InputError(std::string("method: ") + e.what());
-  }
+  // The CLI's options and checks (chatter::check_options), named as keywords.
+  chatter::CheckOptions opt = chatter::check_options(cfg, rpm_min, rpm_max, method, speed_tolerance_pct,
+                                                     thread_count(threads), chatter::ArgStyle::kKeyword);
   chatter::OperationsFile file;
   std::string origin;
   if (py::isinstance<py::str>(operations) || py::hasattr(operations, "__fspath__")) {
@@ -131,12 +110,58 @@ py::dict check(const Job& job_in, const py::object& operations, const std::strin
   return chatter_py::to_python(chatter::check_record(report, file, in, chatter::record_source(cfg, position_mm)));
 }
 
+/// chatter recommend --json's record: the CLI's checks and defaults
+/// (chatter::recommend_plan), the library's recommendation, the record.
+py::dict recommend(const Job& job_in, double feed_per_tooth_mm, std::optional<double> rpm_min,
+                   std::optional<double> rpm_max, std::optional<double> max_power_kw,
+                   std::optional<double> max_torque_nm, double safety, std::optional<double> depth_max_mm,
+                   double speed_tolerance_pct, std::optional<double> tool_diameter_mm,
+                   std::optional<double> workpiece_diameter_mm,
+                   std::optional<double> tangential_coefficient_n_per_m2, std::optional<double> radial_immersion,
+                   std::optional<int> teeth, std::optional<std::string> milling_direction, const std::string& method,
+                   int threads, std::optional<double> position_mm) {
+  const Job job = at_position(job_in, position_mm);
+  const chatter::Config& cfg = *job.cfg;
+  chatter::RecommendArgs a;
+  a.feed_per_tooth_mm = feed_per_tooth_mm;
+  a.rpm_min = rpm_min;
+  a.rpm_max = rpm_max;
+  a.max_power_kw = max_power_kw;
+  a.max_torque_nm = max_torque_nm;
+  a.safety = safety;
+  a.depth_max_mm = depth_max_mm;
+  a.speed_tolerance_pct = speed_tolerance_pct;
+  a.tool_diameter_mm = tool_diameter_mm;
+  a.workpiece_diameter_mm = workpiece_diameter_mm;
+  a.tangential_coefficient_n_per_m2 = tangential_coefficient_n_per_m2;
+  a.radial_immersion = radial_immersion;
+  a.teeth = teeth;
+  a.milling_direction = milling_direction;
+  a.method = method;
+  a.threads = thread_count(threads);
+  const chatter::RecommendPlan plan = chatter::recommend_plan(cfg, a, chatter::ArgStyle::kKeyword);
+  chatter::Recommendation r;
+  {
+    py::gil_scoped_release release;
+    r = chatter::recommend(cfg.model, plan.process, plan.options);
+  }
+  return to_python(chatter::recommend_record(r, plan.options, plan.process, chatter::record_source(cfg, position_mm)));
+}
+
 }  // namespace
 
 void bind_operations(py::module_& m) {
   m.def("check", &check, "job"_a, "operations"_a, py::kw_only(), "method"_a = "auto", "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "speed_tolerance_pct"_a = kDefaultSpeedTolPct, "threads"_a = 0,
         "position_mm"_a = py::none(), "Checks operations (list of dicts or a CSV path) as chatter check --json.");
+  m.def("recommend", &recommend, "job"_a, py::kw_only(), "feed_per_tooth_mm"_a, "rpm_min"_a = py::none(),
+        "rpm_max"_a = py::none(), "max_power_kw"_a = py::none(), "max_torque_nm"_a = py::none(), "safety"_a = 0.8,
+        "depth_max_mm"_a = py::none(), "speed_tolerance_pct"_a = kDefaultSpeedTolPct,
+        "tool_diameter_mm"_a = py::none(), "workpiece_diameter_mm"_a = py::none(),
+        "tangential_coefficient_n_per_m2"_a = py::none(), "radial_immersion"_a = py::none(), "teeth"_a = py::none(),
+        "milling_direction"_a = py::none(), "method"_a = "auto", "threads"_a = 0, "position_mm"_a = py::none(),
+        "The speed and depth that remove the most material, stable and within power and torque: the record of "
+        "chatter recommend --json.");
 }
 
 }  // namespace chatter_py

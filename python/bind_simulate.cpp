@@ -84,14 +84,8 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
     r = sim.simulate(st);
   }
   // The record of chatter simulate (chatter/records.hpp), then the arrays.
-  chatter::SimulationRequest request;
-  request.settings = st;
-  request.relative_tolerance = rtol;
-  request.periods_per_revolution = per_rev;
-  request.tooth_period_s = cfg.process.delay_s(rpm);
-  request.depth_mm = depth_mm;
-  request.feed_mm = feed_mm;
-  py::dict j = chatter_py::to_python(chatter::simulation_record(r, request, chatter::record_source(cfg, position_mm)));
+  py::dict j = chatter_py::to_python(chatter::simulation_record(
+      r, chatter::simulation_request(st, cfg.process, rtol, depth_mm, feed_mm), chatter::record_source(cfg, position_mm)));
   j["series"] = series_dict(r.series);
   j["periodic"] = series_dict(r.once_per_period);
   // The spectrum of chatter simulate --spectrum (harmonic: 0 where not one).

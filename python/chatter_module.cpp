@@ -1,8 +1,9 @@
-// The Python module `chatter` (pybind11): the library's lobes, point, check
-// and simulate for post-processors, notebooks and scripts, with the same
-// numbers as the `chatter` CLI for the same inputs (each call follows the
-// CLI command of the same name in src/cli/, through the library; nothing is
-// printed). API reference: docs/python.md.
+// The compiled part `chatter._chatter` (pybind11) of the Python package
+// `chatter` (python/chatter/__init__.py wraps it: result classes with plots):
+// every CLI command through the library, for post-processors, notebooks and
+// scripts, with the same numbers as the `chatter` CLI for the same inputs
+// (each call builds the library record the CLI prints; nothing is printed).
+// API reference: docs/python.md.
 //
 // Errors: chatter::InputError -> chatter.InputError (a ValueError) with the
 // library's message ("<file>: <key> = <value>: <rule>"); the module's own
@@ -19,7 +20,7 @@
 using chatter::InputError;
 namespace py = pybind11;
 
-PYBIND11_MODULE(chatter, m) {
+PYBIND11_MODULE(_chatter, m) {
   // Every table comes back as NumPy arrays: without NumPy, say so at import
   // (not as a ModuleNotFoundError at the first call).
   try {
@@ -46,4 +47,8 @@ PYBIND11_MODULE(chatter, m) {
   chatter_py::bind_lobes(m);
   chatter_py::bind_operations(m);
   chatter_py::bind_simulate(m);
+  chatter_py::bind_tables(m);
+  chatter_py::bind_shop(m);
+  bind_grinding(m);
+  bind_forced(m);
 }

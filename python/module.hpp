@@ -100,6 +100,9 @@ unsigned thread_count(int t);
 std::vector<double> even_speeds(const chatter::Config& cfg, std::optional<double> rpm_min,
                                 std::optional<double> rpm_max, std::optional<int> rpm_points);
 
+/// A NumPy copy of `v`.
+py::array_t<double> array_of(const std::vector<double>& v);
+
 /// A library record (chatter/records.hpp) as Python objects: objects ->
 /// dict, arrays -> list, numbers -> int/float, null -> None. The one place a
 /// record is handed to Python (no second hand-built copy of a CLI record).

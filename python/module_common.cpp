@@ -1,4 +1,5 @@
 // Shared pieces of the Python module (python/module.hpp).
+#include "bindings.hpp"
 #include "module.hpp"
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/operations.hpp"
+#include "chatter/records.hpp"
 #include "chatter/report.hpp"
 
 namespace chatter_py {
@@ -118,10 +120,8 @@ std::shared_ptr<const Built> build_solver(const Job& job, const std::string& req
     py::gil_scoped_release release;
     b->solver = chatter::make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, values);
   }
-  b->notes = chatter::ignored_feature_notes(descriptor, cfg.process);
-  if (requested == chatter::kAutoMethod && !averaged_milling.empty())  // as the CLI's build_solver
-    b->notes.insert(b->notes.begin(), "method auto chose \"" + method +
-                                          "\" (no Floquet method handles this input): " + averaged_milling);
+  b->notes = chatter::method_notes(requested, descriptor, cfg.process, values, averaged_milling,
+                                   chatter::ArgStyle::kKeyword);
   b->values = values;
   std::lock_guard<std::mutex> lock(job.cache->mutex);
   if (job.cache->solvers.size() >= kMaxCachedSolvers) job.cache->solvers.clear();
@@ -156,6 +156,20 @@ std::vector<double> even_speeds(const chatter::Config& cfg, std::optional<double
     throw InputError("rpm_points = " + std::to_string(n) + ": at most " + std::to_string(kMaxRpmPoints) + " speeds");
   return chatter::evenly_spaced_speeds(lo, hi, n);
 }
+
+py::array_t<double> array_of(const std::vector<double>& v) {
+  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+}  // namespace chatter_py
+
+std::shared_ptr<const chatter::Config> job_config(const pybind11::handle& job) {
+  return job.cast<const chatter_py::Job&>().cfg;
+}
+
+namespace chatter_py {
 
 py::object to_python(const nlohmann::json& j) {
   switch (j.type()) {

@@ -37,20 +37,25 @@ fi
 seconds=${1:-60}
 runs=${2:--1}
 libs=${libs:-}
+# The sources of a layer as CMakeLists.txt lists them (set(CHATTER_<L>_SOURCES
+# ...) and list(APPEND CHATTER_<L>_SOURCES ...)), so the fuzz builds follow the
+# library instead of a copied list that drifts.
+layer_sources() {
+  awk -v L="CHATTER_$1_SOURCES" '
+    ($0 ~ "^set\\(" L "( |$)") || ($0 ~ "^list\\(APPEND " L "( |$)") { on = 1 }
+    on { for (i = 1; i <= NF; i++) { s = $i; gsub(/[()]/, "", s); if (s ~ /^src\/.*\.cpp$/) print s } }
+    on && /\)/ { on = 0 }' CMakeLists.txt
+}
 case "$target" in
   config)
-    srcs="src/io/config.cpp src/io/config_read.cpp src/io/config_process.cpp src/io/config_structure.cpp
-          src/io/config_positions.cpp src/io/config_sweep.cpp src/io/config_uncertainty.cpp
-          src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/process.cpp src/model/position.cpp src/model/uncertainty.cpp src/solvers/phase_search.cpp
-          src/solvers/analytic.cpp src/solvers/multi_delay.cpp src/solvers/coupled.cpp src/solvers/lobe_table.cpp
-          src/solvers/factory.cpp src/solvers/semi_discretization.cpp src/solvers/time_domain.cpp"
-    libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus prefix="" ;;
+    srcs="$(layer_sources CORE) $(layer_sources IO)"
+    libs="-lsundials_cvode -lsundials_nvecserial -lsndfile" max_len=4096 corpus=corpus prefix="" ;;
   frf)
     srcs="src/io/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
     max_len=8192 corpus=corpus-frf prefix="frf-" ;;
   operations)
-    srcs="src/ops/operations_file.cpp src/model/structural_model.cpp src/model/process.cpp"
-    max_len=4096 corpus=corpus-operations prefix="operations-" ;;
+    srcs="$(layer_sources CORE) $(layer_sources OPS)"
+    libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
     srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp"
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
@@ -80,7 +85,7 @@ mkdir -p "build-fuzz/$corpus" "build-fuzz/obj-$target-$tag"
 # -O2 and EIGEN_NO_DEBUG: Eigen's range checks and un-inlined accessors were
 # most of the modal fit's time; chatter's own assert()s stay on. Coverage is
 # not traced in Eigen and the standard library (fuzz/coverage_ignorelist.txt).
-flags=(-std=c++20 -O2 -g -DEIGEN_NO_DEBUG "-fsanitize=fuzzer-no-link,$sanitize" -fno-sanitize-recover=undefined
+flags=(-std=c++20 -O2 -g -DEIGEN_NO_DEBUG -DCHATTER_VERSION=\"fuzz\" "-fsanitize=fuzzer-no-link,$sanitize" -fno-sanitize-recover=undefined
        -fsanitize-coverage-ignorelist=fuzz/coverage_ignorelist.txt -Iinclude -Isrc/solvers -I/usr/include/eigen3)
 cc=clang++
 command -v ccache >/dev/null && cc="ccache clang++"

@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 mkdir -p plots
 for cfg in configs/*.toml; do
   stem=$(basename "$cfg" .toml)
+  [[ $stem == grinding_* ]] && continue  # grinding configs: below
   ./build/chatter lobes "$cfg" --table "plots/${stem}_lobes.csv" --plot "plots/${stem}_lobes.png" > /dev/null
   ./build/chatter frf "$cfg" --out /dev/null --plot "plots/${stem}_frf.png" > /dev/null
   echo "plots/${stem}_lobes.png plots/${stem}_frf.png"
@@ -70,3 +71,32 @@ echo "plots/*_surface.png"
   --probability-table plots/seed_turning_1dof_uncertain_probability.csv \
   --plot plots/seed_turning_1dof_uncertain_samples.png > /dev/null
 echo "plots/seed_turning_1dof_uncertain_samples.png"
+# Grinding (docs/grinding.md): seed 001's sweep against power at three feeds,
+# its simulated last turns, and the fit of seed 000's printed tests.
+./build/chatter grind sweep configs/grinding_scompi_ch4.toml --power-w-min 250 --power-w-max 2500 \
+  --feed-mm-per-s-list 40,60,80 --table plots/grinding_scompi_ch4_sweep.csv --plot plots/grinding_scompi_ch4_sweep.png \
+  2> /dev/null > /dev/null
+./build/chatter grind simulate configs/grinding_scompi_ch4.toml --power-w 1000 \
+  --plot plots/grinding_scompi_ch4_simulate.png > /dev/null
+./build/chatter grind fit examples/grinding/underwater_tests_seed000.csv --model poly11 \
+  --plot plots/grinding_underwater_seed000_fit.png > /dev/null 2>&1
+echo "plots/grinding_scompi_ch4_sweep.png plots/grinding_scompi_ch4_simulate.png plots/grinding_underwater_seed000_fit.png"
+# Forced vibration and surface location error (docs/forced.md): case C as a
+# finishing pass (0.5 mm radial on a 10 mm cutter = its a_e/D 0.05, 2 mm
+# axial, 0.05 mm per tooth) and the same pass with the mode along X and Y
+# (examples/forced/case_c_xy.toml); the SLE against speed under the lobes;
+# the shipped variable-pitch cutter, whose teeth leave the cut; the
+# diametral error along the cantilever shaft of case B.
+./build/chatter forced configs/milling_benchmark_ae005_down.toml --rpm 14000 --depth-mm 2 --feed-per-tooth-mm 0.05 \
+  --plot plots/milling_benchmark_ae005_down_forced.png > /dev/null
+./build/chatter forced examples/forced/case_c_xy.toml --rpm 14000 --depth-mm 2 --plot plots/case_c_xy_forced.png \
+  > /dev/null
+./build/chatter sle configs/milling_benchmark_ae005_down.toml --depth-mm 2 --feed-per-tooth-mm 0.05 --rpm-points 201 \
+  --quiet --table plots/milling_benchmark_ae005_down_sle.csv --plot plots/milling_benchmark_ae005_down_sle.png > /dev/null
+./build/chatter sle examples/forced/case_c_xy.toml --depth-mm 2 --rpm-points 201 --quiet \
+  --table plots/case_c_xy_sle.csv --plot plots/case_c_xy_sle.png > /dev/null
+./build/chatter forced configs/milling_variable_pitch_helix.toml --rpm 9000 --depth-mm 2 \
+  --plot plots/milling_variable_pitch_helix_forced.png > /dev/null
+./build/chatter forced configs/coupled_tool1_workpiece1.toml --along-shaft --depth-mm 1 --feed-mm-per-rev 0.2 \
+  --table plots/coupled_tool1_workpiece1_diametral.csv --plot plots/coupled_tool1_workpiece1_diametral.png > /dev/null
+echo "plots/*_forced.png plots/*_sle.png plots/coupled_tool1_workpiece1_diametral.png"

@@ -8,10 +8,19 @@ packages=(
   libeigen3-dev libsundials-dev libboost-program-options-dev
   libboost-dev  # Boost.Math headers (brent_find_minima), header-only
   libgnuplot-iostream-dev gnuplot-nox libtomlplusplus-dev nlohmann-json3-dev
+  # gnuplot-iostream (the CLI's --show windows) needs Boost.Iostreams and
+  # Boost.Filesystem; a window needs a gnuplot with a window terminal:
+  # gnuplot-qt instead of gnuplot-nox on a desktop (docs/plots.md).
+  libboost-iostreams-dev libboost-filesystem-dev
   googletest libgtest-dev libbenchmark-dev
   libsndfile1-dev  # audio recordings (WAV/FLAC/AIFF) for `chatter detect`
   pybind11-dev python3-dev python3-numpy  # the Python module (docs/python.md)
   python3-pytest  # its tests (tests/python, run by ctest)
+  # The Python package's figures (result.plot(), notebooks' rich display) and
+  # the ctests that run the notebook headless and pip-install the package
+  # into a fresh venv (docs/python.md): Matplotlib, nbconvert with its
+  # kernel, setuptools (pyproject.toml's build backend) and venv.
+  python3-matplotlib jupyter-nbconvert python3-ipykernel python3-setuptools python3-venv
   openmpi-bin libopenmpi-dev  # chatter-mpi, the sweeps across processes (docs/scaling.md); ctest runs it under mpirun
 )
 

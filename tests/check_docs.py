@@ -75,8 +75,24 @@ accepted = {}
 
 def flags_of(command):
     if command not in accepted:
-        accepted[command] = set(re.findall(r"--([a-z][a-z0-9-]*)", run(command, "--help")))
+        accepted[command] = set(re.findall(r"--([a-z][a-z0-9-]*)", run(*command.split(), "--help")))
     return accepted[command]
+
+
+subcommands = {}
+
+
+def resolve(command, rest):
+    """`chatter grind predict ...`: a command with subcommands takes the flags
+    of `chatter grind predict --help`. Returns (command words, the rest)."""
+    m = re.match(r"\s*([a-z]+)\b(.*)", rest)
+    if not m:
+        return command, rest
+    key = (command, m.group(1))
+    if key not in subcommands:
+        p = subprocess.run([cli, command, m.group(1), "--help"], capture_output=True, text=True)
+        subcommands[key] = p.returncode == 0 and p.stdout.startswith(f"Usage: chatter {command} {m.group(1)}")
+    return (f"{command} {m.group(1)}", m.group(2)) if subcommands[key] else (command, rest)
 
 
 start = re.compile(r"(?:^|[\s$`(])(?:build/)?chatter\s+([a-z-]+)\b(.*)")
@@ -105,8 +121,8 @@ for path in [src / "README.md", *sorted((src / "docs").glob("*.md"))]:
         if fenced:
             m = start.search(line)
             if m and m.group(1) in names and "chatter-mpi" not in line:
-                current = m.group(1)
-                check_flags(where, current, m.group(2))
+                current, rest = resolve(m.group(1), m.group(2))
+                check_flags(where, current, rest)
             elif current and (line.startswith((" ", "\t")) or lines[i - 2].rstrip().endswith("\\")):
                 check_flags(where, current, line)
             else:
@@ -116,7 +132,7 @@ for path in [src / "README.md", *sorted((src / "docs").glob("*.md"))]:
         for code in re.findall(r"`([^`]*)`", line):
             m = start.search(code)
             if m and m.group(1) in names and "chatter-mpi" not in code:
-                check_flags(where, m.group(1), m.group(2))
+                check_flags(where, *resolve(m.group(1), m.group(2)))
 
 for p in problems:
     print(p)

@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # The include rules of the layers (docs/architecture.md), checked on the
 # sources: prints every #include that breaks one and fails if any does.
-#   core (src/model, src/solvers, include/chatter/*.hpp but operations.hpp):
+#   core (src/model, src/solvers, src/grinding, include/chatter/*.hpp but operations.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
 #   io   (src/io, include/chatter/io): core data headers and the solver
 #        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
 #        nlohmann; no solver class header, no ops, no Boost.
 #   ops  (src/ops, include/chatter/operations.hpp): core only.
+#   records (src/records, include/chatter/records.hpp, include/chatter/records/):
+#        no Boost, toml++ or CLI header.
+#   gnuplot-iostream (and Boost.Iostreams) only in src/cli/live_plot.cpp
+#        (the `chatter` executable's live plots; nothing else links them).
 #   MPI  (mpi.h) only in src/mpi (chatter-mpi).
 # Usage: check_layers.sh SOURCE_DIR
 set -uo pipefail
@@ -29,17 +33,20 @@ check() {
 core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
   'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
-  src/model/* src/solvers/* $core_headers
+  src/model/* src/solvers/* src/grinding/* $core_headers
 check "io includes a solver class header, ops, records or Boost" \
-  'chatter/(semi_discretization|time_domain|transfer_function)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
+  'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
   src/io/* include/chatter/io/*
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
   src/ops/* include/chatter/operations.hpp
-check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|(\.\./)+cli/' src/records/* include/chatter/records.hpp
+check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|gnuplot-iostream|(\.\./)+cli/' src/records/* include/chatter/records.hpp \
+  include/chatter/records/*
+check "gnuplot-iostream (and the Boost.Iostreams it pulls in) outside src/cli/live_plot.cpp" \
+  'gnuplot-iostream|boost/iostreams' $(ls src/*/*.cpp src/*/*.hpp include/chatter/*.hpp include/chatter/*/*.hpp python/*.cpp python/*.hpp | grep -v 'src/cli/live_plot\.cpp$')
 check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
 check "MPI outside src/mpi (the library and the chatter CLI link no MPI: docs/scaling.md)" 'mpi\.h|openmpi' \
-  src/model/* src/solvers/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
+  src/model/* src/solvers/* src/grinding/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
   include/chatter/chatter.h
 if [[ $bad -ne 0 ]]; then
   echo "layer rules broken (docs/architecture.md)"

@@ -70,6 +70,40 @@ static double json_number(const char* text, const char* key) {
 /* Positions of case B (the 0.5 m cantilever shaft): the model at a position
  * gives the CLI's `--position-mm` numbers, the surface gives `chatter
  * surface`'s table, and bad positions fail with the CLI's message. */
+/* chatter_forced_response: the numbers of `chatter forced --json`
+ * (docs/forced.md), an unstable cut, and bad arguments. */
+static void check_forced(void) {
+  chatter_model* model = NULL;
+  chatter_forced_result r;
+  const char* config = CHATTER_SOURCE_DIR "/configs/milling_variable_pitch_helix.toml";
+  CHECK(chatter_model_load(config, &model) == CHATTER_OK);
+  CHECK(chatter_forced_response(model, 9000.0, 1.5, 0.05, &r) == CHATTER_OK);
+  CHECK(r.stable == 1 && r.spectral_radius < 1.0);
+  char* out = run_cli("forced " CHATTER_SOURCE_DIR "/configs/milling_variable_pitch_helix.toml --rpm 9000 "
+                      "--depth-mm 1.5 --feed-per-tooth-mm 0.05 --json -");
+  CHECK(out != NULL);
+  CHECK(out != NULL && json_number(out, "surface_location_error_um") == r.surface_location_error_um);
+  CHECK(out != NULL && json_number(out, "spectral_radius") == r.spectral_radius);
+  CHECK(out != NULL && json_number(out, "depth_limit_mm") == r.depth_limit_mm);
+  CHECK(out != NULL && json_number(out, "min_chip_thickness_um") == r.min_chip_thickness_um);
+  CHECK(out != NULL && json_number(out, "negative_chip_arc_deg") == r.negative_chip_arc_deg);
+  CHECK(isnan(r.diametral_error_um));
+  free(out);
+  /* Unstable: CHATTER_OK, stable = 0, no response. */
+  CHECK(chatter_forced_response(model, 9000.0, 19.0, 0.05, &r) == CHATTER_OK);
+  CHECK(r.stable == 0 && r.spectral_radius >= 1.0 && isnan(r.surface_location_error_um));
+  CHECK(r.depth_limit_mm < 19.0);
+  CHECK(chatter_forced_response(model, 9000.0, 1.0, -0.05, &r) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "feed_mm") != NULL);
+  CHECK(chatter_forced_response(model, 9000.0, 1.0, 0.05, NULL) == CHATTER_NULL_ARGUMENT);
+  chatter_model_free(model);
+  /* Turning: the diametral error 2 delta. */
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
+  CHECK(chatter_forced_response(model, 1000.0, 0.5, 0.1, &r) == CHATTER_OK && r.stable == 1);
+  CHECK(fabs(r.diametral_error_um - 2.0 * r.surface_location_error_um) <= 1e-12 * r.diametral_error_um);
+  chatter_model_free(model);
+}
+
 static void check_position(void) {
   const char* config = CHATTER_SOURCE_DIR "/configs/coupled_tool1_workpiece1.toml";
   chatter_model *model = NULL, *at = NULL, *plain = NULL;
@@ -309,6 +343,7 @@ int main(void) {
   chatter_model_free(model);
 
   check_position();
+  check_forced();
 
   printf("%d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;

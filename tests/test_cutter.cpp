@@ -84,6 +84,42 @@ TEST(Cutter, HelixIntegralMatchesSliceQuadrature) {
   }
 }
 
+TEST(Cutter, ForceDirectionIntegralMatchesSliceQuadrature) {
+  // ∫∫ g v(φ) dz dt, v = (K_t cos φ + K_r sin φ, −(K_t sin φ − K_r cos φ)) (§3,
+  // the force per unit chip): the force of a runout offset over a step.
+  MillingParameters mp = base(4, 0.5, MillingDirection::kDown);
+  mp.helix_angles_rad = {30 * kDeg, 35 * kDeg, 30 * kDeg, 35 * kDeg};
+  const Process p = Process::milling(mp);
+  const double rpm = 6000.0, T = 60.0 / rpm;
+  for (const auto& [ta, tb, a] : {std::tuple{0.1 * T, 0.35 * T, 3e-3}, std::tuple{-0.4 * T, 1.3 * T, 8e-3}}) {
+    for (int j = 0; j < 4; ++j) {
+      const Eigen::Vector2d got = p.tooth_force_direction_integral(j, ta, tb, a, rpm);
+      Eigen::Vector2d want = Eigen::Vector2d::Zero();
+      const int n = 200, steps = 4000;
+      const double dz = a / n, h = (tb - ta) / steps;
+      for (int i = 0; i < n; ++i)
+        for (int k = 0; k < steps; ++k) {
+          const double phi = p.tooth_angle_rad(j, ta + (k + 0.5) * h, (i + 0.5) * dz, rpm);
+          if (!p.in_cut(phi)) continue;
+          want += Eigen::Vector2d(6e8 * std::cos(phi) + 2e8 * std::sin(phi), -(6e8 * std::sin(phi) - 2e8 * std::cos(phi))) *
+                  (h * dz);
+        }
+      // Quadrature error: a window edge inside a time step, O(h) per slice.
+      EXPECT_LT((got - want).norm(), 2e-3 * std::max(want.norm(), 1e-9 * 6e8 * a * (tb - ta))) << "tooth " << j;
+      // And the same direction as force_direction, the §3 law.
+      EXPECT_LT((p.force_direction(0.7) - Eigen::Vector2d(6e8 * std::cos(0.7) + 2e8 * std::sin(0.7),
+                                                          -(6e8 * std::sin(0.7) - 2e8 * std::cos(0.7))))
+                    .norm(),
+                1e-6);
+    }
+  }
+  // The feed of a tooth: N_t f_z θ_j / 2π.
+  MillingParameters vp = base(4, 0.5, MillingDirection::kDown);
+  vp.pitch_angles_rad = {80 * kDeg, 100 * kDeg, 80 * kDeg, 100 * kDeg};
+  const Process q = Process::milling(vp);
+  EXPECT_NEAR(q.feed_of_tooth_m(1, 0.1e-3), 4 * 0.1e-3 * 100.0 / 360.0, 1e-18);
+}
+
 TEST(Cutter, HelixLeavesTheRevolutionAverageUnchanged) {
   // ∫ over one revolution of every tooth's H₁ / T = a H₀ whatever the helix.
   MillingParameters mp = base(4, 0.3, MillingDirection::kDown);

@@ -17,6 +17,8 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
+#include "chatter/io/plot_surface.hpp"
+#include "chatter/io/plot_uncertainty.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/time_domain.hpp"
 #include "chatter/transfer_function.hpp"
@@ -770,4 +772,130 @@ TEST_F(PlotTest, SimulationWithoutSeriesIsRefusedBeforeWriting) {
   EXPECT_THROW(chatter::plot_simulation(dir_ / "sim.png", "x", r, 922.0), chatter::InputError);
   EXPECT_THROW(chatter::plot_simulation(dir_ / "sim.bmp", "x", r, 922.0), chatter::InputError);
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+// ---------------------------------------------------------------------------
+// Live plots (--show): the same data and script as the image, without the
+// terminal and output lines, the data in a datablock (io/plot.hpp's
+// PlotWindow). The window here records what it is handed.
+
+namespace {
+
+struct RecordingWindow : chatter::PlotWindow {
+  std::vector<std::pair<std::string, std::string>> draws;  // (data, script)
+  void draw(const std::string& data, const std::string& script) override { draws.emplace_back(data, script); }
+};
+
+// The script after its head: everything after the line `data = ...` (the
+// head names the terminal, the output and where the data are; the body is
+// the plot's styles and clauses).
+std::string script_body(const std::string& script) {
+  const std::size_t at = script.find("\ndata = ");
+  if (at == std::string::npos) return "<no data line>";
+  std::size_t from = script.find('\n', at + 1);
+  while (from < script.size() && script[from] == '\n') ++from;
+  return script.substr(from);
+}
+
+// The live draw has the image's data byte for byte and the image's script
+// body; its head has no terminal or output and reads the datablock.
+void expect_live_equals_image(const RecordingWindow& w, const chatter::PlotFiles& files) {
+  ASSERT_EQ(w.draws.size(), 1u);
+  const auto& [data, script] = w.draws.front();
+  EXPECT_EQ(data, read_file(files.data));
+  EXPECT_EQ(script_body(script), script_body(read_file(files.script)));
+  EXPECT_EQ(script.find("set terminal"), std::string::npos);
+  EXPECT_EQ(script.find("set output"), std::string::npos);
+  EXPECT_NE(script.find("data = '$data'"), std::string::npos) << script.substr(0, 400);
+}
+
+}  // namespace
+
+TEST_F(PlotTest, LiveLobesMapCompareAreTheImagesScripts) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  chatter::PlotOptions opt;
+  opt.chatter_frequency_panel = true;
+  const LobeData d = seed_lobes(20.0, 120);
+  {
+    RecordingWindow w;
+    chatter::plot_lobes(w, "case A", d.envelope, d.curves, d.absolute, d.depth_max_m, opt);
+    expect_live_equals_image(w, chatter::plot_lobes(dir_ / "lobes.png", "case A", d.envelope, d.curves, d.absolute,
+                                                    d.depth_max_m, opt));
+  }
+  {
+    const chatter::StabilityMapGrid g = case_c_map();
+    RecordingWindow w;
+    chatter::plot_stability_map(w, "case C", g);
+    expect_live_equals_image(w, chatter::plot_stability_map(dir_ / "map.png", "case C", g));
+  }
+  {
+    const auto methods = case_c_methods(30);
+    RecordingWindow w;
+    chatter::plot_compare(w, "case C compare", methods, 10e-3);
+    expect_live_equals_image(w, chatter::plot_compare(dir_ / "cmp.png", "case C compare", methods, 10e-3));
+  }
+}
+
+TEST_F(PlotTest, LiveSimulationIsTheImageAndARunningRunDrawsTwoPanels) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  const chatter::SimulationResult r = case_c_simulation(17000, 3.6e-3, 20);
+  RecordingWindow w;
+  chatter::plot_simulation(w, "case C simulate", r, 922.0, /*running=*/false);
+  expect_live_equals_image(w, chatter::plot_simulation(dir_ / "sim.png", "case C simulate", r, 922.0));
+  // While integrating: displacement and force on the whole run's time axis,
+  // no spectrum panel, the title counting the periods done.
+  chatter::SimulationResult so_far = r;
+  so_far.once_per_period.resize(6);  // 5 periods done
+  so_far.series.resize(so_far.series.size() / 4);
+  so_far.spectrum_hz.clear();
+  so_far.spectrum_amplitude_m.clear();
+  RecordingWindow running;
+  chatter::plot_simulation(running, "case C simulate", so_far, 922.0, /*running=*/true);
+  ASSERT_EQ(running.draws.size(), 1u);
+  const std::string& gp = running.draws.front().second;
+  EXPECT_NE(gp.find("set multiplot layout 2,1 title 'case C simulate: integrating, 5 of 20 periods'"),
+            std::string::npos)
+      << gp;
+  EXPECT_EQ(gp.find("frequency (Hz)"), std::string::npos);
+  EXPECT_NE(gp.find("set xrange [0:" + chatter::gnuplot_number(20 * r.floquet_period_s * 1e3, 8) + "]"),
+            std::string::npos)
+      << gp;
+}
+
+TEST_F(PlotTest, LiveSurfaceAndUncertainLobesAreTheImagesScripts) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
+  chatter::LobeSurfaceData s;
+  s.positions_mm = {0.0, 50.0, 100.0};
+  s.depth_max_mm = 10.0;
+  for (std::size_t p = 0; p < 3; ++p) {
+    std::vector<chatter::StabilityLimit> row;
+    for (int k = 0; k < 5; ++k) {
+      chatter::StabilityLimit l;
+      l.spindle_rpm = 1000.0 + 500.0 * k;
+      l.depth_limit_m = 1e-3 * (1.0 + static_cast<double>(p) + 0.5 * k);
+      l.chatter_frequency_hz = 500.0;
+      l.lobe = 1;
+      row.push_back(l);
+    }
+    s.limits.push_back(row);
+  }
+  {
+    RecordingWindow w;
+    chatter::plot_surface(w, "surface", s, {2.0, 4.0});
+    expect_live_equals_image(w, chatter::plot_surface(dir_ / "surface.png", "surface", s, {2.0, 4.0}));
+  }
+  chatter::UncertainLobes u;
+  u.speeds_rpm = {1000.0, 1500.0, 2000.0};
+  u.depths_m = {0.0, 1e-3, 2e-3};
+  u.probability_stable = {{1.0, 0.5, 0.0}, {1.0, 1.0, 0.5}, {1.0, 0.5, 0.0}};
+  u.levels = {0.05, 0.5, 0.95};
+  u.quantile_depth_m = {{0.8e-3, 1.5e-3, 0.8e-3}, {1e-3, 2e-3, 1e-3}, {1.2e-3, 2.5e-3, 1.2e-3}};
+  std::vector<chatter::StabilityLimit> nominal(3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    nominal[i].spindle_rpm = u.speeds_rpm[i];
+    nominal[i].depth_limit_m = u.quantile_depth_m[1][i];
+  }
+  RecordingWindow w;
+  chatter::plot_uncertain_lobes(w, "uncertain", u, nominal, 10.0, 3.0);
+  expect_live_equals_image(w, chatter::plot_uncertain_lobes(dir_ / "unc.png", "uncertain", u, nominal, 10.0, 3.0));
 }

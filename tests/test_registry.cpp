@@ -62,6 +62,7 @@ TEST(Registry, EveryMethodBuildsOnAShippedConfigItAccepts) {
   for (const auto& d : solver_registry()) {
     int built = 0;
     for (const auto& entry : fs::directory_iterator(source("configs"))) {
+      if (entry.path().filename().string().starts_with("grinding_")) continue;  // grinding configs: no lobes
       const Config cfg = load_config(entry.path());
       if (!d.accepts.missing(needed_features(cfg.model, cfg.process)).empty()) continue;
       const auto s = make_lobe_solver(d.name, cfg.model, cfg.process, kDepthMaxM);

@@ -18,7 +18,7 @@ import chatter
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config")
-    ap.add_argument("--method", default="analytic", choices=chatter.methods())
+    ap.add_argument("--method", default="auto", choices=["auto", *chatter.methods()])
     ap.add_argument("--points", type=int, default=300)
     ap.add_argument("--out", default="lobes.png")
     a = ap.parse_args()

@@ -35,6 +35,25 @@ def _job(tool):
     return _jobs[name]
 
 
+def _operation(tool, op_id, spindle_rpm, axial_depth_mm, radial_depth_mm, feed_per_tooth_mm=None):
+    return {"id": op_id, "spindle_rpm": float(spindle_rpm), "depth_mm": float(axial_depth_mm),
+            "radial_immersion": float(radial_depth_mm) / float(tool["diameter_mm"]),
+            "feed_per_tooth_mm": feed_per_tooth_mm}
+
+
+def _verdict(row, warnings):
+    s = row["suggestion"]
+    return {
+        "verdict": "stable" if row["stable"] else "chatter",
+        "margin": row["margin"] if row["margin"] is not None else float("inf"),
+        "depth_limit_mm": row["depth_limit_mm"],
+        "suggested_rpm": s["spindle_rpm"] if s else None,
+        "suggested_margin": (s["margin"] if s["margin"] is not None else float("inf")) if s else None,
+        "warnings": warnings,
+        "details": row,
+    }
+
+
 def check_operation(tool, spindle_rpm, axial_depth_mm, radial_depth_mm, *, op_id="op",
                     feed_per_tooth_mm=None, machine_rpm=(1000.0, 24000.0), speed_tolerance_pct=2.0):
     """Verdict on one operation.
@@ -48,25 +67,26 @@ def check_operation(tool, spindle_rpm, axial_depth_mm, radial_depth_mm, *, op_id
     suggested_margin and the full chatter.check record under "details".
     Raises chatter.InputError on bad tool data or a bad operation.
     """
+    return check_program(tool, [(op_id, spindle_rpm, axial_depth_mm, radial_depth_mm, feed_per_tooth_mm)],
+                         machine_rpm=machine_rpm, speed_tolerance_pct=speed_tolerance_pct)[0]
+
+
+def check_program(tool, operations, *, machine_rpm=(1000.0, 24000.0), speed_tolerance_pct=2.0):
+    """Verdicts on every operation of a program that uses `tool`, in one call:
+    operations is a list of (op_id, spindle_rpm, axial_depth_mm,
+    radial_depth_mm[, feed_per_tooth_mm]). The check scans the machine's
+    speed range once per distinct cut (radial immersion), not once per
+    operation: when the post-processor knows the whole program, this is the
+    faster way (docs/performance.md, "Python in a loop"). Returns the
+    verdicts of check_operation, in order.
+    """
     job = _job(tool)
-    op = {"id": op_id, "spindle_rpm": float(spindle_rpm), "depth_mm": float(axial_depth_mm),
-          "radial_immersion": float(radial_depth_mm) / float(tool["diameter_mm"]),
-          "feed_per_tooth_mm": feed_per_tooth_mm}
-    report = chatter.check(job, [op], rpm_min=machine_rpm[0], rpm_max=machine_rpm[1],
+    ops = [_operation(tool, *op) for op in operations]
+    report = chatter.check(job, ops, rpm_min=machine_rpm[0], rpm_max=machine_rpm[1],
                            speed_tolerance_pct=speed_tolerance_pct)
-    if report["rejected"]:
-        raise chatter.InputError(f"operation {op_id}: {report['rejected'][0]['reason']}")
-    r = report["operations"][0]
-    s = r["suggestion"]
-    return {
-        "verdict": "stable" if r["stable"] else "chatter",
-        "margin": r["margin"] if r["margin"] is not None else float("inf"),
-        "depth_limit_mm": r["depth_limit_mm"],
-        "suggested_rpm": s["spindle_rpm"] if s else None,
-        "suggested_margin": (s["margin"] if s["margin"] is not None else float("inf")) if s else None,
-        "warnings": report["warnings"],
-        "details": r,
-    }
+    for bad in report["rejected"] + report["not_judged"]:  # line = list index + 2
+        raise chatter.InputError(f"operation {ops[bad['line'] - 2]['id']}: {bad['reason']}")
+    return [_verdict(row, report["warnings"]) for row in report["operations"]]
 
 
 if __name__ == "__main__":

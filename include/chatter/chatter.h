@@ -186,6 +186,121 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
                                     double rpm_min, double rpm_max, int rpm_points, int threads,
                                     chatter_surface_row* rows);
 
+
+/* ====================================================================== grinding
+ * Robotic grinding at controlled power (docs/grinding.md; docs/c_api.md,
+ * "Grinding"): a config with a [grinding] table (configs/grinding_*.toml),
+ * read on each call (no handle). The lobe functions above refuse such a
+ * config. Units: W, mm, mm^3/s, N, J/mm^3, s, m/s. Same status codes and
+ * chatter_last_error() as above; thread-safe (each call reads its own files).
+ */
+
+typedef enum chatter_grinding_target {
+  CHATTER_GRINDING_POWER_W = 0,          /* value: useful grinding power, W */
+  CHATTER_GRINDING_DEPTH_MM = 1,         /* value: target maximum depth of the groove, mm */
+  CHATTER_GRINDING_REMOVAL_MM3_PER_S = 2, /* value: target removal rate, mm^3/s */
+  /* Not a target: makes the enum int-sized so any int a caller passes is a
+   * representable value (it is refused with CHATTER_INPUT_ERROR). */
+  CHATTER_GRINDING_TARGET_FORCE_INT = 0x7fffffff
+} chatter_grinding_target;
+
+/* What a power set-point gives (or the power of a target), as `chatter grind
+ * predict`. The has_* flags say which optional groups are set (0: those
+ * fields are 0). */
+typedef struct chatter_grinding_prediction {
+  double power_w;                   /* the power (given, or found for the target) */
+  double removal_rate_mm3_per_s;
+  double max_depth_mm;              /* h0, the groove's maximum depth */
+  double groove_width_mm;
+  double depth_per_pass_mm;         /* removal / (feed x wheel width) */
+  double tangential_force_n;        /* P / V_c */
+  double normal_force_n;            /* F_T / force_ratio */
+  double specific_energy_j_per_mm3; /* P / removal */
+  double contact_duration_s;        /* one impact */
+  double cutting_speed_m_per_s;
+  int has_mechanistic;              /* seed 001's model: the next three */
+  double friction_power_w, chip_power_w, impacts_per_turn;
+  int has_energy_partition;         /* [grinding.energy_partition]: the next two */
+  double energy_partition, heat_into_part_w;
+  int has_empirical_removal, has_empirical_normal_force, has_empirical_wear;
+  double empirical_removal_rate_mm3_per_s, empirical_normal_force_n, empirical_wear_rate_mm3_per_s;
+  size_t warning_count;             /* the config's and the prediction's warnings (their text: the JSON) */
+} chatter_grinding_prediction;
+
+/* Predicts at a power (target CHATTER_GRINDING_POWER_W), or finds the power
+ * of a target depth or removal (those need the mechanistic model).
+ * CHATTER_INPUT_ERROR on a bad config or value (power <= 0, a depth beyond
+ * the wheel radius, ...). */
+chatter_status chatter_grinding_predict(const char* config_path, chatter_grinding_target target, double value,
+                                        chatter_grinding_prediction* out);
+
+/* The same as the JSON record of `chatter grind predict --json`, written into
+ * buffer (at most size bytes, NUL-terminated, truncated when too short);
+ * *length (may be NULL) receives the record's full length in bytes, without
+ * the NUL. buffer may be NULL with size 0 to ask the length. */
+chatter_status chatter_grinding_predict_json(const char* config_path, chatter_grinding_target target, double value,
+                                             char* buffer, size_t size, size_t* length);
+
+#define CHATTER_GRINDING_MAX_COEFFICIENTS 10
+
+/* One fitted target of `chatter grind fit`: coefficients in the config's
+ * units and order (mechanistic: edge_coefficient_n_per_mm,
+ * cutting_coefficient_n_per_mm2; empirical: docs/grinding.md's term order;
+ * power_law: C, b1, b2, b3, with C's standard error that of ln C). */
+typedef struct chatter_grinding_fit_result {
+  size_t count;                     /* coefficients set below */
+  double coefficients[CHATTER_GRINDING_MAX_COEFFICIENTS];
+  double standard_error[CHATTER_GRINDING_MAX_COEFFICIENTS];
+  double lower_95[CHATTER_GRINDING_MAX_COEFFICIENTS], upper_95[CHATTER_GRINDING_MAX_COEFFICIENTS];
+  int tests, degrees_of_freedom;
+  double r_squared, rmse, mae, mape_percent;  /* rmse, mae in the target's unit: W, mm^3/s or N */
+} chatter_grinding_fit_result;
+
+/* Fits model ("mechanistic", "poly11", "poly22", "poly33", "power_law",
+ * "hahn_lindsay") to a tests table (docs/grinding.md, "grind fit").
+ * variable: NULL or "" (the default), "useful_power_w" or "normal_force_n".
+ * target: which fit to return: "power_w" (mechanistic), "removal", "wear",
+ * "normal_force"; NULL: the first fitted. CHATTER_INPUT_ERROR when the table
+ * does not give that target. */
+chatter_status chatter_grinding_fit(const char* tests_csv, const char* model, const char* variable, const char* target,
+                                    chatter_grinding_fit_result* out);
+
+/* Every fitted target as the JSON record of `chatter grind fit --json`
+ * (buffer, size, length as chatter_grinding_predict_json). */
+chatter_status chatter_grinding_fit_json(const char* tests_csv, const char* model, const char* variable, char* buffer,
+                                         size_t size, size_t* length);
+/* --- Forced vibration of a stable cut (docs/forced.md) ---------------
+ * Below the stability limit the cutting force still drives the structure:
+ * the surface location error (milling), the diametral error (turning), the
+ * vibration, and whether a tooth leaves the cut (then the linear limit of
+ * the lobes does not hold). The numbers of `chatter forced --json`. */
+
+typedef struct chatter_forced_result {
+  int stable;                       /* 1: stable (sdm spectral radius < 1); 0: unstable, no forced response:
+                                       every field below but spectral_radius and depth_limit_mm is NaN */
+  double spectral_radius;           /* sdm, per Floquet period */
+  double depth_limit_mm;            /* sdm depth limit at the speed; HUGE_VAL: none below the searched depth */
+  double surface_location_error_um; /* milling: the machined wall's offset, + = material left (the value of
+                                       largest magnitude over the wall height); turning: the deflection
+                                       along the radius */
+  double sle_min_um, sle_max_um;    /* over the wall height (milling); = the SLE in turning */
+  double peak_to_peak_x_um, peak_to_peak_y_um;       /* relative vibration over one period */
+  double static_deflection_x_um, static_deflection_y_um; /* mean relative displacement */
+  double min_chip_thickness_um;     /* smallest linear chip over the teeth and the period */
+  double negative_chip_arc_deg;     /* longest arc of one tooth with a negative chip */
+  int teeth_leave_cut;              /* 1: that arc exceeds 5 % of the engaged arc */
+  int linear_limit_holds;           /* 1: stable and no tooth leaves the cut */
+  double diametral_error_um;        /* turning: 2 x the deflection; NaN in milling */
+} chatter_forced_result;
+
+/* The forced response at spindle_rpm (> 0) and depth_mm (> 0) with the
+ * feed feed_mm (> 0): per tooth in milling, per revolution in turning.
+ * CHATTER_OK for an unstable cut too (out->stable = 0). Cost: one sdm
+ * analysis and depth-limit search at the speed plus the response (a few
+ * ms to a few tens of ms). Thread-safe on the same model. */
+chatter_status chatter_forced_response(const chatter_model* model, double spindle_rpm, double depth_mm, double feed_mm,
+                                       chatter_forced_result* out);
+
 #ifdef __cplusplus
 }
 #endif

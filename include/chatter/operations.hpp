@@ -25,6 +25,7 @@
 
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
+#include "chatter/results.hpp"
 #include "chatter/structural_model.hpp"
 
 namespace chatter {
@@ -264,6 +265,10 @@ struct OperationRow {
   std::optional<double> feed_per_tooth_mm;       ///< the same as written (mm)
   std::optional<int> teeth;                      ///< override of the config's teeth (milling only)
   std::optional<MillingDirection> direction;     ///< override of the config's direction (milling only)
+  /// The part's tolerance, m (> 0; the `max_sle_um` or `tolerance_um`
+  /// column): on |SLE| in milling, on the diametral error in turning
+  /// (forced_check); empty = not given.
+  std::optional<double> max_error_m;
 };
 
 /// A row that could not be read; the others are still checked.
@@ -298,6 +303,22 @@ OperationsFile read_operations(const std::filesystem::path& file, Operation oper
 /// The process of one row: `base` with the row's immersion, teeth and
 /// direction overrides. @throws InputError if the result is invalid.
 Process process_for(const Process& base, const OperationRow& row);
+
+/// The forced vibration of one operation (issue 27, docs/forced.md;
+/// src/ops/forced_check.cpp): what `check` reports per row with a feed.
+struct OperationForced {
+  ForcedResponse response;     ///< at the row's speed, depth and feed, on its process
+  /// The part error the tolerance applies to, m: |SLE| in milling, the
+  /// diametral error 2δ in turning; NaN when the cut is unstable.
+  double part_error_m = 0.0;
+  /// Stable and part_error_m <= row.max_error_m (true without a tolerance
+  /// when stable).
+  bool within_tolerance = true;
+};
+/// The forced response of `row` (its process_for(base, row)), empty when the
+/// row gives no feed. Cost: one ForcedResponseSolver response (~1–10 ms).
+/// @throws InputError as ForcedResponseSolver (e.g. measured FRFs).
+std::optional<OperationForced> forced_check(const StructuralModel& model, const Process& base, const OperationRow& row);
 
 // ============================================================== check
 
@@ -352,6 +373,10 @@ struct OperationCheck {
   /// The suggestion's band and pocket (worst_margin there; pocket edges at
   /// this row's depth); set whenever `suggestion` is.
   std::optional<SpeedPocket> suggestion_pocket;
+  /// The forced vibration at the row's speed, depth and feed (its SLE or
+  /// diametral error, teeth leaving the cut, the part's tolerance): set when
+  /// the row gives a feed (forced_check).
+  std::optional<OperationForced> forced;
 };
 
 struct CheckReport {
@@ -362,6 +387,9 @@ struct CheckReport {
   std::vector<RejectedRow> not_judged;
   std::vector<std::string> warnings;     ///< e.g. kFlipLobeWarning, once each; per-row plausibility
   std::size_t unstable() const;
+  /// Rows with a tolerance (max_sle_um / tolerance_um) whose forced part
+  /// error exceeds it, or that are unstable at their feed.
+  std::size_t out_of_tolerance() const;
 };
 
 /// Checks every row (see OperationCheck). One solver and one robust speed

@@ -158,6 +158,11 @@ class Process {
   /// helix; for β_j = 0 it is a times the time integral). Cost O(1).
   /// @pre operation() == kMilling, t_b >= t_a, a >= 0, rpm > 0.
   Eigen::Matrix2d tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
+  /// ∫_{t_a}^{t_b} ∫_0^a g(φ) v(φ) dz dt, φ = φ_j(t, z), of the force
+  /// direction v of force_direction() (N/m² · m · s), in closed form for
+  /// any helix: the force of a chip of constant thickness (a runout offset,
+  /// docs/forced.md) over a step. @pre as tooth_force_integral.
+  Eigen::Vector2d tooth_force_direction_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
   /// The same integral of the process-damping direction n nᵀ, n = (sin φ,
   /// cos φ) (m · s).
   Eigen::Matrix2d tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
@@ -174,6 +179,15 @@ class Process {
   /// top of the cut (z = a) enters or leaves the arc, sorted, duplicates
   /// (within 1e-12 of the period) merged. Empty for turning.
   std::vector<double> engagement_events_s(double rpm, double depth_m) const;
+  /// The force on the tool per unit chip thickness and unit depth of a
+  /// cutting tooth at φ, N/m²: v(φ) = (K_t cos φ + K_r sin φ, −(K_t sin φ −
+  /// K_r cos φ)) (§3: F = −a h v, and tooth_matrix(φ) = v nᵀ). @pre milling.
+  Eigen::Vector2d force_direction(double phi) const;
+  /// The feed of tooth j, m: the table advance since the tooth before it,
+  /// N_t f_z θ_j / 2π (f_z for equal pitch; the feed per revolution itself
+  /// in turning). What the static chip f_j sin φ of the linear model uses
+  /// (docs/physics.md §11).
+  double feed_of_tooth_m(int j, double feed_per_tooth_m) const;
   /// Static (feed) chip of tooth j at angle φ with runout (§8): the smallest
   /// over earlier teeth j−k (k = 1 … N_t) of N_t f_z (θ_j + … + θ_{j−k+1})/2π ·
   /// sin φ + ρ_j − ρ_{j−k}, floored at 0 (m). Without runout: f_z sin φ

@@ -21,9 +21,33 @@
 #include "chatter/operations.hpp"
 #include "chatter/report.hpp"
 #include "chatter/results.hpp"
+#include "chatter/solvers.hpp"
 #include "chatter/time_domain.hpp"
 
 namespace chatter {
+
+/// The deepest cut searched when neither the arguments nor the config's
+/// sweep.depth_max_mm give one, mm (every command and interface).
+inline constexpr double kDefaultSearchDepthMm = 50.0;
+
+/// How a message names an argument: the CLI's flag or Python's keyword. The
+/// library functions that check a command's arguments (recommend_plan,
+/// check_options, the records of compare, map, frf, coefficients, detect
+/// and fit) take it, so that both front ends give the same message with
+/// their own names.
+enum class ArgStyle { kFlag, kKeyword };
+/// `key` (snake_case, Python's keyword) as `style` names it: "--rpm-min"
+/// (underscores to dashes) or "rpm_min".
+std::string arg_name(ArgStyle style, const std::string& key);
+
+/// What a lobe method does not see of this input, for the `notes` of the
+/// records (and the CLI's "note:" lines): auto's fallback to an averaged
+/// method for milling (`averaged_milling`: resolve_lobe_method's reason, ""
+/// when none), the cutter features the method ignores
+/// (ignored_feature_notes), runout ignored by a linear simulation.
+std::vector<std::string> method_notes(const std::string& requested, const SolverDescriptor& descriptor,
+                                      const Process& process, const SolverValues& options,
+                                      const std::string& averaged_milling, ArgStyle style);
 
 /// What every record says about its inputs.
 struct RecordSource {
@@ -40,6 +64,9 @@ RecordSource record_source(const Config& config, std::optional<double> position_
 nlohmann::json finite_or_null(double x);
 /// A solver value (option or diagnostic) as JSON (monostate: null).
 nlohmann::json value_json(const SolverValue& v);
+/// A solver value as a table cell: "" for monostate, numbers as
+/// table_number, flags as true/false.
+std::string value_text(const SolverValue& v);
 
 /// `chatter point`: the limit (the lobe-table row at the speed, with the
 /// method's columns), stable and margin, tooth_passing_hz, tooth_period_s,
@@ -58,6 +85,11 @@ struct SimulationRequest {
   double depth_mm = 0.0;        ///< the depth as given (echoed as is)
   double feed_mm = 0.0;         ///< the feed as given (echoed as is)
 };
+/// The request of a run as the user gave it: depth and feed in mm as typed,
+/// the periods per revolution and the tooth period from the process.
+SimulationRequest simulation_request(const SimulationSettings& settings, const Process& process,
+                                     double relative_tolerance, double depth_mm, double feed_mm);
+
 /// `chatter simulate`: verdict and its measure, growth per Floquet period,
 /// frequencies and periods, amplitude, the first ten forced lines, the
 /// integrator's cost. The series and spectrum are tables, not in the record.
@@ -84,6 +116,43 @@ nlohmann::json check_record(const CheckReport& report, const OperationsFile& fil
                             const RecordSource& source);
 /// The exit status of a check (0, 2 or 3; docs/operations.md).
 int check_exit_status(const CheckReport& report, const OperationsFile& file);
+
+/// The machine's speed range: the arguments, else the config's [sweep].
+/// @throws InputError "<file>: missing <rpm_min> (or sweep.rpm_min in the
+/// config): the machine's spindle speed range", or a range that is not > 0
+/// and increasing.
+MachineLimits machine_range(const Config& config, std::optional<double> rpm_min, std::optional<double> rpm_max,
+                            ArgStyle style);
+
+/// The options of `chatter check` (and chatter.check) from the config and
+/// the arguments: machine range, method (checked: "<method>: method ..."),
+/// speed tolerance in percent, threads, the config's flute length.
+/// @throws InputError naming the argument.
+CheckOptions check_options(const Config& config, std::optional<double> rpm_min, std::optional<double> rpm_max,
+                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style);
+
+/// The arguments of `chatter recommend` (chatter.recommend): shop units, as
+/// the flags; empty = the default (the config's, or no limit).
+struct RecommendArgs {
+  double feed_per_tooth_mm = 0.0;  ///< required
+  std::optional<double> rpm_min, rpm_max, max_power_kw, max_torque_nm;
+  double safety = 0.8;
+  std::optional<double> depth_max_mm;
+  double speed_tolerance_pct = 2.0;
+  std::optional<double> tool_diameter_mm, workpiece_diameter_mm, tangential_coefficient_n_per_m2;
+  std::optional<double> radial_immersion;
+  std::optional<int> teeth;
+  std::optional<std::string> milling_direction;
+  std::string method = "auto";
+  unsigned threads = 0;
+};
+/// The options and the process (with the milling overrides) of a
+/// recommendation, every argument checked. @throws InputError naming it.
+struct RecommendPlan {
+  RecommendOptions options;
+  Process process;
+};
+RecommendPlan recommend_plan(const Config& config, const RecommendArgs& args, ArgStyle style);
 
 /// `chatter recommend --json`: the speed, depth, limit, caps, binding
 /// constraints, force, torque, power, removal rate and the explanation.

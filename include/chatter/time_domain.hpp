@@ -46,6 +46,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <functional>
 #include <vector>
 
 #include "chatter/lobes.hpp"
@@ -114,6 +115,13 @@ struct SimulationSettings {
   /// Ignored in linear mode.
   double feed_m = 1e-4;
   bool linear = false;
+  /// Linear mode only: keep the static chip (f_j sin φ + ρ_j − ρ_{j−1},
+  /// never clipped), so that the run converges to the linear forced
+  /// response of chatter/forced.hpp instead of measuring the growth of a
+  /// perturbation. The run then starts at rest (unless the feed is 0), is
+  /// not rescaled, and its growth and verdict come from the once-per-period
+  /// increments, as in nonlinear mode.
+  bool linear_static_chip = false;
   bool multiple_regeneration = false;
   /// Initial condition. Default: at rest (nonlinear mode; the static chip
   /// starts the motion) or, in linear mode, every modal displacement set so
@@ -126,6 +134,21 @@ struct SimulationSettings {
   bool record_series = true;
   /// Analyse the last `analysed_fraction` of the periods (in (0, 1]).
   double analysed_fraction = 0.5;
+  /// Called at the end of every period with the run so far: `series` (with
+  /// record_series) and `once_per_period` up to now, `periods` the total
+  /// asked; no spectrum, verdict or growth yet (a live plot: the CLI's
+  /// simulate --show). Empty: not called. Cost: the call itself; a caller
+  /// that redraws should throttle by time.
+  std::function<void(const SimulationResult& so_far)> on_period;
+  /// Stop as soon as the run has settled into its periodic forced response
+  /// (nonlinear mode, or linear with the static chip): the once-per-period
+  /// increments below the verdict's floor (1e4 × relative_tolerance of the
+  /// state) for kQuietPeriods periods in a row, after at least
+  /// kMinPeriodsBeforeStop periods. The verdict is then "stable (periodic)",
+  /// the one the whole run would reach (a periodic attractor stays), and
+  /// `periods` counts the periods simulated. The lobe search sets it: most
+  /// of its runs below the limit settle in a fraction of their periods.
+  bool stop_when_periodic = false;
 };
 
 // What a run returns (SimulationResult, SeriesSample, SpectralPeak,
@@ -172,8 +195,12 @@ class TimeDomainSolver final : public LobeSolver {
  public:
   /// `starting_guess`: a cheaper solver whose limit at each speed places the
   /// first depth of the search (only where the scan starts, not the answer).
-  /// Null: the zeroth-order analytic solver on the same model and process
-  /// (depth_max_m of these options) is built here, once; when the analytic
+  /// Null: built here, once, on the same model and process (depth_max_m of
+  /// these options): sdm for a helical cutter (it sees the helix; its limit
+  /// is the linear limit, so the search brackets it by 10 %, growing, and
+  /// its runs use 12 axial slices when axial_slices is automatic: about 3×
+  /// faster on the issue-27 cutter, docs/performance.md), else the
+  /// zeroth-order analytic solver (the wide scan below); when the analytic
   /// method does not apply to the model (or refuses the process), the search
   /// has no guess.
   TimeDomainSolver(StructuralModel model, Process process, TimeDomainOptions options = {},
@@ -185,7 +212,9 @@ class TimeDomainSolver final : public LobeSolver {
   /// out_of_cut_fraction, periods. Defined with the registry entry (factory.cpp).
   PointAnalysis analyse_point(double spindle_rpm, double depth_m) const override;
   /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
-  /// The search starts at 1/16 of the guess's bounded limit (capped at
+  /// With sdm's guess (a helical cutter) the search starts at the guess and
+  /// brackets by 1.1, 1.21, 1.46, ... up or down. Otherwise it
+  /// starts at 1/16 of the guess's bounded limit (capped at
   /// depth_max_m), or of depth_max_m/4 without a guess, where the guess finds
   /// no limit, or where it refuses the speed (its InputError, e.g. too many
   /// lobes in one delay for the analytic phase search at very low speed).
@@ -200,6 +229,11 @@ class TimeDomainSolver final : public LobeSolver {
  private:
   TimeDomainSimulator simulator_;
   std::shared_ptr<const LobeSolver> starting_guess_;
+  /// The default guess is sdm's (a helical cutter): bracket it narrowly.
+  bool floquet_guess_ = false;
+  /// The search's runs with fewer slices (a helical cutter, axial_slices
+  /// automatic); null: simulator_.
+  std::shared_ptr<const TimeDomainSimulator> search_simulator_;
 };
 
 }  // namespace chatter

@@ -18,46 +18,14 @@
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "chatter/transfer_function.hpp"
+#include "capi_internal.hpp"
 
 #include <nlohmann/json.hpp>
 
-struct chatter_model {
-  chatter::Config config;
-};
-
-struct chatter_solver {
-  std::unique_ptr<chatter::LobeSolver> solver;
-  std::string method;                 // "auto" resolved
-  chatter::Process process;           // for the point report's frequencies
-  chatter::RecordSource source;       // warnings and notes for the point record
-};
-
 namespace {
 
-thread_local std::string g_last_error;
-
-chatter_status fail(chatter_status s, std::string message) {
-  g_last_error = std::move(message);
-  return s;
-}
-
-// Runs `body`, mapping exceptions to status codes and the thread's message.
-template <class F>
-chatter_status guarded(F&& body) {
-  g_last_error.clear();
-  try {
-    body();
-    return CHATTER_OK;
-  } catch (const chatter::InputError& e) {
-    return fail(CHATTER_INPUT_ERROR, e.what());
-  } catch (const std::bad_alloc&) {
-    return fail(CHATTER_INTERNAL_ERROR, "out of memory");
-  } catch (const std::exception& e) {
-    return fail(CHATTER_INTERNAL_ERROR, e.what());
-  } catch (...) {
-    return fail(CHATTER_INTERNAL_ERROR, "unknown internal error");
-  }
-}
+using chatter::capi::fail;
+using chatter::capi::guarded;
 
 // Static storage for a multiplier type's name ("" if unknown).
 const char* type_name(const std::string& t) {
@@ -79,6 +47,11 @@ chatter_limit to_c(const chatter::StabilityLimit& l) {
 
 }  // namespace
 
+std::string& chatter::capi::last_error() {
+  thread_local std::string message;
+  return message;
+}
+
 extern "C" {
 
 const char* chatter_version(void) {
@@ -86,7 +59,7 @@ const char* chatter_version(void) {
   return v.c_str();
 }
 
-const char* chatter_last_error(void) { return g_last_error.c_str(); }
+const char* chatter_last_error(void) { return chatter::capi::last_error().c_str(); }
 
 chatter_status chatter_model_load(const char* config_path, chatter_model** out) {
   if (!config_path || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_model_load: config_path and out must not be NULL");

@@ -10,11 +10,14 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
+#include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "../io/text.hpp"
 
@@ -185,7 +188,8 @@ void check_outputs(const std::vector<Output>& outputs) {
 double plot_depth_max_mm(const po::variables_map& vm, bool plotting) {
   if (vm.count("plot-depth-max-mm") == 0) return 0.0;
   const double v = vm["plot-depth-max-mm"].as<double>();
-  if (!plotting) throw InputError("--plot-depth-max-mm: only with --plot (it sets the plot's depth axis)");
+  if (!plotting)
+    throw InputError("--plot-depth-max-mm: only with --plot or --show (it sets the plot's depth axis)");
   if (!(std::isfinite(v) && v > 0.0)) throw InputError("--plot-depth-max-mm = " + fmt(v) + ": must be > 0 mm");
   return v;
 }
@@ -282,13 +286,7 @@ nlohmann::json to_json(const SolverValue& v) {
       v);
 }
 
-std::string cell_text(const SolverValue& v) {
-  if (const auto* s = std::get_if<std::string>(&v)) return *s;
-  if (const auto* x = std::get_if<double>(&v)) return table_number(*x);
-  if (const auto* i = std::get_if<int>(&v)) return std::to_string(*i);
-  if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
-  return "";
-}
+std::string cell_text(const SolverValue& v) { return value_text(v); }
 
 std::vector<ExtraColumn> extra_columns(const std::vector<DiagnosticColumn>& columns,
                                        const std::vector<std::vector<SolverValue>>& values) {
@@ -343,19 +341,85 @@ BuiltSolver build_solver(const std::string& requested, const Config& cfg, double
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options_json = j.dump();
-  b.notes = ignored_feature_notes(*b.descriptor, cfg.process);
-  // "auto" fell back to an averaged method for milling (measured FRFs).
-  if (requested == kAutoMethod && !averaged_milling.empty())
-    b.notes.insert(b.notes.begin(), "method auto chose \"" + method + "\" (no Floquet method handles this input): " +
-                                        averaged_milling);
-  // A method that sees runout only through its nonlinear static chip does
-  // not see it in its linear mode.
-  if (const auto it = options.find("linear"); it != options.end() && std::get_if<bool>(&it->second) &&
-      std::get<bool>(it->second) && cfg.process.has_runout() && b.descriptor->accepts.contains(SolverFeature::kRunout))
-    b.notes.push_back("runout (process.runout_um) is ignored with --linear: the linear delay equation has no static "
-                      "chip, which is all runout changes");
+  b.notes = method_notes(requested, *b.descriptor, cfg.process, options, averaged_milling, ArgStyle::kFlag);
   for (const std::string& n : b.notes) std::cerr << "note: " << n << "\n";
   return b;
+}
+
+void add_show_option(po::options_description& d) { d.add_options()("show", kShowHelp); }
+
+namespace {
+
+// The executable `name` in a PATH directory, or "".
+std::string on_path(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  const std::string dirs = path;
+  for (std::size_t start = 0; start <= dirs.size();) {
+    std::size_t end = dirs.find(':', start);
+    if (end == std::string::npos) end = dirs.size();
+    const std::string dir = dirs.substr(start, end - start);
+    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + name;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    start = end + 1;
+  }
+  return {};
+}
+
+// The terminals this gnuplot was built with (GPVAL_TERMINALS), one start of gnuplot.
+std::string gnuplot_terminals(const std::string& gnuplot) {
+  std::string out;
+  const std::string cmd = "'" + gnuplot + "' -e 'print GPVAL_TERMINALS' 2>&1 </dev/null";
+  if (FILE* p = ::popen(cmd.c_str(), "r")) {
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    ::pclose(p);
+  }
+  return " " + out + " ";
+}
+
+bool has_word(const std::string& list, const std::string& word) {
+  return list.find(" " + word + " ") != std::string::npos || list.find(" " + word + "\n") != std::string::npos;
+}
+
+}  // namespace
+
+ShowRequest show_request(const po::variables_map& vm) {
+  ShowRequest r;
+  if (!vm.count("show")) return r;
+  r.requested = true;
+  const std::string gnuplot = on_path("gnuplot");
+  if (gnuplot.empty())
+    throw InputError("--show: gnuplot not found on PATH (Debian: apt install gnuplot-qt for windows, gnuplot-nox "
+                     "for images and text plots)");
+  const char* env_term = std::getenv("GNUPLOT_TERM");
+  if (env_term && *env_term) {
+    // Sent as `set terminal` (gnuplot reading a pipe starts on no terminal);
+    // checked here so that a typo fails before the computation, not after it.
+    std::string term = env_term;
+    term = term.substr(0, term.find(' '));
+    if (!has_word(gnuplot_terminals(gnuplot), term))
+      throw InputError("--show: GNUPLOT_TERM=" + std::string(env_term) + ": not a terminal of " + gnuplot +
+                       " (gnuplot -e 'print GPVAL_TERMINALS' lists them; dumb draws text)");
+    r.terminal = env_term;
+    r.where = "gnuplot terminal " + std::string(env_term);
+    r.text = term == "dumb";
+    return r;
+  }
+  const char* display = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if (!(display && *display) && !(wayland && *wayland))
+    throw InputError("--show: no display (DISPLAY is not set), so no window can open; draw an image with --plot FILE, "
+                     "or set GNUPLOT_TERM=dumb for a text plot on standard output");
+  const std::string terminals = gnuplot_terminals(gnuplot);
+  for (const char* t : {"qt", "wxt", "x11"})
+    if (has_word(terminals, t)) {
+      r.terminal = std::string(t) + " size 1200,800 enhanced font 'DejaVu Sans,12'";
+      r.where = std::string("a gnuplot ") + t + " window";
+      return r;
+    }
+  throw InputError("--show: " + gnuplot + " has no window terminal (qt, wxt or x11; Debian's gnuplot-nox has none): "
+                   "install gnuplot-qt, draw an image with --plot FILE, or set GNUPLOT_TERM=dumb for a text plot");
 }
 
 Progress::Progress(const po::variables_map& vm, std::size_t total, std::string label, double show_after_s)

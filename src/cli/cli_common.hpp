@@ -99,9 +99,33 @@ struct Output {
 /// written)".
 void check_outputs(const std::vector<Output>& outputs);
 
+/// --show: a live gnuplot window instead of (or beside) the image files
+/// (lobes, map, compare, surface, simulate; docs/plots.md).
+inline constexpr const char* kShowHelp =
+    "open the plot in a live gnuplot window (zoom, pan; it stays open after chatter ends; needs a display and a "
+    "gnuplot with a window terminal: qt, wxt or x11); with GNUPLOT_TERM set, draw on that gnuplot terminal "
+    "instead (GNUPLOT_TERM=dumb: a text plot on standard output)";
+/// What --show asked for, checked before anything is computed.
+struct ShowRequest {
+  bool requested = false;
+  /// The `set terminal` argument: GNUPLOT_TERM as given, or the window
+  /// terminal chosen (qt, wxt or x11) with the image's size and font.
+  std::string terminal;
+  std::string where;  ///< for the message after drawing: "a gnuplot qt window", "gnuplot terminal dumb"
+  bool text = false;  ///< a text terminal (dumb): the plot is printed on standard output
+};
+/// Adds --show to a command's options.
+void add_show_option(po::options_description& d);
+/// --show checked: gnuplot on PATH, then GNUPLOT_TERM, else a display
+/// ($DISPLAY or $WAYLAND_DISPLAY) and a window terminal in this gnuplot.
+/// Costs one gnuplot start (to list its terminals) when --show is given.
+/// @throws InputError "--show: ..." saying what is missing and what to do
+/// (the CLI exits 2 before computing anything).
+ShowRequest show_request(const po::variables_map& vm);
+
 /// The help of --plot-depth-max-mm (lobes, compare).
 inline constexpr const char* kPlotDepthMaxHelp =
-    "with --plot: top of the depth axis, mm (> 0; default: 1.1 x the deepest finite limit, rounded up, "
+    "with --plot or --show: top of the depth axis, mm (> 0; default: 1.1 x the deepest finite limit, rounded up, "
     "at most --depth-max-mm, so every stable pocket is visible)";
 /// --plot-depth-max-mm: 0 when not given (automatic axis). @throws InputError
 /// if it is not finite and > 0, or given without --plot (`plotting` false).

@@ -24,7 +24,7 @@
 #include "chatter/io/table_writer.hpp"
 #include "chatter/io/modes_toml.hpp"
 #include "chatter/modal_fit.hpp"
-#include "../io/text.hpp"
+#include "chatter/records/shop.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 
@@ -68,222 +68,6 @@ Examples:
   chatter fit tap_yy.frf --scale 1e-6 --direction y --body workpiece --out wp.toml
 )";
 
-struct FitArgs {
-  std::string file, format, quantity, body = "tool", direction, out, plot, term;
-  double scale = 1.0;
-  std::optional<int> record, modes;
-  bool auto_modes = false, residuals = false;
-  std::optional<std::pair<double, double>> band;
-};
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string format_from_extension(const fs::path& file) {
-  const std::string ext = lower(file.extension().string());
-  if (ext == ".csv") return "csv";
-  if (ext == ".frf" || ext == ".tab" || ext == ".txt") return "tab";
-  if (ext == ".uff" || ext == ".unv" || ext == ".58") return "uff";
-  throw InputError(file.string() + ": cannot tell the format from the extension '" + file.extension().string() +
-                   "': give --format csv, tab or uff");
-}
-
-// "x", "y", "[ux, uy]" or "ux,uy" -> unit vector.
-Eigen::Vector2d parse_direction(const std::string& text) {
-  const std::string t = lower(text);
-  if (t == "x" || t == "+x") return {1.0, 0.0};
-  if (t == "y" || t == "+y") return {0.0, 1.0};
-  std::string s;
-  for (char c : t)
-    if (c != '[' && c != ']' && !std::isspace(static_cast<unsigned char>(c))) s += c;
-  const std::size_t comma = s.find(',');
-  auto number = [](const std::string& p, double& v) {
-    const std::optional<double> x = detail::text::parse_double(p);
-    if (!x || !std::isfinite(*x)) return false;
-    v = *x;
-    return true;
-  };
-  double ux = 0.0, uy = 0.0;
-  if (comma == std::string::npos || !number(s.substr(0, comma), ux) || !number(s.substr(comma + 1), uy))
-    throw InputError("--direction '" + text + "': use x, y or [ux,uy] (a vector in the X-Y plane)");
-  const double n = std::hypot(ux, uy);
-  if (!(n > 0.0) || !std::isfinite(n)) throw InputError("--direction '" + text + "': the vector must not be zero");
-  return {ux / n, uy / n};
-}
-
-std::string direction_text(const Eigen::Vector2d& u) {
-  if (u.x() == 1.0 && u.y() == 0.0) return "x";
-  if (u.x() == 0.0 && u.y() == 1.0) return "y";
-  std::string s = "[";  // appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive
-  s.append(fmt(u.x(), 6)).append(", ").append(fmt(u.y(), 6)).append("]");
-  return s;
-}
-
-// UFF record 6 direction code as text: 1 +X, -2 -Y, ...
-std::string uff_direction_text(int d) {
-  static const char* const axes[] = {"?", "X", "Y", "Z", "RX", "RY", "RZ"};
-  const int a = std::abs(d);
-  if (a < 1 || a > 6) return std::to_string(d);
-  return std::string(d < 0 ? "-" : "+") + axes[a];
-}
-
-// One table to fit, with what the output says about it.
-struct Job {
-  FrfTable table;
-  std::string label;                  // "tap.csv" or "tap.uff record 2 (response 1 +X, reference 1 +X)"
-  std::string name;                   // in the plot key: "" or "record 2"
-  Eigen::Vector2d direction{1.0, 0.0};
-};
-
-// The header of the table `chatter frf --out` writes: frequency_hz, then
-// <body>_<term>_real_m_per_n, <body>_<term>_imag_m_per_n for body tool,
-// workpiece, relative and term xx, xy, yy.
-constexpr std::string_view kFrfTableHeader = "frequency_hz,tool_xx_real_m_per_n,tool_xx_imag_m_per_n";
-
-// True if `file` starts (after comment lines) with the header of `chatter frf`.
-bool is_chatter_frf_table(const fs::path& file) {
-  std::ifstream in(file);
-  for (std::string line; std::getline(in, line);) {
-    const std::string_view t = detail::text::trim(line);
-    if (t.empty() || t.front() == '#') continue;
-    return t.substr(0, kFrfTableHeader.size()) == kFrfTableHeader;
-  }
-  return false;
-}
-
-// One term (--term, e.g. relative_xx) of a `chatter frf` table, scaled by
-// opt.scale and converted from opt.quantity like the other readers.
-// @throws InputError naming the file, line or --term.
-FrfTable read_chatter_frf_term(const fs::path& file, const std::string& term, const FrfReadOptions& opt) {
-  std::ifstream in(file);
-  std::vector<std::string> header, f;
-  std::size_t re = 0, im = 0;
-  FrfTable t;
-  t.source = file.string() + " (" + term + ")";
-  int line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string_view tl = detail::text::trim(line);
-    if (tl.empty() || tl.front() == '#') continue;
-    if (header.empty()) {
-      detail::text::split_delimited(tl, ',', false, header);
-      const auto at = [&](const std::string& name) {
-        return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-      };
-      re = at(term + "_real_m_per_n");
-      im = at(term + "_imag_m_per_n");
-      if (re >= header.size() || im >= header.size())
-        throw InputError("--term '" + term + "': not a term of " + file.string() +
-                         " (a chatter frf table: tool_xx, tool_yy, workpiece_xx, workpiece_yy, relative_xx, "
-                         "relative_yy)");
-      continue;
-    }
-    detail::text::split_delimited(tl, ',', false, f);
-    const auto fr = f.empty() ? std::nullopt : detail::text::parse_double(f[0]);
-    const auto vr = re < f.size() ? detail::text::parse_double(f[re]) : std::nullopt;
-    const auto vi = im < f.size() ? detail::text::parse_double(f[im]) : std::nullopt;
-    if (!fr || !vr || !vi)
-      throw InputError(file.string() + ": line " + std::to_string(line_no) + ": expected " +
-                       std::to_string(header.size()) + " numbers (a chatter frf table)");
-    if (*fr == 0.0 && opt.drop_zero_hz && opt.quantity && *opt.quantity != FrfQuantity::kReceptance) continue;
-    t.frequency_hz.push_back(*fr);
-    t.value.emplace_back(*vr * opt.scale, *vi * opt.scale);
-  }
-  validate(t);
-  return opt.quantity ? to_receptance(std::move(t), *opt.quantity) : t;
-}
-
-std::vector<Job> read_jobs(const FitArgs& a) {
-  const fs::path file = a.file;
-  {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw InputError(a.file + ": no such file");
-    if (fs::is_directory(file, ec)) throw InputError(a.file + ": is a directory, not an FRF file");
-  }
-  const std::string format = a.format.empty() ? format_from_extension(file) : lower(a.format);
-  if (format != "csv" && format != "tab" && format != "uff")
-    throw InputError("--format '" + a.format + "': use csv, tab or uff");
-  FrfReadOptions opt;
-  if (!a.quantity.empty()) {
-    opt.quantity = parse_frf_quantity(a.quantity);
-    if (!opt.quantity)
-      throw InputError("--quantity '" + a.quantity +
-                       "': use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s^2)/N)");
-  }
-  if (!(std::isfinite(a.scale) && a.scale > 0.0))
-    throw InputError("--scale = " + fmt(a.scale) + ": must be > 0 (the factor to SI: 1e-6 for um/N, 1e-3 for mm/N)");
-  opt.scale = a.scale;
-  opt.drop_zero_hz = true;
-  const bool given = !a.direction.empty();
-  const Eigen::Vector2d given_direction = given ? parse_direction(a.direction) : Eigen::Vector2d(1.0, 0.0);
-
-  std::vector<Job> jobs;
-  const bool frf_table = format == "csv" && is_chatter_frf_table(file);
-  if (!a.term.empty() && !frf_table)
-    throw InputError("--term: only for a table written by chatter frf --out (" + a.file + " is not one)");
-  if (frf_table) {
-    // `chatter frf --out` holds 9 receptance terms: fit one (default relative_xx,
-    // what the lobes are computed from); its direction follows the term.
-    if (a.record) throw InputError("--record: only for UFF files (use --term for a chatter frf table)");
-    const std::string term = a.term.empty() ? "relative_xx" : a.term;
-    if (term.size() < 3 || term.substr(term.size() - 3) == "_xy")
-      throw InputError("--term '" + term + "': a cross term (xy) has no modes of its own; fit an xx or yy term");
-    Job j;
-    j.table = read_chatter_frf_term(file, term, opt);
-    j.label = a.file + " (" + term + ")";
-    j.direction = given ? given_direction
-                        : term.substr(term.size() - 3) == "_yy" ? Eigen::Vector2d(0.0, 1.0) : Eigen::Vector2d(1.0, 0.0);
-    jobs.push_back(std::move(j));
-    return jobs;
-  }
-  if (format != "uff") {
-    if (a.record) throw InputError("--record: only for UFF files (a " + format + " file holds one FRF)");
-    Job j;
-    j.table = format == "csv" ? read_frf_csv(file, opt) : read_frf_tab(file, opt);
-    j.label = a.file;
-    j.direction = given_direction;
-    jobs.push_back(std::move(j));
-    return jobs;
-  }
-  if (a.record && *a.record < 1) throw InputError("--record = " + std::to_string(*a.record) + ": must be >= 1");
-  std::vector<UffFrfRecord> recs = read_uff58_records(file, opt);
-  if (a.record && static_cast<std::size_t>(*a.record) > recs.size())
-    throw InputError("--record = " + std::to_string(*a.record) + ": " + a.file + " holds " +
-                     std::to_string(recs.size()) + " FRF record(s)");
-  std::vector<std::string> cross;
-  for (std::size_t i = 0; i < recs.size(); ++i) {
-    if (a.record && static_cast<std::size_t>(*a.record) != i + 1) continue;
-    UffFrfRecord& r = recs[i];
-    const int rd = std::abs(r.response_direction), fd = std::abs(r.reference_direction);
-    Job j;
-    j.name = "record " + std::to_string(i + 1);
-    j.label = a.file + " FRF record " + std::to_string(i + 1) + " (dataset " + std::to_string(r.record) +
-              " at line " + std::to_string(r.line) + ", response " + std::to_string(r.response_node) + " " +
-              uff_direction_text(r.response_direction) + ", reference " + std::to_string(r.reference_node) + " " +
-              uff_direction_text(r.reference_direction) + ")";
-    // A cross term (response X, reference Y) has no modes of its own to fit.
-    if ((rd == 1 || rd == 2) && (fd == 1 || fd == 2) && rd != fd && !given) {
-      cross.push_back(j.label);
-      continue;
-    }
-    j.direction = given ? given_direction : rd == 2 ? Eigen::Vector2d(0.0, 1.0) : Eigen::Vector2d(1.0, 0.0);
-    j.table = std::move(r.table);
-    jobs.push_back(std::move(j));
-  }
-  if (jobs.empty()) {
-    std::string list;
-    for (const auto& c : cross) list += "\n  " + c;
-    throw InputError(a.file + ": only cross terms (response and reference in different directions), which cannot "
-                              "be fitted on their own; fit the direct terms (xx, yy), or give --direction to fit "
-                              "one anyway:" + list);
-  }
-  for (const auto& c : cross) std::cout << "skipped cross term: " << c << "\n";
-  return jobs;
-}
-
 std::string g(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, x);
@@ -303,15 +87,15 @@ std::string gp_quote(const std::string& s) { return gnuplot_quote(s); }
 // The plot's data and script (measured points and fitted curve of every
 // record: magnitude over phase), named after the image like plot.hpp does.
 std::pair<std::string, std::string> plot_files(const fs::path& image, const std::string& file,
-                                               const std::vector<Job>& jobs, const std::vector<ModalFitResult>& fits) {
+                                               const std::vector<FittedRecord>& jobs) {
   const ImageFormat format = check_plot_path(image);
   fs::path dat = image, gp = image;
   dat.replace_extension(".dat");
   gp.replace_extension(".gp");
   double lo = INFINITY, hi = -INFINITY;
-  for (const auto& r : fits) {
-    lo = std::min(lo, r.f_min_hz);
-    hi = std::max(hi, r.f_max_hz);
+  for (const auto& j : jobs) {
+    lo = std::min(lo, j.fit.f_min_hz);
+    hi = std::max(hi, j.fit.f_max_hz);
   }
   const double pad = 0.03 * (hi - lo);
   lo = std::max(0.0, lo - pad);
@@ -333,8 +117,8 @@ std::pair<std::string, std::string> plot_files(const fs::path& image, const std:
     d << "\n\n# " << jobs[r].label << ": fitted\n# frequency_hz abs_m_per_n phase_deg real_m_per_n imag_m_per_n\n";
     const int n = 2000;
     for (int i = 0; i <= n; ++i) {
-      const double f = fits[r].f_min_hz + (fits[r].f_max_hz - fits[r].f_min_hz) * i / n;
-      const Complex z = fits[r].receptance(f);
+      const double f = jobs[r].fit.f_min_hz + (jobs[r].fit.f_max_hz - jobs[r].fit.f_min_hz) * i / n;
+      const Complex z = jobs[r].fit.receptance(f);
       if (!std::isfinite(std::abs(z))) continue;
       d << g(f, 10) << ' ' << g(std::abs(z), 10) << ' ' << (std::abs(z) > 0 ? g(phase_deg(z), 8) : "?") << ' '
         << g(z.real(), 10) << ' ' << g(z.imag(), 10) << '\n';
@@ -374,8 +158,8 @@ std::pair<std::string, std::string> plot_files(const fs::path& image, const std:
         << " with points pt 7 ps 0.6 lc rgb light(" << r << ") title " << gp_quote(who + "measured")
         << ", \\\n  data index " << 2 * r + 1 << " using 1:" << column
         << " with lines lw 2.5 " << c << " title "
-        << gp_quote(who + "fit, " + std::to_string(fits[r].modes.size()) + " mode(s), error " +
-                    g(100 * fits[r].fit_error, 3) + " %");
+        << gp_quote(who + "fit, " + std::to_string(jobs[r].fit.modes.size()) + " mode(s), error " +
+                    g(100 * jobs[r].fit.fit_error, 3) + " %");
     }
     return p.str() + "\n";
   };
@@ -398,7 +182,9 @@ namespace {
 
 // Reads and checks every option (nothing is read or written before this
 // returns). Returns false when --help was asked (the usage is printed).
-bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
+bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a, std::string& out, std::string& plot,
+                    std::string& json_path) {
+  std::string file;
   po::options_description d("Options");
   d.add_options()
       ("format", po::value<std::string>(&a.format),
@@ -423,11 +209,14 @@ bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
       ("direction", po::value<std::string>(&a.direction),
        "direction of the measured term: x (xx term), y (yy term) or \"[ux,uy]\" (default: x; UFF: the record's "
        "response direction, +Y -> y)")
-      ("out", po::value<std::string>(&a.out)->required(), "write the modes as a config fragment (TOML) here (required)")
-      ("plot", po::value<std::string>(&a.plot),
+      ("out", po::value<std::string>(&out)->required(), "write the modes as a config fragment (TOML) here (required)")
+      ("json", po::value<std::string>(&json_path),
+       "also write the fit's record (modes, fit errors, warnings, the fragment) as JSON ('-': standard output, the "
+       "report then goes to standard error)")
+      ("plot", po::value<std::string>(&plot),
        "draw measured vs fitted magnitude and phase to this .png, .svg or .pdf (script and data beside it)");
   po::options_description hidden;
-  hidden.add_options()("frf-file", po::value<std::string>(&a.file), "FRF file");
+  hidden.add_options()("frf-file", po::value<std::string>(&file), "FRF file");
   po::options_description all;
   all.add(d).add(hidden);
   all.add_options()("help,h", "show this help");
@@ -441,99 +230,21 @@ bool parse_fit_args(const std::vector<std::string>& args, FitArgs& a) {
   }
   if (!vm.count("frf-file")) throw po::error("missing FRF-FILE (a .csv, .frf or .uff file of a tap test)");
   po::notify(vm);
-
+  a.file = file;
+  a.fragment_name = out;
   if (vm.count("record")) a.record = vm["record"].as<int>();
-  if (vm.count("modes")) {
-    a.modes = vm["modes"].as<int>();
-    if (*a.modes < 1) throw InputError("--modes = " + std::to_string(*a.modes) + ": must be >= 1 (or --auto)");
-  }
-  a.auto_modes = vm.count("auto") > 0;
-  if (a.auto_modes && a.modes) throw InputError("--modes and --auto: give one of them");
+  if (vm.count("modes")) a.modes = vm["modes"].as<int>();
+  if (vm.count("auto") && a.modes) throw InputError("--modes and --auto: give one of them");
   a.residuals = vm.count("residuals") > 0;
   if (vm.count("band")) {
     const auto& b = vm["band"].as<std::vector<double>>();
     if (b.size() != 2)
       throw InputError("--band: give two frequencies FMIN FMAX in Hz, got " + std::to_string(b.size()) + " value(s)");
-    if (!(std::isfinite(b[0]) && b[0] >= 0.0)) throw InputError("--band: FMIN = " + fmt(b[0]) + " Hz: must be >= 0");
-    if (!(std::isfinite(b[1]) && b[1] > b[0]))
-      throw InputError("--band: FMAX = " + fmt(b[1]) + " Hz: must be > FMIN (" + fmt(b[0]) + " Hz)");
     a.band = std::pair{b[0], b[1]};
   }
-  a.body = lower(a.body);
-  if (a.body != "tool" && a.body != "workpiece") throw InputError("--body '" + a.body + "': use tool or workpiece");
-  check_outputs({{"--out", a.out}, {"--plot", a.plot, true}});  // before reading or fitting
-  if (!a.direction.empty()) parse_direction(a.direction);
+  check_fit_args(a, ArgStyle::kFlag);
+  check_outputs({{"--out", out}, {"--json", json_path == "-" ? "" : json_path}, {"--plot", plot, true}});  // before reading or fitting
   return true;
-}
-
-// Fits one FRF record; appends its lines to the report, its modes to the TOML
-// fragment and any warning. @throws InputError when the data cannot be fitted.
-ModalFitResult fit_job(const Job& j, const FitArgs& a, std::ostringstream& report, std::ostringstream& toml,
-                       std::vector<std::string>& warnings) {
-  const FrfTable& t = j.table;
-  ModalFitOptions o;
-  o.modes = a.modes.value_or(0);
-  o.residuals = a.residuals;
-  o.direction = j.direction;
-  if (a.band) {
-    o.f_min_hz = a.band->first;
-    o.f_max_hz = a.band->second;
-    const double lo = t.frequency_hz.front(), hi = t.frequency_hz.back();
-    if (o.f_max_hz < lo || o.f_min_hz > hi)
-      throw InputError(j.label + ": --band " + fmt(o.f_min_hz) + " " + fmt(o.f_max_hz) +
-                       " Hz lies outside the measured lines (" + fmt(lo) + "-" + fmt(hi) + " Hz)");
-  }
-  ModalFitResult res;
-  try {
-    res = fit_modes(t, o);
-  } catch (const NumericalError& e) {
-    throw InputError(std::string(e.what()) +
-                     "; the data do not look like lightly damped modes in this band: narrow --band around the "
-                     "resonances, give --modes, or check --quantity");
-  }
-  report << j.label << ": " << t.size() << " lines " << fmt(t.frequency_hz.front()) << "-"
-         << fmt(t.frequency_hz.back()) << " Hz; fitted " << res.lines << " lines " << fmt(res.f_min_hz) << "-"
-         << fmt(res.f_max_hz) << " Hz, direction " << direction_text(j.direction) << "\n";
-  report << "  mode  frequency_hz  damping_ratio  stiffness_n_per_m\n";
-  for (std::size_t m = 0; m < res.modes.size(); ++m) {
-    const Mode& md = res.modes[m];
-    char line[160];
-    std::snprintf(line, sizeof line, "  %4zu  %12.6g  %13.5g  %17.6g\n", m + 1, md.natural_frequency_hz,
-                  md.damping_ratio, md.stiffness_n_per_m);
-    report << line;
-  }
-  if (a.residuals)
-    report << "  residual terms: upper " << g(res.residual_upper, 4) << " m/N, lower " << g(res.residual_lower, 4)
-           << " m/N at " << g(res.residual_omega / (2 * std::numbers::pi), 6)
-           << " Hz (not written: they stand for modes outside the band)\n";
-  report << "  fit error " << g(res.fit_error, 3) << " (relative RMS over the band; peak picking alone: "
-         << g(res.initial_error, 3) << "), " << res.iterations << " iterations"
-         << (res.converged ? "" : ", NOT converged") << "\n";
-  if (!res.converged)
-    warnings.push_back(j.label + ": the fit did not converge within " + std::to_string(o.max_iterations) +
-                       " iterations; the modes are the best found");
-  if (res.fit_error > 0.1)
-    warnings.push_back(j.label + ": fit error " + g(100 * res.fit_error, 3) +
-                       " %: the modes do not describe this FRF well; try --band around the resonances, --modes, "
-                       "or --residuals");
-  std::ostringstream comment;
-  comment << j.label << ": " << res.modes.size() << " mode(s), band " << fmt(res.f_min_hz) << "-"
-          << fmt(res.f_max_hz) << " Hz (" << res.lines << " lines), fit error " << g(res.fit_error, 3)
-          << " (relative RMS), " << res.iterations << " iterations" << (res.converged ? "" : ", not converged");
-  toml << "\n" << modes_to_toml(res.modes, a.body, comment.str());
-  return res;
-}
-
-// Two records along the same direction would put the same modes in twice.
-void warn_same_directions(const std::vector<Job>& jobs, const FitArgs& a, std::vector<std::string>& warnings) {
-  for (std::size_t r = 1; r < jobs.size(); ++r)
-    for (std::size_t q = 0; q < r; ++q)
-      if ((jobs[r].direction - jobs[q].direction).norm() < 1e-12) {
-        warnings.push_back("FRF records " + std::to_string(q + 1) + " and " + std::to_string(r + 1) +
-                           " are both along " + direction_text(jobs[r].direction) + ": " + a.out +
-                           " holds the modes of both; keep one set (or pick a record with --record)");
-        q = r;
-      }
 }
 
 // Never overwrite the measurement, nor one output with another.
@@ -556,29 +267,25 @@ void refuse_colliding_paths(const std::vector<std::pair<fs::path, std::string>>&
 
 int cmd_fit(const std::vector<std::string>& args) {
   FitArgs a;
-  if (!parse_fit_args(args, a)) return 0;
-
-  // ---- read and fit ----
-  std::vector<Job> jobs = read_jobs(a);
-  std::vector<ModalFitResult> fits;
-  std::ostringstream report, toml;
-  toml << "# Modes fitted by `chatter fit` (chatter " << version() << ") from " << a.file << ".\n"
-       << "# Paste the blocks below into a config (docs/config.md), or append a [process] table.\n";
-  std::vector<std::string> warnings;
-  for (const Job& j : jobs) fits.push_back(fit_job(j, a, report, toml, warnings));
-  warn_same_directions(jobs, a, warnings);
+  std::string out, plot, json_path;
+  if (!parse_fit_args(args, a, out, plot, json_path)) return 0;
+  const FitReport r = fit_frf_file(a, ArgStyle::kFlag);
 
   // ---- write (all or nothing), then render ----
-  std::vector<std::pair<fs::path, std::string>> files{{a.out, toml.str()}};
-  std::vector<std::pair<fs::path, std::string>> uses{{a.file, "the FRF file being fitted"}, {a.out, "--out"}};
+  std::vector<std::pair<fs::path, std::string>> files{{out, r.fragment}};
+  std::vector<std::pair<fs::path, std::string>> uses{{a.file, "the FRF file being fitted"}, {out, "--out"}};
+  if (!json_path.empty() && json_path != "-") {
+    files.emplace_back(json_path, fit_record(r).dump(2) + "\n");
+    uses.emplace_back(json_path, "--json");
+  }
   fs::path image, script, data;
-  if (!a.plot.empty()) {
-    image = a.plot;
+  if (!plot.empty()) {
+    image = plot;
     script = image;
     script.replace_extension(".gp");
     data = image;
     data.replace_extension(".dat");
-    auto [dat_text, gp_text] = plot_files(image, a.file, jobs, fits);
+    auto [dat_text, gp_text] = plot_files(image, a.file.string(), r.records);
     files.emplace_back(data, std::move(dat_text));
     files.emplace_back(script, std::move(gp_text));
     uses.emplace_back(data, "the --plot data file");
@@ -587,13 +294,15 @@ int cmd_fit(const std::vector<std::string>& args) {
   }
   refuse_colliding_paths(uses);
   write_text_files(files);
-  std::cout << report.str();
-  for (const auto& w : warnings) std::cout << "warning: " << w << "\n";
-  std::cout << "wrote modes: " << a.out << " ([[" << a.body << ".modes]])\n";
-  if (!a.plot.empty()) {
+  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
+  os << r.report;
+  for (const auto& w : r.warnings) os << "warning: " << w << "\n";
+  os << "wrote modes: " << out << " ([[" << r.body << ".modes]])\n";
+  if (json_path == "-") std::cout << fit_record(r).dump(2) << "\n";
+  if (!plot.empty()) {
     render_gnuplot_image(script, image);
-    std::cout << "wrote plot: " << image.string() << " (gnuplot script " << script.string() << ", data "
-              << data.string() << ")\n";
+    os << "wrote plot: " << image.string() << " (gnuplot script " << script.string() << ", data "
+       << data.string() << ")\n";
   }
   return 0;
 }

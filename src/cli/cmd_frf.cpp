@@ -1,5 +1,7 @@
 // `chatter frf`: the receptance of the tool, the workpiece and the relative
-// motion on a frequency grid, as a table and a plot (docs/frf.md).
+// motion on a frequency grid, as a table and a plot (docs/frf.md). The grid
+// and the table: frf_grid, receptance_table (chatter/records/lobes.hpp),
+// shared with Python's chatter.frf.
 #include <boost/program_options.hpp>
 
 #include <cmath>
@@ -19,6 +21,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/records/lobes.hpp"
 
 namespace po = boost::program_options;
 
@@ -49,53 +52,23 @@ int cmd_frf(const std::vector<std::string>& args) {
   if (out_path == "-") out_path.clear();
   check_outputs({{"--out", out_path}, {"--plot", plot_path, true}});  // before computing
   const chatter::Config cfg = load_checked(common);
-  const double f_lo_default = 0.5 * cfg.model.min_omega() / (2 * std::numbers::pi);
-  const double f_hi_default = 2.0 * cfg.model.max_omega() / (2 * std::numbers::pi);
-  const double fmin = vm.count("fmin") ? vm["fmin"].as<double>() : f_lo_default;
-  const double fmax = vm.count("fmax") ? vm["fmax"].as<double>() : f_hi_default;
-  const bool log_spacing = vm.count("log") > 0;
-  if (!(std::isfinite(fmin) && (log_spacing ? fmin > 0.0 : fmin >= 0.0)))
-    throw InputError("--fmin = " + fmt(fmin) + (log_spacing ? ": must be > 0 Hz with --log" : ": must be >= 0 Hz"));
-  if (!(std::isfinite(fmax) && fmax > fmin))
-    throw InputError("--fmax = " + fmt(fmax) + ": must be > --fmin (" + fmt(fmin) + ")");
-  if (points < 2) throw InputError("--points = " + std::to_string(points) + ": must be >= 2");
-
+  const std::optional<double> fmin = vm.count("fmin") ? std::optional<double>(vm["fmin"].as<double>()) : std::nullopt;
+  const std::optional<double> fmax = vm.count("fmax") ? std::optional<double>(vm["fmax"].as<double>()) : std::nullopt;
+  const chatter::FrfGrid grid = chatter::frf_grid(cfg.model, fmin, fmax, points, vm.count("log") > 0, chatter::ArgStyle::kFlag);
+  const double fmin_hz = grid.fmin_hz, fmax_hz = grid.fmax_hz;
+  const bool log_spacing = grid.log;
   std::ostringstream os;
-  os << "frequency_hz";
-  for (const char* body : {"tool", "workpiece", "relative"})
-    for (const char* term : {"xx", "xy", "yy"})
-      os << ',' << body << '_' << term << "_real_m_per_n," << body << '_' << term << "_imag_m_per_n";
-  os << '\n';
-  char buf[40];
-  auto put = [&](double x) {
-    std::snprintf(buf, sizeof buf, ",%.10g", x);
-    os << buf;
-  };
-  for (int i = 0; i < points; ++i) {
-    const double t = static_cast<double>(i) / (points - 1);
-    const double f = log_spacing ? fmin * std::pow(fmax / fmin, t) : fmin + (fmax - fmin) * t;
-    const double w = 2 * std::numbers::pi * f;
-    std::snprintf(buf, sizeof buf, "%.10g", f);
-    os << buf;
-    const chatter::Matrix2c gt = cfg.model.tool.receptance(w), gw = cfg.model.workpiece.receptance(w);
-    const chatter::Matrix2c gr = gt + gw;
-    for (const chatter::Matrix2c* g : {&gt, &gw, &gr})
-      for (auto [r, c] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 1}}) {
-        put((*g)(r, c).real());
-        put((*g)(r, c).imag());
-      }
-    os << '\n';
-  }
+  os << chatter::named_columns_csv(chatter::receptance_table(cfg.model, grid));
   if (table_to_stdout) std::cout << os.str();
   if (!out_path.empty()) {
     chatter::write_text_file(out_path, os.str());
-    std::cout << "wrote receptance table (" << points << " frequencies, " << fmt(fmin) << "-" << fmt(fmax)
+    std::cout << "wrote receptance table (" << points << " frequencies, " << fmt(fmin_hz) << "-" << fmt(fmax_hz)
               << " Hz): " << out_path << "\n";
   }
   if (!plot_path.empty()) {
     chatter::PlotOptions po_;
     if (vm.count("re-im")) po_.frf_parts = chatter::FrfParts::real_imaginary;
-    const auto files = chatter::plot_frf(plot_path, cfg.name, cfg.model, fmin, fmax, points, log_spacing, po_);
+    const auto files = chatter::plot_frf(plot_path, cfg.name, cfg.model, fmin_hz, fmax_hz, points, log_spacing, po_);
     (table_to_stdout ? std::cerr : std::cout) << "wrote plot: " << files.image.string() << " (gnuplot script "
                                                << files.script.string() << ")\n";
   }

@@ -58,12 +58,13 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
                                                      "standard output only when neither --json nor --plot is given)")
       ("json", po::value<std::string>(&json_path), "write the table with its provenance as JSON")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
-      ("plot-frequency", "with --plot: add a panel with the chatter frequency")
+      ("plot-frequency", "with --plot or --show: add a panel with the chatter frequency")
       ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp)
       ("depth-mm", po::value<double>(), "a planned depth of cut, mm (< --depth-max-mm): say on standard error at how "
                                         "many speeds of the table it chatters")
       ("fail-on-chatter", "with --depth-mm: exit with status 3 when that depth chatters at any speed of the table "
                           "(for scripts: 0 stable everywhere, 3 chatter, 2 bad input)");
+  add_show_option(d);
   add_uncertainty_options(d);
   add_solver_options(d);
   po::variables_map& vm = plan.vm;
@@ -92,7 +93,9 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
   if (vm.count("fail-on-chatter") && !vm.count("depth-mm"))
     throw InputError("--fail-on-chatter: give --depth-mm D too (the depth of cut to judge at every speed)");
   // The table goes to standard output when asked ('-') or when nothing else is.
-  plan.table_to_stdout = table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty());
+  plan.show = show_request(vm);  // a display or GNUPLOT_TERM, before anything is computed
+  plan.table_to_stdout =
+      table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty() && !plan.show.requested);
   if (table_path == "-") table_path.clear();
   if (check_output_files)
     check_outputs({{"--table", table_path},
@@ -100,7 +103,7 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
                    {"--plot", plot_path, true},
                    {"--probability-table",
                     vm.count("probability-table") ? vm["probability-table"].as<std::string>() : std::string()}});
-  plan.plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty());
+  plan.plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty() || plan.show.requested);
   plan.cfg = load_checked(common);
   const Config& cfg = plan.cfg;
   const Sweep s = plan.sweep = resolve_sweep(vm, cfg);
@@ -185,7 +188,7 @@ std::vector<std::vector<StabilityLimit>> lobes_samples(const LobesPlan& plan, st
 }
 
 int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
-                const std::vector<std::vector<StabilityLimit>>& samples) {
+                const std::vector<std::vector<StabilityLimit>>& samples, PlotWindow* window) {
   const Config& cfg = plan.cfg;
   const Sweep& s = plan.sweep;
   const po::variables_map& vm = plan.vm;
@@ -277,13 +280,17 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     info << "wrote probability table: " << uncertainty->probability_table << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
   if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
-  if (!plot_path.empty() && mc) {
-    const auto plot_files = plot_uncertain_lobes(
-        plot_path, cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)",
-        mc->lobes, rows, s.depth_max_mm, mc->depth_grid_top_mm);
-    info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
-         << plot_files.data.string() << ")\n";
-  } else if (!plot_path.empty()) {
+  const std::string plot_title = cfg.name + " (" + solver.method() + ")";
+  if ((!plot_path.empty() || window) && mc) {
+    const std::string title = cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)";
+    if (!plot_path.empty()) {
+      const auto plot_files =
+          plot_uncertain_lobes(plot_path, title, mc->lobes, rows, s.depth_max_mm, mc->depth_grid_top_mm);
+      info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string()
+           << ", data " << plot_files.data.string() << ")\n";
+    }
+    if (window) plot_uncertain_lobes(*window, title, mc->lobes, rows, s.depth_max_mm, mc->depth_grid_top_mm);
+  } else if (!plot_path.empty() || window) {
     PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
     po_.depth_axis_max_mm = plan.plot_depth_axis_mm;
@@ -302,12 +309,14 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
                                          [&](std::size_t done) { progress.tick(done); })
                     .rows;
     }
-    const auto plot_files = plot_lobes(
-        plot_path, cfg.name + " (" + solver.method() + ")", plotted,
-        curves,
-        abs_lim.value_or(AbsoluteLimit{}), solver.depth_max_m(), po_);
-    info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string() << ", data "
-         << plot_files.data.string() << ")\n";
+    if (!plot_path.empty()) {
+      const auto plot_files = plot_lobes(plot_path, plot_title, plotted, curves, abs_lim.value_or(AbsoluteLimit{}),
+                                         solver.depth_max_m(), po_);
+      info << "wrote plot: " << plot_files.image.string() << " (gnuplot script " << plot_files.script.string()
+           << ", data " << plot_files.data.string() << ")\n";
+    }
+    if (window)
+      plot_lobes(*window, plot_title, plotted, curves, abs_lim.value_or(AbsoluteLimit{}), solver.depth_max_m(), po_);
   }
   if (planned_mm) {
     // The planned depth against every row of the table: one line on stderr.
@@ -329,18 +338,5 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
   return 0;
 }
 
-
-int cmd_lobes(const std::vector<std::string>& args) {
-  const std::optional<LobesPlan> plan = plan_lobes(args);
-  if (!plan) return 0;
-  const NominalTable nominal = lobes_nominal(*plan, plan->threads);
-  std::vector<std::vector<StabilityLimit>> samples;
-  if (plan->uncertainty) {
-    Progress progress(plan->vm, plan->uncertainty->samples, "Monte Carlo (" + plan->common.method + ")");
-    samples = lobes_samples(*plan, 0, plan->uncertainty->samples, plan->threads,
-                            [&](std::size_t done) { progress.tick(done); });
-  }
-  return write_lobes(*plan, nominal, samples);
-}
 
 }  // namespace chatter::cli

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
 #include "cli_common.hpp"
@@ -40,6 +41,7 @@ struct LobesPlan {
   bool adaptive = false;
   bool table_to_stdout = false;
   double plot_depth_axis_mm = 0.0;                 ///< plot_depth_max_mm
+  ShowRequest show;                                ///< --show (a live window; chatter-mpi refuses it)
   std::optional<UncertaintyRequest> uncertainty;   ///< --samples (checked, config included)
   std::optional<double> planned_mm;                ///< --depth-mm
   unsigned threads = 0;                            ///< --threads (0 = every core)
@@ -76,11 +78,12 @@ std::vector<std::vector<StabilityLimit>> lobes_samples(const LobesPlan& plan, st
                                                        const std::function<void(std::size_t)>& per_sample = {});
 
 /// Writes the outputs of the plan from the nominal table and (with
-/// --samples) the rows of all N samples in sample order. Returns the exit
-/// status (0, or kExitChatter with --fail-on-chatter). Extra solves only for
-/// a plot without --samples (the refined envelope).
-/// @throws InputError if an output cannot be written.
+/// --samples) the rows of all N samples in sample order, and draws the plot
+/// in `window` when given (--show). Returns the exit status (0, or
+/// kExitChatter with --fail-on-chatter). Extra solves only for a plot
+/// without --samples (the refined envelope, once for the image and the
+/// window). @throws InputError if an output cannot be written.
 int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
-                const std::vector<std::vector<StabilityLimit>>& samples);
+                const std::vector<std::vector<StabilityLimit>>& samples, PlotWindow* window = nullptr);
 
 }  // namespace chatter::cli

@@ -1,6 +1,7 @@
 // `chatter check` and `chatter recommend`: the operation check and the speed
 // recommendation of include/chatter/operations.hpp, for CAM post-processors.
 // User guide: docs/operations.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -31,29 +32,9 @@ std::string method_help() {
          "flip-lobe warning when sdm does not handle the input)" + known;
 }
 
-MachineLimits machine_range(const po::variables_map& vm, const Config& cfg) {
-  MachineLimits m;
-  auto pick = [&](const char* flag, const std::optional<double>& from_cfg, const char* key) {
-    if (vm.count(flag)) return vm[flag].as<double>();
-    if (from_cfg) return *from_cfg;
-    throw InputError(cfg.source.string() + ": missing --" + flag + " (or " + key +
-                     " in the config): the machine's spindle speed range");
-  };
-  m.rpm_min = pick("rpm-min", cfg.sweep.rpm_min, "sweep.rpm_min");
-  m.rpm_max = pick("rpm-max", cfg.sweep.rpm_max, "sweep.rpm_max");
-  if (!(std::isfinite(m.rpm_min) && m.rpm_min > 0.0))
-    throw InputError("--rpm-min = " + fmt(m.rpm_min) + ": must be > 0 rev/min");
-  if (!(std::isfinite(m.rpm_max) && m.rpm_max > m.rpm_min))
-    throw InputError("--rpm-max = " + fmt(m.rpm_max) + ": must be > --rpm-min (" + fmt(m.rpm_min) + ")");
-  return m;
-}
-
-// --speed-tolerance-pct (default 2 %) as a fraction. @throws InputError.
-double speed_tolerance(const po::variables_map& vm) {
-  const double pct = vm["speed-tolerance-pct"].as<double>();
-  if (const std::string e = validate_speed_tolerance(pct / 100.0, "--speed-tolerance-pct"); !e.empty())
-    throw InputError(e);
-  return pct / 100.0;
+// An optional flag's value.
+std::optional<double> opt_value(const po::variables_map& vm, const char* flag) {
+  return vm.count(flag) ? std::optional<double>(vm[flag].as<double>()) : std::nullopt;
 }
 
 // The progress bar of check and recommend: on a terminal, after a second.
@@ -99,7 +80,7 @@ const char* const kCheckUsage = R"(Usage: chatter check CONFIG --operations OPS.
 
 Checks each planned operation against the stability lobes. OPS.csv has a header
 and one operation per line:
-  id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm[,teeth,milling_direction]
+  id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm[,teeth,milling_direction,max_sle_um|tolerance_um]
 (radial_immersion = a_e/D, empty = the config's; leave it, teeth and
 milling_direction empty for turning; feed_per_tooth_mm may be empty.)
 For each operation: stable?, margin = depth limit / depth (> 1 is stable; 'inf'
@@ -112,9 +93,15 @@ worst_margin is the smallest margin over the row's own speed band.
 Rows that cannot be read are listed with their line number and reason; the
 other rows are still checked.
 
-Exit status: 0 every row read and judged, every operation stable;
+With a feed, each row also gets its forced vibration (docs/forced.md): the
+surface location error (milling) or diametral error (turning), whether the
+teeth leave the cut, and with a max_sle_um (or tolerance_um) column whether
+the part is within that tolerance.
+
+Exit status: 0 every row read and judged, every operation stable (and within
+               its tolerance);
              3 every row read and judged, some operations unstable (chatter
-               predicted);
+               predicted) or out of their tolerance;
              2 some rows invalid or not judged (a row whose overrides make no
                cutter, a solver that failed on it: each listed with its line
                and reason; the others are still checked and reported), or the
@@ -144,13 +131,8 @@ int cmd_check(const std::vector<std::string>& args) {
   if (!parse(args, kCheckUsage, d, common, vm)) return 0;
   check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
   const Config cfg = load_checked(common);
-  CheckOptions opt;
-  opt.machine = machine_range(vm, cfg);
-  opt.method = method;
-  opt.threads = thread_count(vm);
-  opt.speed_tolerance = speed_tolerance(vm);
-  opt.flute_length_m = cfg.flute_length_m;
-  with_flag("--method", [&] { return resolve_lobe_method(method, cfg.model, cfg.process); });  // fail before reading the file
+  CheckOptions opt = check_options(cfg, opt_value(vm, "rpm-min"), opt_value(vm, "rpm-max"), method,
+                                   vm["speed-tolerance-pct"].as<double>(), thread_count(vm), ArgStyle::kFlag);
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
   CheckReport report;
   {
@@ -191,6 +173,26 @@ int cmd_check(const std::vector<std::string>& args) {
     t.push_back(std::move(r));
   }
 
+  // The forced vibration of the rows with a feed (their SLE or diametral
+  // error, teeth leaving the cut, the part's tolerance; docs/forced.md).
+  const bool any_forced = std::any_of(report.checks.begin(), report.checks.end(),
+                                      [](const OperationCheck& c) { return c.forced.has_value(); });
+  const bool any_tolerance = std::any_of(report.checks.begin(), report.checks.end(),
+                                         [](const OperationCheck& c) { return c.forced && c.op.max_error_m; });
+  if (any_forced) {
+    t.front().insert(t.front().end(), {milling ? "sle_um" : "diam_err_um", "leaves_cut", "tolerance"});
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& f = report.checks[i].forced;
+      const auto& op = report.checks[i].op;
+      if (!f || !f->response.stable) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", op.max_error_m && f ? "OUT" : "-"});
+        continue;
+      }
+      t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
+      t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
+      t[i + 1].push_back(!op.max_error_m ? "-" : f->within_tolerance ? "ok" : "OUT");
+    }
+  }
   const int status = check_exit_status(report, file);
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
@@ -212,8 +214,9 @@ int cmd_check(const std::vector<std::string>& args) {
           << "\n";
   }
   out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
-      << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size()
-      << " not judged; exit status " << status << "\n";
+      << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size() << " not judged"
+      << (any_tolerance ? ", " + std::to_string(report.out_of_tolerance()) + " out of tolerance" : "")
+      << "; exit status " << status << "\n";
 
   if (!json_path.empty()) {
     CheckRecordInputs in;
@@ -270,71 +273,26 @@ int cmd_recommend(const std::vector<std::string>& args) {
     return 0;
   check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
   const Config cfg = load_checked(common);
-  const bool milling = cfg.process.operation() == Operation::kMilling;
-  RecommendOptions opt;
-  opt.machine = machine_range(vm, cfg);
-  auto positive = [&](const char* flag) {
-    const double x = vm[flag].as<double>();
-    if (!(std::isfinite(x) && x > 0.0)) throw InputError(std::string("--") + flag + " = " + fmt(x) + ": must be > 0");
-    return x;
-  };
-  auto only = [&](const char* flag, bool ok, const char* op) {
-    if (vm.count(flag) && !ok)
-      throw InputError(std::string("--") + flag + ": only for " + op + " (the config's operation is " +
-                       (milling ? "milling" : "turning") + ")");
-  };
-  only("tool-diameter-mm", milling, "milling");
-  only("radial-immersion", milling, "milling");
-  only("teeth", milling, "milling");
-  only("milling-direction", milling, "milling");
-  only("workpiece-diameter-mm", !milling, "turning");
-  only("tangential-coefficient-n-per-m2", !milling, "turning");
-  if (vm.count("max-power-kw")) opt.machine.max_power_w = positive("max-power-kw") * 1e3;
-  if (vm.count("max-torque-nm")) opt.machine.max_torque_n_m = positive("max-torque-nm");
-  opt.feed_per_tooth_m = positive("feed-per-tooth-mm") * 1e-3;
-  if (!(safety > 0.0 && safety <= 1.0)) throw InputError("--safety = " + fmt(safety) + ": must be in (0, 1]");
-  opt.safety = safety;
-  opt.depth_max_m = (vm.count("depth-max-mm") ? positive("depth-max-mm")
-                                              : cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm)) * 1e-3;
-  // The diameter defaults to the config's (process.tool_diameter_mm or
-  // process.workpiece_diameter_mm); the flag overrides it.
-  opt.diameter_m = milling ? cfg.process.milling_parameters().tool_diameter_m
-                           : cfg.process.turning_parameters().workpiece_diameter_m;
-  if (vm.count("tool-diameter-mm")) opt.diameter_m = positive("tool-diameter-mm") * 1e-3;
-  if (vm.count("workpiece-diameter-mm")) opt.diameter_m = positive("workpiece-diameter-mm") * 1e-3;
-  if (vm.count("tangential-coefficient-n-per-m2"))
-    opt.cutting_coefficient_n_per_m2 = positive("tangential-coefficient-n-per-m2");
-  opt.method = method;
-  with_flag("--method", [&] { return resolve_lobe_method(method, cfg.model, cfg.process); });
-  opt.threads = thread_count(vm);
-  opt.speed_tolerance = speed_tolerance(vm);
-  if (milling) opt.flute_length_m = cfg.flute_length_m;
-
-  Process process = cfg.process;
-  if (milling) {
-    OperationRow row;
-    row.id = "recommend";
-    if (vm.count("radial-immersion")) {
-      const double ae = vm["radial-immersion"].as<double>();
-      if (!(ae > 0.0 && ae <= 1.0)) throw InputError("--radial-immersion = " + fmt(ae) + ": must be in (0, 1]");
-      row.radial_immersion = ae;
-    }
-    if (vm.count("teeth")) {
-      const int nt = vm["teeth"].as<int>();
-      if (nt < 1) throw InputError("--teeth = " + std::to_string(nt) + ": must be >= 1");
-      row.teeth = nt;
-    }
-    if (vm.count("milling-direction")) {
-      const std::string s = vm["milling-direction"].as<std::string>();
-      if (s == "down") row.direction = MillingDirection::kDown;
-      else if (s == "up") row.direction = MillingDirection::kUp;
-      else throw InputError("--milling-direction = " + s + ": must be 'down' or 'up'");
-    }
-    process = process_for(cfg.process, row);
-  }
-  if ((std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m)) && !(opt.diameter_m > 0.0))
-    throw InputError(std::string("a power or torque limit needs the ") +
-                     (milling ? "tool diameter (--tool-diameter-mm)" : "workpiece diameter (--workpiece-diameter-mm)"));
+  RecommendArgs a;
+  a.feed_per_tooth_mm = vm["feed-per-tooth-mm"].as<double>();
+  a.rpm_min = opt_value(vm, "rpm-min");
+  a.rpm_max = opt_value(vm, "rpm-max");
+  a.max_power_kw = opt_value(vm, "max-power-kw");
+  a.max_torque_nm = opt_value(vm, "max-torque-nm");
+  a.safety = safety;
+  a.depth_max_mm = opt_value(vm, "depth-max-mm");
+  a.speed_tolerance_pct = vm["speed-tolerance-pct"].as<double>();
+  a.tool_diameter_mm = opt_value(vm, "tool-diameter-mm");
+  a.workpiece_diameter_mm = opt_value(vm, "workpiece-diameter-mm");
+  a.tangential_coefficient_n_per_m2 = opt_value(vm, "tangential-coefficient-n-per-m2");
+  a.radial_immersion = opt_value(vm, "radial-immersion");
+  if (vm.count("teeth")) a.teeth = vm["teeth"].as<int>();
+  if (vm.count("milling-direction")) a.milling_direction = vm["milling-direction"].as<std::string>();
+  a.method = method;
+  a.threads = thread_count(vm);
+  RecommendPlan plan = recommend_plan(cfg, a, ArgStyle::kFlag);
+  RecommendOptions& opt = plan.options;
+  const Process& process = plan.process;
   Recommendation r;
   {
     Progress bar(vm, kProgressSteps, "recommend", kProgressAfterS);

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "live_plot.hpp"
 #include "chatter/error.hpp"
 #include "chatter/io/plot.hpp"
 #include "chatter/io/table_writer.hpp"
@@ -58,6 +60,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                          "else 0.1)")
       ("linear", "linear delay equation: no static chip, the tool never leaves the cut, start from a 1 um "
                  "displacement; reports the growth factor per period (compare with sdm's spectral radius)")
+      ("linear-forced", "linear delay equation with the static chip (the feed; the tool never leaves the cut): the "
+                        "run converges to the forced response of chatter forced, which it cross-checks")
       ("multiple-regeneration", "cut the chip from the surface left by all earlier passes, not only the last one")
       ("fail-on-chatter", "exit with status 3 when the verdict is chatter (for scripts: 0 stable, 3 chatter, 2 bad "
                           "input)")
@@ -72,6 +76,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("spectrum", po::value<std::string>(&spectrum_path), "write the spectrum of the relative displacement (CSV: "
                                                            "frequency_hz, amplitude_um, harmonic)")
       ("plot", po::value<std::string>(&plot_path), "draw displacement, force and spectrum (.png, .svg or .pdf)");
+  add_show_option(d);
   po::variables_map vm;
   if (!parse(args,
              "Usage: chatter simulate CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -79,7 +84,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
              "the cut) and says whether it chatters. Prints one JSON object: verdict (stable or\n"
              "chatter) and the measure it rests on, growth_per_period (|mu|, < 1 decays),\n"
              "chatter_frequency_hz, max_amplitude_mm, out_of_cut_fraction, the tooth-passing\n"
-             "harmonics and the integrator's cost. The last half of the run is analysed.\n\n"
+             "harmonics and the integrator's cost. The last half of the run is analysed.\n"
+             "--show draws the run while it integrates (the window is redrawn after every tenth\n"
+             "of the periods), then its spectrum and verdict.\n\n"
              "Example:\n"
              "  chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 \\\n"
              "      --out series.csv --plot sim.png\n",
@@ -87,6 +94,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     return 0;
   check_outputs({{"--out", out_path}, {"--periodic", periodic_path}, {"--spectrum", spectrum_path},
                  {"--plot", plot_path, true}});  // before computing
+  const ShowRequest show = show_request(vm);  // a display or GNUPLOT_TERM, before computing
   if (out_every < 1) throw InputError("--out-every = " + std::to_string(out_every) + ": must be >= 1");
   if (!vm["out-every"].defaulted() && out_path.empty())
     throw InputError("--out-every: only with --out (it thins the time series written there)");
@@ -99,6 +107,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (vm.count("revolutions") && vm.count("periods"))
     throw InputError("--revolutions and --periods: give one of them");
+  if (vm.count("linear") && vm.count("linear-forced"))
+    throw InputError("--linear and --linear-forced: give one of them (--linear-forced is linear with the feed)");
   const int per_rev = simulation_periods_per_revolution(cfg.process, rpm, vm.count("linear") > 0);
   if (vm.count("revolutions")) {
     if (revolutions < 1 || revolutions > 1000000)
@@ -118,19 +128,33 @@ int cmd_simulate(const std::vector<std::string>& args) {
   st.depth_m = depth_mm * 1e-3;
   st.periods = periods;
   st.feed_m = feed_mm * 1e-3;
-  st.linear = vm.count("linear") > 0;
+  st.linear = vm.count("linear") > 0 || vm.count("linear-forced") > 0;
+  st.linear_static_chip = vm.count("linear-forced") > 0;
   st.multiple_regeneration = vm.count("multiple-regeneration") > 0;
-  st.record_series = !out_path.empty() || !plot_path.empty();
+  st.record_series = !out_path.empty() || !plot_path.empty() || show.requested;
+  double f_max = 0.0;  // the spectrum of the plots reaches 2.5 x the highest natural frequency
+  for (const Body* b : {&cfg.model.tool, &cfg.model.workpiece})
+    for (const Mode& m : b->modes) f_max = std::max(f_max, m.natural_frequency_hz);
+  std::ostringstream title_text;
+  title_text << cfg.name << ", " << fmt(rpm) << " rev/min, " << fmt(depth_mm) << " mm" << (st.linear ? " (linear)" : "");
+  const std::string title = title_text.str();
+  std::optional<LiveWindow> window;
+  if (show.requested) {
+    // The run as it integrates: redrawn after every tenth of the periods.
+    window.emplace(show);
+    const int every = std::max(1, (periods + 9) / 10);
+    st.on_period = [&, every](const SimulationResult& so_far) {
+      const std::size_t done = so_far.once_per_period.size() - 1;
+      if (done % static_cast<std::size_t>(every) == 0 && done < static_cast<std::size_t>(periods) &&
+          so_far.series.size() >= 2)
+        plot_simulation(*window, title, so_far, f_max, /*running=*/true);
+    };
+  }
   const SimulationResult r = sim.simulate(st);
 
-  SimulationRequest request;
-  request.settings = st;
-  request.relative_tolerance = rtol;
-  request.periods_per_revolution = per_rev;
-  request.tooth_period_s = cfg.process.delay_s(rpm);
-  request.depth_mm = depth_mm;
-  request.feed_mm = feed_mm;
-  nlohmann::json j = simulation_record(r, request, record_source(cfg, common.position_mm));
+  nlohmann::json j = simulation_record(r, simulation_request(st, cfg.process, rtol, depth_mm, feed_mm),
+                                       record_source(cfg, common.position_mm));
+  if (!r.linear_limit_warning.empty()) std::cerr << "warning: " << r.linear_limit_warning << "\n";
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!out_path.empty()) {
@@ -161,15 +185,13 @@ int cmd_simulate(const std::vector<std::string>& args) {
     files.emplace_back(spectrum_path, os.str());
   }
   if (!files.empty()) write_text_files(files);
+  if (window) {
+    plot_simulation(*window, title, r, f_max, /*running=*/false);
+    window.reset();  // gnuplot has drawn
+  }
   if (!plot_path.empty()) {
-    double f_max = 0.0;
-    for (const Body* b : {&cfg.model.tool, &cfg.model.workpiece})
-      for (const Mode& m : b->modes) f_max = std::max(f_max, m.natural_frequency_hz);
-    std::ostringstream title;
-    title << cfg.name << ", " << fmt(rpm) << " rev/min, " << fmt(depth_mm) << " mm"
-          << (st.linear ? " (linear)" : "");
     try {
-      const PlotFiles pf = plot_simulation(plot_path, title.str(), r, f_max);
+      const PlotFiles pf = plot_simulation(plot_path, title, r, f_max);
       j["plot"] = pf.image.string();
     } catch (const GnuplotNotFound& e) {
       // The numbers are still printed and the tables written.
@@ -178,6 +200,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     }
   }
   std::cout << j.dump(2) << "\n";
+  report_shown(std::cerr, show);
   return (vm.count("fail-on-chatter") && r.verdict != SimulationVerdict::kStable) ? kExitChatter : 0;
 }
 

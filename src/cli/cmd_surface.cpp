@@ -81,18 +81,22 @@ std::optional<SurfacePlan> plan_surface(const std::vector<std::string>& args, bo
                                                      "standard output when --plot is not given)")
       ("plot", po::value<std::string>(&plot_path), "draw the surface to this .png, .svg or .pdf (with its gnuplot "
                                                    "script and data beside it)")
-      ("plot-contours-mm", po::value<std::string>(&contours_text), "with --plot: depths of the contour lines, mm, "
-                                                                   "comma-separated (default: up to 5 round values)");
+      ("plot-contours-mm", po::value<std::string>(&contours_text), "with --plot or --show: depths of the contour "
+                                                                   "lines, mm, comma-separated (default: up to 5 "
+                                                                   "round values)");
+  add_show_option(d);
   add_solver_options(d);
   po::variables_map& vm = plan.vm;
   if (!parse(args, kSurfaceUsage, d, common, vm)) return std::nullopt;
   if (common.position_mm)
     throw InputError("--position-mm: not with surface (it sweeps --position-min-mm to --position-max-mm)");
+  plan.show = show_request(vm);  // a display or GNUPLOT_TERM, before anything is computed
   if (vm.count("plot-contours-mm")) {
-    if (plot_path.empty()) throw InputError("--plot-contours-mm: only with --plot (it sets the plot's contours)");
+    if (plot_path.empty() && !plan.show.requested)
+      throw InputError("--plot-contours-mm: only with --plot or --show (it sets the plot's contours)");
     plan.contours_mm = parse_depth_list(contours_text, "--plot-contours-mm");
   }
-  plan.table_to_stdout = table_path == "-" || (table_path.empty() && plot_path.empty());
+  plan.table_to_stdout = table_path == "-" || (table_path.empty() && plot_path.empty() && !plan.show.requested);
   if (table_path == "-") table_path.clear();
   if (check_output_files) check_outputs({{"--table", table_path}, {"--plot", plot_path, true}});  // before computing
 
@@ -151,7 +155,8 @@ std::vector<std::vector<StabilityLimit>> surface_rows(const SurfacePlan& plan) {
                       [&](std::size_t done) { progress.tick(done); });
 }
 
-int write_surface(const SurfacePlan& plan, const std::vector<std::vector<StabilityLimit>>& rows) {
+int write_surface(const SurfacePlan& plan, const std::vector<std::vector<StabilityLimit>>& rows,
+                  PlotWindow* window) {
   const Config& cfg = plan.cfg;
   const Sweep& s = plan.sweep;
   const std::vector<double>& positions_mm = plan.positions_mm;
@@ -197,20 +202,15 @@ int write_surface(const SurfacePlan& plan, const std::vector<std::vector<Stabili
   std::ostream& info = table_to_stdout ? std::cerr : std::cout;
   info << summary.str() << "\n";
   if (!table_path.empty()) info << "wrote surface table: " << table_path << "\n";
+  if (contours.empty() && (!plot_path.empty() || window)) contours = default_contour_depths_mm(surface);
+  const std::string title = cfg.name + " (" + plan.method + "): lobe surface";
   if (!plot_path.empty()) {
-    if (contours.empty()) contours = default_contour_depths_mm(surface);
-    const auto files =
-        plot_surface(plot_path, cfg.name + " (" + plan.method + "): lobe surface", surface, contours);
+    const auto files = plot_surface(plot_path, title, surface, contours);
     info << "wrote plot: " << files.image.string() << " (gnuplot script " << files.script.string() << ", data "
          << files.data.string() << ")\n";
   }
+  if (window) plot_surface(*window, title, surface, contours);
   return 0;
-}
-
-int cmd_surface(const std::vector<std::string>& args) {
-  const std::optional<SurfacePlan> plan = plan_surface(args);
-  if (!plan) return 0;
-  return write_surface(*plan, surface_rows(*plan));
 }
 
 }  // namespace chatter::cli

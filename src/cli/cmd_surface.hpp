@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/io/plot.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/solvers.hpp"
 #include "cli_common.hpp"
@@ -30,6 +31,7 @@ struct SurfacePlan {
   std::string plot_path;    ///< "" = no plot
   bool table_to_stdout = false;
   std::vector<double> contours_mm;  ///< --plot-contours-mm (empty: automatic)
+  ShowRequest show;                 ///< --show (a live window; chatter-mpi refuses it)
   Sweep sweep;
   double min_mm = 0.0, max_mm = 0.0;  ///< the position range as typed, mm
   std::vector<double> positions_mm;   ///< the table's position column
@@ -56,8 +58,10 @@ std::unique_ptr<LobeSolver> surface_solver(const SurfacePlan& plan, const Struct
 std::vector<std::vector<StabilityLimit>> surface_rows(const SurfacePlan& plan);
 
 /// Writes the table (file or standard output), the summary and the plot of
-/// `rows` (rows[p][s], as surface_rows). Returns the exit status (0).
+/// `rows` (rows[p][s], as surface_rows), and draws it in `window` when given
+/// (--show). Returns the exit status (0).
 /// @throws InputError if an output cannot be written.
-int write_surface(const SurfacePlan& plan, const std::vector<std::vector<StabilityLimit>>& rows);
+int write_surface(const SurfacePlan& plan, const std::vector<std::vector<StabilityLimit>>& rows,
+                  PlotWindow* window = nullptr);
 
 }  // namespace chatter::cli

@@ -19,5 +19,8 @@ int cmd_lobes(const std::vector<std::string>& args);         // src/cli/cmd_lobe
 int cmd_point(const std::vector<std::string>& args);         // src/cli/cmd_point.cpp
 int cmd_frf(const std::vector<std::string>& args);           // src/cli/cmd_frf.cpp
 int cmd_map(const std::vector<std::string>& args);           // src/cli/cmd_map.cpp
+int cmd_grind(const std::vector<std::string>& args);         // src/cli/cmd_grind.cpp (docs/grinding.md)
+int cmd_forced(const std::vector<std::string>& args);        // src/cli/cmd_forced.cpp
+int cmd_sle(const std::vector<std::string>& args);           // src/cli/cmd_forced.cpp
 
 }  // namespace chatter::cli

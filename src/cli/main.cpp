@@ -45,6 +45,10 @@ const Command kCommands[] = {
      "docs/time_domain.md", chatter::cli::cmd_simulate},
     {"surface", "lobes along the part: the limit over tool position x speed", "docs/position.md",
      chatter::cli::cmd_surface},
+    {"forced", "the forced vibration of a stable cut: surface location error, diametral error, teeth out of the cut",
+     "docs/forced.md", chatter::cli::cmd_forced},
+    {"sle", "surface location error and peak-to-peak vibration against spindle speed, under the lobes",
+     "docs/forced.md", chatter::cli::cmd_sle},
     {"fit", "modes (frequency, damping, stiffness) fitted to a measured FRF (tap test)", "docs/frf.md",
      chatter::cli::cmd_fit},
     {"frf", "receptance of the tool, the workpiece and the relative motion", "docs/frf.md", chatter::cli::cmd_frf},
@@ -52,6 +56,8 @@ const Command kCommands[] = {
      chatter::cli::cmd_coefficients},
     {"detect", "chatter in a recording of the cut, and the spindle speeds to try", "docs/shop_data.md",
      chatter::cli::cmd_detect},
+    {"grind", "robotic grinding at controlled power: predict, sweep, fit, impacts, simulate, plan",
+     "docs/grinding.md", chatter::cli::cmd_grind},
 };
 
 std::string main_help() {
@@ -83,6 +89,7 @@ Examples:
   chatter lobes configs/seed_turning_1dof.toml --table lobes.csv --plot lobes.png
   chatter point configs/seed_turning_1dof.toml --rpm 1200 --depth-mm 1.5
   chatter lobes configs/milling_benchmark_ae005_down.toml --plot sdm.png
+  chatter lobes configs/milling_benchmark_ae005_down.toml --show     (a live gnuplot window)
   chatter check configs/seed_turning_1dof.toml --operations examples/operations/case_a_ops.csv
   chatter frf configs/coupled_tool1_workpiece1.toml --out frf.csv --plot frf.png
   chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 --plot sim.png
@@ -93,7 +100,8 @@ plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
 and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable; lobes --depth-mm D, point and
-simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter).
+simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter;
+forced: 3 when the cut is unstable).
 )";
   return os.str();
 }

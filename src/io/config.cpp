@@ -13,10 +13,13 @@
 // The reading primitives (Document, Table, Range, Quantity, Band, ...) are
 // in config_read.hpp; each table has its section reader (config_sections.hpp):
 // config_process.cpp, config_structure.cpp ([tool], [workpiece]),
-// config_positions.cpp, config_sweep.cpp, config_uncertainty.cpp. This file
-// is the top level: read_config calls them in order, parse_config and
-// load_config wrap it.
+// config_positions.cpp, config_sweep.cpp, config_uncertainty.cpp,
+// config_grinding.cpp. This file is the top level: read_config (a cutting
+// process) and read_grinding_config (a [grinding] config) call them in order,
+// parse_config / load_config and parse_grinding_config / load_grinding_config
+// wrap them with the same parsing.
 #include "chatter/io/config.hpp"
+#include "chatter/io/grinding_config.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -69,20 +72,25 @@ std::vector<std::pair<std::string, SolverValue>> as_given(const toml::table& t) 
   return out;
 }
 
+std::string config_name(const Table& root, const Document& doc) {
+  const auto name = root.string("name");
+  if (name && name->empty()) doc.error("name", *root.find("name"), "must not be empty");
+  if (name) return *name;
+  const std::string stem = std::filesystem::path(doc.origin()).stem().string();
+  return stem.empty() ? doc.origin() : stem;
+}
+
 Config read_config(const toml::table& root_table, const Document& doc) {
   const Table root(doc, root_table, "");
+  // A grinding config has no cutting process: one message, nothing else.
+  if (root.has("grinding"))
+    doc.fail_key("grinding", "a grinding config ([grinding]) has no turning or milling [process], so no stability "
+                             "lobes: read it with the grinding commands (chatter grind ..., load_grinding_config)");
   constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep", "positions", "uncertainty"};
   root.reject_unknown(kTopKeys);
 
   Config config;
-  const auto name = root.string("name");
-  if (name && name->empty()) doc.error("name", *root.find("name"), "must not be empty");
-  if (name) {
-    config.name = *name;
-  } else {
-    const std::string stem = std::filesystem::path(doc.origin()).stem().string();
-    config.name = stem.empty() ? doc.origin() : stem;
-  }
+  config.name = config_name(root, doc);
   attempt_void([&] { config.process = read_process(root, &config.feed_mm, &config.flute_length_m); });
   if (const toml::table* p = root_table["process"].as_table()) config.process_given = as_given(*p);
   const std::size_t before_bodies = doc.error_count();
@@ -115,6 +123,31 @@ Config read_config(const toml::table& root_table, const Document& doc) {
     if (const std::string why = config.position.validate(); !why.empty())
       throw InputError(doc.origin() + ": " + why);  // a rule above is missing: still name the file
   warn_frequency_vs_speeds(root_table, doc, config);
+  config.warnings = doc.take_warnings();
+  return config;
+}
+
+GrindingConfig read_grinding_config(const toml::table& root_table, const Document& doc) {
+  const Table root(doc, root_table, "");
+  constexpr std::string_view kTopKeys[] = {"name", "grinding", "tool", "workpiece"};
+  for (auto&& [key, value] : root_table) {
+    const std::string_view k = key.str();
+    if (k == "process" || k == "sweep" || k == "positions" || k == "uncertainty")
+      doc.error_key(std::string(k), "not in a grinding config (a config is a cutting process with [process], or "
+                                    "grinding with [grinding]; its robot's modes go in [[tool.modes]])");
+    else if (std::find(std::begin(kTopKeys), std::end(kTopKeys), k) == std::end(kTopKeys))
+      doc.error_key(key_text(k), unknown_key_rule(k, kTopKeys));
+  }
+  GrindingConfig config;
+  config.name = config_name(root, doc);
+  attempt_void([&] { config.process = read_grinding(root); });
+  attempt_void([&] { config.robot.tool = read_body(root, "tool"); });
+  attempt_void([&] { config.robot.workpiece = read_body(root, "workpiece"); });
+  if (config.robot.has_measured())
+    doc.error_key(config.robot.tool.measured.empty() ? "workpiece.frf" : "tool.frf",
+                  "not in a grinding config: `chatter grind simulate` integrates modes ([[tool.modes]]; fit them "
+                  "from the measurement with `chatter fit`)");
+  doc.throw_if_errors();
   config.warnings = doc.take_warnings();
   return config;
 }
@@ -181,7 +214,12 @@ std::string sanitize_for_parser(const std::string& t, const std::string& origin)
 
 namespace chatter {
 
-Config parse_config(const std::string& original_text, const std::string& origin) {
+namespace {
+
+// Parses TOML text (sanitized, NUL refused) and runs `read` on it with a
+// Document for its messages: the one parsing of every kind of config.
+template <class Read>
+auto parse_with(const std::string& original_text, const std::string& origin, Read&& read) {
   const std::string toml_text = config_detail::sanitize_for_parser(original_text, origin);
   // A NUL byte is never valid TOML; toml++ 3.3 asserts on some (found by
   // fuzzing, fuzz/corpus/config/crash_nul_in_key.toml), so refuse it first.
@@ -202,7 +240,7 @@ Config parse_config(const std::string& original_text, const std::string& origin)
     }
     const toml::table root = std::move(result).table();
 #endif
-    return config_detail::read_config(root, doc);
+    return read(root, doc);
   } catch (const InputError&) {
     throw;
   } catch (const config_detail::Skip&) {
@@ -218,7 +256,8 @@ Config parse_config(const std::string& original_text, const std::string& origin)
   }
 }
 
-Config load_config(const std::filesystem::path& file) {
+// The text of a config file. @throws InputError "<file>: cannot read file (...)".
+std::string read_text(const std::filesystem::path& file) {
   const std::string origin = file.string();
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw InputError(origin + ": cannot read file (is a directory)");
@@ -232,7 +271,27 @@ Config load_config(const std::filesystem::path& file) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw InputError(origin + ": cannot read file (read error)");
-  Config config = parse_config(buffer.str(), origin);
+  return buffer.str();
+}
+
+}  // namespace
+
+Config parse_config(const std::string& original_text, const std::string& origin) {
+  return parse_with(original_text, origin, config_detail::read_config);
+}
+
+GrindingConfig parse_grinding_config(const std::string& original_text, const std::string& origin) {
+  return parse_with(original_text, origin, config_detail::read_grinding_config);
+}
+
+GrindingConfig load_grinding_config(const std::filesystem::path& file) {
+  GrindingConfig config = parse_grinding_config(read_text(file), file.string());
+  config.source = file;
+  return config;
+}
+
+Config load_config(const std::filesystem::path& file) {
+  Config config = parse_config(read_text(file), file.string());
   config.source = file;
   return config;
 }

@@ -5,13 +5,16 @@
 // that need the whole config (warn_frequency_vs_speeds). Each reader records
 // its errors on the Document and throws Skip to abandon its table
 // (config_read.hpp explains the pattern; a new section is one more file and
-// one more declaration here). Key reference: docs/config.md.
+// one more declaration here). Key reference: docs/config.md. A grinding
+// config ([grinding]) is read by read_grinding_config (config.cpp) instead:
+// [grinding], then [tool] and [workpiece] (the robot's modes).
 #pragma once
 
 #include <optional>
 #include <string_view>
 #include <vector>
 
+#include "chatter/grinding.hpp"
 #include "chatter/io/config.hpp"
 #include "config_read.hpp"
 
@@ -45,5 +48,10 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
 /// `[uncertainty]`: spreads checked against the model and process read.
 std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const StructuralModel& model,
                                                    const Process& process);
+
+// config_grinding.cpp
+/// `[grinding]` of a grinding config (include/chatter/io/grinding_config.hpp):
+/// the wheel, kinematics and models, in SI.
+grinding::Process read_grinding(const Table& root);
 
 }  // namespace chatter::config_detail

@@ -18,7 +18,7 @@ namespace {
 
 // ------------------------------------------------------ plausibility bounds
 
-constexpr Plausible kFrequencyBound{0.1, 1e6, "must be in [0.1, 1e6] Hz (outside it is not machining dynamics)"};
+constexpr Plausible kFrequencyBound{0.1, 1e5, "must be in [0.1, 1e5] Hz (outside it is not machining dynamics)"};
 constexpr Plausible kStiffnessBound{1.0, 1e15, "must be in [1, 1e15] N/m"};
 constexpr Plausible kMassBound{1e-6, 1e6, "must be in [1e-6, 1e6] kg"};
 constexpr Plausible kDampingBound{1e-6, 1.0, "must be >= 1e-6 (lighter damping is not physical and cannot be resolved)"};

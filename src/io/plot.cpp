@@ -131,6 +131,8 @@ struct Target {
   ImageFormat format;
   fs::path image, script, data;
   std::string image_name, data_name;  // relative names used inside the script
+  PlotWindow* window = nullptr;       // a live plot (--show): no files, the data in a datablock
+  std::string label;                  // what messages name: the image, or "live plot"
 };
 
 Target make_target(const fs::path& image, const PlotOptions& options) {
@@ -143,12 +145,24 @@ Target make_target(const fs::path& image, const PlotOptions& options) {
   t.data.replace_extension(".dat");
   t.image_name = image.filename().string();
   t.data_name = t.data.filename().string();
+  t.label = image.string();
+  return t;
+}
+
+// A live plot: the image's script and data with the PNG's proportions, no
+// terminal or output line, the data in the datablock kLiveDataBlock.
+Target live_target(PlotWindow& window, const PlotOptions& options) {
+  if (const std::string rule = options.validate(); !rule.empty()) throw InputError("plot options: " + rule);
+  Target t{ImageFormat::png, {}, {}, {}, "", kLiveDataBlock};
+  t.window = &window;
+  t.label = "live plot";
   return t;
 }
 
 // Terminal, output and common settings at the top of every script.
 std::string script_preamble(const Target& t, const PlotOptions& o, const std::string& what) {
   std::ostringstream gp;
+  if (t.window) return live_script_head(what, o.font_size);
   gp << "# " << what << ", written by chatter " << version() << ".\n"
      << "# Reproduce or restyle: cd into this directory, edit, then run\n"
      << "#   gnuplot " << t.script.filename().string() << "\n"
@@ -200,12 +214,27 @@ fs::path find_on_path(const std::string& name) {
 }
 
 void write_and_render(const Target& t, const std::string& data, const std::string& script) {
+  if (t.window) {
+    t.window->draw(data, script);
+    return;
+  }
   write_text_file(t.data, data);
   write_text_file(t.script, script);
   render_gnuplot_image(t.script, t.image);
 }
 
 }  // namespace
+
+std::string live_script_head(const std::string& what, int font_size) {
+  std::ostringstream gp;
+  gp << "# " << what << ", drawn live by chatter " << version() << " (the data are in the datablock "
+     << kLiveDataBlock << ").\n"
+     << "fs = " << font_size << "   # base font size (pt); title, key and labels are relative to it\n"
+     << "set encoding utf8\n"
+     << "set datafile missing '?'\n"
+     << "data = " << quote(kLiveDataBlock) << "\n\n";
+  return gp.str();
+}
 
 void render_gnuplot_image(const fs::path& script, const fs::path& image) {
   std::error_code ec;
@@ -514,13 +543,14 @@ std::string lobes_script(const Target& t, const std::string& title, const PlotOp
 
 }  // namespace
 
-PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std::vector<StabilityLimit>& envelope,
-                     const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
-                     const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  if (envelope.empty()) throw InputError(image.string() + ": no lobe envelope rows to plot");
+namespace {
+
+void draw_lobes(const Target& t, const std::string& title, const std::vector<StabilityLimit>& envelope,
+                const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
+                const PlotOptions& options) {
+  if (envelope.empty()) throw InputError(t.label + ": no lobe envelope rows to plot");
   if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
-    throw InputError(image.string() + ": depth_max = " + short_num(depth_max_m) + " m: must be > 0");
+    throw InputError(t.label + ": depth_max = " + short_num(depth_max_m) + " m: must be > 0");
 
   const double depth_max_mm = depth_max_m * 1e3;
   const auto [rpm_lo, rpm_hi] = speed_axis(envelope);
@@ -538,7 +568,22 @@ PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std:
   const std::string gp = lobes_script(t, title, options, rpm_lo, rpm_hi, y_max, depth_max_mm, has_abs, abs_mm,
                                       !bounded.empty(), curve_points, !labels.empty());
   write_and_render(t, dat, gp);
+}
+
+}  // namespace
+
+PlotFiles plot_lobes(const fs::path& image, const std::string& title, const std::vector<StabilityLimit>& envelope,
+                     const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
+                     const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  draw_lobes(t, title, envelope, curves, absolute_limit, depth_max_m, options);
   return {t.image, t.script, t.data};
+}
+
+void plot_lobes(PlotWindow& window, const std::string& title, const std::vector<StabilityLimit>& envelope,
+                const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
+                const PlotOptions& options) {
+  draw_lobes(live_target(window, options), title, envelope, curves, absolute_limit, depth_max_m, options);
 }
 
 // ---------------------------------------------------------------------------
@@ -838,11 +883,12 @@ bool strictly_increasing(const std::vector<double>& v) {
 
 }  // namespace
 
-PlotFiles plot_stability_map(const fs::path& image, const std::string& title, const StabilityMapGrid& map,
-                             const PlotOptions& options) {
-  const Target t = make_target(image, options);
+namespace {
+
+void draw_stability_map(const Target& t, const std::string& title, const StabilityMapGrid& map,
+                        const PlotOptions& options) {
   const std::size_t n = map.spindle_rpm.size(), k = map.depth_m.size();
-  const std::string where = image.string() + ": stability map: ";
+  const std::string where = t.label + ": stability map: ";
   if (n < 2 || k < 2)
     throw InputError(where + "needs >= 2 speeds and >= 2 depths (got " + std::to_string(n) + " x " +
                      std::to_string(k) + ")");
@@ -1001,7 +1047,20 @@ PlotFiles plot_stability_map(const fs::path& image, const std::string& title, co
          << kd.point_type << " ps 0.7 lw 1.5 lc rgb " << kd.colour << " title " << quote(kd.mark_title);
   gp << "\nunset multiplot\n";
   write_and_render(t, dat.str(), gp.str());
+}
+
+}  // namespace
+
+PlotFiles plot_stability_map(const fs::path& image, const std::string& title, const StabilityMapGrid& map,
+                             const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  draw_stability_map(t, title, map, options);
   return {t.image, t.script, t.data};
+}
+
+void plot_stability_map(PlotWindow& window, const std::string& title, const StabilityMapGrid& map,
+                        const PlotOptions& options) {
+  draw_stability_map(live_target(window, options), title, map, options);
 }
 
 // ---------------------------------------------------------------------------
@@ -1269,10 +1328,11 @@ std::string compare_plot_clauses(const std::vector<MethodLimits>& methods, const
 
 }  // namespace
 
-PlotFiles plot_compare(const fs::path& image, const std::string& title, const std::vector<MethodLimits>& methods,
-                       double depth_max_m, const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  check_compare_input(image.string() + ": comparison: ", methods, depth_max_m, method_styles().size());
+namespace {
+
+void draw_compare(const Target& t, const std::string& title, const std::vector<MethodLimits>& methods,
+                  double depth_max_m, const PlotOptions& options) {
+  check_compare_input(t.label + ": comparison: ", methods, depth_max_m, method_styles().size());
   const std::vector<std::size_t> style_of = compare_styles(methods);
   const double depth_max_mm = depth_max_m * 1e3;
   const auto [rpm_lo, rpm_hi] = speed_axis(methods.front().limits);
@@ -1291,13 +1351,27 @@ PlotFiles plot_compare(const fs::path& image, const std::string& title, const st
                           !bounded.empty()) +
       compare_plot_clauses(methods, style_of, marks, gaps, !bounded.empty()) + "\nunset multiplot\n";
   write_and_render(t, dat, gp);
+}
+
+}  // namespace
+
+PlotFiles plot_compare(const fs::path& image, const std::string& title, const std::vector<MethodLimits>& methods,
+                       double depth_max_m, const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  draw_compare(t, title, methods, depth_max_m, options);
   return {t.image, t.script, t.data};
 }
 
-PlotFiles plot_simulation(const fs::path& image, const std::string& title, const SimulationResult& r, double f_max_hz,
-                          const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  const std::string where = image.string() + ": simulation: ";
+void plot_compare(PlotWindow& window, const std::string& title, const std::vector<MethodLimits>& methods,
+                  double depth_max_m, const PlotOptions& options) {
+  draw_compare(live_target(window, options), title, methods, depth_max_m, options);
+}
+
+namespace {
+
+void draw_simulation(const Target& t, const std::string& title, const SimulationResult& r, double f_max_hz,
+                     const PlotOptions& options, bool running) {
+  const std::string where = t.label + ": simulation: ";
   if (r.series.size() < 2)
     throw InputError(where + "no time series to draw (simulate with record_series)");
   if (!(std::isfinite(f_max_hz) && f_max_hz > 0.0))
@@ -1361,15 +1435,21 @@ PlotFiles plot_simulation(const fs::path& image, const std::string& title, const
   std::string head = title + ": " + to_string(r.verdict);
   if (chatter && std::isfinite(r.chatter_frequency_hz)) head += " at " + short_num(r.chatter_frequency_hz, 4) + " Hz";
   if (std::isfinite(r.growth_per_period)) head += ", |{/Symbol m}| = " + short_num(r.growth_per_period, 4);
+  // A run still integrating has no verdict yet: its periods so far.
+  if (running)
+    head = title + ": integrating, " + std::to_string(r.once_per_period.size() - 1) + " of " +
+           std::to_string(r.periods) + " periods";
   gp << "c_x = '" << kTool << "'\nc_y = '" << kWorkpiece << "'\nc_sample = '" << kAbsolute << "'\nc_spec = '"
      << kRelative << "'\nc_grid = '" << kGrid << "'\nc_label = '" << kLabel << "'\n"
      << "set grid lc rgb c_grid lw 0.6\n"
      << "set border lw 0.8\n"
      << "set key top left horizontal opaque box lc rgb c_grid font ','.(fs-2)\n"
-     << "set multiplot layout 3,1 title " << quote(head) << " font ','.(fs+2) margins 0.09,0.97,0.07,0.91 "
-     << "spacing 0,0.09\n"
+     << "set multiplot layout " << (running ? 2 : 3) << ",1 title " << quote(head)
+     << " font ','.(fs+2) margins 0.09,0.97,0.07,0.91 spacing 0,0.09\n"
      << "set offsets 0, 0, graph 0.28, graph 0.04   # room for the key above the curves\n"
-     << "set xrange [0:" << short_num(r.series.back().t_s * 1e3, 8) << "]\n"
+     // A run still integrating is drawn on the time axis of the whole run: it grows across the window.
+     << "set xrange [0:"
+     << short_num((running ? r.periods * r.floquet_period_s : r.series.back().t_s) * 1e3, 8) << "]\n"
      << "set xlabel 'time (ms)' offset 0,0.4\n"
      << "set ylabel 'relative displacement ({/Symbol m}m)'\n"
      << "plot data index 0 using 1:2 with lines lc rgb c_x lw 1 title 'x (feed direction)'";
@@ -1379,8 +1459,13 @@ PlotFiles plot_simulation(const fs::path& image, const std::string& title, const
      << "set ylabel 'force on the tool (N)'\n"
      << "plot ";
   if (force_y) gp << "data index 0 using 1:5 with lines lc rgb c_y lw 1 title 'F_y', \\\n     ";
-  gp << "data index 0 using 1:4 with lines lc rgb c_x lw 1 title 'F_x'\n"
-     << "set offsets 0, 0, 0, 0\n"
+  gp << "data index 0 using 1:4 with lines lc rgb c_x lw 1 title 'F_x'\n";
+  if (running) {  // no spectrum before the run ends
+    gp << "unset multiplot\n";
+    write_and_render(t, dat.str(), gp.str());
+    return;
+  }
+  gp << "set offsets 0, 0, 0, 0\n"
      << "set xlabel 'frequency (Hz)' offset 0,0.4\n"
      << "set ylabel 'amplitude ({/Symbol m}m)'\n"
      << "set logscale y\nset format y '10^{%L}'\n"
@@ -1410,7 +1495,20 @@ PlotFiles plot_simulation(const fs::path& image, const std::string& title, const
      << "unset multiplot\n";
 
   write_and_render(t, dat.str(), gp.str());
+}
+
+}  // namespace
+
+PlotFiles plot_simulation(const fs::path& image, const std::string& title, const SimulationResult& result,
+                          double f_max_hz, const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  draw_simulation(t, title, result, f_max_hz, options, false);
   return {t.image, t.script, t.data};
+}
+
+void plot_simulation(PlotWindow& window, const std::string& title, const SimulationResult& result, double f_max_hz,
+                     bool running, const PlotOptions& options) {
+  draw_simulation(live_target(window, options), title, result, f_max_hz, options, running);
 }
 
 }  // namespace chatter

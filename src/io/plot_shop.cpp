@@ -9,45 +9,19 @@
 #include <sstream>
 
 #include "chatter/io/table_writer.hpp"
+#include "plot_files.hpp"
 
 namespace chatter {
 namespace {
 
+using plot_detail::Files;
+using plot_detail::files_for;
+using plot_detail::render;
+using plot_detail::terminal;
+
 namespace fs = std::filesystem;
 
 std::string g(double x, int digits = 8) { return gnuplot_number(x, digits); }
-
-struct Files {
-  fs::path image, data, script;
-};
-
-Files files_for(const fs::path& image) {
-  check_plot_path(image);
-  Files f{image, image, image};
-  f.data.replace_extension(".dat");
-  f.script.replace_extension(".gp");
-  return f;
-}
-
-std::string terminal(const Files& f, const std::string& what) {
-  const ImageFormat fmt = check_plot_path(f.image);
-  std::ostringstream s;
-  s << "# " << what << ", written by chatter " << version() << ".\n"
-    << "# Reproduce or restyle: cd into this directory, edit, then run\n#   gnuplot " << f.script.filename().string()
-    << "\n# It reads " << f.data.filename().string() << " and writes " << f.image.filename().string() << ".\n\n"
-    << "fs = " << (fmt == ImageFormat::pdf ? 10 : 14) << "\n";
-  s << fixed_size_terminal(fmt);
-  s << "set output " << gnuplot_quote(f.image.filename().string()) << "\nset encoding utf8\n"
-    << "set datafile missing '?'\ndata = " << gnuplot_quote(f.data.filename().string()) << "\n"
-    << "set border lw 1 lc rgb '#404040'\nset grid back lw 1 lc rgb '#d0d0d0'\n";
-  return s.str();
-}
-
-PlotFiles render(const Files& f, const std::string& data, const std::string& script) {
-  write_text_files({{f.data, data}, {f.script, script}});
-  render_gnuplot_image(f.script, f.image);
-  return {f.image, f.script, f.data};
-}
 
 }  // namespace
 

@@ -71,11 +71,15 @@ std::vector<StabilityLimit> best_speed_per_position(const LobeSurfaceData& surfa
   return best;
 }
 
-PlotFiles plot_surface(const fs::path& image, const std::string& title, const LobeSurfaceData& surface,
-                       const std::vector<double>& contour_depths_mm) {
-  const ImageFormat format = check_plot_path(image);
-  const std::string where = image.string() + ": lobe surface: ";
-  if (image.filename().empty() || image.stem().empty()) throw InputError(image.string() + ": not an image file name");
+namespace {
+
+// The surface plot to image files, or (window) to a live window.
+PlotFiles draw_surface(PlotWindow* window, const fs::path& image, const std::string& title,
+                       const LobeSurfaceData& surface, const std::vector<double>& contour_depths_mm) {
+  const ImageFormat format = window ? ImageFormat::png : check_plot_path(image);
+  const std::string where = (window ? std::string("live plot") : image.string()) + ": lobe surface: ";
+  if (!window && (image.filename().empty() || image.stem().empty()))
+    throw InputError(image.string() + ": not an image file name");
   check_surface(where, surface);
   for (const double c : contour_depths_mm)
     if (!(std::isfinite(c) && c > 0.0)) throw InputError(where + "contour depth " + g(c) + " mm: must be > 0");
@@ -120,14 +124,17 @@ PlotFiles plot_surface(const fs::path& image, const std::string& title, const Lo
         << g(best[p].depth_limit_m * 1e3, 7) << '\n';
 
   std::ostringstream gp;
-  gp << "# Lobe surface: depth limit over spindle speed and tool position, written by chatter " << version()
-     << ".\n# Reproduce or restyle: cd into this directory, edit, then run\n#   gnuplot "
-     << script.filename().string() << "\n# It reads " << data.filename().string() << " and writes "
-     << image.filename().string() << ".\n\n"
-     << "fs = " << (format == ImageFormat::pdf ? 10 : 14) << "\n"
-     << fixed_size_terminal(format) << "set output " << gnuplot_quote(image.filename().string()) << "\n"
-     << "set encoding utf8\nset datafile missing '?'\ndata = " << gnuplot_quote(data.filename().string()) << "\n"
-     << "depth_top = " << g(top) << "   # mm: the top of the colour scale (deeper limits take its colour)\n";
+  if (window)
+    gp << live_script_head("Lobe surface: depth limit over spindle speed and tool position");
+  else
+    gp << "# Lobe surface: depth limit over spindle speed and tool position, written by chatter " << version()
+       << ".\n# Reproduce or restyle: cd into this directory, edit, then run\n#   gnuplot "
+       << script.filename().string() << "\n# It reads " << data.filename().string() << " and writes "
+       << image.filename().string() << ".\n\n"
+       << "fs = " << (format == ImageFormat::pdf ? 10 : 14) << "\n"
+       << fixed_size_terminal(format) << "set output " << gnuplot_quote(image.filename().string()) << "\n"
+       << "set encoding utf8\nset datafile missing '?'\ndata = " << gnuplot_quote(data.filename().string()) << "\n";
+  gp << "depth_top = " << g(top) << "   # mm: the top of the colour scale (deeper limits take its colour)\n";
   gp << "\n# Contours of the chosen depths (mm), traced by gnuplot on the grid into a datablock.\n";
   if (!contour_depths_mm.empty()) {
     gp << "set contour base\nunset surface\nset view map\nset cntrparam linear\nset cntrparam levels discrete ";
@@ -161,9 +168,25 @@ PlotFiles plot_surface(const fs::path& image, const std::string& title, const Lo
      << ", \\\n  data index 1 using 1:2 with linespoints lw 2.5 pt 7 ps 0.8 lc rgb '#ffffff' "
         "title 'best speed at each position'\n";
 
+  if (window) {
+    window->draw(dat.str(), gp.str());
+    return {};
+  }
   write_text_files({{data, dat.str()}, {script, gp.str()}});
   render_gnuplot_image(script, image);
   return {image, script, data};
+}
+
+}  // namespace
+
+PlotFiles plot_surface(const fs::path& image, const std::string& title, const LobeSurfaceData& surface,
+                       const std::vector<double>& contour_depths_mm) {
+  return draw_surface(nullptr, image, title, surface, contour_depths_mm);
+}
+
+void plot_surface(PlotWindow& window, const std::string& title, const LobeSurfaceData& surface,
+                  const std::vector<double>& contour_depths_mm) {
+  draw_surface(&window, {}, title, surface, contour_depths_mm);
 }
 
 }  // namespace chatter

@@ -20,11 +20,16 @@ constexpr const char* kQuantileColours[] = {"#6a00a8", "#e6a800", "#00796b", "#b
 
 }  // namespace
 
-PlotFiles plot_uncertain_lobes(const fs::path& image, const std::string& title, const UncertainLobes& lobes,
-                               const std::vector<StabilityLimit>& nominal, double depth_max_mm, double depth_axis_mm) {
-  const ImageFormat format = check_plot_path(image);
-  const std::string where = image.string() + ": uncertain lobes: ";
-  if (image.filename().empty() || image.stem().empty()) throw InputError(image.string() + ": not an image file name");
+namespace {
+
+// The plot to image files, or (window) to a live window.
+PlotFiles draw_uncertain_lobes(PlotWindow* window, const fs::path& image, const std::string& title,
+                               const UncertainLobes& lobes, const std::vector<StabilityLimit>& nominal,
+                               double depth_max_mm, double depth_axis_mm) {
+  const ImageFormat format = window ? ImageFormat::png : check_plot_path(image);
+  const std::string where = (window ? std::string("live plot") : image.string()) + ": uncertain lobes: ";
+  if (!window && (image.filename().empty() || image.stem().empty()))
+    throw InputError(image.string() + ": not an image file name");
   const std::size_t ns = lobes.speeds_rpm.size(), nd = lobes.depths_m.size();
   if (ns < 2 || nd < 2 || lobes.probability_stable.size() != ns || nominal.size() != ns)
     throw InputError(where + "needs >= 2 speeds and depths, a probability row and a nominal limit per speed");
@@ -64,14 +69,17 @@ PlotFiles plot_uncertain_lobes(const fs::path& image, const std::string& title, 
   }
 
   std::ostringstream gp;
-  gp << "# Uncertain lobes: probability of stability over spindle speed and depth, with quantile lobes,\n"
-     << "# written by chatter " << version() << ".\n# Reproduce or restyle: cd into this directory, edit, then run\n"
-     << "#   gnuplot " << script.filename().string() << "\n# It reads " << data.filename().string()
-     << " and writes " << image.filename().string() << ".\n\n"
-     << "fs = " << (format == ImageFormat::pdf ? 10 : 14) << "\n"
-     << fixed_size_terminal(format) << "set output " << gnuplot_quote(image.filename().string()) << "\n"
-     << "set encoding utf8\ndata = " << gnuplot_quote(data.filename().string()) << "\n"
-     << "set title " << gnuplot_quote(one_line_title) << " noenhanced font ','.(fs+2)\n"
+  if (window)
+    gp << live_script_head("Uncertain lobes: probability of stability over spindle speed and depth");
+  else
+    gp << "# Uncertain lobes: probability of stability over spindle speed and depth, with quantile lobes,\n"
+       << "# written by chatter " << version() << ".\n# Reproduce or restyle: cd into this directory, edit, then run\n"
+       << "#   gnuplot " << script.filename().string() << "\n# It reads " << data.filename().string()
+       << " and writes " << image.filename().string() << ".\n\n"
+       << "fs = " << (format == ImageFormat::pdf ? 10 : 14) << "\n"
+       << fixed_size_terminal(format) << "set output " << gnuplot_quote(image.filename().string()) << "\n"
+       << "set encoding utf8\ndata = " << gnuplot_quote(data.filename().string()) << "\n";
+  gp << "set title " << gnuplot_quote(one_line_title) << " noenhanced font ','.(fs+2)\n"
      << "set xlabel 'spindle speed (rev/min)'\nset ylabel 'depth of cut (mm)'\n"
      << "set cblabel 'probability of stability'\n"
      << "set xrange [" << g(lobes.speeds_rpm.front(), 10) << ":" << g(lobes.speeds_rpm.back(), 10) << "]\n"
@@ -87,9 +95,25 @@ PlotFiles plot_uncertain_lobes(const fs::path& image, const std::string& title, 
   }
   gp << ", \\\n  data index 1 using 1:2 with lines lw 2.5 lc rgb '#000000' title 'nominal lobe'\n";
 
+  if (window) {
+    window->draw(dat.str(), gp.str());
+    return {};
+  }
   write_text_files({{data, dat.str()}, {script, gp.str()}});
   render_gnuplot_image(script, image);
   return {image, script, data};
+}
+
+}  // namespace
+
+PlotFiles plot_uncertain_lobes(const fs::path& image, const std::string& title, const UncertainLobes& lobes,
+                               const std::vector<StabilityLimit>& nominal, double depth_max_mm, double depth_axis_mm) {
+  return draw_uncertain_lobes(nullptr, image, title, lobes, nominal, depth_max_mm, depth_axis_mm);
+}
+
+void plot_uncertain_lobes(PlotWindow& window, const std::string& title, const UncertainLobes& lobes,
+                          const std::vector<StabilityLimit>& nominal, double depth_max_mm, double depth_axis_mm) {
+  draw_uncertain_lobes(&window, {}, title, lobes, nominal, depth_max_mm, depth_axis_mm);
 }
 
 }  // namespace chatter

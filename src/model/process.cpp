@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
+
 #include "chatter/error.hpp"
 
 namespace chatter {
@@ -64,30 +66,49 @@ Trig2 damping_trig() {
   return t;
 }
 
+// The force direction of a tooth per unit chip thickness (§3), v(φ) =
+// (K_t cos φ + K_r sin φ, −(K_t sin φ − K_r cos φ)) = c1 cos φ + s1 sin φ
+// (vector-valued, degree 1), with its first and second antiderivatives.
+struct Trig1 {
+  Eigen::Vector2d c1, s1;
+  Eigen::Vector2d f1(double phi) const { return c1 * std::sin(phi) - s1 * std::cos(phi); }
+  Eigen::Vector2d f2(double phi) const { return -c1 * std::cos(phi) - s1 * std::sin(phi); }
+};
+
+Trig1 force_direction_trig(double kt, double kr) {
+  Trig1 t;
+  t.c1 << kt, kr;
+  t.s1 << kr, -kt;
+  return t;
+}
+
 // The windowed, 2π-periodic integrand w(φ) = f(φ) g(φ) (g = 1 on [en, ex]
 // + 2πn) and its antiderivatives W1, W2 with W1(0) = W2(0) = 0:
 //   W1(2πn + ψ) = n I + w1(ψ),  w1(ψ) = F1(clamp(ψ)) − F1(en),  I = w1(2π);
 //   W2(2πn + ψ) = π I n(n − 1) + n J + n I ψ + w2(ψ),  J = w2(2π),
 // with w2(ψ) = 0 before en, F2(ψ) − F2(en) − F1(en)(ψ − en) in the arc and
 // w2(ex) + I (ψ − ex) after it. (W2' = W1 and continuity at every 2πn.)
+// T: Trig2 (matrix-valued: H₁, n nᵀ) or Trig1 (vector-valued: v).
+template <class T>
 class Windowed {
  public:
-  Windowed(const Trig2& f, double en, double ex) : f_(f), en_(en), ex_(ex) {
+  using Value = decltype(std::declval<T>().f1(0.0));
+  Windowed(const T& f, double en, double ex) : f_(f), en_(en), ex_(ex) {
     f1en_ = f.f1(en);
     f2en_ = f.f2(en);
     I_ = f.f1(ex) - f1en_;
     w2ex_ = f.f2(ex) - f2en_ - f1en_ * (ex - en);
     J_ = w2ex_ + I_ * (kTwoPi - ex);
   }
-  Eigen::Matrix2d w1(double phi) const {
+  Value w1(double phi) const {
     const double n = std::floor(phi / kTwoPi);
     const double psi = phi - kTwoPi * n;
     return I_ * n + (f_.f1(std::clamp(psi, en_, ex_)) - f1en_);
   }
-  Eigen::Matrix2d w2(double phi) const {
+  Value w2(double phi) const {
     const double n = std::floor(phi / kTwoPi);
     const double psi = phi - kTwoPi * n;
-    Eigen::Matrix2d local;
+    Value local;
     if (psi <= en_) local.setZero();
     else if (psi <= ex_) local = f_.f2(psi) - f2en_ - f1en_ * (psi - en_);
     else local = w2ex_ + I_ * (psi - ex_);
@@ -95,14 +116,15 @@ class Windowed {
   }
 
  private:
-  Trig2 f_;
+  T f_;
   double en_, ex_;
-  Eigen::Matrix2d f1en_, f2en_, I_, w2ex_, J_;
+  Value f1en_, f2en_, I_, w2ex_, J_;
 };
 
 // ∫_{ta}^{tb} ∫_0^a w(Ω t − Θ − κ z) dz dt for the windowed integrand.
-Eigen::Matrix2d time_height_integral(const Windowed& w, double omega, double theta, double kappa, double ta,
-                                     double tb, double a) {
+template <class T>
+typename Windowed<T>::Value time_height_integral(const Windowed<T>& w, double omega, double theta, double kappa,
+                                                 double ta, double tb, double a) {
   const double pa = omega * ta - theta, pb = omega * tb - theta;
   const double lag = kappa * a;
   if (lag < kSmallHelixLag) {  // straight (or nearly): a times the time integral at the mid slice
@@ -279,6 +301,14 @@ Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, dou
   return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
 }
 
+Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
+                                                       double rpm) const {
+  const Windowed w(force_direction_trig(milling_.tangential_coefficient_n_per_m2,
+                                        milling_.radial_coefficient_n_per_m2),
+                   entry_angle(), exit_angle());
+  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+}
+
 Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
   const Windowed w(damping_trig(), entry_angle(), exit_angle());
   return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
@@ -330,6 +360,18 @@ std::vector<double> Process::engagement_events_s(double rpm, double depth_m) con
   for (const double t : out)
     if (merged.empty() || t - merged.back() > 1e-12 * period) merged.push_back(t);
   return merged;
+}
+
+Eigen::Vector2d Process::force_direction(double phi) const {
+  const double kt = milling_.tangential_coefficient_n_per_m2;
+  const double kr = milling_.radial_coefficient_n_per_m2;
+  const double sn = std::sin(phi), cs = std::cos(phi);
+  return Eigen::Vector2d(kt * cs + kr * sn, -(kt * sn - kr * cs));
+}
+
+double Process::feed_of_tooth_m(int j, double feed_per_tooth_m) const {
+  if (operation_ == Operation::kTurning) return feed_per_tooth_m;
+  return milling_.teeth * feed_per_tooth_m * pitch_angle_rad(j) / kTwoPi;
 }
 
 double Process::static_chip_m(int j, double phi, double feed_per_tooth_m) const {

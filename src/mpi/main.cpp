@@ -178,11 +178,22 @@ std::optional<std::vector<std::vector<chatter::StabilityLimit>>> gather(
   }
 }
 
+// --show opens a gnuplot window from one process: the `chatter` executable's.
+constexpr const char* kNoShow =
+    "--show: chatter-mpi draws no live plot (its ranks may run on other machines): write an image with --plot "
+    "FILE, or run chatter with --show";
+
 int run_surface(const std::vector<std::string>& args, MPI_Comm comm, int rank, int size) {
   std::optional<cli::SurfacePlan> plan;
   std::string plan_error;
   const int planned = plan_on_every_rank<cli::SurfacePlan>(
-      comm, rank, "surface", [&](bool rank0) { return cli::plan_surface(args, rank0); }, plan, plan_error);
+      comm, rank, "surface",
+      [&](bool rank0) {
+        std::optional<cli::SurfacePlan> p = cli::plan_surface(args, rank0);
+        if (p && p->show.requested) throw InputError(kNoShow);
+        return p;
+      },
+      plan, plan_error);
   const unsigned threads = rank_threads(comm, rank, plan ? plan->threads : 1);
   if (planned >= 0) return planned;
 
@@ -243,6 +254,7 @@ int run_lobes(const std::vector<std::string>& args, MPI_Comm comm, int rank, int
   unsigned threads = 1;
   const auto make = [&](bool rank0) {
     std::optional<cli::LobesPlan> p = cli::plan_lobes(args, rank0);
+    if (p && p->show.requested) throw InputError(kNoShow);
     if (p && !p->uncertainty)
       throw InputError("lobes: chatter-mpi runs the Monte Carlo of the lobes only: give --samples N (and an "
                        "[uncertainty] table in the config); for the nominal table alone run chatter lobes");

@@ -37,6 +37,12 @@ std::string CheckOptions::validate() const {
   return os.str();
 }
 
+std::size_t CheckReport::out_of_tolerance() const {
+  return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
+    return c.forced && c.op.max_error_m && !c.forced->within_tolerance;
+  }));
+}
+
 std::size_t CheckReport::unstable() const {
   return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const auto& c) { return !c.stable; }));
 }
@@ -208,6 +214,20 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
                                 num(rows[i].depth_m * 1e3) + " mm is over " + num(kImplausibleMarginFactor) +
                                 " times the stability limit " + num(c.limit.depth_limit_m * 1e3) +
                                 " mm at its speed: a depth in um?");
+  }
+  // The forced vibration of every judged row with a feed (issue 27): its
+  // surface location or diametral error and the part's tolerance. A solver
+  // that cannot give it (e.g. measured FRFs) leaves the row without it, said
+  // once in the warnings.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!judged[i]) continue;
+    try {
+      checks[i].forced = forced_check(model, process, rows[i]);
+    } catch (const std::exception& e) {
+      const std::string w = std::string("forced vibration not computed: ") + e.what();
+      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
+        report.warnings.push_back(w);
+    }
   }
   if (options.progress) options.progress(1.0);
   for (std::size_t i = 0; i < rows.size(); ++i)

@@ -44,7 +44,7 @@ namespace {
 
 const std::vector<std::string> kRequiredColumns = {"id", "spindle_rpm", "depth_mm", "radial_immersion",
                                                    "feed_per_tooth_mm"};
-const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction"};
+const std::vector<std::string> kOptionalColumns = {"teeth", "milling_direction", "max_sle_um", "tolerance_um"};
 
 using detail::text::trim;
 
@@ -236,6 +236,17 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       else if (nt > kMaxTeeth) reasons.push_back("teeth = " + std::to_string(nt) + ": must be <= " + std::to_string(kMaxTeeth));
       else row.teeth = nt;
     }
+    // Issue 27: the part's tolerance on the surface location error (milling)
+    // or the diametral error (turning), µm; either name.
+    for (const char* name : {"max_sle_um", "tolerance_um"})
+      if (const std::string_view s = field(name); !s.empty()) {
+        double tol = 0.0;
+        if (number(name, tol)) {
+          if (!(tol > 0.0)) reasons.push_back(std::string(name) + " = " + num(tol) + ": must be > 0 um");
+          else if (row.max_error_m) reasons.push_back(std::string(name) + ": max_sle_um and tolerance_um both given");
+          else row.max_error_m = tol * 1e-6;
+        }
+      }
     if (const std::string_view s = field("milling_direction"); !s.empty()) {
       if (!milling)
         reasons.push_back("milling_direction = " + in_quotes(s) + ": only for milling (leave empty for turning)");

@@ -2,11 +2,14 @@
 // for `chatter check --json`, `chatter recommend --json`, Python's
 // chatter.check / chatter.recommend and the C API.
 #include <cmath>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "chatter/error.hpp"
 #include "chatter/records.hpp"
-#include "chatter/io/table_writer.hpp"  // version()
+#include "chatter/io/forced_records.hpp"  // forced_check_json
+#include "chatter/io/table_writer.hpp"    // version()
 
 namespace chatter {
 
@@ -31,11 +34,141 @@ json limit_json(const StabilityLimit& l) {
 
 const char* direction_name(MillingDirection d) { return d == MillingDirection::kDown ? "down" : "up"; }
 
+// A number for messages (6 significant digits, as the CLI prints them).
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
 }  // namespace
+
+MachineLimits machine_range(const Config& cfg, std::optional<double> rpm_min, std::optional<double> rpm_max,
+                            ArgStyle style) {
+  const auto pick = [&](const std::optional<double>& given, const std::optional<double>& from_cfg, const char* key,
+                        const char* cfg_key) {
+    if (given) return *given;
+    if (from_cfg) return *from_cfg;
+    throw InputError(cfg.source.string() + ": missing " + arg_name(style, key) + " (or " + cfg_key +
+                     " in the config): the machine's spindle speed range");
+  };
+  MachineLimits m;
+  m.rpm_min = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
+  m.rpm_max = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
+  if (!(std::isfinite(m.rpm_min) && m.rpm_min > 0.0))
+    throw InputError(arg_name(style, "rpm_min") + " = " + fmt(m.rpm_min) + ": must be > 0 rev/min");
+  if (!(std::isfinite(m.rpm_max) && m.rpm_max > m.rpm_min))
+    throw InputError(arg_name(style, "rpm_max") + " = " + fmt(m.rpm_max) + ": must be > " +
+                     arg_name(style, "rpm_min") + " (" + fmt(m.rpm_min) + ")");
+  return m;
+}
+
+namespace {
+
+// The speed tolerance in percent as a fraction. @throws InputError.
+double speed_tolerance(double pct, ArgStyle style) {
+  if (const std::string e = validate_speed_tolerance(pct / 100.0, arg_name(style, "speed_tolerance_pct"));
+      !e.empty())
+    throw InputError(e);
+  return pct / 100.0;
+}
+
+// The method as given, checked against the config ("auto" resolved later).
+void check_method(const std::string& method, const Config& cfg, ArgStyle style) {
+  try {
+    resolve_lobe_method(method, cfg.model, cfg.process);
+  } catch (const InputError& e) {
+    throw InputError(arg_name(style, "method") + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+CheckOptions check_options(const Config& cfg, std::optional<double> rpm_min, std::optional<double> rpm_max,
+                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style) {
+  CheckOptions opt;
+  opt.machine = machine_range(cfg, rpm_min, rpm_max, style);
+  opt.method = method;
+  opt.threads = threads;
+  opt.speed_tolerance = speed_tolerance(speed_tolerance_pct, style);
+  opt.flute_length_m = cfg.flute_length_m;
+  check_method(method, cfg, style);
+  return opt;
+}
+
+RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle style) {
+  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const auto name = [&](const char* key) { return arg_name(style, key); };
+  RecommendOptions opt;
+  opt.machine = machine_range(cfg, a.rpm_min, a.rpm_max, style);
+  const auto positive = [&](const char* key, double x) {
+    if (!(std::isfinite(x) && x > 0.0)) throw InputError(name(key) + " = " + fmt(x) + ": must be > 0");
+    return x;
+  };
+  const auto only = [&](const char* key, bool given, bool ok, const char* op) {
+    if (given && !ok)
+      throw InputError(name(key) + ": only for " + op + " (the config's operation is " +
+                       (milling ? "milling" : "turning") + ")");
+  };
+  only("tool_diameter_mm", a.tool_diameter_mm.has_value(), milling, "milling");
+  only("radial_immersion", a.radial_immersion.has_value(), milling, "milling");
+  only("teeth", a.teeth.has_value(), milling, "milling");
+  only("milling_direction", a.milling_direction.has_value(), milling, "milling");
+  only("workpiece_diameter_mm", a.workpiece_diameter_mm.has_value(), !milling, "turning");
+  only("tangential_coefficient_n_per_m2", a.tangential_coefficient_n_per_m2.has_value(), !milling, "turning");
+  if (a.max_power_kw) opt.machine.max_power_w = positive("max_power_kw", *a.max_power_kw) * 1e3;
+  if (a.max_torque_nm) opt.machine.max_torque_n_m = positive("max_torque_nm", *a.max_torque_nm);
+  opt.feed_per_tooth_m = positive("feed_per_tooth_mm", a.feed_per_tooth_mm) * 1e-3;
+  if (!(a.safety > 0.0 && a.safety <= 1.0)) throw InputError(name("safety") + " = " + fmt(a.safety) + ": must be in (0, 1]");
+  opt.safety = a.safety;
+  opt.depth_max_m =
+      (a.depth_max_mm ? positive("depth_max_mm", *a.depth_max_mm) : cfg.sweep.depth_max_mm.value_or(kDefaultSearchDepthMm)) * 1e-3;
+  // The diameter defaults to the config's (process.tool_diameter_mm or
+  // process.workpiece_diameter_mm); the argument overrides it.
+  opt.diameter_m = milling ? cfg.process.milling_parameters().tool_diameter_m
+                           : cfg.process.turning_parameters().workpiece_diameter_m;
+  if (a.tool_diameter_mm) opt.diameter_m = positive("tool_diameter_mm", *a.tool_diameter_mm) * 1e-3;
+  if (a.workpiece_diameter_mm) opt.diameter_m = positive("workpiece_diameter_mm", *a.workpiece_diameter_mm) * 1e-3;
+  if (a.tangential_coefficient_n_per_m2)
+    opt.cutting_coefficient_n_per_m2 = positive("tangential_coefficient_n_per_m2", *a.tangential_coefficient_n_per_m2);
+  opt.method = a.method;
+  check_method(a.method, cfg, style);
+  opt.threads = a.threads;
+  opt.speed_tolerance = speed_tolerance(a.speed_tolerance_pct, style);
+  if (milling) opt.flute_length_m = cfg.flute_length_m;
+
+  Process process = cfg.process;
+  if (milling) {
+    OperationRow row;
+    row.id = "recommend";
+    if (a.radial_immersion) {
+      const double ae = *a.radial_immersion;
+      if (!(ae > 0.0 && ae <= 1.0)) throw InputError(name("radial_immersion") + " = " + fmt(ae) + ": must be in (0, 1]");
+      row.radial_immersion = ae;
+    }
+    if (a.teeth) {
+      if (*a.teeth < 1) throw InputError(name("teeth") + " = " + std::to_string(*a.teeth) + ": must be >= 1");
+      row.teeth = *a.teeth;
+    }
+    if (a.milling_direction) {
+      const std::string& d = *a.milling_direction;
+      if (d == "down") row.direction = MillingDirection::kDown;
+      else if (d == "up") row.direction = MillingDirection::kUp;
+      else throw InputError(name("milling_direction") + " = " + d + ": must be 'down' or 'up'");
+    }
+    process = process_for(cfg.process, row);
+  }
+  if ((std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m)) && !(opt.diameter_m > 0.0))
+    throw InputError(std::string("a power or torque limit needs the ") +
+                     (milling ? "tool diameter (" + name("tool_diameter_mm") + ")"
+                              : "workpiece diameter (" + name("workpiece_diameter_mm") + ")"));
+  return {opt, process};
+}
 
 int check_exit_status(const CheckReport& report, const OperationsFile& file) {
   if (!file.rejected.empty() || !report.not_judged.empty()) return 2;
-  return report.unstable() > 0 ? 3 : 0;
+  return report.unstable() > 0 || report.out_of_tolerance() > 0 ? 3 : 0;
 }
 
 json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
@@ -78,6 +211,10 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
       o["teeth"] = c.op.teeth.value_or(mp.teeth);
       o["milling_direction"] = direction_name(c.op.direction.value_or(mp.direction));
     }
+    // The forced vibration (null without a feed; docs/forced.md).
+    o["forced"] = c.forced ? json::parse(forced_check_json(c.forced->response, c.op.max_error_m,
+                                                           c.forced->within_tolerance))
+                           : json(nullptr);
     if (c.suggestion) {
       json s = limit_json(*c.suggestion);
       s["margin"] = finite_or_null(c.suggestion_margin);
@@ -99,7 +236,8 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
                   {"stable", report.checks.size() - report.unstable()},
                   {"unstable", report.unstable()},
                   {"rejected", file.rejected.size()},
-                  {"not_judged", report.not_judged.size()}};
+                  {"not_judged", report.not_judged.size()},
+                  {"out_of_tolerance", report.out_of_tolerance()}};
   j["exit_status"] = check_exit_status(report, file);
   return j;
 }

@@ -6,9 +6,37 @@
 
 #include <nlohmann/json.hpp>
 
+#include "chatter/io/table_writer.hpp"  // table_number
+
 namespace chatter {
 
 using nlohmann::json;
+
+std::string arg_name(ArgStyle style, const std::string& key) {
+  if (style == ArgStyle::kKeyword) return key;
+  std::string flag = "--" + key;
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
+std::vector<std::string> method_notes(const std::string& requested, const SolverDescriptor& descriptor,
+                                      const Process& process, const SolverValues& options,
+                                      const std::string& averaged_milling, ArgStyle style) {
+  std::vector<std::string> notes = ignored_feature_notes(descriptor, process);
+  // "auto" fell back to an averaged method for milling (measured FRFs).
+  if (requested == kAutoMethod && !averaged_milling.empty())
+    notes.insert(notes.begin(), "method auto chose \"" + descriptor.name +
+                                    "\" (no Floquet method handles this input): " + averaged_milling);
+  // A method that sees runout only through its nonlinear static chip does
+  // not see it in its linear mode.
+  if (const auto it = options.find("linear"); it != options.end() && std::get_if<bool>(&it->second) &&
+      std::get<bool>(it->second) && process.has_runout() && descriptor.accepts.contains(SolverFeature::kRunout))
+    notes.push_back("runout (process.runout_um) is ignored with " +
+                    std::string(style == ArgStyle::kFlag ? "--linear" : "linear = True") +
+                    ": the linear delay equation has no static chip, which is all runout changes");
+  return notes;
+}
 
 RecordSource record_source(const Config& config, std::optional<double> position_mm) {
   RecordSource s;
@@ -30,6 +58,14 @@ json value_json(const SolverValue& v) {
         else return json(x);
       },
       v);
+}
+
+std::string value_text(const SolverValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return *s;
+  if (const auto* x = std::get_if<double>(&v)) return table_number(*x);
+  if (const auto* i = std::get_if<int>(&v)) return std::to_string(*i);
+  if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  return "";
 }
 
 namespace {
@@ -85,6 +121,18 @@ std::vector<int> spectrum_harmonics(const SimulationResult& r) {
   return out;
 }
 
+SimulationRequest simulation_request(const SimulationSettings& settings, const Process& process,
+                                     double relative_tolerance, double depth_mm, double feed_mm) {
+  SimulationRequest q;
+  q.settings = settings;
+  q.relative_tolerance = relative_tolerance;
+  q.periods_per_revolution = simulation_periods_per_revolution(process, settings.spindle_rpm, settings.linear);
+  q.tooth_period_s = process.delay_s(settings.spindle_rpm);
+  q.depth_mm = depth_mm;
+  q.feed_mm = feed_mm;
+  return q;
+}
+
 json simulation_record(const SimulationResult& r, const SimulationRequest& q, const RecordSource& source) {
   const SimulationSettings& st = q.settings;
   json j;
@@ -119,6 +167,17 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
                          {"frequency_hz", r.harmonics[k].frequency_hz},
                          {"amplitude_um", r.harmonics[k].amplitude_m * 1e6}});
   j["harmonics"] = harmonics;
+  // What the run measured of the forced vibration, the teeth out of the cut
+  // and the linear limit's validity (docs/forced.md).
+  if (st.linear_static_chip) j["feed_per_tooth_mm"] = q.feed_mm;
+  j["linear_static_chip"] = st.linear_static_chip;
+  j["out_of_cut_fraction_per_tooth"] = r.out_of_cut_fraction_per_tooth;
+  j["teeth_leave_cut"] = r.teeth_leave_cut;
+  j["forced"] = {{"steady", r.forced_steady},
+                 {"peak_to_peak_um", {{"x", r.forced_peak_to_peak_x_m * 1e6}, {"y", r.forced_peak_to_peak_y_m * 1e6}}},
+                 {"static_deflection_um", {{"x", r.forced_static_x_m * 1e6}, {"y", r.forced_static_y_m * 1e6}}},
+                 {"surface_location_error_um", finite_or_null(r.forced_surface_location_error_m * 1e6)}};
+  j["linear_limit_warning"] = r.linear_limit_warning.empty() ? json(nullptr) : json(r.linear_limit_warning);
   j["integrator"] = {{"name", "SUNDIALS CVODE, Adams-Moulton order <= 5, fixed-point iteration"},
                      {"relative_tolerance", q.relative_tolerance},
                      {"steps", r.steps},

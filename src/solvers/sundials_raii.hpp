@@ -62,10 +62,11 @@ class FixedPointSolver {
   SUNNonlinearSolver s_;
 };
 
-/// CVODE memory with an error handler that keeps the last message.
+/// CVODE memory with an error handler that keeps the last message. `label`
+/// starts the messages of failed calls (the model integrated).
 class Cvode {
  public:
-  Cvode(int method, SUNContext ctx) : mem_(CVodeCreate(method, ctx)) {
+  Cvode(int method, SUNContext ctx, const char* label = "time-domain") : mem_(CVodeCreate(method, ctx)), label_(label) {
     if (mem_ == nullptr) throw NumericalError("CVodeCreate failed (out of memory?)");
     CVodeSetErrHandlerFn(mem_, &Cvode::handler, this);
   }
@@ -78,7 +79,7 @@ class Cvode {
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
     char* name = CVodeGetReturnFlagName(flag);  // malloc'ed by SUNDIALS
-    std::string what = std::string("time-domain: ") + call + " failed (" + (name ? name : "?") + ")";
+    std::string what = std::string(label_) + ": " + call + " failed (" + (name ? name : "?") + ")";
     std::free(name);
     if (!last_message_.empty()) what += ": " + last_message_;
     throw NumericalError(what);
@@ -91,6 +92,7 @@ class Cvode {
                         (msg ? msg : "");
   }
   void* mem_;
+  const char* label_;
   std::string last_message_;
 };
 

@@ -5,7 +5,7 @@
 // the stable / chatter verdict. Each is a function or a small class with no
 // SUNDIALS in it, tested on its own in tests/test_time_domain_parts.cpp.
 // The run itself (set-up, stepping, stop points, events) is in
-// time_domain.cpp. Header-only so that the tests need no exported symbols.
+// time_domain_run.cpp. Header-only so that the tests need no exported symbols.
 #pragma once
 
 #include <Eigen/Dense>

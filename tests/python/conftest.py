@@ -9,7 +9,9 @@ import pytest
 
 SOURCE_DIR = pathlib.Path(os.environ.get("CHATTER_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 CLI = os.environ.get("CHATTER_CLI", str(SOURCE_DIR / "build" / "chatter"))
-CONFIGS = sorted((SOURCE_DIR / "configs").glob("*.toml"))
+# The lobe configs (configs/grinding_*.toml are grinding configs: test_grinding.py).
+CONFIGS = sorted(c for c in (SOURCE_DIR / "configs").glob("*.toml") if not c.name.startswith("grinding_"))
+GRINDING_CONFIGS = sorted((SOURCE_DIR / "configs").glob("grinding_*.toml"))
 
 
 def run_cli(*args, cwd=None):

@@ -25,6 +25,13 @@
 //    .dat and .gp files were written; its message says how to install gnuplot;
 //  - gnuplot failing on the script -> PlotError (internal failure).
 //
+// Live plots: each plot function that the CLI's --show draws (lobes, map,
+// compare, simulation, and plot_surface / plot_uncertain_lobes) also takes a
+// PlotWindow instead of an image path: the same data and the same script,
+// without the terminal and output lines and with the data in a gnuplot
+// datablock, handed to the window (the CLI feeds a gnuplot process through
+// gnuplot-iostream: src/cli/live_plot.cpp). Nothing is written to disk.
+//
 // Thread safety: the functions share no state; concurrent calls must write
 // different files.
 #pragma once
@@ -93,6 +100,26 @@ struct PlotOptions {
   std::string validate() const;
 };
 
+/// Where a live plot goes (the CLI's --show). The io layer hands it text;
+/// the window (outside the io layer) owns the gnuplot process.
+class PlotWindow {
+ public:
+  virtual ~PlotWindow() = default;
+  /// Draws (or redraws) one plot: `data` is the text of the plot's .dat
+  /// file, `script` its .gp script without terminal and output, reading the
+  /// data from the datablock kLiveDataBlock (the window defines it first).
+  /// @throws whatever the window's transport throws (the CLI: InputError
+  /// when gnuplot has gone, having failed to open its terminal).
+  virtual void draw(const std::string& data, const std::string& script) = 0;
+};
+
+/// The gnuplot datablock a live plot's script reads (`data = '$data'`).
+inline constexpr const char* kLiveDataBlock = "$data";
+
+/// The head of a live plot's script: the image script's settings without
+/// its terminal and output (`fs`, encoding, missing values, `data`).
+std::string live_script_head(const std::string& what, int font_size = 14);
+
 /// The files a plot wrote.
 struct PlotFiles {
   std::filesystem::path image;
@@ -118,6 +145,10 @@ struct PlotFiles {
 PlotFiles plot_lobes(const std::filesystem::path& image, const std::string& title,
                      const std::vector<StabilityLimit>& envelope, const std::vector<LobeCurve>& curves,
                      const AbsoluteLimit& absolute_limit, double depth_max_m, const PlotOptions& options = {});
+/// The same diagram in a live window (see PlotWindow).
+void plot_lobes(PlotWindow& window, const std::string& title, const std::vector<StabilityLimit>& envelope,
+                const std::vector<LobeCurve>& curves, const AbsoluteLimit& absolute_limit, double depth_max_m,
+                const PlotOptions& options = {});
 
 /// Receptance chart, two stacked panels against frequency (Hz): magnitude
 /// (m/N, log axis) and phase (deg), or real and imaginary parts (see
@@ -165,6 +196,9 @@ struct StabilityMapGrid {
 ///         rule of StabilityMapGrid), GnuplotNotFound, PlotError.
 PlotFiles plot_stability_map(const std::filesystem::path& image, const std::string& title,
                              const StabilityMapGrid& map, const PlotOptions& options = {});
+/// The same map in a live window (see PlotWindow).
+void plot_stability_map(PlotWindow& window, const std::string& title, const StabilityMapGrid& map,
+                        const PlotOptions& options = {});
 
 /// One method's depth limits for plot_compare().
 struct MethodLimits {
@@ -195,6 +229,9 @@ struct MethodLimits {
 PlotFiles plot_compare(const std::filesystem::path& image, const std::string& title,
                        const std::vector<MethodLimits>& methods, double depth_max_m,
                        const PlotOptions& options = {});
+/// The same chart in a live window (see PlotWindow).
+void plot_compare(PlotWindow& window, const std::string& title, const std::vector<MethodLimits>& methods,
+                  double depth_max_m, const PlotOptions& options = {});
 
 /// One time-domain run (TimeDomainSimulator::simulate with record_series):
 /// three stacked panels — the relative displacement (µm) along X and, when
@@ -211,6 +248,12 @@ PlotFiles plot_compare(const std::filesystem::path& image, const std::string& ti
 ///         record_series), GnuplotNotFound, PlotError.
 PlotFiles plot_simulation(const std::filesystem::path& image, const std::string& title,
                           const SimulationResult& result, double f_max_hz, const PlotOptions& options = {});
+/// The same panels in a live window (see PlotWindow). With `running` the
+/// result is a run still integrating (SimulationSettings::on_period): the
+/// title counts the periods done instead of giving a verdict, and the
+/// spectrum panel stays empty until the last call.
+void plot_simulation(PlotWindow& window, const std::string& title, const SimulationResult& result, double f_max_hz,
+                     bool running, const PlotOptions& options = {});
 
 /// Runs `gnuplot <script filename>` with the script's directory as working
 /// directory (what the plot functions do after writing the files).

@@ -38,5 +38,8 @@ std::vector<StabilityLimit> best_speed_per_position(const LobeSurfaceData& surfa
 ///         not > 0; GnuplotNotFound; PlotError (io/plot.hpp).
 PlotFiles plot_surface(const std::filesystem::path& image, const std::string& title, const LobeSurfaceData& surface,
                        const std::vector<double>& contour_depths_mm);
+/// The same plot in a live window (io/plot.hpp's PlotWindow).
+void plot_surface(PlotWindow& window, const std::string& title, const LobeSurfaceData& surface,
+                  const std::vector<double>& contour_depths_mm);
 
 }  // namespace chatter

@@ -26,5 +26,8 @@ namespace chatter {
 ///         PlotError (io/plot.hpp).
 PlotFiles plot_uncertain_lobes(const std::filesystem::path& image, const std::string& title, const UncertainLobes& lobes,
                                const std::vector<StabilityLimit>& nominal, double depth_max_mm, double depth_axis_mm);
+/// The same plot in a live window (io/plot.hpp's PlotWindow).
+void plot_uncertain_lobes(PlotWindow& window, const std::string& title, const UncertainLobes& lobes,
+                          const std::vector<StabilityLimit>& nominal, double depth_max_mm, double depth_axis_mm);
 
 }  // namespace chatter

@@ -1,0 +1,154 @@
+// The records of `chatter compare`, `chatter map` and `chatter frf`: each
+// command's work from a loaded config to its table and JSON record, built
+// once here for the CLI (src/cli/cmd_compare.cpp, cmd_map.cpp, cmd_frf.cpp)
+// and Python (python/bind_tables.cpp). Messages name arguments as the caller
+// does (ArgStyle: the CLI's flags, Python's keywords). Keys: docs/results.md.
+//
+// Layer: records (core + io + ops, nlohmann-json); see chatter/records.hpp.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "chatter/io/config.hpp"
+#include "chatter/io/plot.hpp"  // MethodLimits, StabilityMapGrid: plain data
+#include "chatter/lobes.hpp"
+#include "chatter/records.hpp"
+#include "chatter/solvers.hpp"
+
+namespace chatter {
+
+class SemiDiscretizationSolver;
+
+// ------------------------------------------------------------------ compare
+
+/// The methods `compare` runs, from `list` as given: none = the registry's
+/// default ones (in_default_compare) that apply to the config, "all" = every
+/// method that applies, else comma-separated distinct names in column order,
+/// each of which must apply. parse_compare_methods checks the syntax alone
+/// (before the config is read); choose_compare_methods the config.
+/// @throws InputError "<methods> '<list>': <why>; must be ...".
+std::vector<std::string> parse_compare_methods(const std::optional<std::string>& list, ArgStyle style);
+std::vector<std::string> choose_compare_methods(const std::optional<std::string>& list, const Config& config,
+                                                ArgStyle style);
+
+/// One method of a comparison: its solver, rows and diagnostics.
+struct ComparedMethod {
+  const SolverDescriptor* descriptor = nullptr;
+  std::unique_ptr<LobeSolver> solver;
+  SolverValues options;                     ///< effective options (descriptor->effective_options)
+  std::vector<std::string> notes;           ///< method_notes: what this method does not see
+  std::vector<DiagnosticColumn> columns;    ///< the solver's diagnostic columns
+  std::vector<StabilityLimit> rows;         ///< one per speed
+  std::vector<std::vector<SolverValue>> values;  ///< per speed, in column order (empty without columns)
+
+  /// The value of diagnostic `name` at speed i (monostate if none).
+  SolverValue value(const std::string& name, std::size_t i) const;
+  /// Speed i is limited by a flip (period-doubling) multiplier.
+  bool is_flip(std::size_t i) const;
+};
+
+/// The largest relative difference of the depth limit between two methods
+/// over the speeds where both are bounded; speeds where one alone finds a
+/// limit are counted apart.
+struct ComparedPair {
+  std::string first, second;
+  double largest_relative_difference = 0.0;
+  double at_spindle_rpm = 0.0;
+  std::size_t bounded_only_by_first = 0, bounded_only_by_second = 0;
+};
+
+struct Comparison {
+  std::vector<double> speeds_rpm;
+  double depth_max_mm = 0.0;
+  std::vector<ComparedMethod> methods;  ///< in column order
+  std::vector<ComparedPair> pairs;      ///< every pair (a, b), a before b
+  std::string explanation;              ///< the text `chatter compare` prints: the pairs, then why methods differ
+};
+
+/// What `compare` needs besides the config.
+struct CompareRequest {
+  std::vector<std::string> methods;  ///< choose_compare_methods
+  std::vector<double> speeds_rpm;    ///< evenly spaced, increasing
+  double depth_max_mm = 50.0;
+  /// The options of one method (checked): the CLI's flags or Python's dict.
+  std::function<SolverValues(const SolverDescriptor&)> options;
+  unsigned threads = 0;  ///< 0 = every core; the result does not depend on it
+  ArgStyle style = ArgStyle::kFlag;  ///< how the notes name solver options
+  /// Called before each method is solved (its name) and after each speed
+  /// (done of total); may be empty.
+  std::function<void(const std::string& method, std::size_t done, std::size_t total)> progress;
+};
+
+/// Builds every solver (a bad option fails before any solve), then solves
+/// each method at every speed. Cost: one limit_at (sdm: with diagnostics)
+/// per method and speed. @throws InputError.
+Comparison compare_methods(const Config& config, const CompareRequest& request);
+
+/// The table: spindle_rpm, depth_limit_mm_<method> per method, then each
+/// method's compare_columns as <column>_<method> (`chatter compare --table`).
+std::string comparison_csv(const Comparison& c);
+/// The record: config, name, methods, speeds and depth searched,
+/// solver_options by method, warnings, notes, pairs, explanation.
+nlohmann::json comparison_record(const Comparison& c, const RecordSource& source);
+/// The methods' limits in the form plot_compare draws (flip rows marked).
+std::vector<MethodLimits> comparison_plot_lines(const Comparison& c);
+
+// ------------------------------------------------------------------ map
+
+/// `chatter map`'s method: only the Floquet method draws maps ("auto" is
+/// that method). @throws InputError "<method> X: map needs <method> sdm".
+std::string map_method(const std::string& requested, ArgStyle style);
+
+/// Depths 0 .. depth_max_mm, `depth_points` of them, checked with the grid's
+/// size (speeds × depths <= 4e6). @throws InputError naming the argument.
+std::vector<double> map_depths_m(double depth_max_mm, int depth_points, std::size_t speeds, ArgStyle style);
+
+/// The spectral radius on the grid (speeds outermost), and with
+/// `multiplier_types` the type of the dominant multiplier at every unstable
+/// point (stable points: hopf, never read). Cost: one Floquet map per grid
+/// point, plus one analysis per unstable point with types.
+StabilityMapGrid stability_map(const SemiDiscretizationSolver& sdm, const std::vector<double>& speeds_rpm,
+                               const std::vector<double>& depths_m, bool multiplier_types, unsigned threads,
+                               const std::function<void(std::size_t done, std::size_t total)>& progress = {});
+/// spindle_rpm,depth_mm,spectral_radius, one row per grid point (`chatter map --out`).
+std::string stability_map_csv(const StabilityMapGrid& grid);
+/// Grid points with spectral radius >= 1.
+std::size_t unstable_points(const StabilityMapGrid& grid);
+/// The record: method, config, name, warnings, notes, the grid's extent,
+/// unstable_points, solver_options (`chatter map --json`).
+nlohmann::json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solver_options,
+                                    const RecordSource& source);
+
+// ------------------------------------------------------------------ frf
+
+/// The frequencies of `chatter frf`: from fmin to fmax (defaults: half the
+/// lowest and twice the highest natural frequency), evenly or (log)
+/// logarithmically spaced. @throws InputError naming the argument.
+struct FrfGrid {
+  double fmin_hz = 0.0, fmax_hz = 0.0;
+  int points = 1000;
+  bool log = false;
+  std::vector<double> frequencies_hz() const;
+};
+FrfGrid frf_grid(const StructuralModel& model, std::optional<double> fmin_hz, std::optional<double> fmax_hz,
+                 int points, bool log, ArgStyle style);
+
+/// A table of named numeric columns of equal length.
+struct NamedColumns {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+};
+/// frequency_hz, then <body>_<term>_real_m_per_n and _imag_m_per_n for body
+/// tool, workpiece, relative (their sum) and term xx, xy, yy: the receptance
+/// in m/N (`chatter frf`'s columns).
+NamedColumns receptance_table(const StructuralModel& model, const FrfGrid& grid);
+/// The columns as CSV, every cell with 10 significant digits (%.10g).
+std::string named_columns_csv(const NamedColumns& t);
+
+}  // namespace chatter

@@ -1,0 +1,156 @@
+// chatter.coefficients, chatter.detect, chatter.fit: the shop measurements
+// (cutting tests, a recording of the cut, a tap test) through the same
+// library functions as the CLI (chatter/records/shop.hpp): the record as a
+// dict, plus the arrays a plot needs (docs/python.md, docs/shop_data.md,
+// docs/frf.md).
+#include <cmath>
+#include <complex>
+
+#include <nlohmann/json.hpp>
+
+#include "bindings.hpp"
+#include "chatter/records/shop.hpp"
+#include "module.hpp"
+
+namespace chatter_py {
+
+using namespace pybind11::literals;
+
+namespace {
+
+std::string fspath(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+py::array_t<std::complex<double>> complex_array(const std::vector<std::complex<double>>& v) {
+  py::array_t<std::complex<double>> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// ------------------------------------------------------------------ coefficients
+
+py::dict coefficients(const py::object& tests, int teeth, double radial_immersion, const std::string& milling_direction,
+                      std::optional<double> diameter_mm) {
+  chatter::CoefficientArgs a;
+  a.tests = fspath(tests);
+  a.teeth = teeth;
+  a.radial_immersion = radial_immersion;
+  a.milling_direction = milling_direction;
+  a.diameter_mm = diameter_mm;
+  chatter::CoefficientResult r;
+  {
+    py::gil_scoped_release release;
+    r = chatter::fit_cutting_coefficients(a, chatter::ArgStyle::kKeyword);
+  }
+  py::dict out = to_python(chatter::coefficients_record(r));
+  // The [process] table of --out, or None when the tests do not give one
+  // (power tests; coefficients that are no valid table: see warnings).
+  try {
+    out["fragment"] = chatter::coefficients_fragment(r, chatter::ArgStyle::kKeyword);
+  } catch (const InputError&) {
+    out["fragment"] = py::none();
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ detect
+
+py::dict detect(const py::object& recording, double rpm, int teeth, std::optional<double> rpm_min,
+                std::optional<double> rpm_max, int channel, double peak_ratio, const py::object& config,
+                std::optional<double> depth_mm, bool force) {
+  chatter::DetectArgs a;
+  a.recording = fspath(recording);
+  a.rpm = rpm;
+  a.teeth = teeth;
+  a.rpm_min = rpm_min;
+  a.rpm_max = rpm_max;
+  a.channel = channel;
+  a.peak_ratio = peak_ratio;
+  a.depth_mm = depth_mm;
+  a.force = force;
+  std::shared_ptr<const chatter::Config> cfg;
+  if (!config.is_none()) {
+    if (py::isinstance<Job>(config)) cfg = config.cast<const Job&>().cfg;
+    else cfg = std::make_shared<const chatter::Config>(chatter::load_config(fspath(config)));
+    a.config = cfg.get();
+  }
+  chatter::DetectResult r;
+  {
+    py::gil_scoped_release release;
+    r = chatter::detect_recording(a, chatter::ArgStyle::kKeyword);
+  }
+  py::dict out = to_python(chatter::detect_record(r));
+  py::dict spectrum;
+  spectrum["frequency_hz"] = array_of(r.detection.spectrum_frequency_hz);
+  spectrum["amplitude"] = array_of(r.detection.spectrum_amplitude);
+  out["spectrum"] = spectrum;
+  return out;
+}
+
+// ------------------------------------------------------------------ fit
+
+// Points of the fitted curve over the band (the CLI's fit plot draws as many).
+constexpr int kFittedPoints = 2001;
+
+py::dict fit(const py::object& file, const std::string& format, const std::string& quantity, double scale,
+             const std::string& term, std::optional<int> record, std::optional<int> modes, bool residuals,
+             const std::optional<std::pair<double, double>>& band, const std::string& body,
+             const std::string& direction) {
+  chatter::FitArgs a;
+  a.file = fspath(file);
+  a.format = format;
+  a.quantity = quantity;
+  a.scale = scale;
+  a.term = term;
+  a.record = record;
+  a.modes = modes;
+  a.residuals = residuals;
+  a.band = band;
+  a.body = body;
+  a.direction = direction;
+  chatter::FitReport r;
+  {
+    py::gil_scoped_release release;
+    r = chatter::fit_frf_file(a, chatter::ArgStyle::kKeyword);
+  }
+  py::dict out = to_python(chatter::fit_record(r));
+  // Per record, the measured lines and the fitted model over the band.
+  py::list records = out["records"];
+  for (std::size_t i = 0; i < r.records.size(); ++i) {
+    const chatter::FittedRecord& f = r.records[i];
+    py::dict rec = records[i];
+    rec["measured_frequency_hz"] = array_of(f.table.frequency_hz);
+    rec["measured_receptance_m_per_n"] = complex_array(f.table.value);
+    std::vector<double> hz(kFittedPoints);
+    std::vector<std::complex<double>> g(kFittedPoints);
+    for (int k = 0; k < kFittedPoints; ++k) {
+      hz[static_cast<std::size_t>(k)] = f.fit.f_min_hz + (f.fit.f_max_hz - f.fit.f_min_hz) * k / (kFittedPoints - 1);
+      g[static_cast<std::size_t>(k)] = f.fit.receptance(hz[static_cast<std::size_t>(k)]);
+    }
+    rec["fitted_frequency_hz"] = array_of(hz);
+    rec["fitted_receptance_m_per_n"] = complex_array(g);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_shop(py::module_& m) {
+  m.def("coefficients", &coefficients, "tests"_a, py::kw_only(), "teeth"_a, "radial_immersion"_a,
+        "milling_direction"_a, "diameter_mm"_a = py::none(),
+        "Cutting coefficients from test cuts (chatter coefficients --json), plus 'fragment': the [process] table "
+        "of --out, or None.");
+  m.def("detect", &detect, "recording"_a, py::kw_only(), "rpm"_a, "teeth"_a, "rpm_min"_a = py::none(),
+        "rpm_max"_a = py::none(), "channel"_a = 1, "peak_ratio"_a = 0.25, "config"_a = py::none(),
+        "depth_mm"_a = py::none(), "force"_a = false,
+        "Chatter in a recording of the cut and the spindle speeds to try (chatter detect --json), plus the "
+        "spectrum.");
+  m.def("fit", &fit, "frf_file"_a, py::kw_only(), "format"_a = "", "quantity"_a = "", "scale"_a = 1.0, "term"_a = "",
+        "record"_a = py::none(), "modes"_a = py::none(), "residuals"_a = false, "band"_a = py::none(),
+        "body"_a = "tool", "direction"_a = "",
+        "Modes fitted to a measured FRF (chatter fit): the record with 'fragment' (the [[<body>.modes]] TOML of "
+        "--out), and per record the measured and fitted receptance.");
+}
+
+}  // namespace chatter_py

@@ -1,0 +1,339 @@
+// [grinding] of a grinding config (include/chatter/io/grinding_config.hpp;
+// key reference docs/grinding.md and docs/config.md "[grinding]"): the wheel
+// and its kinematics, seed 001's mechanistic model with its impacts table,
+// the energy partition, the no-load loss and seed 000's empirical models.
+#include "config_sections.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace chatter::config_detail {
+namespace {
+
+using grinding::EmpiricalForm;
+using grinding::EmpiricalModel;
+using grinding::EmpiricalVariable;
+
+constexpr std::string_view kGrindingKeys[] = {
+    "wheel_diameter_mm", "wheel_width_mm",  "wheel_rpm",     "motor_rpm",          "transmission_ratio",
+    "feed_mm_per_s",     "force_ratio",     "density_kg_per_m3", "wheel_min_diameter_mm",
+    "edge_coefficient_n_per_mm", "cutting_coefficient_n_per_mm2", "impacts_per_turn", "impacts",
+    "energy_partition",  "no_load_loss",    "models"};
+
+// Hard bounds: beyond them a value is not a grinding wheel or process.
+constexpr Plausible kDiameterBound{0.0, 5000.0, "must be <= 5000 mm"};
+constexpr Plausible kWidthBound{0.0, 1000.0, "must be <= 1000 mm"};
+constexpr Plausible kRpmBound{0.0, 2e5, "must be <= 200 000 rev/min"};
+constexpr Plausible kFeedBound{0.0, 1e5, "must be <= 100 000 mm/s"};
+constexpr Plausible kEdgeBound{0.0, 1e7, "must be <= 1e7 N/mm (a value in N/m? divide it by 1e3)"};
+constexpr Plausible kCuttingBound{0.0, 1e9, "must be <= 1e9 N/mm^2 (a value in N/m^2? divide it by 1e6)"};
+constexpr Plausible kImpactsBound{0.0, 1000.0, "must be <= 1000 impacts per turn"};
+
+const Range kForceRatio{"in (0, 10]", 0.0, true, 10.0, false};
+const Range kFraction{"in [0, 1]", 0.0, false, 1.0, false};
+
+/// A usual band in the key's own unit, and the mix-up it most likely is.
+struct Usual {
+  double lo, hi;
+  const char* what;        ///< "the 25 to 600 mm of grinding wheels"
+  double mixup_factor = 0; ///< written x factor is the value in the key's unit if the mix-up happened
+  const char* mixup_unit = "";
+};
+
+void warn_usual(const Table& t, std::string_view key, std::optional<double> v, const Usual& u) {
+  if (!v || (*v >= u.lo && *v <= u.hi)) return;
+  std::string what = std::string("outside ") + u.what;
+  const double meant = *v * u.mixup_factor;
+  if (u.mixup_factor > 0.0 && meant >= u.lo && meant <= u.hi)
+    what += "; is it in " + std::string(u.mixup_unit) + " (" + std::string(key) + " = " + number_text(meant) + ")?";
+  t.doc().warn(t.path_of(key), *t.find(key), what);
+}
+
+std::optional<double> bounded(const Table& t, std::string_view key, std::optional<double> v, const Plausible& b) {
+  if (v && !t.plausible(key, *v, b)) return std::nullopt;
+  return v;
+}
+
+// ---------------------------------------------------------------- impacts
+
+std::optional<grinding::ImpactsPerTurn> read_impacts(const Table& g) {
+  const Document& doc = g.doc();
+  const bool number = g.has("impacts_per_turn"), table = g.has("impacts");
+  if (number && table) {
+    doc.error(g.path_of("impacts"), *g.find("impacts"),
+              "not with impacts_per_turn (give one: a number, or the table [[grinding.impacts]])");
+    return std::nullopt;
+  }
+  if (number) {
+    const auto v = bounded(g, "impacts_per_turn", g.number("impacts_per_turn", kPositive), kImpactsBound);
+    warn_usual(g, "impacts_per_turn", v, {0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"});
+    if (!v) return std::nullopt;
+    return grinding::ImpactsPerTurn(*v);
+  }
+  if (!table) return std::nullopt;
+  const Path path = g.path_of("impacts");
+  const toml::array* rows = g.find("impacts")->as_array();
+  if (!rows || rows->empty() || !rows->is_array_of_tables()) {
+    doc.error(path, *g.find("impacts"), "must be an array of tables ([[grinding.impacts]] power_w = ..., impacts_per_turn = ...)");
+    return std::nullopt;
+  }
+  std::vector<double> power, impacts;
+  bool ok = true;
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const Table row(doc, *rows->get(i)->as_table(), element(path, i));
+    constexpr std::string_view kRowKeys[] = {"power_w", "impacts_per_turn"};
+    row.reject_unknown(kRowKeys);
+    const auto p = row.required_number("power_w", kPositive, "W");
+    const auto n = bounded(row, "impacts_per_turn", row.required_number("impacts_per_turn", kPositive, ""), kImpactsBound);
+    if (p && !power.empty() && ok && !(*p > power.back())) {
+      doc.error(row.path_of("power_w"), *row.find("power_w"),
+                "must increase from row to row (the previous row has " + number_text(power.back()) + " W)");
+      ok = false;
+    }
+    if (!p || !n) {
+      ok = false;
+      continue;
+    }
+    power.push_back(*p);
+    impacts.push_back(*n);
+    warn_usual(row, "impacts_per_turn", n, {0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"});
+  }
+  if (!ok) return std::nullopt;
+  return model_checked(g, [&] { return grinding::ImpactsPerTurn(power, impacts); });
+}
+
+// --------------------------------------------------------- energy partition
+
+std::optional<grinding::EnergyPartitionModel> read_partition(const Table& g, bool mechanistic) {
+  const auto t = g.table("energy_partition");
+  if (!t) return std::nullopt;
+  const Document& doc = g.doc();
+  const std::size_t mark = doc.error_count();
+  constexpr std::string_view kKeys[] = {"model", "u_ch_j_per_mm3", "alpha", "beta"};
+  t->reject_unknown(kKeys);
+  constexpr std::string_view kRule = R"(must be "malkin", "modified" or "power")";
+  grinding::EnergyPartitionModel e;
+  if (!t->has("model")) doc.error_key(t->path_of("model"), R"(missing (required, "malkin", "modified" or "power"))");
+  if (const auto m = t->string("model", kRule)) {
+    if (*m == "malkin") e.model = grinding::PartitionModel::kMalkin;
+    else if (*m == "modified") e.model = grinding::PartitionModel::kModified;
+    else if (*m == "power") e.model = grinding::PartitionModel::kPower;
+    else doc.error(t->path_of("model"), *t->find("model"), kRule);
+  }
+  stop_if_errors_since(doc, mark);
+  if (e.model == grinding::PartitionModel::kPower) {
+    if (!mechanistic)
+      doc.error_key(t->path_of("model"), "\"power\" splits the power into friction and chip: it needs the mechanistic "
+                                         "model (edge_coefficient_n_per_mm, cutting_coefficient_n_per_mm2)");
+    const auto a = t->required_number("alpha", kFraction, "");
+    const auto b = t->required_number("beta", kFraction, "");
+    if (t->has("u_ch_j_per_mm3"))
+      doc.error(t->path_of("u_ch_j_per_mm3"), *t->find("u_ch_j_per_mm3"), "only for model = \"malkin\" or \"modified\"");
+    stop_if_errors_since(doc, mark);
+    e.alpha = *a;
+    e.beta = *b;
+  } else {
+    const auto u = t->required_number("u_ch_j_per_mm3", kPositive, "J/mm^3");
+    for (const char* k : {"alpha", "beta"})
+      if (t->has(k)) doc.error(t->path_of(k), *t->find(k), "only for model = \"power\"");
+    stop_if_errors_since(doc, mark);
+    warn_usual(*t, "u_ch_j_per_mm3", u, {1.0, 100.0, "the 1 to 100 J/mm^3 of chip formation (steel 13.8)", 1e-9, "J/m^3"});
+    e.chip_energy_j_per_m3 = *u * 1e9;
+  }
+  return e;
+}
+
+// ------------------------------------------------------------ no-load loss
+
+std::optional<grinding::NoLoadLoss> read_no_load(const Table& g) {
+  const auto t = g.table("no_load_loss");
+  if (!t) return std::nullopt;
+  const std::size_t mark = g.doc().error_count();
+  constexpr std::string_view kKeys[] = {"c0", "speed_exponent", "diameter_exponent"};
+  t->reject_unknown(kKeys);
+  const auto c0 = t->required_number("c0", kNonNegative, "W / ((rad/s)^speed_exponent mm^diameter_exponent)");
+  const auto k = t->required_number("speed_exponent", kAnyNumber, "");
+  const auto x = t->number("diameter_exponent", kAnyNumber);
+  stop_if_errors_since(g.doc(), mark);
+  warn_usual(*t, "speed_exponent", k, {0.0, 4.0, "the 0 to 4 of drag losses (3 for pure drag, 1.3 with air injection)"});
+  return grinding::NoLoadLoss{*c0, *k, x.value_or(0.0)};
+}
+
+// ---------------------------------------------------------- empirical models
+
+std::optional<EmpiricalModel> read_model(const Table& models, std::string_view name) {
+  const auto t = models.table(name);
+  if (!t) return std::nullopt;
+  const Document& doc = models.doc();
+  const std::size_t mark = doc.error_count();
+  constexpr std::string_view kKeys[] = {"form", "coefficients", "variables", "domain"};
+  t->reject_unknown(kKeys);
+  constexpr std::string_view kFormRule = R"(must be "poly11", "poly22", "poly33", "power_law" or "hahn_lindsay")";
+  EmpiricalModel m;
+  if (!t->has("form")) doc.error_key(t->path_of("form"), "missing (required: poly11, poly22, poly33, power_law or hahn_lindsay)");
+  if (const auto f = t->string("form", kFormRule)) {
+    bool known = false;
+    for (EmpiricalForm e : {EmpiricalForm::kPoly11, EmpiricalForm::kPoly22, EmpiricalForm::kPoly33,
+                            EmpiricalForm::kPowerLaw, EmpiricalForm::kHahnLindsay})
+      if (*f == grinding::empirical_form_name(e)) {
+        m.form = e;
+        known = true;
+      }
+    if (!known) doc.error(t->path_of("form"), *t->find("form"), kFormRule);
+  }
+  if (!t->has("coefficients")) doc.error_key(t->path_of("coefficients"), "missing (required, the model's coefficients in docs/grinding.md's term order)");
+  const auto c = t->number_list("coefficients", kAnyNumber);
+  stop_if_errors_since(doc, mark);
+  m.coefficients = *c;
+  const std::size_t need = grinding::coefficient_count(m.form);
+  if (m.coefficients.size() != need)
+    doc.error(t->path_of("coefficients"), *t->find("coefficients"),
+              "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(m.form) +
+                  "\" (" + std::to_string(m.coefficients.size()) + " given)");
+  // The second variable: the useful power (default) or the normal force.
+  m.variable = m.form == EmpiricalForm::kHahnLindsay ? EmpiricalVariable::kNormalForce : EmpiricalVariable::kUsefulPower;
+  if (const toml::node* v = t->find("variables")) {
+    const toml::array* a = v->as_array();
+    std::vector<std::string> names;
+    if (a)
+      for (const toml::node& e : *a)
+        if (const auto* s = e.as_string()) names.push_back(s->get());
+    const bool power = std::find(names.begin(), names.end(), "useful_power_w") != names.end();
+    const bool force = std::find(names.begin(), names.end(), "normal_force_n") != names.end();
+    if (!a || names.size() != a->size() || power == force)
+      doc.error(t->path_of("variables"), *v,
+                "must be a list of names holding either \"useful_power_w\" or \"normal_force_n\" (with "
+                "\"cutting_speed_m_per_s\"; power_law also \"wheel_rpm\", \"wheel_diameter_mm\")");
+    else
+      m.variable = power ? EmpiricalVariable::kUsefulPower : EmpiricalVariable::kNormalForce;
+  }
+  if (m.form == EmpiricalForm::kHahnLindsay && m.variable != EmpiricalVariable::kNormalForce)
+    doc.error_key(t->path_of("variables"), "hahn_lindsay reads the normal force (variables = [\"normal_force_n\", "
+                                           "\"cutting_speed_m_per_s\"])");
+  if (name == "normal_force" && m.variable == EmpiricalVariable::kNormalForce)
+    doc.error_key(t->path_of("variables"), "the normal-force model reads the useful power, not the normal force");
+  if (m.form == EmpiricalForm::kPowerLaw && !m.coefficients.empty() && !(m.coefficients[0] > 0.0))
+    doc.error(element(t->path_of("coefficients"), 0), *t->find("coefficients"), "the power law's constant C must be > 0");
+  if (const auto d = t->table("domain")) {
+    constexpr std::string_view kDomainKeys[] = {"cutting_speed_m_per_s", "useful_power_w", "normal_force_n",
+                                                "wheel_diameter_mm", "wheel_rpm"};
+    d->reject_unknown(kDomainKeys);
+    auto interval = [&](std::string_view key) -> std::optional<grinding::Interval> {
+      const auto v = d->number_list(key, kAnyNumber);
+      if (!v) return std::nullopt;
+      if (v->size() != 2 || !((*v)[0] < (*v)[1])) {
+        doc.error(d->path_of(key), *d->find(key), "must be [low, high] with low < high");
+        return std::nullopt;
+      }
+      return grinding::Interval{(*v)[0], (*v)[1]};
+    };
+    m.domain.cutting_speed_m_per_s = interval("cutting_speed_m_per_s");
+    m.domain.useful_power_w = interval("useful_power_w");
+    m.domain.normal_force_n = interval("normal_force_n");
+    m.domain.wheel_diameter_mm = interval("wheel_diameter_mm");
+    m.domain.wheel_rpm = interval("wheel_rpm");
+  }
+  stop_if_errors_since(doc, mark);
+  return m;
+}
+
+grinding::EmpiricalModels read_models(const Table& g) {
+  grinding::EmpiricalModels out;
+  const auto t = g.table("models");
+  if (!t) return out;
+  constexpr std::string_view kKeys[] = {"removal", "wear", "normal_force"};
+  t->reject_unknown(kKeys);
+  if (auto m = attempt([&] { return read_model(*t, "removal"); })) out.removal = *m;
+  if (auto m = attempt([&] { return read_model(*t, "wear"); })) out.wear = *m;
+  if (auto m = attempt([&] { return read_model(*t, "normal_force"); })) out.normal_force = *m;
+  return out;
+}
+
+}  // namespace
+
+grinding::Process read_grinding(const Table& root) {
+  const auto g = root.table("grinding");
+  const Document& doc = root.doc();
+  if (!g) doc.fail_key("grinding", "missing (required table)");
+  g->reject_unknown(kGrindingKeys);
+  const std::size_t mark = doc.error_count();
+  grinding::Process p;
+
+  const auto d = bounded(*g, "wheel_diameter_mm", g->required_number("wheel_diameter_mm", kPositive, "mm"), kDiameterBound);
+  const auto e = bounded(*g, "wheel_width_mm", g->required_number("wheel_width_mm", kPositive, "mm"), kWidthBound);
+  // The wheel speed: wheel_rpm, or motor_rpm x transmission_ratio (seed 000:
+  // 2000 rev/min x 1.125 = 2250 rev/min at the wheel).
+  std::optional<double> rpm;
+  const bool by_wheel = g->has("wheel_rpm"), by_motor = g->has("motor_rpm") || g->has("transmission_ratio");
+  if (by_wheel && by_motor) {
+    doc.error_key(g->path_of(g->has("motor_rpm") ? "motor_rpm" : "transmission_ratio"),
+                  "not with wheel_rpm (give wheel_rpm, or motor_rpm and transmission_ratio)");
+  } else if (by_motor) {
+    const auto motor = bounded(*g, "motor_rpm", g->required_number("motor_rpm", kPositive, "rev/min"), kRpmBound);
+    const auto ratio = g->required_number("transmission_ratio", kPositive, "wheel rev / motor rev");
+    warn_usual(*g, "motor_rpm", motor, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinder motors", 60.0, "rev/s"});
+    warn_usual(*g, "transmission_ratio", ratio, {0.1, 10.0, "the 0.1 to 10 of grinder transmissions"});
+    if (motor && ratio) rpm = *motor * *ratio;
+  } else if (!g->meant("wheel_rpm") && !by_wheel) {
+    doc.error_key(g->path_of("wheel_rpm"), "missing (required, rev/min; or motor_rpm and transmission_ratio)");
+  } else {
+    rpm = bounded(*g, "wheel_rpm", g->number("wheel_rpm", kPositive), kRpmBound);
+    warn_usual(*g, "wheel_rpm", rpm, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinding wheels", 60.0, "rev/s"});
+  }
+  const auto feed = bounded(*g, "feed_mm_per_s", g->required_number("feed_mm_per_s", kPositive, "mm/s"), kFeedBound);
+  const auto mu = g->required_number("force_ratio", kForceRatio, "F_T/F_N");
+  const auto rho = g->number("density_kg_per_m3", kPositive);
+  const auto dmin = g->number("wheel_min_diameter_mm", kPositive);
+  if (d && dmin && !(*dmin < *d))
+    doc.error(g->path_of("wheel_min_diameter_mm"), *g->find("wheel_min_diameter_mm"),
+              "must be below wheel_diameter_mm (" + number_text(*d) + " mm)");
+  warn_usual(*g, "wheel_diameter_mm", d, {25.0, 600.0, "the 25 to 600 mm of grinding wheels", 1e3, "m"});
+  warn_usual(*g, "wheel_width_mm", e, {1.0, 100.0, "the 1 to 100 mm of grinding wheel widths", 1e3, "m"});
+  warn_usual(*g, "feed_mm_per_s", feed, {1.0, 500.0, "the 1 to 500 mm/s of robotic grinding feeds", 1e3, "m/s"});
+  warn_usual(*g, "force_ratio", mu, {0.1, 1.5, "the 0.1 to 1.5 of grinding force ratios F_T/F_N (seed 001: 0.26)"});
+  warn_usual(*g, "density_kg_per_m3", rho, {500.0, 25000.0, "the 500 to 25 000 kg/m^3 of solids (steel 7850)", 1e3, "g/cm^3"});
+
+  // Seed 001's mechanistic model: both coefficients and the impacts, or none.
+  const bool has_ke = g->has("edge_coefficient_n_per_mm"), has_kc = g->has("cutting_coefficient_n_per_mm2");
+  const bool has_nc = g->has("impacts_per_turn") || g->has("impacts");
+  const bool mechanistic = has_ke || has_kc || has_nc;
+  if (mechanistic) {
+    if (!has_ke) doc.error_key(g->path_of("edge_coefficient_n_per_mm"), "missing (the mechanistic model needs it, N/mm, >= 0)");
+    if (!has_kc) doc.error_key(g->path_of("cutting_coefficient_n_per_mm2"), "missing (the mechanistic model needs it, N/mm^2, > 0)");
+    if (!has_nc)
+      doc.error_key(g->path_of("impacts_per_turn"),
+                    "missing (the mechanistic model needs impacts_per_turn = n, or the table [[grinding.impacts]])");
+  }
+  const auto ke = bounded(*g, "edge_coefficient_n_per_mm", g->number("edge_coefficient_n_per_mm", kNonNegative), kEdgeBound);
+  const auto kc = bounded(*g, "cutting_coefficient_n_per_mm2", g->number("cutting_coefficient_n_per_mm2", kPositive), kCuttingBound);
+  const auto read_nc = attempt([&] { return read_impacts(*g); });
+  const std::optional<grinding::ImpactsPerTurn> nc = read_nc ? *read_nc : std::nullopt;
+  warn_usual(*g, "edge_coefficient_n_per_mm", ke, {1.0, 2000.0, "the 1 to 2000 N/mm of grinding edge coefficients (seed 001: 75, 177)", 1e-3, "N/m"});
+  warn_usual(*g, "cutting_coefficient_n_per_mm2", kc, {500.0, 1e5, "the 500 to 100 000 N/mm^2 of grinding (seed 001: 6787, 10 020)", 1e-6, "N/m^2"});
+  const auto partition = attempt([&] { return read_partition(*g, mechanistic); });
+  const auto no_load = attempt([&] { return read_no_load(*g); });
+  const auto models = attempt([&] { return read_models(*g); });
+  if (!mechanistic && (!models || !models->removal))
+    doc.error_key("grinding", "no removal model: give the mechanistic model (edge_coefficient_n_per_mm, "
+                              "cutting_coefficient_n_per_mm2, impacts_per_turn) or [grinding.models.removal]");
+  stop_if_errors_since(doc, mark);
+  if (!d || !e || !rpm || !feed || !mu || (mechanistic && (!ke || !kc || !nc))) throw Skip{};
+
+  p.wheel.diameter_m = *d * 1e-3;
+  p.wheel.width_m = *e * 1e-3;
+  p.wheel.speed_rev_per_s = *rpm / 60.0;
+  p.feed_m_per_s = *feed * 1e-3;
+  p.force_ratio = *mu;
+  if (rho) p.density_kg_per_m3 = *rho;
+  if (dmin) p.min_wheel_diameter_m = *dmin * 1e-3;
+  if (mechanistic) p.mechanistic = grinding::MechanisticModel{*ke * 1e3, *kc * 1e6, *nc};
+  if (partition) p.partition = *partition;
+  if (no_load) p.no_load_loss = *no_load;
+  if (models) p.empirical = *models;
+  if (const std::string why = p.validate(); !why.empty()) doc.fail_key("grinding", why);  // a rule above is missing
+  return p;
+}
+
+}  // namespace chatter::config_detail

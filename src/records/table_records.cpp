@@ -1,0 +1,209 @@
+// The records of `chatter map` and `chatter frf` (chatter/records/lobes.hpp):
+// the Floquet stability map and the receptance table, computed and written
+// once for the CLI and Python.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/error.hpp"
+#include "chatter/io/table_writer.hpp"
+#include "chatter/records/lobes.hpp"
+#include "chatter/semi_discretization.hpp"
+
+namespace chatter {
+
+using nlohmann::json;
+
+namespace {
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+// The largest map: speeds x depths (memory and time: ~1e6 sdm solves is hours).
+constexpr long long kMaxMapPoints = 4'000'000;
+
+}  // namespace
+
+// ------------------------------------------------------------------ map
+
+std::string map_method(const std::string& requested, ArgStyle style) {
+  std::string floquet;
+  for (const auto& m : solver_registry())
+    if (m.kind == SolverKind::kFloquet && floquet.empty()) floquet = m.name;
+  const std::string method = requested == kAutoMethod ? floquet : requested;
+  if (floquet.empty() || method != floquet)
+    throw InputError(arg_name(style, "method") + " " + requested + ": map needs " + arg_name(style, "method") + " " +
+                     floquet);
+  return method;
+}
+
+std::vector<double> map_depths_m(double depth_max_mm, int depth_points, std::size_t speeds, ArgStyle style) {
+  if (depth_points < 2)
+    throw InputError(arg_name(style, "depth_points") + " = " + std::to_string(depth_points) + ": must be >= 2");
+  if (static_cast<long long>(speeds) * depth_points > kMaxMapPoints)
+    throw InputError(arg_name(style, "rpm_points") + " x " + arg_name(style, "depth_points") + " = " +
+                     std::to_string(speeds) + " x " + std::to_string(depth_points) + ": at most " +
+                     std::to_string(kMaxMapPoints) + " grid points (memory and time); use fewer points or a smaller range");
+  std::vector<double> depths(static_cast<std::size_t>(depth_points));
+  for (int k = 0; k < depth_points; ++k) depths[static_cast<std::size_t>(k)] = depth_max_mm * 1e-3 * k / (depth_points - 1);
+  return depths;
+}
+
+StabilityMapGrid stability_map(const SemiDiscretizationSolver& sdm, const std::vector<double>& speeds,
+                               const std::vector<double>& depths, bool multiplier_types, unsigned threads,
+                               const std::function<void(std::size_t, std::size_t)>& progress) {
+  StabilityMapGrid grid;
+  grid.spindle_rpm = speeds;
+  grid.depth_m = depths;
+  grid.spectral_radius.resize(speeds.size() * depths.size());
+  const std::size_t total = multiplier_types ? 2 * speeds.size() : speeds.size();
+  parallel_for(
+      speeds.size(), threads,
+      [&](std::size_t i) {
+        const auto row = sdm.spectral_radius_map({speeds[i]}, depths);
+        std::copy(row.begin(), row.end(), grid.spectral_radius.begin() + static_cast<std::ptrdiff_t>(i * depths.size()));
+      },
+      [&](std::size_t done) {
+        if (progress) progress(done, total);
+      });
+  if (!multiplier_types) return grid;
+  // Hopf or flip: the type of the dominant multiplier at every unstable point
+  // (the stable points' types are never read).
+  grid.multiplier_type.assign(grid.spectral_radius.size(), MultiplierType::kHopf);
+  parallel_for(
+      speeds.size(), threads,
+      [&](std::size_t i) {
+        for (std::size_t k = 0; k < depths.size(); ++k)
+          if (grid.spectral_radius[i * depths.size() + k] >= 1.0)
+            grid.multiplier_type[i * depths.size() + k] = sdm.analyse(speeds[i], depths[k]).type;
+      },
+      [&](std::size_t done) {
+        if (progress) progress(speeds.size() + done, total);
+      });
+  return grid;
+}
+
+std::string stability_map_csv(const StabilityMapGrid& grid) {
+  std::ostringstream os;
+  os << "spindle_rpm,depth_mm,spectral_radius\n";
+  const std::size_t nd = grid.depth_m.size();
+  for (std::size_t i = 0; i < grid.spindle_rpm.size(); ++i)
+    for (std::size_t k = 0; k < nd; ++k)
+      os << table_number(grid.spindle_rpm[i]) << ',' << table_number(grid.depth_m[k] * 1e3) << ','
+         << table_number(grid.spectral_radius[i * nd + k]) << '\n';
+  return os.str();
+}
+
+std::size_t unstable_points(const StabilityMapGrid& grid) {
+  std::size_t n = 0;
+  for (double r : grid.spectral_radius) n += r >= 1.0;
+  return n;
+}
+
+json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solver_options,
+                          const RecordSource& source) {
+  json options = json::object();
+  for (const auto& [k, v] : solver_options) options[k] = value_json(v);
+  json j = {{"method", "sdm"},
+            {"config", source.config_path},
+            {"name", source.config_name},
+            {"warnings", source.warnings},
+            {"notes", source.notes},
+            {"rpm_min", grid.spindle_rpm.front()},
+            {"rpm_max", grid.spindle_rpm.back()},
+            {"rpm_points", grid.spindle_rpm.size()},
+            {"depth_max_mm", grid.depth_m.back() * 1e3},
+            {"depth_points", grid.depth_m.size()},
+            {"grid_points", grid.spectral_radius.size()},
+            {"unstable_points", unstable_points(grid)},
+            {"solver_options", options}};
+  double worst = 0.0;
+  for (double r : grid.spectral_radius) worst = std::max(worst, r);
+  j["max_spectral_radius"] = finite_or_null(worst);
+  if (!grid.multiplier_type.empty()) {
+    std::size_t flips = 0;
+    for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)
+      flips += grid.spectral_radius[i] >= 1.0 && grid.multiplier_type[i] == MultiplierType::kFlip;
+    j["unstable_flip_points"] = flips;
+  }
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  return j;
+}
+
+// ------------------------------------------------------------------ frf
+
+std::vector<double> FrfGrid::frequencies_hz() const {
+  std::vector<double> f(static_cast<std::size_t>(points));
+  for (int i = 0; i < points; ++i) {
+    const double t = static_cast<double>(i) / (points - 1);
+    f[static_cast<std::size_t>(i)] = log ? fmin_hz * std::pow(fmax_hz / fmin_hz, t) : fmin_hz + (fmax_hz - fmin_hz) * t;
+  }
+  return f;
+}
+
+FrfGrid frf_grid(const StructuralModel& model, std::optional<double> fmin_hz, std::optional<double> fmax_hz,
+                 int points, bool log, ArgStyle style) {
+  FrfGrid g;
+  g.fmin_hz = fmin_hz.value_or(0.5 * model.min_omega() / (2 * std::numbers::pi));
+  g.fmax_hz = fmax_hz.value_or(2.0 * model.max_omega() / (2 * std::numbers::pi));
+  g.points = points;
+  g.log = log;
+  const std::string lo = arg_name(style, "fmin"), hi = arg_name(style, "fmax");
+  if (!(std::isfinite(g.fmin_hz) && (log ? g.fmin_hz > 0.0 : g.fmin_hz >= 0.0)))
+    throw InputError(lo + " = " + fmt(g.fmin_hz) +
+                     (log ? ": must be > 0 Hz with " + arg_name(style, "log") : std::string(": must be >= 0 Hz")));
+  if (!(std::isfinite(g.fmax_hz) && g.fmax_hz > g.fmin_hz))
+    throw InputError(hi + " = " + fmt(g.fmax_hz) + ": must be > " + lo + " (" + fmt(g.fmin_hz) + ")");
+  if (points < 2) throw InputError(arg_name(style, "points") + " = " + std::to_string(points) + ": must be >= 2");
+  return g;
+}
+
+NamedColumns receptance_table(const StructuralModel& model, const FrfGrid& grid) {
+  NamedColumns t;
+  t.names.push_back("frequency_hz");
+  for (const char* body : {"tool", "workpiece", "relative"})
+    for (const char* term : {"xx", "xy", "yy"})
+      for (const char* part : {"real", "imag"})
+        t.names.push_back(std::string(body) + "_" + term + "_" + part + "_m_per_n");
+  t.columns.assign(t.names.size(), {});
+  const std::vector<double> f = grid.frequencies_hz();
+  for (auto& c : t.columns) c.reserve(f.size());
+  for (const double hz : f) {
+    const double w = 2 * std::numbers::pi * hz;
+    std::size_t c = 0;
+    t.columns[c++].push_back(hz);
+    const Matrix2c gt = model.tool.receptance(w), gw = model.workpiece.receptance(w);
+    const Matrix2c gr = gt + gw;
+    for (const Matrix2c* g : {&gt, &gw, &gr})
+      for (auto [r, k] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 1}}) {
+        t.columns[c++].push_back((*g)(r, k).real());
+        t.columns[c++].push_back((*g)(r, k).imag());
+      }
+  }
+  return t;
+}
+
+std::string named_columns_csv(const NamedColumns& t) {
+  std::ostringstream os;
+  for (std::size_t c = 0; c < t.names.size(); ++c) os << (c ? "," : "") << t.names[c];
+  os << '\n';
+  const std::size_t n = t.columns.empty() ? 0 : t.columns.front().size();
+  char buf[40];
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t c = 0; c < t.columns.size(); ++c) {
+      std::snprintf(buf, sizeof buf, "%s%.10g", c ? "," : "", t.columns[c][i]);
+      os << buf;
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace chatter

@@ -1,0 +1,284 @@
+// Internal parts of the `sdm` solver (not part of the public API): the data
+// of one step grid and one period map, and the functions that build and
+// read them. The solver is one concept per file:
+//   sdm_grid.cpp         the step grid of one period (steps on the tooth
+//                        entries and exits, the real-cutter grid with its
+//                        exact force integrals) and the modal state space;
+//   sdm_map.cpp          the step maps of one period at one depth (augmented
+//                        exponentials) and Φ y, the monodromy applied as the
+//                        sequence of step maps (never formed);
+//   sdm_multipliers.cpp  the dominant multiplier: dense eigen-decomposition,
+//                        restarted Arnoldi, the branch roots of turning;
+//   sdm_floquet.cpp      the Floquet analysis at a point: multiplier type
+//                        and the chatter-frequency rule;
+//   sdm_search.cpp       the depth search (limit_at);
+// and the forced response (forced_periodic.cpp) solves for the periodic
+// response on the same grid and step maps with the static chip force.
+//   semi_discretization.cpp  the solver class: options, construction,
+//                        analyse, spectral_radius_map.
+// Method and references: include/chatter/semi_discretization.hpp, docs/sdm.md.
+#pragma once
+
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "chatter/process.hpp"
+#include "chatter/results.hpp"
+#include "chatter/semi_discretization.hpp"
+#include "chatter/structural_model.hpp"
+
+namespace chatter::sdm_detail {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+using Cplx = std::complex<double>;
+
+inline constexpr double kPi = std::numbers::pi;
+inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+// Augmented step systems up to this size use stack-allocated matrices.
+inline constexpr int kSmallAugmented = 12;
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmallAugmented, kSmallAugmented>;
+// A step whose force integral is below this times (K_t + K_r) a h is free
+// flight: the windowed integral of a free span is 0 up to round-off.
+inline constexpr double kFreeForce = 1e-12;
+// Branch roots of turning (SdmKernel::branches): used when τ min ζω is at
+// least kBranchMinDecay (contraction factor about 1/kBranchMinDecay) and the
+// map is larger than dense_max_dimension.
+inline constexpr double kBranchMinDecay = 4.0;
+// While bracketing, Arnoldi stops once | |θ| − 1 | exceeds this many residuals.
+inline constexpr double kDecideFactor = 20.0;
+
+// The modal state space of the solver, x = [q; q̇/ω] (the scaled state keeps
+// the exponentials well balanced): ẋ = A x + B F, and the reduced delayed
+// quantity z = Wx x (n_r × 2n) with H(t) S q = Ĥ(t) U W q (Ĥ = H U for
+// milling, [K_f; 0] for turning). Sv: ṙ = Sv x.
+struct SdmStateSpace {
+  MatrixXd A;   // 2n × 2n free dynamics
+  MatrixXd B;   // 2n × 2 force input
+  MatrixXd Wx;  // n_r × 2n, z = Wx x
+  MatrixXd U;   // n_L × n_r
+  MatrixXd Sv;  // 2 × 2n: relative velocity ṙ = Sv x (process damping)
+  MatrixXd Sr;  // 2 × 2n: relative displacement r = Sr x (the forced response)
+  double f_max_hz = 0.0;
+  double slowest_decay_per_s = 0.0;  // min −Re λ_i (= min ζ_i ω_i)
+  std::vector<Cplx> free_poles;      // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
+};
+/// @pre model has modes only (no measured FRF), at least one.
+SdmStateSpace state_space(const StructuralModel& model, const Process& process);
+
+// One step of the delay period, independent of the depth.
+struct Step {
+  double h = 0.0;     // s
+  MatrixXd BHU;       // B Ĥ U with Ĥ the step average of Ĥ(t): 2n × n_r (per unit depth)
+};
+
+// Real-cutter grid of one period (cutter_grid): boundaries, and per step the
+// exact integrals ∫∫ H₁ per delay group and Σ_j ∫∫ n nᵀ at depth `depth`.
+struct CutterGrid {
+  double depth = 0.0;              // m
+  std::vector<double> t;           // t_0 = 0 … t_M = T
+  std::vector<double> h;           // step lengths, s
+  std::vector<char> free;          // 1: free flight (exact step)
+  std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
+  std::vector<Eigen::Matrix2d> D;  // M
+  std::vector<double> gtau;        // delay of each group, s
+};
+
+// The step grid of one delay period at one spindle speed.
+struct Grid {
+  double tau = 0.0;
+  std::vector<Step> steps;     // cutting steps, in time order from a tooth entry
+  bool constant = false;       // turning: every step identical (steps.size() == 1, count m)
+  int m = 0;                   // number of cutting steps
+  double free_time = 0.0;      // free-flight duration (s), 0 if a tooth always cuts
+  MatrixXd E_free;             // exp(A t_free), depth-independent: built once per speed
+  bool branch_roots = false;   // see SdmKernel::branches
+  // Turning with process damping: c̄ B D Sv (2n × 2n, per unit depth), D =
+  // e_x e_xᵀ; empty without it.
+  MatrixXd damping;
+  // Real cutter (milling with helix, variable pitch or helix, or process
+  // damping): steps are built per depth by SdmKernel::build_cutter; tau is
+  // then the period of H (tooth period, or one revolution).
+  bool cutter = false;
+  double rpm = 0.0;
+  double h_target = 0.0;       // longest cutting step, s
+  std::shared_ptr<const CutterGrid> cutter_grid;  // straight teeth: built once per speed at 1 m
+};
+
+// Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
+struct CutterStep {
+  double h = 0.0;
+  bool free = false;                             // no slice cuts: P = exp(A h)
+  MatrixXd P;
+  // (sample index g, 2n × n_r): the first n_terms are the step's terms (the
+  // rest is storage kept from an earlier depth, reused without reallocation).
+  std::vector<std::pair<int, MatrixXd>> terms;
+  int n_terms = 0;
+  // The forced response only (CutterMap::forcing): G = ∫₀ʰ e^{Ã s} ds B
+  // (2n × 2), the state at the step's end driven by a force held constant
+  // over the step (Ã: the step's present-state matrix), and gF = G F̄ for
+  // the step's static chip force F̄ (set by forced_periodic.cpp). Empty
+  // otherwise and for free steps.
+  MatrixXd G;
+  VectorXd gF;
+};
+
+// Where each delayed sample of a step falls on the stored samples: for the
+// start and end of the step, z(t − τ) ≈ (1 − w) z_g + w z_{g+1}.
+struct Located {
+  int g0 = 0, g1 = 0;
+  double w0 = 0.0, w1 = 0.0;
+};
+
+// Depth-independent work of a real-cutter map whose grid is shared by every
+// depth of one speed (straight teeth): the free-flight exponentials and the
+// located delayed samples per step and delay group, filled on first use.
+struct CutterCache {
+  std::shared_ptr<const CutterGrid> grid;  // the grid they belong to (kept alive: a unique key)
+  std::vector<MatrixXd> free_P;            // per step: exp(A h) of a free step
+  std::vector<char> located;               // per step × group: 1 once `where` is set
+  std::vector<Located> where;              // per step × group
+};
+
+// One period of the real-cutter map. Sample g is z at t_g = t[g mod M] +
+// floor(g/M) T; the state is [x(0); z_{−1}; …; z_{−L}].
+struct CutterMap {
+  std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T
+  std::vector<CutterStep> steps;
+  int L = 0;
+  // Set before build_map to also build each cutting step's forcing gain G
+  // (the forced response, forced_periodic.cpp); false for the stability solver.
+  bool forcing = false;
+  CutterCache cache;
+  mutable std::vector<double> buf, x, xn;  // apply() workspace
+  // cutter_map() workspace (kept to avoid reallocating at every depth).
+  std::vector<MatrixXd> Bt, R0, R1, HU;
+  std::vector<int> gid;
+  MatrixXd At, aug, E, Q0, Q1, Xh, Yh, G1, G2;
+};
+
+// Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
+struct StepMap {
+  MatrixXd P, R0, R1;
+};
+
+struct PeriodMap {
+  std::vector<StepMap> steps;  // one when constant
+  bool constant = false;
+  int m = 0;
+  bool free_flight = false;
+  const MatrixXd* E = nullptr;  // exp(A t_free), owned by the Grid
+  int n2 = 0, nr = 0, nz = 0, dim = 0;
+  double tau = 0.0;             // s
+  bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
+  bool cutter = false;          // the real-cutter map `cm` (general path)
+  CutterMap cm;
+};
+
+// Dominant eigenpair of the one-period map.
+struct Dominant {
+  Cplx mu{0.0, 0.0};
+  // Largest |μ| among the multipliers (Ritz values for Arnoldi) in the left
+  // (Re μ < 0: where flip bands come from) and the right half-plane.
+  double rho_left = 0.0, rho_right = 0.0;
+  Cplx mu_left{0.0, 0.0}, mu_right{0.0, 0.0};  // those multipliers, Im >= 0
+  // Exponent s of the dominant multiplier μ = e^{sτ} when it came from the
+  // branch roots of turning (Im s: chatter frequency, rad/s); else 0.
+  Cplx branch_s{0.0, 0.0};
+  bool converged = true;
+  Eigen::VectorXcd vec;  // empty unless requested
+};
+
+// "spindle speed N rev/min: must be > 0 and finite".
+std::string bad_speed(double rpm);
+
+// ---------------------------------------------------------------- grid
+// (sdm_grid.cpp)
+
+// First pass of the real-cutter map at depth a: step boundaries 0, T and
+// every engagement event in [0, T); the exact integrals per step.
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+// Step grid of one delay period at `rpm`, from a tooth entry (milling).
+Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
+               const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
+               const MatrixXd& Sv);
+// Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
+MatrixXd turning_hhat_of(const Process& p);
+// Turning with a map larger than dense_max_dimension and τ min ζω >=
+// kBranchMinDecay: multipliers from the branch roots (SdmKernel::branches).
+Grid with_branch_choice(Grid g, double slowest_decay, const SemiDiscretizationOptions& o, Index n2, Index nr);
+
+// ---------------------------------------------------------------- kernel
+// Everything that depends on the speed and depth, created per call. The
+// maps are in sdm_map.cpp, the multipliers in sdm_multipliers.cpp.
+class SdmKernel {
+ public:
+  SdmKernel(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
+            const SemiDiscretizationOptions& o, const Process* p = nullptr, const MatrixXd* Sv = nullptr)
+      : A_(A), B_(B), Wx_(Wx), U_(U), o_(o), p_(p), Sv_(Sv) {}
+
+  void build_map(const Grid& g, double depth, PeriodMap& pm) const;
+  // out = Φ y (both of length pm.dim, distinct). work: >= 2 n2 + nr doubles.
+  // Dispatches to fixed-size loops for the common small models.
+  static void apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work);
+  // out = Φ y on the real-cutter map; `record` (if given) receives x at t_0 … t_M.
+  // `forcing`: out = Φ y + r, each step also adding its gF (forced response).
+  static void apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
+                           std::vector<double>* record, bool forcing = false);
+  // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
+  // Arnoldi iteration can then stop after a few steps, even for small maps.
+  Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const;
+  // Turning: the multipliers from the branch roots of the constant step map.
+  bool branches(const PeriodMap& pm, Dominant& out) const;
+
+ private:
+  template <class M>
+  void build_steps(const Grid& g, double depth, PeriodMap& pm) const;
+  template <int N2, int NR>
+  static void apply_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work);
+  void build_cutter(const Grid& g, double a, PeriodMap& pm) const;
+  void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm,
+                  const std::shared_ptr<const CutterGrid>* shared) const;
+  template <int N2, int NR>
+  static void apply_cutter_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
+                             std::vector<double>* record, bool forcing);
+  static bool better(const Cplx& a, const Cplx& b);
+  Dominant dense(const PeriodMap& pm, bool want_vector) const;
+  static void half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out);
+  static void hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
+                                  std::vector<std::pair<double, Index>>* order, Eigen::VectorXcd* eigs);
+  Dominant arnoldi(const PeriodMap& pm, bool want_vector, bool decide) const;
+
+  const MatrixXd& A_;
+  const MatrixXd& B_;
+  const MatrixXd& Wx_;
+  const MatrixXd& U_;
+  const SemiDiscretizationOptions& o_;
+  const Process* p_;    // real-cutter path only
+  const MatrixXd* Sv_;  // 2 × 2n, ṙ = Sv x
+};
+
+// ---------------------------------------------------------------- Floquet
+// (sdm_floquet.cpp)
+
+// hopf, flip or fold from the angle of μ.
+MultiplierType classify(const Cplx& mu);
+// Chatter frequency (Hz) of the dominant multiplier μ with eigenvector `vec`
+// (rule in docs/sdm.md).
+double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz);
+// The Floquet analysis of the map `pm`, built at `depth_m` on grid `g`.
+FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap& pm, double rpm, double depth_m,
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz);
+
+}  // namespace chatter::sdm_detail

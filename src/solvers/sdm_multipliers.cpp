@@ -1,0 +1,320 @@
+// The dominant Floquet multiplier of one period map: a dense
+// eigen-decomposition of Φ for small maps, a restarted Arnoldi iteration on
+// Φ applied as its step maps for large ones, and the branch roots of the
+// constant step map of turning at low speed (docs/sdm.md). Part of the
+// `sdm` solver (sdm_internal.hpp).
+#include "sdm_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "chatter/error.hpp"
+
+namespace chatter::sdm_detail {
+namespace {
+
+// Arnoldi: relative residual of the dominant Ritz pair, and restart budget.
+constexpr double kArnoldiTol = 1e-10;
+constexpr int kArnoldiMaxRestarts = 60;
+
+// Branch roots of turning (SdmKernel::branches): Newton's iteration budget
+// and tolerance (on s τ, rad).
+constexpr int kBranchIterations = 50;
+constexpr double kBranchTolerance = 1e-11;
+// A branch whose Newton iterates stay below e^this times the dominant
+// multiplier's modulus cannot be dominant.
+constexpr double kNegligibleLog = -3.0;
+
+}  // namespace
+
+// `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
+// Arnoldi iteration can then stop after a few steps, even for small maps.
+namespace {
+
+// Thrown inside the eigen-solvers when the period map's values overflowed
+// (a cut so far beyond the limit that the vibration grows by more than 1e308
+// per period): caught by SdmKernel::dominant, which reports ρ = +inf.
+struct MapOverflow {};
+
+// The Dominant of a map that overflowed: ρ = +inf (unstable beyond doubt;
+// the depth searches then go down, analyse() reports no finite multiplier).
+Dominant overflowed() {
+  Dominant d;
+  const double inf = std::numeric_limits<double>::infinity();
+  d.mu = Cplx(inf, 0.0);
+  d.rho_left = d.rho_right = inf;
+  d.mu_left = d.mu_right = Cplx(inf, 0.0);
+  return d;
+}
+
+}  // namespace
+
+// A map whose values overflow (growth beyond 1e308 per period: a depth far
+// above the limit, e.g. on a mode of 12 N/m) is unstable beyond doubt: ρ =
+// +inf, never an error (the depth search then goes down).
+Dominant SdmKernel::dominant(const PeriodMap& pm, bool want_vector, bool decide) const {
+  try {
+    Dominant d;
+    if (pm.branch_roots && branches(pm, d) && std::isfinite(std::abs(d.mu))) return d;
+    d = pm.dim <= o_.dense_max_dimension && !decide ? dense(pm, want_vector) : arnoldi(pm, want_vector, decide);
+    return std::isfinite(std::abs(d.mu)) ? d : overflowed();
+  } catch (const MapOverflow&) {
+    return overflowed();
+  }
+}
+
+// Turning: every step is the same map D, x_{i+1} = P x_i + R0 z_{i−m} +
+// R1 z_{i−m+1}, z = W x (one delayed quantity), and Φ = D^m. With x_i =
+// ν^i v the eigenvalues of D solve ν^m = g(ν), g(ν) = W (νI − P)⁻¹ (R0 +
+// R1 ν) (matrix determinant lemma), and the multipliers of Φ are μ = ν^m.
+// Writing ν = e^{sh} (τ = m h), each branch k = 0 … m/2 of
+//     s τ = Ln g(e^{sh}) + 2πjk
+// has one root while the map s ↦ (Ln g(e^{sh}) + 2πjk)/τ contracts, which
+// holds near the unit circle when τ min ζω is large (|d Ln g/ds| is about
+// 1/|s − λ| for a mode pole λ); the roots it misses lie within ~1/τ of the
+// poles, |μ| ≈ e^{−ζωτ}, never dominant there. Newton on each branch from
+// s = 2πjk/τ: cost O(m) per map instead of an eigenproblem of size m whose
+// multipliers crowd the unit circle. The multiplier is exact for the
+// discretised map; μ = e^{sτ}, and Im s is the chatter frequency (rad/s).
+// Returns false (caller falls back to the eigen-solvers) if P cannot be
+// diagonalised or a branch does not converge.
+bool SdmKernel::branches(const PeriodMap& pm, Dominant& out) const {
+  const StepMap& st = pm.steps[0];
+  const int n2 = pm.n2;
+  Eigen::ComplexEigenSolver<Eigen::MatrixXcd> es(st.P.cast<Cplx>());
+  if (es.info() != Eigen::Success) return false;
+  const Eigen::MatrixXcd& V = es.eigenvectors();
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(V);
+  if (!((V * lu.solve(Eigen::MatrixXcd::Identity(n2, n2)) - Eigen::MatrixXcd::Identity(n2, n2)).norm() < 1e-8))
+    return false;
+  const Eigen::VectorXcd lam = es.eigenvalues();
+  const Eigen::RowVectorXcd c = Wx_.row(0).cast<Cplx>() * V;
+  const Eigen::VectorXcd d0 = lu.solve(st.R0.col(0).cast<Cplx>());
+  const Eigen::VectorXcd d1 = lu.solve(st.R1.col(0).cast<Cplx>());
+  const double tau = pm.tau, h = tau / pm.m;
+  const int kmax = pm.m / 2;
+  out = Dominant{};
+  double best_re = -kInf;
+  double worst_failed = -kInf;  // largest Re s τ at which a branch gave up
+  Cplx best_s{0.0, 0.0};
+  for (int k = 0; k <= kmax; ++k) {
+    const Cplx twopik(0.0, kTwoPi * k);
+    Cplx s = twopik / tau;
+    bool ok = false;
+    for (int it = 0; it < kBranchIterations; ++it) {
+      const Cplx nu = std::exp(s * h);
+      Cplx G(0.0, 0.0), Gp(0.0, 0.0);
+      for (int i = 0; i < n2; ++i) {
+        const Cplx den = nu - lam(i);
+        G += c(i) * (d0(i) + d1(i) * nu) / den;
+        Gp -= c(i) * (d0(i) + d1(i) * lam(i)) / (den * den);
+      }
+      if (G == Cplx(0.0, 0.0)) break;  // no regeneration seen on this branch
+      const Cplx F = s * tau - std::log(G) - twopik;
+      const Cplx dF = tau - h * nu * Gp / G;
+      Cplx ds = F / dF;
+      if (std::abs(ds) * tau > kPi) ds *= kPi / (std::abs(ds) * tau);  // stay near branch k
+      s -= ds;
+      if (std::abs(ds) * tau < kBranchTolerance) {
+        ok = true;
+        break;
+      }
+    }
+    if (!ok) {
+      // Far from the modes g can vanish (Ln g → −∞) and Newton wanders at
+      // deeply damped values. Decided after all branches are known.
+      worst_failed = std::max(worst_failed, s.real() * tau);
+      continue;
+    }
+    const Cplx mu = std::exp(s * tau);
+    const Cplx mu_up = mu.imag() >= 0.0 ? mu : std::conj(mu);
+    const bool left = mu.real() < 0.0;
+    double& r = left ? out.rho_left : out.rho_right;
+    if (std::abs(mu) > r) {
+      r = std::abs(mu);
+      (left ? out.mu_left : out.mu_right) = mu_up;
+    }
+    if (s.real() > best_re) {
+      best_re = s.real();
+      best_s = s;
+    }
+  }
+  // A branch that did not converge cannot hold the dominant multiplier if
+  // its iterates stayed kNegligibleLog below it; else let the eigen-solvers decide.
+  if (worst_failed > best_re * tau + kNegligibleLog) return false;
+  out.mu = std::exp(best_s * tau);
+  if (out.mu.imag() < 0.0) out.mu = std::conj(out.mu);
+  out.branch_s = best_s;
+  return true;
+}
+
+bool SdmKernel::better(const Cplx& a, const Cplx& b) {  // a dominates b
+  const double ra = std::abs(a), rb = std::abs(b);
+  if (ra > rb * (1.0 + 1e-13)) return true;
+  if (rb > ra * (1.0 + 1e-13)) return false;
+  return a.imag() > b.imag();  // of a conjugate pair, the one with Im >= 0
+}
+
+Dominant SdmKernel::dense(const PeriodMap& pm, bool want_vector) const {
+  const int d = pm.dim;
+  MatrixXd Phi(d, d);
+  VectorXd e = VectorXd::Zero(d);
+  std::vector<double> work(static_cast<std::size_t>(2 * pm.n2 + pm.nr + 1));
+  for (int j = 0; j < d; ++j) {
+    e.setZero();
+    e(j) = 1.0;
+    apply(pm, Wx_, e.data(), Phi.col(j).data(), work.data());
+  }
+  if (!Phi.allFinite()) throw MapOverflow{};
+  Eigen::EigenSolver<MatrixXd> es(Phi, want_vector);
+  if (es.info() != Eigen::Success) throw NumericalError("sdm: eigen-decomposition of the period map failed");
+  Dominant out;
+  Index best = 0;
+  for (Index i = 1; i < d; ++i)
+    if (better(es.eigenvalues()(i), es.eigenvalues()(best))) best = i;
+  out.mu = es.eigenvalues()(best);
+  half_plane_radii(es.eigenvalues(), out);
+  if (want_vector) out.vec = es.eigenvectors().col(best);
+  return out;
+}
+
+void SdmKernel::half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out) {
+  out.rho_left = out.rho_right = 0.0;
+  for (Index i = 0; i < eigs.size(); ++i) {
+    const bool left = eigs(i).real() < 0.0;
+    double& r = left ? out.rho_left : out.rho_right;
+    if (std::abs(eigs(i)) > r) {
+      r = std::abs(eigs(i));
+      (left ? out.mu_left : out.mu_right) = eigs(i).imag() >= 0.0 ? eigs(i) : std::conj(eigs(i));
+    }
+  }
+}
+
+// Dominant eigenvalue of a small Hessenberg matrix and its unit eigenvector.
+void SdmKernel::hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
+                                    std::vector<std::pair<double, Index>>* order, Eigen::VectorXcd* eigs) {
+  if (!Hk.allFinite()) throw MapOverflow{};
+  Eigen::EigenSolver<MatrixXd> es(Hk, false);
+  if (es.info() != Eigen::Success) throw NumericalError("sdm: Arnoldi Hessenberg eigen-decomposition failed");
+  const Index kk = Hk.rows();
+  Index best = 0;
+  for (Index i = 1; i < kk; ++i)
+    if (better(es.eigenvalues()(i), es.eigenvalues()(best))) best = i;
+  theta = es.eigenvalues()(best);
+  // Eigenvector by inverse iteration with a slightly perturbed shift.
+  const Cplx shift = theta * (1.0 + 1e-12) + Cplx(0.0, 1e-14 * std::abs(theta));
+  const Eigen::MatrixXcd T = Hk.cast<Cplx>() - shift * Eigen::MatrixXcd::Identity(kk, kk);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(T);
+  y = Eigen::VectorXcd::Ones(kk);
+  for (int it = 0; it < 3; ++it) {
+    y = lu.solve(y);
+    y /= y.norm();
+  }
+  if (order) {
+    order->clear();
+    for (Index i = 0; i < kk; ++i) order->emplace_back(-std::abs(es.eigenvalues()(i)), i);
+    std::sort(order->begin(), order->end());
+  }
+  if (eigs) *eigs = es.eigenvalues();
+}
+
+// Restarted Arnoldi on Φ applied as the sequence of step maps. In `decide`
+// mode it stops as soon as the residual of the dominant Ritz value cannot
+// change the verdict ρ < 1 or ρ >= 1 (bracketing needs no more).
+Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) const {
+  const int d = pm.dim;
+  const int k = std::min(d, o_.krylov_dimension);
+  MatrixXd V(d, k + 1);
+  MatrixXd H = MatrixXd::Zero(k + 1, k);
+  std::vector<double> work(static_cast<std::size_t>(2 * pm.n2 + pm.nr + 1));
+  // Deterministic, generic start vector.
+  VectorXd v(d);
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;
+  for (int i = 0; i < d; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    v(i) = 0.5 + static_cast<double>(state >> 11) * 0x1.0p-53;
+  }
+  VectorXd w(d), h(k + 1), h2(k + 1);
+  Dominant out;
+  std::vector<std::pair<double, Index>> order;
+  Eigen::VectorXcd eigs;
+  for (int restart = 0; restart <= kArnoldiMaxRestarts; ++restart) {
+    V.col(0) = v / v.norm();
+    H.setZero();
+    int kk = k;
+    double beta = 0.0;
+    for (int j = 0; j < k; ++j) {
+      apply(pm, Wx_, V.col(j).data(), w.data(), work.data());
+      const double wnorm0 = w.norm();
+      // Classical Gram–Schmidt, repeated when it cancels badly (DGKS).
+      auto Vj = V.leftCols(j + 1);
+      h.head(j + 1).noalias() = Vj.transpose() * w;
+      w.noalias() -= Vj * h.head(j + 1);
+      beta = w.norm();
+      if (beta < 0.7 * wnorm0) {
+        h2.head(j + 1).noalias() = Vj.transpose() * w;
+        w.noalias() -= Vj * h2.head(j + 1);
+        h.head(j + 1) += h2.head(j + 1);
+        beta = w.norm();
+      }
+      H.col(j).head(j + 1) = h.head(j + 1);
+      H(j + 1, j) = beta;
+      if (beta <= 1e-13 * std::max(wnorm0, 1e-300)) {  // invariant subspace: exact
+        kk = j + 1;
+        beta = 0.0;
+        break;
+      }
+      V.col(j + 1) = w / beta;
+      if (j + 1 >= 8 && j + 1 < k && (j + 1) % 6 == 2) {
+        // Early verdict (decide) or early convergence of the dominant Ritz
+        // value: a short Krylov space is often enough.
+        Cplx th;
+        Eigen::VectorXcd yy;
+        hessenberg_dominant(H.topLeftCorner(j + 1, j + 1), th, yy, nullptr, &eigs);
+        const double res = beta * std::abs(yy(j));
+        if ((decide && std::abs(std::abs(th) - 1.0) > kDecideFactor * res) ||
+            (!want_vector && res <= kArnoldiTol * std::abs(th))) {
+          out.mu = th;
+          half_plane_radii(eigs, out);
+          return out;
+        }
+      }
+    }
+    Cplx theta;
+    Eigen::VectorXcd y;
+    hessenberg_dominant(H.topLeftCorner(kk, kk), theta, y, &order, &eigs);
+    const double resid = beta * std::abs(y(kk - 1));
+    const double mag = std::max(std::abs(theta), 1e-300);
+    out.mu = theta;
+    half_plane_radii(eigs, out);
+    const bool converged = resid <= kArnoldiTol * mag;
+    const bool decided = decide && std::abs(mag - 1.0) > kDecideFactor * resid;
+    if (converged || decided || restart == kArnoldiMaxRestarts) {
+      out.converged = converged || decided;
+      if (want_vector) out.vec = V.leftCols(kk).cast<Cplx>() * y;
+      return out;
+    }
+    // Restart with the real span of the dominant Ritz vector, plus a little
+    // of the next Ritz vectors so that a near-tie is not lost.
+    const Eigen::VectorXcd yc = V.leftCols(kk).cast<Cplx>() * y;
+    v = yc.real() + yc.imag();
+    for (std::size_t t = 1; t < std::min<std::size_t>(order.size(), 5); ++t) {
+      const Cplx ti = eigs(order[t].second);
+      const Eigen::MatrixXcd T = H.topLeftCorner(kk, kk).cast<Cplx>() -
+                                 (ti * (1.0 + 1e-12) + Cplx(0.0, 1e-14 * std::abs(ti))) *
+                                     Eigen::MatrixXcd::Identity(kk, kk);
+      Eigen::VectorXcd yi = T.partialPivLu().solve(Eigen::VectorXcd::Ones(kk));
+      yi /= yi.norm();
+      const Eigen::VectorXcd zi = V.leftCols(kk).cast<Cplx>() * yi;
+      v += 0.1 * (zi.real() + zi.imag());
+    }
+    if (!(v.norm() > 0.0)) v = V.col(0);
+  }
+  return out;
+}
+
+}  // namespace chatter::sdm_detail

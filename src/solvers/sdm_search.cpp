@@ -1,0 +1,258 @@
+// The depth search of the `sdm` solver (SemiDiscretizationSolver::limit_at,
+// and limit_above, the same search stopped once its answer is sure):
+// the first depth from 0 up where the spectral radius reaches 1, as a
+// continuation in depth that follows the largest multipliers of both
+// half-planes, looks for thin unstable bands, then refines the crossing
+// with Brent's method on ln ρ (docs/sdm.md). Part of the `sdm` solver
+// (sdm_internal.hpp).
+#include "chatter/report.hpp"
+#include "sdm_internal.hpp"
+
+#include "depth_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "chatter/error.hpp"
+
+namespace chatter {
+using namespace sdm_detail;
+namespace {
+
+// Depth search: a climbing step aims this far (relative) beyond the crossing
+// the secant predicts, so that the bracket closes in one step when the
+// prediction is good; and always climbs at least this ratio − 1.
+constexpr double kSecantOvershoot = 0.01;
+constexpr double kMinClimb = 1e-3;
+const double kLogQuarter = std::log(0.25);
+// Continuation step: no followed multiplier may be predicted to move more
+// than this fraction of its distance to the unit circle in one step.
+constexpr double kMoveFraction = 0.5;
+// A local maximum of ln ρ below the crossing is searched with this many
+// golden-section steps (it ends on ρ ≥ 1 as soon as one is found).
+constexpr int kBandSearchSteps = 12;
+// Most divisions by bracket_ratio when the first depth is already unstable
+// (ρ(0) < 1, so a stable depth exists; this only bounds a broken model).
+constexpr int kMaxDescentSteps = 200;
+// Relative error of ln ρ from an early-stopped (decide-mode) Arnoldi: it stops
+// once | |θ| − 1 | exceeds kDecideFactor residuals, so |θ| is within 1/20 of
+// its distance to the circle; a fall of ln ρ smaller than this is noise.
+constexpr double kDecideError = 0.1;
+
+// Golden-section search for a point where ln ρ >= 0 inside a local maximum
+// bracketed by a < b < c with f(b) >= f(a) and f(b) > f(c) (fb = f(b)).
+// Returns true with the first such point found, false when the maximum found
+// stays below 0 after kBandSearchSteps evaluations.
+template <class F>
+bool find_band(F&& f, double a, double b, double c, double fb, double& at, double& f_at) {
+  constexpr double kGolden = 0.3819660112501051;
+  for (int i = 0; i < kBandSearchSteps; ++i) {
+    const bool right = (c - b) > (b - a);
+    const double x = right ? b + kGolden * (c - b) : b - kGolden * (b - a);
+    const double fx = f(x);
+    if (fx >= 0.0) {
+      at = x;
+      f_at = fx;
+      return true;
+    }
+    if (fx > fb) {
+      (right ? a : c) = b;
+      b = x;
+      fb = fx;
+    } else {
+      (right ? c : a) = x;
+    }
+  }
+  return false;
+}
+
+// The last two period maps of a depth search, by depth: a depth met again
+// (the band search re-reads its lower end, Brent returns a point it has
+// evaluated, which the final analysis then reads) reuses its map.
+class MapCache {
+ public:
+  MapCache(const SdmKernel& kernel, const Grid& g) : kernel_(kernel), g_(g) {}
+  const PeriodMap& at(double depth) {
+    for (int i = 0; i < 2; ++i)
+      if (depth_[i] == depth) return maps_[i];
+    last_ = 1 - last_;
+    depth_[last_] = std::numeric_limits<double>::quiet_NaN();  // not valid if the build throws
+    kernel_.build_map(g_, depth, maps_[last_]);
+    depth_[last_] = depth;
+    return maps_[last_];
+  }
+
+ private:
+  const SdmKernel& kernel_;
+  const Grid& g_;
+  PeriodMap maps_[2];
+  double depth_[2] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  int last_ = 1;
+};
+
+}  // namespace
+
+
+StabilityLimit SemiDiscretizationSolver::limit_at(double rpm) const { return limit_at(rpm, nullptr); }
+
+StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* floquet) const {
+  return search(rpm, floquet, std::numeric_limits<double>::quiet_NaN(), nullptr);
+}
+
+bool SemiDiscretizationSolver::limit_above(double rpm, double depth_m) const {
+  if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
+    std::ostringstream os;
+    os << "depth " << depth_m << " m: must be >= 0 and finite";
+    throw InputError(os.str());
+  }
+  bool above = false;
+  search(rpm, nullptr, depth_m, &above);
+  return above;
+}
+
+StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floquet, double decide_depth,
+                                                bool* above) const {
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
+  // Deciding limit > decide_depth only: the search below stops as soon as
+  // the answer is sure (it takes the same steps as the whole search).
+  const bool deciding = !std::isnan(decide_depth);
+  StabilityLimit lim;
+  lim.spindle_rpm = rpm;
+  if (Wx_.rows() == 0) {  // the process cannot see any mode: never unstable
+    if (deciding) *above = true;
+    return lim;
+  }
+  const MatrixXd turning_hhat = turning_hhat_of(process_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
+  MapCache maps(kernel, g);
+  auto log_rho = [&](double a) { return std::log(std::abs(kernel.dominant(maps.at(a), false).mu)); };
+  // The largest multipliers at depth a: overall (ln ρ), and in the left
+  // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
+  struct Radii {
+    double all = 0.0;
+    Cplx left{0.0, 0.0}, right{0.0, 0.0};
+  };
+  auto radii = [&](double a) {
+    const Dominant d = kernel.dominant(maps.at(a), false, true);
+    return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
+  };
+  const double dmax = options_.depth_max_m;
+  // While climbing, ρ comes from Arnoldi stopped as soon as the verdict ρ < 1
+  // or >= 1 is sure (cheaper than a dense decomposition even for small maps),
+  // except for the branch roots of low-speed turning, which are exact.
+  const bool accurate = g.branch_roots;
+  // At zero depth the multipliers are known exactly: e^{λτ} of the free modes.
+  Radii r_zero;
+  r_zero.all = -slowest_decay_per_s_ * g.tau;
+  for (const Cplx& l : free_poles_) {
+    const Cplx mu = std::exp(l * g.tau);
+    Cplx& slot = mu.real() < 0.0 ? r_zero.left : r_zero.right;
+    if (std::abs(mu) > std::abs(slot)) slot = mu;
+  }
+  double a = dmax / std::pow(options_.bracket_ratio, options_.bracket_steps);
+  Radii r = radii(a);
+  double lo = 0.0, flo = r_zero.all, hi = a, fhi = r.all;
+  auto unstable = [](double log_rho_value) { return log_rho_value >= 0.0; };
+  if (r.all >= 0.0) {
+    // Unstable already: go down until stable (ρ(0) < 1 always: damped modes).
+    const detail::DepthBracket<double> down = detail::descend_to_stable(
+        hi, fhi, options_.bracket_ratio, kMaxDescentSteps, [&](double d) { return radii(d).all; }, unstable);
+    lo = down.lo;
+    flo = down.at_lo;
+    hi = down.hi;
+    fhi = down.at_hi;
+  } else {
+    // Climb from a towards the first crossing of ρ = 1 as a continuation in
+    // depth. The largest multipliers of the left half-plane (where flip bands
+    // start: a pair meets on the negative real axis and one multiplier runs
+    // out through −1, often for a short range of depth) and of the right one
+    // are followed; from the distance each moved over the last step, the next
+    // step is sized so that neither is predicted to cover more than
+    // kMoveFraction of its distance to the unit circle. The secant of ln ρ
+    // shortens the step further to just beyond the predicted crossing, and
+    // the ratio stays within [1 + kMinClimb, bracket_ratio⁴]. Early-stopped
+    // Arnoldi values (large maps) are trusted only with ρ >= 1/4 and then
+    // move at most by bracket_ratio.
+    double a_prev = 0.0;
+    Radii r_prev = r_zero;
+    lo = a;
+    flo = r.all;
+    Radii r_lo = r;
+    while (true) {
+      if (lo >= dmax) {
+        if (deciding) {
+          *above = true;
+          return lim;
+        }
+        if (floquet) *floquet = floquet_of(kernel, g, maps.at(dmax), rpm, dmax, A_, Wx_, f_max_hz_);
+        return lim;  // stable up to depth_max
+      }
+      // The root will lie at or above a_prev (a band search below looks no
+      // lower), and at or above lo when ρ(lo) <= 1/4 (no band search starts
+      // from lo then): above decide_depth, the answer is sure.
+      if (deciding && (a_prev > decide_depth || (lo > decide_depth && flo <= kLogQuarter))) {
+        *above = true;
+        return lim;
+      }
+      const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
+      double step = (std::pow(options_.bracket_ratio, trusted ? 4 : 1) - 1.0) * lo;
+      double move = kInf;
+      for (auto [now, before] : {std::pair{r_lo.left, r_prev.left}, std::pair{r_lo.right, r_prev.right}}) {
+        const double moved = std::abs(now - before);
+        if (moved > 0.0) move = std::min(move, kMoveFraction * (1.0 - std::abs(now)) * (lo - a_prev) / moved);
+      }
+      // Never shorter than bracket_min_ratio − 1 of the depth on that account,
+      // or the approach of a multiplier to the circle would never end.
+      step = std::min(step, std::max(move, (options_.bracket_min_ratio - 1.0) * lo));
+      const double slope = (flo - r_prev.all) / (lo - a_prev);
+      if (trusted && slope > 0.0) step = std::min(step, (-flo / slope) * (1.0 + kSecantOvershoot) + kSecantOvershoot * lo);
+      step = std::max(step, kMinClimb * lo);
+      hi = std::min(lo + step, dmax);
+      const Radii r_hi = radii(hi);
+      fhi = r_hi.all;
+      if (fhi >= 0.0) break;
+      // ln ρ rose, then fell: a local maximum lies in (a_prev, hi), where a
+      // thin unstable band would sit. Look for it.
+      if (flo >= r_prev.all && fhi < flo - (accurate ? 0.0 : kDecideError * std::abs(flo)) && flo > kLogQuarter) {
+        double band = 0.0, fband = 0.0;
+        if (find_band(log_rho, a_prev, lo, hi, log_rho(lo), band, fband)) {
+          const bool left = band < lo;  // the first crossing lies below the band
+          hi = band;
+          fhi = fband;
+          if (left) {
+            lo = a_prev;
+            flo = r_prev.all;
+          }
+          break;
+        }
+      }
+      a_prev = lo;
+      r_prev = r_lo;
+      lo = hi;
+      r_lo = r_hi;
+      flo = fhi;
+    }
+  }
+  // The root lies in [lo, hi].
+  if (deciding && (hi <= decide_depth || lo > decide_depth)) {
+    *above = lo > decide_depth;
+    return lim;
+  }
+  const double root = detail::refine_root(detail::DepthBracket<double>{lo, hi, flo, fhi, true}, log_rho,
+                                          options_.depth_tolerance * lo);
+  if (deciding) {
+    *above = root > decide_depth;
+    return lim;
+  }
+  lim.depth_limit_m = root;
+  const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
+  lim.chatter_frequency_hz = fr.chatter_frequency_hz;
+  lim.lobe = lobe_number(fr.chatter_frequency_hz, process_.tooth_passing_hz(rpm));
+  if (floquet) *floquet = fr;
+  return lim;
+}
+
+}  // namespace chatter

@@ -1,0 +1,196 @@
+// Internal parts of the time-domain solver (not part of the public API):
+// the modal equations with the chip and the force of each tooth (and slice
+// of a real cutter) — the right-hand side CVODE integrates. The solver is
+// one concept per file:
+//   time_domain_model.cpp     Model: the right-hand side, the chips, the
+//                             arc events (this header);
+//   time_domain_run.cpp       SimulationRun: one run on CVODE (set-up,
+//                             stepping, stop points, roots, restarts;
+//                             time_domain_run.hpp);
+//   time_domain_analysis.cpp  what a run returns: growth per period,
+//                             spectrum, verdict (with the analysers of
+//                             time_domain_parts.hpp);
+//   time_domain_lobes.cpp     TimeDomainSolver: lobes by simulation.
+// Equations: include/chatter/time_domain.hpp; design: docs/time_domain.md.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <vector>
+
+#include "chatter/process.hpp"
+#include "chatter/structural_model.hpp"
+#include "chatter/time_domain.hpp"
+#include "time_domain_parts.hpp"
+
+namespace chatter::td_detail {
+
+using detail::History;
+
+inline constexpr double kPi = std::numbers::pi;
+// Delay-propagated images t_r + kτ of a chip zero crossing t_r that are stop
+// points. The force has a kink at t_r (max(h, 0)), so d³r/dt³ jumps there and
+// the delayed term jumps in its 3rd derivative at t_r + τ, its 5th at
+// t_r + 2τ. With multiple regeneration the surface itself keeps the kink: the
+// chip jumps in slope at t_r + τ, then in the 3rd and 5th derivatives.
+inline constexpr int kRootImagesSingle = 2;
+inline constexpr int kRootImagesMultiple = 3;
+// Up to this many distinct delays, the multiples of each are start stops.
+inline constexpr std::size_t kMaxStartImageDelays = 8;
+
+struct Diagnostics {
+  double force[2] = {0, 0};
+  double chip_max = 0.0;
+  bool any_in_arc = false;
+  bool in_cut = false;
+  /// Every tooth in the arc is in air by more than the contact margin.
+  bool in_air = false;
+};
+
+// The real cutter (docs/time_domain.md "Real cutters"): one cutting element
+// per tooth j and axial slice s, a straight tooth of height dz at the slice
+// midpoint z, with the surfaces it may cut: the one left by the tooth k
+// places before it (k = 1 … K), passed `delay[k−1]` earlier, whose nominal
+// position is N_t f_z `advance[k−1]` sin φ + `runout_diff[k−1]` away.
+struct CutElement {
+  int tooth = 0;
+  double z = 0.0, dz = 0.0;
+  std::vector<int> delay_index;   // into Model::delays_ (k = 1 … K)
+  std::vector<double> advance;    // (θ_j + … + θ_{j−k+1}) / 2π
+  std::vector<double> runout_diff;  // ρ_j − ρ_{j−k}, m
+  std::vector<double> next_delay_sum;  // τ_{j+1}(z) + … + τ_{j+k}(z), s (root images)
+};
+
+/// The homogeneous linear equation (linear mode without the static chip):
+/// the run measures the growth of a perturbation, sdm's multiplier.
+inline bool homogeneous(const SimulationSettings& s) { return s.linear && !s.linear_static_chip; }
+
+/// True when the run takes the per-tooth, per-slice path (real cutters):
+/// milling with a helix, a variable pitch or helix, process damping, runout
+/// (nonlinear mode only: linear mode ignores it), or an explicit axial_slices.
+bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear);
+
+/// The period of a run (s): the Floquet period of the process
+/// (Process::floquet_period_s), the same as sdm's: the tooth period for a
+/// uniform cutter, the shortest repeat of the pitch and helix pattern
+/// otherwise, and of the runout too in nonlinear mode (the linear equation
+/// has no static chip, which is all runout changes).
+double simulation_period(const Process& p, const SimulationSettings& s);
+
+class Model {
+ public:
+  Model(const StructuralModel& model, const Process& process, const SimulationSettings& s, double tau,
+        const TimeDomainOptions& options);
+
+  int n() const { return n_; }
+  int teeth() const { return teeth_; }
+  bool milling() const { return milling_; }
+  const ModalMatrices& modal() const { return mm_; }
+  int tool_modes() const { return tool_modes_; }
+
+  void attach(History* h) { history_ = h; }
+  bool general() const { return general_; }
+  /// Root functions: one per tooth (uniform path) or per element when every
+  /// element's entry and exit is a stop (one slice); none with several
+  /// slices (their chips are clipped, see docs/time_domain.md).
+  int root_count() const { return general_ ? (slices_ == 1 ? static_cast<int>(elements_.size()) : 0) : teeth_; }
+  /// Largest delay any element reads (s): the history must hold it.
+  double max_delay() const {
+    return delays_.empty() ? tau_ : *std::max_element(delays_.begin(), delays_.end());
+  }
+  double min_delay() const {
+    return delays_.empty() ? tau_ : *std::min_element(delays_.begin(), delays_.end());
+  }
+  /// Distinct delays whose multiples carry the start discontinuity (stops);
+  /// empty when they are many (distributed delays smear the start jump).
+  std::vector<double> start_image_delays() const {
+    if (!general_) return {tau_};
+    if (delays_.size() > kMaxStartImageDelays) return {};
+    return delays_;
+  }
+  /// The delay images of a chip zero crossing of root function `i`: the
+  /// later teeth that cut the surface it leaves, k = 1 … count.
+  double root_image_offset(int i, int k) const {
+    return general_ ? elements_[static_cast<std::size_t>(i)].next_delay_sum[static_cast<std::size_t>(k - 1)]
+                    : k * tau_;
+  }
+  /// Sets which teeth are inside the cutting arc for the segment around `t`.
+  void set_segment(double t_mid);
+  double angle(double t, int j) const { return omega_spindle_ * t + 2.0 * kPi * j / teeth_; }
+  static double wrap(double phi) {
+    phi = std::fmod(phi, 2.0 * kPi);
+    return phi < 0 ? phi + 2.0 * kPi : phi;
+  }
+  /// Times in [0, t_end] at which a tooth enters or leaves the arc (milling).
+  /// Real cutters: every element's entry and exit with one slice; with
+  /// several, the instants a tooth tip or the top of the cut enters or leaves
+  /// (Process::engagement_events_s), where the sliced force has its kinks.
+  std::vector<double> arc_events(double t_end) const;
+
+  /// Unclipped chip thickness of every tooth in the arc at time t for state
+  /// q (m); teeth outside the arc get +1 (a constant, for root finding).
+  void chips(double t, const double* q, double* h) const;
+
+  /// ẏ = f(t, y); fills `diag` when given. y = [q; q̇].
+  /// What one right-hand-side call reports (both force paths).
+  Diagnostics diagnostics(const double* F, double chip_max, bool any_arc, bool cutting, bool touching) const;
+
+  void rhs(double t, const double* y, double* ydot, Diagnostics* diag) const;
+
+  void modal_accelerations(const double* q, const double* qd, const double F[2], double* ydot) const;
+
+  void relative(const double* q, double r[2]) const;
+
+  long rhs_count() const { return rhs_count_; }
+  /// A tooth counts as in air only when its chip is below −margin (m): the
+  /// chip of a converged forced response touches 0 at the arc ends.
+  void set_air_margin(double margin) { air_margin_ = margin; }
+  const std::vector<char>& in_arc() const { return in_arc_; }
+  /// Adds, per tooth, the share of it inside the arc at the last chips()
+  /// call (1 per tooth; the engaged fraction of each slice of a real
+  /// cutter) to `arc`, and the part of that share out of the cut (chip
+  /// below −margin) to `air`.
+  void tally_air(std::vector<double>& arc, std::vector<double>& air) const;
+
+ private:
+  // ---- the real cutter (general path) ----
+  void build_elements(const TimeDomainOptions& o);
+  int delay_slot(double d);
+  double element_angle(const CutElement& e, double t) const;
+  bool in_window(double phi) const;
+  // Engaged fraction of a slice whose edge spans φ ± w/2 (ramps in and out).
+  double engaged_fraction(double phi, double w) const;
+  // φ, sin φ, cos φ of every element at t.
+  void element_angles(double t) const;
+  // Chips of every element (unclipped; +1 out of the arc).
+  void general_chips(double t, const double* q, double* h) const;
+  // The sliced force and the modal accelerations.
+  void general_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const;
+
+  ModalMatrices mm_;
+  const Process& process_;
+  const SimulationSettings& settings_;
+  double tau_;
+  int n_ = 0, tool_modes_ = 0, teeth_ = 1;
+  bool milling_ = false;
+  double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
+  double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m²
+  bool general_ = false;
+  int slices_ = 1;
+  std::vector<CutElement> elements_;
+  std::vector<double> delays_;            // distinct delays read by the elements, s
+  mutable std::vector<double> delayed_;   // r(t − delays_[i]) (x, y) per rhs
+  bool runout_ = false;                   // static chip from Process::static_chip_m
+  // At the last chips() call, per element: engaged fraction, sin φ, cos φ.
+  mutable std::vector<double> engaged_, phi_, sin_, cos_;
+  std::vector<double> slice_lag_, slice_cos_, slice_sin_;  // per tooth: δ_j = κ_j dz, cos δ_j, sin δ_j
+  std::vector<char> in_arc_;
+  History* history_ = nullptr;
+  mutable std::vector<double> chips_;
+  mutable long rhs_count_ = 0;
+  double air_margin_ = 0.0;
+};
+
+}  // namespace chatter::td_detail

@@ -1,0 +1,266 @@
+// Grinding configs and files (include/chatter/io/grinding_config.hpp,
+// grinding_io.hpp): [grinding] read by the loader with its rules (file, key,
+// rule; every error at once; plausibility warnings with the likely unit), the
+// shipped configs, the lobe loader refusing a grinding config, the fit's
+// [grinding] fragment loading back, and bad tests tables and records.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "chatter/error.hpp"
+#include "chatter/grinding.hpp"
+#include "chatter/io/config.hpp"
+#include "chatter/io/grinding_config.hpp"
+#include "chatter/io/grinding_io.hpp"
+
+namespace chatter {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kSource = CHATTER_SOURCE_DIR;
+
+// The minimal grinding config, with extra lines.
+std::string minimal(const std::string& extra = "") {
+  return "[grinding]\nwheel_diameter_mm = 230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\nfeed_mm_per_s = 80\n"
+         "force_ratio = 0.26\nedge_coefficient_n_per_mm = 75\ncutting_coefficient_n_per_mm2 = 10020\n"
+         "impacts_per_turn = 1.29\n" +
+         extra;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_grinding_config(text, "g.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool has(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+TEST(GrindingConfig, ShippedConfigsLoadWithoutWarnings) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(kSource / "configs")) {
+    if (!e.path().filename().string().starts_with("grinding_")) continue;
+    ++n;
+    const GrindingConfig c = load_grinding_config(e.path());
+    EXPECT_TRUE(c.warnings.empty()) << e.path() << ": " << (c.warnings.empty() ? "" : c.warnings.front());
+    EXPECT_EQ(c.process.validate(), "");
+  }
+  EXPECT_GE(n, 2);
+  // Seed 001 ch. 4: the impacts table, the partition, the robot mode.
+  const GrindingConfig s = load_grinding_config(kSource / "configs/grinding_scompi_ch4.toml");
+  ASSERT_TRUE(s.process.mechanistic);
+  EXPECT_DOUBLE_EQ(s.process.mechanistic->edge_coefficient_n_per_m, 75e3);
+  EXPECT_DOUBLE_EQ(s.process.mechanistic->cutting_coefficient_n_per_m2, 10020e6);
+  EXPECT_EQ(s.process.mechanistic->impacts.power_w().size(), 4u);
+  EXPECT_DOUBLE_EQ(s.process.mechanistic->impacts.at(1000), 1.29);
+  EXPECT_EQ(s.robot.tool.modes.size(), 1u);
+  // Seed 000: the wheel speed from the motor and the transmission.
+  const GrindingConfig u = load_grinding_config(kSource / "configs/grinding_underwater_seed000.toml");
+  EXPECT_DOUBLE_EQ(u.process.wheel.speed_rev_per_s * 60.0, 2250.0);
+  EXPECT_FALSE(u.process.mechanistic.has_value());
+  ASSERT_TRUE(u.process.empirical.wear);
+  EXPECT_EQ(u.process.empirical.wear->form, grinding::EmpiricalForm::kPoly33);
+  ASSERT_TRUE(u.process.no_load_loss);
+}
+
+TEST(GrindingConfig, LobeLoaderRefusesAGrindingConfig) {
+  try {
+    load_config(kSource / "configs/grinding_scompi_ch4.toml");
+    FAIL() << "a grinding config loaded as a lobe config";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(has(e.what(), "grinding_scompi_ch4.toml: grinding: a grinding config")) << e.what();
+    EXPECT_TRUE(has(e.what(), "chatter grind")) << e.what();
+  }
+  // And the grinding loader refuses a lobe config's tables.
+  const std::string err = error_of(minimal("[process]\noperation = \"turning\"\n"));
+  EXPECT_TRUE(has(err, "g.toml: process: not in a grinding config")) << err;
+  EXPECT_TRUE(has(error_of("name = \"x\"\n"), "g.toml: grinding: missing")) << error_of("name = \"x\"\n");
+}
+
+TEST(GrindingConfig, EveryErrorAtOnceWithFileKeyAndRule) {
+  const std::string err = error_of(
+      "[grinding]\nwheel_diameter_mm = -230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\nfeed_mm_per_s = 0\n"
+      "force_ratio = 0.26\nedge_coefficient_n_per_mm = 75\ncutting_coefficient_n_per_mm2 = 10020\n"
+      "impacts_per_turn = 1.29\nwheel_widht_mm = 3\n");
+  EXPECT_TRUE(has(err, "g.toml: grinding.wheel_diameter_mm = -230: must be > 0")) << err;
+  EXPECT_TRUE(has(err, "g.toml: grinding.feed_mm_per_s = 0: must be > 0")) << err;
+  EXPECT_TRUE(has(err, "g.toml: grinding.wheel_widht_mm: unknown key (did you mean wheel_width_mm?)")) << err;
+  // Missing keys name their unit.
+  const std::string missing = error_of("[grinding]\nwheel_width_mm = 6.8\nwheel_rpm = 6000\nforce_ratio = 0.3\n"
+                                       "[grinding.models.removal]\nform = \"poly11\"\ncoefficients = [1, 2, 3]\n");
+  EXPECT_TRUE(has(missing, "grinding.wheel_diameter_mm: missing (required, mm, > 0)")) << missing;
+  EXPECT_TRUE(has(missing, "grinding.feed_mm_per_s: missing (required, mm/s, > 0)")) << missing;
+}
+
+TEST(GrindingConfig, ImpactsTableMustIncreaseInPower) {
+  const std::string err = error_of(
+      "[grinding]\nwheel_diameter_mm = 230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\nfeed_mm_per_s = 80\n"
+      "force_ratio = 0.26\nedge_coefficient_n_per_mm = 75\ncutting_coefficient_n_per_mm2 = 10020\n"
+      "[[grinding.impacts]]\npower_w = 1000\nimpacts_per_turn = 1.29\n"
+      "[[grinding.impacts]]\npower_w = 500\nimpacts_per_turn = 0.75\n");
+  EXPECT_TRUE(has(err, "g.toml: grinding.impacts[1].power_w = 500: must increase from row to row (the previous row "
+                       "has 1000 W)"))
+      << err;
+  EXPECT_TRUE(has(error_of(minimal("[[grinding.impacts]]\npower_w = 500\nimpacts_per_turn = 1\n")),
+                  "not with impacts_per_turn"));
+  // The mechanistic model is all or nothing.
+  EXPECT_TRUE(has(error_of("[grinding]\nwheel_diameter_mm = 230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\n"
+                           "feed_mm_per_s = 80\nforce_ratio = 0.26\nedge_coefficient_n_per_mm = 75\n"),
+                  "grinding.cutting_coefficient_n_per_mm2: missing"));
+}
+
+TEST(GrindingConfig, WheelSpeedOneWay) {
+  const GrindingConfig c = parse_grinding_config(
+      "[grinding]\nwheel_diameter_mm = 155\nwheel_width_mm = 25\nmotor_rpm = 2000\ntransmission_ratio = 1.125\n"
+      "feed_mm_per_s = 50\nforce_ratio = 0.5\n[grinding.models.removal]\nform = \"poly11\"\n"
+      "coefficients = [63.1, -5.05, 0.0439]\n",
+      "g.toml");
+  EXPECT_DOUBLE_EQ(c.process.wheel.speed_rev_per_s, 2250.0 / 60.0);
+  EXPECT_TRUE(has(error_of(minimal("motor_rpm = 2000\ntransmission_ratio = 1.1\n")), "not with wheel_rpm"));
+}
+
+TEST(GrindingConfig, PlausibilityWarningsNameTheLikelyUnit) {
+  // An edge coefficient written in N/m under the N/mm key, a feed in m/s.
+  const GrindingConfig c = parse_grinding_config(
+      "[grinding]\nwheel_diameter_mm = 230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\nfeed_mm_per_s = 0.08\n"
+      "force_ratio = 0.26\nedge_coefficient_n_per_mm = 75000\ncutting_coefficient_n_per_mm2 = 10020\n"
+      "impacts_per_turn = 1.29\n",
+      "g.toml");
+  ASSERT_EQ(c.warnings.size(), 2u);
+  EXPECT_TRUE(has(c.warnings[0], "g.toml: grinding.feed_mm_per_s = 0.08: outside the 1 to 500 mm/s")) << c.warnings[0];
+  EXPECT_TRUE(has(c.warnings[0], "is it in m/s (feed_mm_per_s = 80)?")) << c.warnings[0];
+  EXPECT_TRUE(has(c.warnings[1], "grinding.edge_coefficient_n_per_mm = 75000: outside")) << c.warnings[1];
+  EXPECT_TRUE(has(c.warnings[1], "is it in N/m (edge_coefficient_n_per_mm = 75)?")) << c.warnings[1];
+  // Far beyond: an error, with the likely unit.
+  EXPECT_TRUE(has(error_of(minimal("").replace(minimal("").find("10020"), 5, "1.002e10")),
+                  "cutting_coefficient_n_per_mm2 = 1.002e10: must be <= 1e9 N/mm^2 (a value in N/m^2? divide it by 1e6)"));
+}
+
+TEST(GrindingConfig, EmpiricalModelRules) {
+  const std::string base = "[grinding]\nwheel_diameter_mm = 155\nwheel_width_mm = 25\nwheel_rpm = 2250\n"
+                           "feed_mm_per_s = 50\nforce_ratio = 0.5\n";
+  EXPECT_TRUE(has(error_of(base + "[grinding.models.removal]\nform = \"poly22\"\ncoefficients = [1, 2, 3]\n"),
+                  "grinding.models.removal.coefficients = [1, 2, 3]: must hold 6 numbers for form = \"poly22\""));
+  EXPECT_TRUE(has(error_of(base + "[grinding.models.removal]\nform = \"poly4\"\ncoefficients = [1]\n"),
+                  "grinding.models.removal.form = \"poly4\": must be \"poly11\""));
+  EXPECT_TRUE(has(error_of(base + "[grinding.models.removal]\nform = \"hahn_lindsay\"\ncoefficients = [1, 2]\n"
+                                  "variables = [\"cutting_speed_m_per_s\", \"useful_power_w\"]\n"),
+                  "hahn_lindsay reads the normal force"));
+  EXPECT_TRUE(has(error_of(base + "[grinding.models.removal]\nform = \"poly11\"\ncoefficients = [1, 2, 3]\n"
+                                  "[grinding.models.removal.domain]\nuseful_power_w = [2000, 1000]\n"),
+                  "grinding.models.removal.domain.useful_power_w = [2000, 1000]: must be [low, high] with low < high"));
+  EXPECT_TRUE(has(error_of(base + "[grinding.energy_partition]\nmodel = \"power\"\nalpha = 0.76\nbeta = 0.27\n"
+                                  "[grinding.models.removal]\nform = \"poly11\"\ncoefficients = [1, 2, 3]\n"),
+                  "it needs the mechanistic model"));
+}
+
+// ------------------------------------------------------------- tests tables
+
+class GrindingFiles : public ::testing::Test {
+ protected:
+  fs::path dir_;
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("chatter_grinding_files_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  std::string error_reading(const std::string& text) {
+    try {
+      read_grinding_tests(write("t.csv", text), {});
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST_F(GrindingFiles, MalformedTestsTables) {
+  EXPECT_TRUE(has(error_reading(""), "t.csv: empty"));
+  EXPECT_TRUE(has(error_reading("power_w,removal_mm3_per_s\n"), "no data rows"));
+  EXPECT_TRUE(has(error_reading("power_w,removel_mm3_per_s\n1,2\n"),
+                  "t.csv: line 1: unknown column 'removel_mm3_per_s' (did you mean removal_mm3_per_s?)"));
+  EXPECT_TRUE(has(error_reading("power_w,removal_mm3_per_s\n1000,abc\n"),
+                  "t.csv: line 2: removal_mm3_per_s = 'abc': must be a finite number"));
+  EXPECT_TRUE(has(error_reading("power_w,removal_mm3_per_s\n-5,3\n"), "t.csv: line 2: power_w = '-5': must be > 0"));
+  EXPECT_TRUE(has(error_reading("power_w,removal_mm3_per_s\n1,2,3\n"), "t.csv: line 2: 3 values for 2 columns"));
+  EXPECT_TRUE(has(error_reading("power_w,removed_volume_mm3\n1000,50\n"), "needs grinding_time_s"));
+  EXPECT_TRUE(has(error_reading("power_w,power_w\n1,1\n"), "column power_w appears twice"));
+  EXPECT_TRUE(has(error_reading("wheel_diameter_before_mm,wheel_diameter_after_mm,grinding_time_s,wheel_width_mm\n"
+                                "150,151,10,25\n"),
+                  "the wheel cannot grow"));
+}
+
+TEST_F(GrindingFiles, DerivedColumns) {
+  const auto t = read_grinding_tests(
+      write("t.csv", "# a comment\npower_w,removed_volume_mm3,grinding_time_s,wheel_diameter_before_mm,"
+                     "wheel_diameter_after_mm,normal_force_n,wheel_diameter_mm,wheel_rpm,wheel_width_mm,feed_mm_per_s\n"
+                     "2093,941.6,17.7,163.8,163.4,219,163.4,2244,25,50\n"),
+      {});
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_NEAR(*t[0].removal_mm3_per_s, 941.6 / 17.7, 1e-12);
+  const double wear = 3.14159265358979 * 25 * (163.8 * 163.8 - 163.4 * 163.4) / 4 / 17.7;
+  EXPECT_NEAR(*t[0].wear_mm3_per_s, wear, 1e-9 * wear);
+  const double vc = 3.14159265358979 * 0.1634 * 2244 / 60;
+  EXPECT_NEAR(*t[0].cutting_speed_m_per_s, vc, 1e-12);
+  EXPECT_NEAR(*t[0].friction_coefficient, 2093 / (vc * 219), 1e-12);  // seed 000 table 6.2: about 0.5
+  EXPECT_NEAR(*t[0].g_ratio, *t[0].removal_mm3_per_s / wear, 1e-12);
+  EXPECT_NEAR(*t[0].depth_per_pass_mm, *t[0].removal_mm3_per_s / (50 * 25), 1e-12);
+}
+
+TEST_F(GrindingFiles, FitFragmentLoadsBack) {
+  // Seed 000's printed tests: poly11 on the power; the fragment is a config.
+  const fs::path tests = kSource / "examples/grinding/underwater_tests_seed000.csv";
+  const GrindingFitReport r = fit_grinding_tests(read_grinding_tests(tests, {}), "poly11", "", tests.string());
+  ASSERT_EQ(r.targets.size(), 3u);  // removal, wear, normal force
+  const GrindingConfig c = parse_grinding_config(grinding_fit_fragment(r, std::nullopt), "fragment.toml");
+  ASSERT_TRUE(c.process.empirical.removal);
+  // The fragment prints 10 significant digits.
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NEAR(c.process.empirical.removal->coefficients[i], r.targets[0].fit.coefficients[i],
+                1e-9 * std::abs(r.targets[0].fit.coefficients[i]));
+  EXPECT_TRUE(c.process.empirical.removal->domain.useful_power_w.has_value());
+  // The annex IV removal model (fitted to all 82 tests) lies inside the 95 %
+  // intervals of the fit to the 12 tests the thesis prints.
+  const double annex[] = {63.1, -5.05, 0.0439};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_GE(annex[i], r.targets[0].fit.lower_95[static_cast<std::size_t>(i)]) << i;
+    EXPECT_LE(annex[i], r.targets[0].fit.upper_95[static_cast<std::size_t>(i)]) << i;
+  }
+  // Mechanistic: the synthetic tests of seed 001's model give a loadable table too.
+  const fs::path mt = kSource / "examples/grinding/scompi_tests_synthetic.csv";
+  const GrindingFitReport m = fit_grinding_tests(read_grinding_tests(mt, {}), "mechanistic", "", mt.string());
+  const GrindingConfig mc = parse_grinding_config(grinding_fit_fragment(m, std::nullopt), "fragment.toml");
+  ASSERT_TRUE(mc.process.mechanistic);
+  EXPECT_TRUE(mc.process.mechanistic->impacts.is_table());
+  // The fit needs the columns of its model, named with the line.
+  try {
+    fit_grinding_tests(read_grinding_tests(write("m.csv", "power_w,removal_mm3_per_s\n1000,52\n"), {}), "mechanistic",
+                       "", "m.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(has(e.what(), "m.csv: line 2: the mechanistic fit needs impacts_per_turn")) << e.what();
+  }
+}
+
+TEST_F(GrindingFiles, ImpactRecords) {
+  EXPECT_THROW(read_impact_record(write("r.csv", "time_s,normal_force_n\n0,1\n0.1,2\n0.05,3\n")), InputError);
+  EXPECT_THROW(read_impact_record(write("r.csv", "time_s\n0\n1\n2\n")), InputError);
+  EXPECT_THROW(read_impact_record(write("r.csv", "time_s,normal_force_n,wheel_rpm\n0,1,2\n1,1,2\n2,1,2\n")), InputError);
+  const ImpactRecord r = read_impact_record(write("r.csv", "time_s,wheel_rpm\n0,6000\n1e-3,5990\n2e-3,6000\n"));
+  EXPECT_EQ(r.kind, grinding::ImpactSignal::kWheelSpeed);
+  EXPECT_EQ(r.time_s.size(), 3u);
+}
+
+}  // namespace
+}  // namespace chatter
