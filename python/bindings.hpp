@@ -18,6 +18,7 @@ void bind_operations(pybind11::module_& m);  // check, recommend (bind_operation
 void bind_simulate(pybind11::module_& m);    // simulate (bind_simulate.cpp)
 void bind_tables(pybind11::module_& m);      // compare, map, frf (bind_tables.cpp)
 void bind_shop(pybind11::module_& m);        // coefficients, detect, fit (bind_shop.cpp)
+void bind_optimization(pybind11::module_& m);  // performance, optimize, adapt, adapt_step (bind_optimization.cpp)
 
 }  // namespace chatter_py
 

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The include rules of the layers (docs/architecture.md), checked on the
 # sources: prints every #include that breaks one and fails if any does.
-#   core (src/model, src/solvers, src/grinding, include/chatter/*.hpp but operations.hpp):
+#   core (src/model, src/solvers, src/grinding, include/chatter/*.hpp but operations.hpp,
+#        optimization.hpp and records.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
 #   io   (src/io, include/chatter/io): core data headers and the solver
 #        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
 #        nlohmann; no solver class header, no ops, no Boost.
-#   ops  (src/ops, include/chatter/operations.hpp): core only.
+#   ops  (src/ops, include/chatter/operations.hpp, optimization.hpp): core only.
 #   records (src/records, include/chatter/records.hpp, include/chatter/records/):
 #        no Boost, toml++ or CLI header.
 #   gnuplot-iostream (and Boost.Iostreams) only in src/cli/live_plot.cpp
@@ -30,7 +31,7 @@ check() {
     bad=1
   fi
 }
-core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|records)\.hpp$')
+core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|optimization|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
   'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
   src/model/* src/solvers/* src/grinding/* $core_headers
@@ -39,7 +40,7 @@ check "io includes a solver class header, ops, records or Boost" \
   src/io/* include/chatter/io/*
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
-  src/ops/* include/chatter/operations.hpp
+  src/ops/* include/chatter/operations.hpp include/chatter/optimization.hpp
 check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|gnuplot-iostream|(\.\./)+cli/' src/records/* include/chatter/records.hpp \
   include/chatter/records/*
 check "gnuplot-iostream (and the Boost.Iostreams it pulls in) outside src/cli/live_plot.cpp" \

@@ -301,6 +301,79 @@ typedef struct chatter_forced_result {
 chatter_status chatter_forced_response(const chatter_model* model, double spindle_rpm, double depth_mm, double feed_mm,
                                        chatter_forced_result* out);
 
+
+/* --- Process optimisation and adaptive control (docs/optimization.md) -----
+ * A config's [optimization] table: the performance indices of a cut (removal
+ * rate, diametral error or surface location error, roughness, cost,
+ * production rate, force), their weighted loss, the constraints (stability
+ * among them), the constrained optimum, and the step of the adaptive loop a
+ * machine controller calls after each measurement. Indices are numbered
+ * 0..CHATTER_INDEX_COUNT-1 in the order of chatter_optimizer_index_name:
+ * 0 diametral_error_um (milling: surface_location_error_um), 1
+ * surface_roughness_um, 2 removal_rate_mm3_per_s, 3 cost, 4
+ * production_rate_per_h, 5 force_n. Records are the JSON of the CLI's
+ * `performance --json` and `optimize --json` (buffer, size, length as
+ * chatter_grinding_predict_json). An optimizer is immutable once created
+ * but for its caches of solved limits, which are guarded: any number of
+ * threads may use one at once. */
+
+#define CHATTER_INDEX_COUNT 6
+
+typedef struct chatter_optimizer chatter_optimizer;
+
+/* The optimisation problem of `model`'s [optimization] (CHATTER_INPUT_ERROR
+ * without one). method: NULL or "auto" (analytic for turning, sdm for
+ * milling) or a method name. position_mm: the tool position along a
+ * position-dependent part, or NAN for the worst over the part. Free it with
+ * chatter_optimizer_free. Cost: one lobe solver per position evaluated. */
+chatter_status chatter_optimizer_create(const chatter_model* model, const char* method, double position_mm,
+                                        chatter_optimizer** out);
+void chatter_optimizer_free(chatter_optimizer* optimizer);
+/* The name of index i (static storage while the optimizer lives; NULL when
+ * i >= CHATTER_INDEX_COUNT or optimizer is NULL). */
+const char* chatter_optimizer_index_name(const chatter_optimizer* optimizer, size_t i);
+
+/* Every index, loss term and constraint at (speed, feed_mm, depth_mm): speed
+ * is the cutting speed in m/min for turning, the spindle speed in rev/min for
+ * milling; feed per revolution (turning) or per tooth (milling). measured:
+ * NULL, or CHATTER_INDEX_COUNT values, NAN where not measured (a measured
+ * value replaces the model's). */
+chatter_status chatter_performance_json(const chatter_optimizer* optimizer, double speed, double feed_mm,
+                                        double depth_mm, const double* measured, char* buffer, size_t size,
+                                        size_t* length);
+
+/* The constrained optimum of the objective over the bounds (the record of
+ * `chatter optimize --json`). Cost: turning ~0.1 s; milling seconds. */
+chatter_status chatter_optimize_json(const chatter_optimizer* optimizer, char* buffer, size_t size, size_t* length);
+
+/* The controller's state between two measurements: the set-point to cut
+ * (speed as in chatter_performance_json), the model corrections (measured /
+ * predicted, 1 = none) and the loss of the last measurement. */
+typedef struct chatter_adapt_state {
+  double speed;         /* m/min (turning) or rev/min (milling) */
+  double feed_mm;       /* per revolution (turning) or per tooth (milling) */
+  double depth_mm;
+  double correction[CHATTER_INDEX_COUNT];
+  int iteration;        /* measurements taken */
+  double loss;          /* the last measurement's loss (NAN before the first) */
+  int converged;        /* 1: the last step moved less than 0.1 % of the bounds */
+} chatter_adapt_state;
+
+/* The first state: the set-point (speed, feed_mm, depth_mm), or the centre
+ * of the bounds for any of them given as NAN; no corrections. */
+chatter_status chatter_adapt_start(const chatter_optimizer* optimizer, double speed, double feed_mm, double depth_mm,
+                                   chatter_adapt_state* out);
+
+/* One step of the loop (docs/optimization.md): measurement holds the
+ * CHATTER_INDEX_COUNT indices measured at state's set-point (NAN: not
+ * measured); gamma in (0, 1] and max_step_pct in (0, 100] (NAN: the config's
+ * [optimization.adapt], else 0.95 and 10). *next receives the corrected
+ * models and the set-point to cut next (never one that fails a constraint).
+ * next may be state. Cost: one optimisation of the corrected models. */
+chatter_status chatter_adapt_step(const chatter_optimizer* optimizer, const chatter_adapt_state* state,
+                                  const double* measurement, double gamma, double max_step_pct,
+                                  chatter_adapt_state* next);
+
 #ifdef __cplusplus
 }
 #endif

@@ -19,6 +19,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/operations.hpp"
+#include "chatter/optimization.hpp"
 #include "chatter/report.hpp"
 #include "chatter/results.hpp"
 #include "chatter/solvers.hpp"
@@ -158,5 +159,43 @@ RecommendPlan recommend_plan(const Config& config, const RecommendArgs& args, Ar
 /// constraints, force, torque, power, removal rate and the explanation.
 nlohmann::json recommend_record(const Recommendation& r, const RecommendOptions& options, const Process& process,
                                 const RecordSource& source);
+
+// ============================================ optimisation (docs/optimization.md)
+
+/// One set-point as every optimisation record shows it: the set-point, each
+/// index (the measured value where one was given), `measured` (their names),
+/// `predicted` (the models), `alpha`, `loss_terms`, `loss`, `constraints`
+/// ({name, value, limit, ok}), `stability_margin`, `depth_limit_mm`,
+/// `feasible`, power, torque, tool life, cutting time.
+nlohmann::json performance_json(const Performance& p, const OptimizationModel& model);
+
+/// `chatter performance --json`: what every record says about its inputs, then performance_json.
+nlohmann::json performance_record(const Performance& p, const OptimizationModel& model, const RecordSource& source);
+
+/// `chatter optimize --json`: found, the objective, the binding constraints,
+/// the bounds, the scan and polish counts and the optimum (performance_json).
+nlohmann::json optimize_record(const Optimum& o, const OptimizationModel& model, const RecordSource& source);
+
+/// The controller's state (adapt_step's `state`): the set-point, the
+/// corrections per index, the iteration, the last loss, converged.
+nlohmann::json adapt_state_json(const AdaptState& s, const OptimizationModel& model);
+
+/// One step (the C API's and Python's adapt_step): the next state and
+/// set-point, the measurement's performance, the corrected optimum, target, step.
+nlohmann::json adapt_step_record(const AdaptStepResult& step, const OptimizationModel& model);
+
+/// `chatter adapt --json`: one row per iteration (iteration, speed, feed,
+/// depth, loss, each index, feasible, target, step), the uncorrected optimum,
+/// the final state and the plan.
+struct AdaptRecordInputs {
+  const AdaptPlan* plan = nullptr;
+  const AdaptSettings* settings = nullptr;
+  std::string measurements_origin;  ///< the measurements file, or "" for the simulated plant
+};
+nlohmann::json adapt_record(const AdaptRun& run, const OptimizationModel& model, const AdaptRecordInputs& in,
+                            const RecordSource& source);
+/// The rows of an adapt record as CSV (`chatter adapt`'s table): its keys in
+/// record order, numbers as the record has them, empty for null.
+std::string adapt_table_csv(const nlohmann::json& adapt_record);
 
 }  // namespace chatter

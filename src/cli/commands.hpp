@@ -22,5 +22,8 @@ int cmd_map(const std::vector<std::string>& args);           // src/cli/cmd_map.
 int cmd_grind(const std::vector<std::string>& args);         // src/cli/cmd_grind.cpp (docs/grinding.md)
 int cmd_forced(const std::vector<std::string>& args);        // src/cli/cmd_forced.cpp
 int cmd_sle(const std::vector<std::string>& args);           // src/cli/cmd_forced.cpp
+int cmd_performance(const std::vector<std::string>& args);   // src/cli/cmd_optimize.cpp
+int cmd_optimize(const std::vector<std::string>& args);      // src/cli/cmd_optimize.cpp
+int cmd_adapt(const std::vector<std::string>& args);         // src/cli/cmd_optimize.cpp
 
 }  // namespace chatter::cli

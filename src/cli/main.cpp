@@ -49,6 +49,12 @@ const Command kCommands[] = {
      "docs/forced.md", chatter::cli::cmd_forced},
     {"sle", "surface location error and peak-to-peak vibration against spindle speed, under the lobes",
      "docs/forced.md", chatter::cli::cmd_sle},
+    {"performance", "every performance index, loss term and constraint of one cut (speed, feed, depth)",
+     "docs/optimization.md", chatter::cli::cmd_performance},
+    {"optimize", "the speed and feed that minimise the loss (or cost, ...) under every constraint, stability included",
+     "docs/optimization.md", chatter::cli::cmd_optimize},
+    {"adapt", "the adaptive loop: correct the models from measurements and move toward the optimum",
+     "docs/optimization.md", chatter::cli::cmd_adapt},
     {"fit", "modes (frequency, damping, stiffness) fitted to a measured FRF (tap test)", "docs/frf.md",
      chatter::cli::cmd_fit},
     {"frf", "receptance of the tool, the workpiece and the relative motion", "docs/frf.md", chatter::cli::cmd_frf},
@@ -101,7 +107,8 @@ and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
 (check: 3 when some operations are unstable; lobes --depth-mm D, point and
 simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter;
-forced: 3 when the cut is unstable).
+forced: 3 when the cut is unstable; performance: 3 when a constraint fails;
+optimize: 3 when no set-point meets every constraint).
 )";
   return os.str();
 }

@@ -14,7 +14,7 @@
 // in config_read.hpp; each table has its section reader (config_sections.hpp):
 // config_process.cpp, config_structure.cpp ([tool], [workpiece]),
 // config_positions.cpp, config_sweep.cpp, config_uncertainty.cpp,
-// config_grinding.cpp. This file is the top level: read_config (a cutting
+// config_optimization.cpp, config_grinding.cpp. This file is the top level: read_config (a cutting
 // process) and read_grinding_config (a [grinding] config) call them in order,
 // parse_config / load_config and parse_grinding_config / load_grinding_config
 // wrap them with the same parsing.
@@ -86,7 +86,8 @@ Config read_config(const toml::table& root_table, const Document& doc) {
   if (root.has("grinding"))
     doc.fail_key("grinding", "a grinding config ([grinding]) has no turning or milling [process], so no stability "
                              "lobes: read it with the grinding commands (chatter grind ..., load_grinding_config)");
-  constexpr std::string_view kTopKeys[] = {"name", "process", "tool", "workpiece", "sweep", "positions", "uncertainty"};
+  constexpr std::string_view kTopKeys[] = {"name",      "process",     "tool",        "workpiece",
+                                           "sweep",     "positions",   "uncertainty", "optimization"};
   root.reject_unknown(kTopKeys);
 
   Config config;
@@ -116,6 +117,8 @@ Config read_config(const toml::table& root_table, const Document& doc) {
   // Checked against the model and process read above, so only when they are sound.
   if (doc.error_count() == 0)
     attempt_void([&] { config.uncertainty = read_uncertainty(root, config.model, config.process); });
+  if (doc.error_count() == 0)
+    attempt_void([&] { config.optimization = read_optimization(root, config.process); });
   doc.throw_if_errors();
   // (Cantilever lengths are checked when a position is asked for, so a config
   // with two bars of different lengths still loads for the other commands.)
@@ -132,7 +135,7 @@ GrindingConfig read_grinding_config(const toml::table& root_table, const Documen
   constexpr std::string_view kTopKeys[] = {"name", "grinding", "tool", "workpiece"};
   for (auto&& [key, value] : root_table) {
     const std::string_view k = key.str();
-    if (k == "process" || k == "sweep" || k == "positions" || k == "uncertainty")
+    if (k == "process" || k == "sweep" || k == "positions" || k == "uncertainty" || k == "optimization")
       doc.error_key(std::string(k), "not in a grinding config (a config is a cutting process with [process], or "
                                     "grinding with [grinding]; its robot's modes go in [[tool.modes]])");
     else if (std::find(std::begin(kTopKeys), std::end(kTopKeys), k) == std::end(kTopKeys))

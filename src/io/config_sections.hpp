@@ -1,7 +1,7 @@
 // Internal (not installed): the section readers of the TOML config reader,
 // one file each, called by read_config (src/io/config.cpp) in this order:
 // process, tool and workpiece, positions, sweep, then (only when everything
-// above read without errors) uncertainty; after the errors, the warnings
+// above read without errors) uncertainty and optimization; after the errors, the warnings
 // that need the whole config (warn_frequency_vs_speeds). Each reader records
 // its errors on the Document and throws Skip to abandon its table
 // (config_read.hpp explains the pattern; a new section is one more file and
@@ -48,6 +48,11 @@ void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc
 /// `[uncertainty]`: spreads checked against the model and process read.
 std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const StructuralModel& model,
                                                    const Process& process);
+
+// config_optimization.cpp
+/// `[optimization]`: the objective, bounds, loss, constraints and index
+/// models of performance / optimize / adapt, checked against the process read.
+std::optional<OptimizationSpec> read_optimization(const Table& root, const Process& process);
 
 // config_grinding.cpp
 /// `[grinding]` of a grinding config (include/chatter/io/grinding_config.hpp):

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "chatter/lobes.hpp"  // SolverValue
+#include "chatter/optimization_problem.hpp"
 #include "chatter/position.hpp"
 #include "chatter/process.hpp"
 #include "chatter/structural_model.hpp"
@@ -55,6 +56,10 @@ struct Config {
   /// fractions, checked against `model` (the first [[positions]] set, whose
   /// mode count every set shares) and `process`; absent without the table.
   std::optional<UncertaintySpreads> uncertainty;
+  /// `[optimization]`: the objective, bounds, loss, constraints and index
+  /// models of `chatter performance`, `optimize` and `adapt`
+  /// (docs/optimization.md); absent without the table.
+  std::optional<OptimizationSpec> optimization;
   /// The `[process]` table exactly as written, key by key (in key order)
   /// (numbers as parsed: they write back as the shortest decimal that reads
   /// the same, so `helix_angle_deg = 30` is echoed as 30; arrays of numbers
