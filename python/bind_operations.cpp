@@ -119,10 +119,11 @@ py::dict recommend(const Job& job_in, double feed_per_tooth_mm, std::optional<do
                    std::optional<double> workpiece_diameter_mm,
                    std::optional<double> tangential_coefficient_n_per_m2, std::optional<double> radial_immersion,
                    std::optional<int> teeth, std::optional<std::string> milling_direction, const std::string& method,
-                   int threads, std::optional<double> position_mm) {
+                   int threads, std::optional<double> position_mm, std::optional<double> max_sle_um) {
   const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   chatter::RecommendArgs a;
+  a.max_sle_um = max_sle_um;
   a.feed_per_tooth_mm = feed_per_tooth_mm;
   a.rpm_min = rpm_min;
   a.rpm_max = rpm_max;
@@ -160,6 +161,7 @@ void bind_operations(py::module_& m) {
         "tool_diameter_mm"_a = py::none(), "workpiece_diameter_mm"_a = py::none(),
         "tangential_coefficient_n_per_m2"_a = py::none(), "radial_immersion"_a = py::none(), "teeth"_a = py::none(),
         "milling_direction"_a = py::none(), "method"_a = "auto", "threads"_a = 0, "position_mm"_a = py::none(),
+        "max_sle_um"_a = py::none(),
         "The speed and depth that remove the most material, stable and within power and torque: the record of "
         "chatter recommend --json.");
 }

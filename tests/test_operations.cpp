@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/forced.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/solvers.hpp"
@@ -790,6 +791,65 @@ TEST(RobustSpeed, FluteLengthCapsTheRecommendedDepth) {
   EXPECT_FALSE(has(shallow, Binding::kFluteLength)) << bindings(shallow);
   o.flute_length_m = 0.0;
   EXPECT_THROW(recommend(cfg.model, cfg.process, o), InputError);
+}
+
+// The part's tolerance on the forced vibration (--max-sle-um). Turning case
+// A: the diametral error of the constant force is 2 K_f b f / k (docs/forced.md),
+// so the deepest cut within a tolerance e is b = e k / (2 K_f f), written
+// here from the closed form, not the engine's forced response.
+TEST(Recommend, PartErrorCapsTurningAtTheClosedForm) {
+  const Config cfg = case_a();
+  RecommendOptions o;
+  o.machine = range(500, 2000);
+  o.feed_per_tooth_m = 0.1e-3;  // per revolution
+  o.depth_max_m = 0.02;
+  const double tol = 4e-6, kf = 2.4e9, k = 45e6;
+  o.max_part_error_m = tol;
+  const Recommendation r = recommend(cfg.model, cfg.process, o);
+  const double closed = tol * k / (2.0 * kf * o.feed_per_tooth_m);  // 0.375 mm
+  EXPECT_NEAR(r.depth_m, closed, 2e-4 * closed);
+  EXPECT_LE(r.part_error_m, tol * (1.0 + 1e-9));
+  EXPECT_NEAR(r.part_error_m, tol, 2e-4 * tol);
+  EXPECT_TRUE(has(r, Binding::kSurfaceError)) << bindings(r);
+  EXPECT_FALSE(has(r, Binding::kStability)) << bindings(r);
+  EXPECT_EQ(r.spindle_rpm, 2000.0);  // MRR grows with speed at a fixed depth
+  o.max_part_error_m = 0.0;
+  EXPECT_THROW(recommend(cfg.model, cfg.process, o), InputError);
+}
+
+// Milling (case C's mode along X and Y, the forced example of docs/forced.md):
+// the recommended cut's error is the forced response's at that point, within
+// the tolerance and on it when it binds (a deeper cut at the same speed would
+// exceed it); a loose tolerance changes nothing.
+TEST(Recommend, PartErrorCapsMillingAtTheForcedResponse) {
+  const Config cfg = load_config(fs::path(CHATTER_SOURCE_DIR) / "examples/forced/case_c_xy.toml");
+  RecommendOptions o;
+  o.machine = range(5000, 25000);
+  o.feed_per_tooth_m = 0.05e-3;
+  o.depth_max_m = 0.01;
+  const Recommendation free = recommend(cfg.model, cfg.process, o);
+  o.max_part_error_m = 1.0;  // 1 m: never binding
+  const Recommendation loose = recommend(cfg.model, cfg.process, o);
+  EXPECT_EQ(loose.spindle_rpm, free.spindle_rpm);
+  EXPECT_EQ(loose.depth_m, free.depth_m);
+  EXPECT_FALSE(has(loose, Binding::kSurfaceError)) << bindings(loose);
+  o.max_part_error_m = 10e-6;
+  const Recommendation r = recommend(cfg.model, cfg.process, o);
+  const ForcedResponseSolver forced(cfg.model, cfg.process);
+  auto sle = [&](double depth) {
+    ForcedSettings st;
+    st.spindle_rpm = r.spindle_rpm;
+    st.depth_m = depth;
+    st.feed_m = o.feed_per_tooth_m;
+    st.record_path = false;
+    const ForcedResponse f = forced.response(st);
+    return f.stable ? std::abs(f.surface_location_error_m) : std::numeric_limits<double>::infinity();
+  };
+  EXPECT_DOUBLE_EQ(r.part_error_m, sle(r.depth_m));
+  EXPECT_LE(r.part_error_m, *o.max_part_error_m * (1.0 + 1e-9));
+  ASSERT_TRUE(has(r, Binding::kSurfaceError)) << bindings(r);
+  EXPECT_GT(sle(r.depth_m * (1.0 + 1e-3)), *o.max_part_error_m);
+  EXPECT_LE(r.depth_m * r.spindle_rpm, free.depth_m * free.spindle_rpm);  // a constraint never adds MRR
 }
 
 // ============================================= low speed: the dense region

@@ -432,6 +432,11 @@ struct RecommendOptions {
   /// true K_c = K_f·tanθ is larger, so power and torque are then
   /// underestimated — a warning says so).
   std::optional<double> cutting_coefficient_n_per_m2;
+  /// The part's tolerance on the forced vibration's error, m (> 0; empty =
+  /// not a constraint): milling |surface location error|, turning the
+  /// diametral error, of the linear forced response at the recommended feed
+  /// (forced_check's part error; docs/forced.md). Binding::kSurfaceError.
+  std::optional<double> max_part_error_m;
   std::string method = "auto";
   /// Threads for the scan (0 = every core); the result does not depend on it.
   unsigned threads = 1;
@@ -449,8 +454,10 @@ enum class Binding {
   kDepthMax,    ///< depth = the tool's depth_max
   kSpeedRange,  ///< speed at rpm_min or rpm_max and MRR would grow beyond it
   kFluteLength, ///< depth = the cutter's usable flute length
+  kSurfaceError,  ///< the forced vibration's part error = max_part_error_m
 };
-/// "stability", "power", "torque", "depth_max", "speed_range", "flute_length".
+/// "stability", "power", "torque", "depth_max", "speed_range", "flute_length",
+/// "surface_error".
 std::string to_string(Binding b);
 
 struct Recommendation {
@@ -467,6 +474,12 @@ struct Recommendation {
   double depth_torque_m = 0.0;
   double depth_cap_m = 0.0;        ///< options.depth_max_m
   double depth_flute_m = 0.0;      ///< options.flute_length_m (+inf when not given)
+  /// The deepest cut whose part error stays within max_part_error_m (+inf
+  /// when not given or not binding below the other caps).
+  double depth_part_error_m = std::numeric_limits<double>::infinity();
+  /// The part error of the recommended cut (|SLE| milling, diametral error
+  /// turning), m; NaN unless max_part_error_m is given.
+  double part_error_m = std::numeric_limits<double>::quiet_NaN();
   /// Stability over the speed band: worst_limit_m is the smallest limit over
   /// spindle_rpm × (1 ± tol), worst_margin = worst_limit / depth (>= 1/safety),
   /// pocket edges where safety × limit >= depth.
@@ -483,7 +496,8 @@ struct Recommendation {
 
 /// The speed in [rpm_min, rpm_max] and depth maximising MRR subject to
 /// depth ≤ safety × limit(rpm), mean power ≤ max_power, mean torque ≤
-/// max_torque and depth ≤ depth_max (docs/physics.md §3 force model; see
+/// max_torque, depth ≤ depth_max and, when max_part_error_m is given, the
+/// forced vibration's part error ≤ it (docs/physics.md §3 force model; see
 /// docs/operations.md):
 ///   turning:  F_c = K_c b f,  T = F_c D/2,  P = F_c π D N/60,  MRR = b f π D N/60;
 ///   milling:  T = (D/2)(N_t/2π) K_t a f_z (cos φ_en − cos φ_ex),  P = T·2πN/60,
@@ -493,7 +507,12 @@ struct Recommendation {
 /// maximised over the scan of robust_speed() (evenly spaced in 1/rpm, ≈ 8
 /// solves per lobe), then by Brent's minimiser on exact solves between
 /// the best scan points' neighbours. Ties in MRR (power-bound: MRR = P_max/K
-/// is then the same at every speed) go to the largest worst margin.
+/// is then the same at every speed) go to the largest worst margin. The
+/// part-error cap at a speed: the depth where the error reaches the
+/// tolerance, by Illinois regula falsi on [0, the other caps' minimum] to
+/// 1e-4 of the depth (the error grows with depth, linearly for straight
+/// teeth: one or two forced responses then), each a forced response (about
+/// one sdm analysis).
 /// @throws InputError on invalid options, or on a power/torque limit without
 ///         a diameter.
 Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options);

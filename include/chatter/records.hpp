@@ -144,6 +144,9 @@ struct RecommendArgs {
   std::optional<double> radial_immersion;
   std::optional<int> teeth;
   std::optional<std::string> milling_direction;
+  /// The part's tolerance on the forced vibration's error, um: milling
+  /// |SLE|, turning the diametral error (RecommendOptions::max_part_error_m).
+  std::optional<double> max_sle_um;
   std::string method = "auto";
   unsigned threads = 0;
 };

@@ -250,6 +250,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
       ("radial-immersion", po::value<double>(), "milling: a_e/D in (0, 1] (default: the config's)")
       ("teeth", po::value<int>(), "milling: number of teeth (default: the config's)")
       ("milling-direction", po::value<std::string>(), "milling: 'down' or 'up' (default: the config's)")
+      ("max-sle-um", po::value<double>(), "the part's tolerance, um: the forced vibration's surface location error (milling, |SLE|) or diametral error (turning) of the recommended cut stays within it (docs/forced.md; default: not a constraint)")
       ("json", po::value<std::string>(&json_path), "also write every number as JSON to this file ('-': standard output, the explanation then goes to standard error)")
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
       ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
@@ -262,7 +263,8 @@ int cmd_recommend(const std::vector<std::string>& args) {
              "Finds the spindle speed in [rpm-min, rpm-max] and the depth of cut that remove the most\n"
              "material (MRR) while the depth stays below safety x the stability limit and the mean\n"
              "cutting power and torque stay within the spindle's. Explains which limit binds\n"
-             "(stability, power, torque, depth_max, flute_length, speed_range), the margin and the MRR.\n"
+             "(stability, power, torque, depth_max, flute_length, speed_range, surface_error), the margin\n"
+             "and the MRR. --max-sle-um adds the part's tolerance on the forced vibration's error.\n"
              "The speed is robust: the depth stays below safety x the worst limit while the speed is\n"
              "off by up to +/- --speed-tolerance-pct; the stable pocket around it is reported.\n"
              "Mean cutting force: turning F_c = K_c b f; milling from K_t a h(phi) averaged over the\n"
@@ -288,6 +290,7 @@ int cmd_recommend(const std::vector<std::string>& args) {
   a.radial_immersion = opt_value(vm, "radial-immersion");
   if (vm.count("teeth")) a.teeth = vm["teeth"].as<int>();
   if (vm.count("milling-direction")) a.milling_direction = vm["milling-direction"].as<std::string>();
+  a.max_sle_um = opt_value(vm, "max-sle-um");
   a.method = method;
   a.threads = thread_count(vm);
   RecommendPlan plan = recommend_plan(cfg, a, ArgStyle::kFlag);

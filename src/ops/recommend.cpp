@@ -3,6 +3,7 @@
 // (include/chatter/operations.hpp, docs/operations.md "chatter recommend").
 #include <algorithm>
 #include <atomic>
+#include <map>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/forced.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/solvers.hpp"
 #include "ops_internal.hpp"
@@ -42,6 +44,9 @@ constexpr double kRobustBindingRelative = 1e-3;
 // The recommendation searches limits up to this multiple of depth_max/safety,
 // so a limit near the tool's depth cap is still reported (and can co-bind).
 constexpr double kRecommendSearchFactor = 2.0;
+// The part-error cap is located to this fraction of the depth.
+constexpr double kPartErrorDepthRel = 1e-4;
+constexpr int kPartErrorMaxResponses = 60;
 
 }  // namespace
 
@@ -62,6 +67,8 @@ std::string RecommendOptions::validate() const {
     os << "flute_length = " << *flute_length_m * 1e3 << " mm: must be > 0";
   else if (const std::string t = validate_speed_tolerance(speed_tolerance, "speed tolerance x 100"); !t.empty())
     os << t;
+  else if (max_part_error_m && !(std::isfinite(*max_part_error_m) && *max_part_error_m > 0.0))
+    os << "max part error = " << *max_part_error_m * 1e6 << " um: must be > 0";
   return os.str();
 }
 
@@ -73,6 +80,7 @@ std::string to_string(Binding b) {
     case Binding::kDepthMax: return "depth_max";
     case Binding::kSpeedRange: return "speed_range";
     case Binding::kFluteLength: return "flute_length";
+    case Binding::kSurfaceError: return "surface_error";
   }
   return "?";
 }
@@ -115,6 +123,61 @@ CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std:
   return c;
 }
 
+// The deepest depth in (0, d_hi] whose part error (forced_check's: |SLE| in
+// milling, the diametral error in turning) stays within `tol`; +inf when it
+// holds at d_hi. The error grows with depth (the force does): Illinois
+// regula falsi on err(d) − tol over [0, d_hi], the lower end kept feasible;
+// an unstable point counts as out of tolerance (bisection there).
+class PartErrorCap {
+ public:
+  PartErrorCap(const StructuralModel& model, const Process& process, double feed_m, double tol)
+      : solver_(model, process), feed_m_(feed_m), tol_(tol) {}
+
+  double error(double rpm, double depth_m) const {
+    ForcedSettings st;
+    st.spindle_rpm = rpm;
+    st.depth_m = depth_m;
+    st.feed_m = feed_m_;
+    st.record_path = false;
+    const ForcedResponse r = solver_.response(st);
+    if (!r.stable) return kInf;
+    return r.milling ? std::abs(r.surface_location_error_m) : r.diametral_error_m;
+  }
+
+  double cap(double rpm, double d_hi) {
+    if (!(std::isfinite(d_hi) && d_hi > 0.0)) return kInf;
+    const auto key = std::make_pair(rpm, d_hi);
+    if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
+    double lo = 0.0, g_lo = -tol_, hi = d_hi, g_hi = error(rpm, d_hi) - tol_;
+    double result = kInf;
+    if (g_hi > 0.0) {
+      int side = 0;
+      for (int i = 0; i < kPartErrorMaxResponses && hi - lo > kPartErrorDepthRel * hi; ++i) {
+        const double x = std::isfinite(g_hi) ? lo + (hi - lo) * g_lo / (g_lo - g_hi) : 0.5 * (lo + hi);
+        const double gx = error(rpm, x) - tol_;
+        if (gx <= 0.0) {
+          lo = x, g_lo = gx;
+          if (side == -1 && std::isfinite(g_hi)) g_hi *= 0.5;
+          side = -1;
+        } else {
+          hi = x, g_hi = gx;
+          if (side == 1) g_lo *= 0.5;
+          side = 1;
+        }
+        if (gx <= 0.0 && gx > -kPartErrorDepthRel * tol_) break;  // on the tolerance
+      }
+      result = lo;
+    }
+    cache_.emplace(key, result);
+    return result;
+  }
+
+ private:
+  ForcedResponseSolver solver_;
+  double feed_m_, tol_;
+  std::map<std::pair<double, double>, double> cache_;
+};
+
 }  // namespace
 
 Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options) {
@@ -146,8 +209,12 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   };
   s.scan();
 
+  std::optional<PartErrorCap> part_error;
+  if (options.max_part_error_m)
+    part_error.emplace(model, process, options.feed_per_tooth_m, *options.max_part_error_m);
+
   struct Cand {
-    double rpm, worst, stab, power, torque, cap, flute, depth, objective, margin;
+    double rpm, worst, stab, power, torque, cap, flute, part, depth, objective, margin;
   };
   // `exact`: the worst limit over the band from exact solves, else the scan's estimate.
   auto evaluate = [&](double n, bool exact) {
@@ -160,7 +227,9 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     c.torque = std::isfinite(mc.max_torque_n_m) ? mc.max_torque_n_m / cm.torque_per_depth : kInf;
     c.cap = options.depth_max_m;
     c.flute = flute;
-    c.depth = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
+    const double others = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
+    c.part = part_error ? part_error->cap(n, others) : kInf;
+    c.depth = std::min(others, c.part);
     c.objective = n * c.depth;  // MRR / (mrr per depth·rpm)
     c.margin = c.worst / c.depth;
     return c;
@@ -219,6 +288,8 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   rec.depth_torque_m = best.torque;
   rec.depth_cap_m = best.cap;
   rec.depth_flute_m = best.flute;
+  rec.depth_part_error_m = best.part;
+  if (part_error) rec.part_error_m = part_error->error(rec.spindle_rpm, rec.depth_m);
   rec.pocket = make_pocket(s, best.rpm, rec.depth_m, rec.depth_m / options.safety);
   rec.pocket.limit = rec.limit;
   rec.pocket.worst_limit_m = best.worst;
@@ -235,6 +306,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
   if (binds(best.cap)) rec.binding.push_back(Binding::kDepthMax);
   if (binds(best.flute)) rec.binding.push_back(Binding::kFluteLength);
+  if (binds(best.part)) rec.binding.push_back(Binding::kSurfaceError);
   // The speed range binds when the optimum sits on an end of the range and MRR
   // still grows towards it (a power-bound MRR is flat in speed: it does not).
   if (!binds(best.power) && (ib == 0 || ib + 1 == pts.size()) && best.rpm == pts[ib]) {
@@ -284,6 +356,11 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
       case Binding::kFluteLength:
         os << "the cutter's usable flute length " << f(r.depth_flute_m * 1e3, 3) << " mm";
         break;
+      case Binding::kSurfaceError:
+        os << "the part's tolerance (forced vibration: "
+           << "part error " << f(r.part_error_m * 1e6, 2) << " um = "
+           << f(*o.max_part_error_m * 1e6, 2) << " um limit)";
+        break;
       case Binding::kSpeedRange:
         os << "speed range (at the machine's "
            << (r.spindle_rpm >= o.machine.rpm_max ? "maximum " : "minimum ") << f(r.spindle_rpm, 0)
@@ -316,6 +393,10 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
     os << "MRR: " << f(r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3, 4)
        << " cm^3/min per mm of diameter (give the diameter for MRR, power and torque)\n";
   }
+  if (o.max_part_error_m)
+    os << "Part error (forced vibration, linear model): "
+       << f(r.part_error_m * 1e6, 2) << " um of " << f(*o.max_part_error_m * 1e6, 2)
+       << " um allowed (milling: |surface location error|; turning: diametral error)\n";
   for (const auto& w : r.warnings) os << "warning: " << w << "\n";
   return os.str();
 }

@@ -137,6 +137,7 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
   opt.threads = a.threads;
   opt.speed_tolerance = speed_tolerance(a.speed_tolerance_pct, style);
   if (milling) opt.flute_length_m = cfg.flute_length_m;
+  if (a.max_sle_um) opt.max_part_error_m = positive("max_sle_um", *a.max_sle_um) * 1e-6;
 
   Process process = cfg.process;
   if (milling) {
@@ -259,7 +260,8 @@ json recommend_record(const Recommendation& r, const RecommendOptions& opt, cons
                  {"depth_max_mm", opt.depth_max_m * 1e3},
                  {"flute_length_mm", opt.flute_length_m ? json(*opt.flute_length_m * 1e3) : json(nullptr)},
                  {"speed_tolerance_pct", opt.speed_tolerance * 100.0},
-                 {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)}};
+                 {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)},
+                 {"max_sle_um", opt.max_part_error_m ? json(*opt.max_part_error_m * 1e6) : json(nullptr)}};
   if (process.operation() == Operation::kMilling) {
     const auto& mp = process.milling_parameters();
     j["inputs"]["radial_immersion"] = mp.radial_immersion;
@@ -275,7 +277,11 @@ json recommend_record(const Recommendation& r, const RecommendOptions& opt, cons
                         {"power", finite_or_null(r.depth_power_m * 1e3)},
                         {"torque", finite_or_null(r.depth_torque_m * 1e3)},
                         {"depth_max", finite_or_null(r.depth_cap_m * 1e3)},
-                        {"flute_length", finite_or_null(r.depth_flute_m * 1e3)}};
+                        {"flute_length", finite_or_null(r.depth_flute_m * 1e3)},
+                        {"surface_error", finite_or_null(r.depth_part_error_m * 1e3)}};
+  // The forced vibration's part error at the recommended cut (|SLE| milling,
+  // diametral error turning), when a tolerance was given.
+  j["part_error_um"] = finite_or_null(r.part_error_m * 1e6);
   j["speed_band"] = pocket_json(r.pocket);
   json b = json::array();
   for (auto x : r.binding) b.push_back(to_string(x));

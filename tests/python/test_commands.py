@@ -60,6 +60,13 @@ def test_recommend_is_the_record_and_checks_name_the_keywords():
     assert r["depth_mm"] <= 0.8 * r["speed_band"]["worst_limit_mm"] * (1 + 1e-12)  # safety x the worst limit
     assert r["power_kw"] <= 1.0 * (1 + 1e-9)
     assert "explanation" in r and r["inputs"]["max_power_kw"] == 1.0
+    # The part's tolerance on the forced vibration (chatter recommend --max-sle-um).
+    xy = chatter.load(str(SOURCE_DIR / "examples" / "forced" / "case_c_xy.toml"))
+    t = chatter.recommend(xy, feed_per_tooth_mm=0.05, max_sle_um=10, rpm_min=5000, rpm_max=25000, depth_max_mm=10)
+    assert "surface_error" in t["binding"] and t["part_error_um"] <= 10 * (1 + 1e-9)
+    assert t["inputs"]["max_sle_um"] == 10
+    with pytest.raises(chatter.InputError, match=r"^max_sle_um = 0: must be > 0$"):
+        chatter.recommend(xy, feed_per_tooth_mm=0.05, max_sle_um=0)
     with pytest.raises(chatter.InputError, match=r"^feed_per_tooth_mm = -1: must be > 0$"):
         chatter.recommend(job, feed_per_tooth_mm=-1)
     with pytest.raises(chatter.InputError, match=r"^workpiece_diameter_mm: only for turning"):
