@@ -4,6 +4,7 @@
 #include <boost/program_options.hpp>
 
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -33,6 +34,7 @@ int cmd_point(const std::vector<std::string>& args) {
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)")
       ("fail-on-chatter", "exit with status 3 when the point chatters (for scripts: 0 stable, 3 chatter, 2 bad input)");
+  add_speed_variation_options(d);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter point CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -43,7 +45,8 @@ int cmd_point(const std::vector<std::string>& args) {
                    "stable), multiplier_type (hopf, flip, fold) and the dominant multiplier.\n",
              d, common, vm))
     return 0;
-  const chatter::Config cfg = load_checked(common);
+  chatter::Config cfg = load_checked(common);
+  apply_speed_variation_options(vm, common, cfg);
   chatter::check_spindle_rpm(rpm, "--rpm");
   chatter::check_depth_mm(depth_mm, "--depth-mm");
   double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);
@@ -56,7 +59,16 @@ int cmd_point(const std::vector<std::string>& args) {
   // The limit (the lobe-table row), the process's frequencies and the
   // method's own analysis at the depth: one report, one record
   // (chatter/report.hpp, chatter/records.hpp; docs/results.md).
-  const chatter::PointReport report = chatter::report_point(*built.solver, cfg.process, rpm, depth_mm);
+  // Speed variation: the same method at constant speed, for the gain.
+  std::unique_ptr<chatter::LobeSolver> constant_speed;
+  if (cfg.process.has_speed_variation()) {
+    chatter::Config steady = cfg;
+    steady.process = cfg.process.at_constant_speed();
+    constant_speed = chatter::make_lobe_solver(built.method, steady.model, steady.process, depth_max_mm * 1e-3,
+                                               solver_option_values(*built.descriptor, steady, vm));
+  }
+  const chatter::PointReport report =
+      chatter::report_point(*built.solver, cfg.process, rpm, depth_mm, constant_speed.get());
   chatter::RecordSource source = chatter::record_source(cfg, common.position_mm);
   source.notes = built.notes;
   for (const std::string& n : report.notes) std::cerr << "note: " << n << "\n";

@@ -44,7 +44,8 @@ void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
                      " mm (no cut is a metre deep): typed in um?");
 }
 
-PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm) {
+PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
+                         const LobeSolver* constant_speed) {
   const double depth_m = depth_mm * 1e-3;
   PointReport r;
   r.depth_mm = depth_mm;
@@ -60,6 +61,15 @@ PointReport report_point(const LobeSolver& solver, const Process& process, doubl
   const bool below_limit = depth_m < r.limit.limit.depth_limit_m;
   r.stable = r.at_depth.stable.value_or(below_limit);
   r.margin = r.limit.limit.bounded() ? r.limit.limit.depth_limit_m / depth_m : std::numeric_limits<double>::infinity();
+  if (process.has_speed_variation() && constant_speed) {
+    SpeedVariationGain g;
+    g.asked = process.speed_variation();
+    g.period = speed_variation_period(process, spindle_rpm);
+    const StabilityLimit base = constant_speed->limit_at(spindle_rpm);
+    g.constant_speed_limit_m = base.depth_limit_m;
+    if (base.bounded() && r.limit.limit.bounded()) g.gain = r.limit.limit.depth_limit_m / base.depth_limit_m;
+    r.speed_variation = g;
+  }
   if (r.at_depth.stable && *r.at_depth.stable != below_limit) {
     std::ostringstream os;
     os.precision(4);
