@@ -5,6 +5,8 @@
 // the same command finds at constant speed.
 #include <cmath>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -106,6 +108,67 @@ TEST_F(CliSsv, PointReportsTheGainOverConstantSpeed) {
   EXPECT_DOUBLE_EQ(sv["constant_speed_depth_limit_mm"].get<double>(), constant);
   EXPECT_NEAR(sv["gain"].get<double>() / (with / constant), 1.0, kGainRatio);
   EXPECT_GT(sv["gain"].get<double>(), 1.5);  // test_ssv checks the value against an independent scheme
+}
+
+}  // namespace
+
+namespace {
+
+// The map's CSV as (R_VA, R_VF) -> ρ per revolution.
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::istringstream l(line);
+    std::string c;
+    while (std::getline(l, c, ',')) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST_F(CliSsv, SsvMapIsThePointsSpectralRadiusPerRevolution) {
+  const auto r = run({"map", kCaseA, "--ssv-map", "--rpm", "300", "--depth-mm", "2", "--ssv-amplitude-max", "0.2",
+                      "--ssv-amplitude-points", "2", "--ssv-frequency-min", "0.1", "--ssv-frequency-max", "0.25",
+                      "--ssv-frequency-points", "2", "--out", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "amplitude_ratio,frequency_ratio,frequency_ratio_used,exact_period,"
+                              "spectral_radius_per_revolution\n"))
+      << r.out;
+  const auto rows = csv_rows(r.out);
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 5u);
+    const std::string a = row[0], f = row[1];
+    const json p = point({kCaseA, "--rpm", "300", "--depth-mm", "2", "--method", "sdm", "--ssv-amplitude", a,
+                          "--ssv-frequency", f});
+    // Per revolution: ρ over the principal period of q revolutions, to the 1/q.
+    const double q = p.contains("speed_variation") ? p["speed_variation"]["floquet_periods"].get<double>() : 1.0;
+    const double expected = std::pow(p["spectral_radius"].get<double>(), 1.0 / q);
+    EXPECT_NEAR(std::stod(row[4]) / expected, 1.0, 1e-9) << "R_VA " << a << ", R_VF " << f;
+    EXPECT_EQ(row[3], "true");
+  }
+  // R_VA = 0 is constant speed: unstable at 2 mm (limit 1.35 mm); R_VA = 0.2 stable (docs/ssv.md).
+  EXPECT_GT(std::stod(rows[0][4]), 1.0);
+  EXPECT_LT(std::stod(rows[2][4]), 1.0);
+}
+
+TEST_F(CliSsv, SsvMapOptionsAreChecked) {
+  auto r = run({"map", kCaseA, "--ssv-map", "--rpm", "300"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--ssv-map: needs --rpm and --depth-mm")) << r.err;
+  r = run({"map", kCaseA, "--rpm", "300", "--depth-mm", "1"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--rpm: only with --ssv-map")) << r.err;
+  r = run({"map", kCaseA, "--ssv-map", "--rpm", "300", "--depth-mm", "1", "--ssv-amplitude-max", "1"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--ssv-amplitude-max = 1: must be in (0, 1)")) << r.err;
+  r = run({"map", kCaseA, "--ssv-map", "--rpm", "300", "--depth-mm", "1", "--rpm-min", "100"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--rpm-min: not with --ssv-map")) << r.err;
 }
 
 }  // namespace

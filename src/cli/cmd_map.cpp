@@ -18,6 +18,7 @@
 #include "chatter/records/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "cli_common.hpp"
+#include "cmd_map_ssv.hpp"
 #include "commands.hpp"
 #include "live_plot.hpp"
 
@@ -45,6 +46,7 @@ int cmd_map(const std::vector<std::string>& args) {
                                                    "as JSON ('-': standard output)")
       ("plot", po::value<std::string>(&plot_path), "draw the map to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
   add_show_option(d);
+  add_ssv_map_options(d);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv] [--plot map.png]\n\n"
@@ -54,10 +56,16 @@ int cmd_map(const std::vector<std::string>& args) {
                    "--plot (or --show) draws it as a heat map (spindle speed x depth, colour = spectral\n"
                    "radius) with the boundary rho = 1 as a line, its Hopf and flip (period-doubling)\n"
                    "parts in different styles and the flip-dominated unstable points marked; this also\n"
-                   "finds the type of the dominant multiplier at every unstable point (slower).\n",
+                   "finds the type of the dominant multiplier at every unstable point (slower).\n"
+                   "With --ssv-map --rpm N --depth-mm D: the spectral radius per revolution over the spindle\n"
+                   "speed variation (amplitude ratio x frequency ratio) at that speed and depth instead\n"
+                   "(CSV columns amplitude_ratio,frequency_ratio,frequency_ratio_used,exact_period,\n"
+                   "spectral_radius_per_revolution; docs/ssv.md).\n",
              d, common, vm))
     return 0;
   map_method(common.method, ArgStyle::kFlag);
+  if (vm.count("ssv-map")) return run_ssv_map(vm, common, floquet_method, out_path, plot_path);
+  check_no_ssv_map_options(vm);
   const ShowRequest show = show_request(vm);  // a display or GNUPLOT_TERM, before computing
   const bool drawn = !plot_path.empty() || show.requested;
   const bool json_to_stdout = json_path == "-";
