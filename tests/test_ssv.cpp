@@ -146,6 +146,37 @@ TEST(SsvSdm, VanishingAmplitudeGivesTheConstantSpeedLimit) {
   }
 }
 
+TEST(SsvSdm, VanishingAmplitudeGivesTheConstantSpeedLimitInMilling) {
+  // docs/physics.md case C, a_e/D = 0.05 down-milling, 2 teeth: the SSV grid
+  // is the constant-speed real-cutter grid over 20 tooth periods.
+  MillingParameters mp;
+  mp.teeth = 2;
+  mp.tangential_coefficient_n_per_m2 = 6e8;
+  mp.radial_coefficient_n_per_m2 = 2e8;
+  mp.radial_immersion = 0.05;
+  StructuralModel m;
+  m.tool.modes.push_back(Mode::from_mass(922.0, 0.011, 0.03993, {1.0, 0.0}));
+  const Process steady = Process::milling(mp);
+  Process tiny = steady;
+  tiny.set_speed_variation({1e-9, 0.1});
+  for (double rpm : {6000.0, 17000.0}) {
+    const double a0 = SemiDiscretizationSolver(m, steady).limit_at(rpm).depth_limit_m;
+    const double a1 = SemiDiscretizationSolver(m, tiny).limit_at(rpm).depth_limit_m;
+    EXPECT_NEAR(a1 / a0, 1.0, kConstantLimit) << rpm << " rev/min: constant " << a0 * 1e3 << " mm, R_VA = 1e-9 "
+                                               << a1 * 1e3 << " mm";
+  }
+}
+
+TEST(SsvSdm, TooLongAPeriodIsRefusedWithWhatToChange) {
+  // 50 rev/min, R_VF = 0.001: 1 000 revolutions of 7 238 steps.
+  try {
+    SemiDiscretizationSolver(case_a(), turning_a(0.1, 0.001)).limit_at(50.0);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frequency ratio"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SsvSdm, AnalyticMethodRefusesAndNamesSdm) {
   try {
     make_lobe_solver("analytic", case_a(), turning_a(0.1, 0.1), 0.02);

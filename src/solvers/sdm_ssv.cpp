@@ -33,6 +33,15 @@
 #include "chatter/error.hpp"
 
 namespace chatter::sdm_detail {
+namespace {
+
+// Most steps in one principal period: each step keeps its map and its
+// delayed-sample terms (about 0.5 kB with one mode), so this bounds the
+// memory of one map near 0.5 GB. Case A at 100 rev/min with R_VF = 0.01
+// (100 revolutions) needs 362 000.
+constexpr double kMaxPeriodSteps = 1e6;
+
+}  // namespace
 
 Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm) {
   if (p.has_process_damping())
@@ -49,13 +58,16 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
   g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
   const double per_tooth = std::ceil(tooth / g.h_target - 1e-9);
   const double needed = std::ceil(g.tau / g.h_target - 1e-9);
-  if (per_tooth > o.max_steps_per_period || needed > 64.0 * o.max_steps_per_period) {
+  if (per_tooth > o.max_steps_per_period || needed > kMaxPeriodSteps) {
     std::ostringstream os;
+    os.precision(6);
     os << "sdm with speed variation at " << rpm << " rev/min needs about " << needed << " steps over its period of "
-       << g.tau << " s (" << per_tooth << " per tooth period), more than max_steps_per_period = "
-       << o.max_steps_per_period
-       << " per tooth period (64 times that per principal period): raise the speed or the frequency ratio, or "
-          "lower steps_per_vibration_cycle";
+       << g.tau << " s (" << g.ssv_period.modulation_periods << " modulation periods, " << per_tooth
+       << " steps per tooth period), more than " << (per_tooth > o.max_steps_per_period ? "max_steps_per_period = " : "")
+       << static_cast<long long>(per_tooth > o.max_steps_per_period ? o.max_steps_per_period : kMaxPeriodSteps)
+       << (per_tooth > o.max_steps_per_period ? " per tooth period" : " per period")
+       << ": raise the speed or the frequency ratio (a shorter modulation period), or lower "
+          "steps_per_vibration_cycle";
     throw InputError(os.str());
   }
   if (!p.has_helix()) g.cutter_grid = std::make_shared<const CutterGrid>(ssv_cutter_grid(p, g, o.axial_slices, 1.0));
