@@ -97,10 +97,12 @@ struct PointReport {
 /// The report of one point: limit_with_diagnostics(rpm) (the table row),
 /// analyse_point(rpm, depth), the process's frequencies. The depth is taken
 /// in mm as the user gave it (the report echoes it unchanged). Cost: one
-/// limit and one analysis. With speed variation and `constant_speed` (the
-/// same method on process.at_constant_speed()), also its limit and the gain
-/// (PointReport::speed_variation): one more limit. @pre rpm > 0, depth_mm > 0
-/// (check_spindle_rpm, check_depth_mm).
+/// limit and one analysis. With speed variation, also the limit at constant
+/// speed and the gain (PointReport::speed_variation): one more limit, by
+/// `constant_speed` (the same method on process.at_constant_speed()) when
+/// given, else, for sdm, by an sdm solver built from the solver's own model,
+/// process at constant speed and options (what every front end gets).
+/// @pre rpm > 0, depth_mm > 0 (check_spindle_rpm, check_depth_mm).
 PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
                          const LobeSolver* constant_speed = nullptr);
 

@@ -4,7 +4,6 @@
 #include <boost/program_options.hpp>
 
 #include <cmath>
-#include <memory>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -59,16 +58,7 @@ int cmd_point(const std::vector<std::string>& args) {
   // The limit (the lobe-table row), the process's frequencies and the
   // method's own analysis at the depth: one report, one record
   // (chatter/report.hpp, chatter/records.hpp; docs/results.md).
-  // Speed variation: the same method at constant speed, for the gain.
-  std::unique_ptr<chatter::LobeSolver> constant_speed;
-  if (cfg.process.has_speed_variation()) {
-    chatter::Config steady = cfg;
-    steady.process = cfg.process.at_constant_speed();
-    constant_speed = chatter::make_lobe_solver(built.method, steady.model, steady.process, depth_max_mm * 1e-3,
-                                               solver_option_values(*built.descriptor, steady, vm));
-  }
-  const chatter::PointReport report =
-      chatter::report_point(*built.solver, cfg.process, rpm, depth_mm, constant_speed.get());
+  const chatter::PointReport report = chatter::report_point(*built.solver, cfg.process, rpm, depth_mm);
   chatter::RecordSource source = chatter::record_source(cfg, common.position_mm);
   source.notes = built.notes;
   for (const std::string& n : report.notes) std::cerr << "note: " << n << "\n";

@@ -100,6 +100,10 @@ double SpindleSpeed::modulation_period_s() const {
 }
 
 void Process::set_speed_variation(SpeedVariation v) {
+  if (v.amplitude_ratio == 0.0) {  // off: the frequency does not matter (the default {0, 0} included)
+    speed_variation_ = {};
+    return;
+  }
   if (const std::string e = v.validate(); !e.empty()) throw InputError("process.speed_variation." + e);
   speed_variation_ = v.active() ? v : SpeedVariation{};
 }
