@@ -11,6 +11,7 @@
 #include "bindings.hpp"
 #include "chatter/records.hpp"
 #include "chatter/records/lobes.hpp"
+#include "chatter/report.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "module.hpp"
 
@@ -102,13 +103,91 @@ py::dict compare(const Job& job_in, const py::object& methods, std::optional<dou
 
 // ------------------------------------------------------------------ map
 
-py::dict stability_map(const Job& job_in, const std::string& method, std::optional<double> rpm_min,
-                       std::optional<double> rpm_max, std::optional<int> rpm_points,
+// axes="radial-axial": immersion x axial depth at one speed (the CLI's
+// map --axes radial-axial, radial_stability_map).
+py::dict radial_map(const Job& job, const std::string& floquet, std::optional<double> rpm,
+                    std::optional<double> immersion_min, std::optional<double> immersion_max,
+                    std::optional<int> immersion_points, std::optional<double> depth_max_mm, int depth_points,
+                    bool multiplier_types, int threads, const std::optional<py::dict>& options,
+                    std::optional<double> position_mm) {
+  const chatter::Config& cfg = *job.cfg;
+  if (!rpm) throw InputError("rpm: required with axes=\"radial-axial\" (the one spindle speed of the map, rev/min)");
+  chatter::check_spindle_rpm(*rpm, "rpm");
+  if (cfg.process.operation() != chatter::Operation::kMilling)
+    throw InputError("axes=\"radial-axial\": a turning process has no radial immersion (use axes=\"speed-axial\")");
+  const double dmax = depth_max(cfg, depth_max_mm);
+  const std::vector<double> immersions =
+      chatter::map_immersions(immersion_min.value_or(0.05), immersion_max.value_or(1.0), immersion_points.value_or(20),
+                              static_cast<std::size_t>(std::max(depth_points, 0)), chatter::ArgStyle::kKeyword);
+  const std::vector<double> depths = chatter::map_depths_m(dmax, depth_points, immersions.size(), chatter::ArgStyle::kKeyword);
+  const unsigned nthreads = thread_count(threads);
+  const std::shared_ptr<const Built> built = build_solver(job, floquet, dmax * 1e-3, options);
+  const std::string method_name = floquet;
+  const chatter::ProcessSolverFactory factory = [&](const chatter::Process& p) {
+    return chatter::make_lobe_solver(method_name, cfg.model, p, dmax * 1e-3, built->values);
+  };
+  chatter::RadialStabilityMapGrid grid;
+  {
+    py::gil_scoped_release release;
+    grid = chatter::radial_stability_map(cfg.process, *rpm, immersions, depths, factory, multiplier_types, nthreads);
+  }
+  chatter::RecordSource source = chatter::record_source(cfg, position_mm);
+  source.notes = built->notes;
+  py::dict out =
+      to_python(chatter::radial_map_record(grid, built->descriptor->effective_options(*built->solver), source));
+  const auto ni = static_cast<py::ssize_t>(immersions.size()), nd = static_cast<py::ssize_t>(depths.size());
+  out["radial_immersion"] = array_of(immersions);
+  if (grid.tool_diameter_m > 0.0) {
+    std::vector<double> ae(immersions.size());
+    for (std::size_t i = 0; i < ae.size(); ++i) ae[i] = immersions[i] * grid.tool_diameter_m * 1e3;
+    out["radial_depth_mm"] = array_of(ae);
+  }
+  std::vector<double> depth_mm(depths.size()), limit_mm(immersions.size()), freq(immersions.size());
+  for (std::size_t k = 0; k < depths.size(); ++k) depth_mm[k] = depths[k] * 1e3;
+  for (std::size_t i = 0; i < immersions.size(); ++i) {
+    limit_mm[i] = grid.limit[i].depth_limit_m * 1e3;
+    freq[i] = grid.limit[i].chatter_frequency_hz;
+  }
+  out["depth_mm"] = array_of(depth_mm);
+  out["depth_limit_mm"] = array_of(limit_mm);
+  out["chatter_frequency_hz"] = array_of(freq);
+  py::array_t<double> rho({ni, nd});
+  std::copy(grid.spectral_radius.begin(), grid.spectral_radius.end(), rho.mutable_data());
+  out["spectral_radius"] = rho;
+  if (multiplier_types) {
+    py::list cells;
+    for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)
+      cells.append(grid.spectral_radius[i] >= 1.0 ? chatter::to_string(grid.multiplier_type[i]) : std::string());
+    out["multiplier_type"] =
+        py::module_::import("numpy").attr("array")(cells, "dtype"_a = "str").attr("reshape")(ni, nd);
+  }
+  return out;
+}
+
+py::dict stability_map(const Job& job_in, const std::string& method, const std::string& axes_text,
+                       std::optional<double> rpm, std::optional<double> immersion_min,
+                       std::optional<double> immersion_max, std::optional<int> immersion_points,
+                       std::optional<double> rpm_min, std::optional<double> rpm_max, std::optional<int> rpm_points,
                        std::optional<double> depth_max_mm, int depth_points, bool multiplier_types, int threads,
                        const std::optional<py::dict>& options, std::optional<double> position_mm) {
   const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   const std::string floquet = chatter::map_method(method, chatter::ArgStyle::kKeyword);
+  const chatter::MapAxes axes = chatter::parse_map_axes(axes_text, chatter::ArgStyle::kKeyword);
+  if (axes == chatter::MapAxes::kRadialAxial) {
+    for (const auto& [given, name] : {std::pair{rpm_min.has_value(), "rpm_min"}, std::pair{rpm_max.has_value(), "rpm_max"},
+                                      std::pair{rpm_points.has_value(), "rpm_points"}})
+      if (given)
+        throw InputError(std::string(name) + ": only with axes=\"speed-axial\" (the radial-axial map is at one speed: rpm)");
+    return radial_map(job, floquet, rpm, immersion_min, immersion_max, immersion_points, depth_max_mm, depth_points,
+                      multiplier_types, threads, options, position_mm);
+  }
+  for (const auto& [given, name] :
+       {std::pair{rpm.has_value(), "rpm"}, std::pair{immersion_min.has_value(), "immersion_min"},
+        std::pair{immersion_max.has_value(), "immersion_max"}, std::pair{immersion_points.has_value(), "immersion_points"}})
+    if (given)
+      throw InputError(std::string(name) + ": only with axes=\"radial-axial\" (the speed x depth map takes rpm_min, "
+                       "rpm_max, rpm_points)");
   const std::vector<double> speeds = even_speeds(cfg, rpm_min, rpm_max, rpm_points);
   const double dmax = depth_max(cfg, depth_max_mm);
   const std::vector<double> depths = chatter::map_depths_m(dmax, depth_points, speeds.size(), chatter::ArgStyle::kKeyword);
@@ -171,11 +250,14 @@ void bind_tables(py::module_& m) {
         "rpm_max"_a = py::none(), "rpm_points"_a = py::none(), "depth_max_mm"_a = py::none(), "threads"_a = 0,
         "options"_a = py::none(), "position_mm"_a = py::none(),
         "Every method at the same speeds and how far they differ (chatter compare): the record and the table.");
-  m.def("map", &stability_map, "job"_a, "method"_a = "auto", py::kw_only(), "rpm_min"_a = py::none(),
+  m.def("map", &stability_map, "job"_a, "method"_a = "auto", py::kw_only(), "axes"_a = "speed-axial",
+        "rpm"_a = py::none(), "immersion_min"_a = py::none(), "immersion_max"_a = py::none(),
+        "immersion_points"_a = py::none(), "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "rpm_points"_a = py::none(), "depth_max_mm"_a = py::none(),
         "depth_points"_a = 100, "multiplier_types"_a = false, "threads"_a = 0, "options"_a = py::none(),
         "position_mm"_a = py::none(),
-        "The Floquet spectral radius over speed x depth (chatter map): the record and the grid.");
+        "The Floquet spectral radius over speed x depth, or (axes=\"radial-axial\") over radial immersion x "
+        "axial depth at one speed with the depth limit at each immersion (chatter map): the record and the grid.");
   m.def("frf", &frf, "job"_a, py::kw_only(), "fmin"_a = py::none(), "fmax"_a = py::none(), "points"_a = 1000,
         "log"_a = false, "position_mm"_a = py::none(),
         "The receptance of tool, workpiece and their relative motion (chatter frf's table).");

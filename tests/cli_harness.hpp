@@ -46,6 +46,22 @@ inline bool contains(const std::string& hay, const std::string& needle) {
   return hay.find(needle) != std::string::npos;
 }
 
+/// The user's opt-in to a commented `[uncertainty]` table written by
+/// `chatter fit` / `chatter coefficients`: the '#' removed in front of
+/// `[uncertainty]` and of every `key = value` line right after it.
+inline std::string uncomment_uncertainty(const std::string& toml) {
+  std::istringstream in(toml);
+  std::string out;
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "#[uncertainty]") inside = true;
+    else if (inside && !(line.size() > 1 && line[0] == '#' && std::islower(static_cast<unsigned char>(line[1]))))
+      inside = false;
+    out += (inside ? line.substr(1) : line) + "\n";
+  }
+  return out;
+}
+
 struct RunResult {
   int exit_code = -1;  ///< -1 if the command did not exit normally
   std::string out, err;

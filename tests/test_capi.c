@@ -243,6 +243,74 @@ static void check_position(void) {
   chatter_model_free(plain);
 }
 
+/* The Monte Carlo of case A with spreads (configs/seed_turning_1dof_uncertain.toml):
+ * the quantile lobes equal `chatter lobes --samples 20 --seed 3`'s table
+ * cell for cell, the probability of stability its probability table at
+ * every grid point, for 1 and 2 threads; the errors name the rule. */
+static void check_uncertainty(void) {
+  const char* config = CHATTER_SOURCE_DIR "/configs/seed_turning_1dof_uncertain.toml";
+  const char* table = "/tmp/chatter_test_capi_probability.csv";
+  chatter_model* model = NULL;
+  chatter_model* plain = NULL;
+  chatter_uncertain_row rows[3];
+  char args[1024], expected[256], got[256];
+  char *out, *line, *save = NULL;
+  int threads, i, compared = 0;
+  double p;
+  FILE* f;
+  CHECK(chatter_model_load(config, &model) == CHATTER_OK);
+  snprintf(args, sizeof args,
+           "lobes '%s' --samples 20 --seed 3 --rpm-min 500 --rpm-max 1500 --rpm-points 3 --depth-max-mm 20 "
+           "--table - --probability-table %s --depth-points 5",
+           config, table);
+  out = run_cli(args);
+  CHECK(out != NULL);
+  for (threads = 1; threads <= 2 && out; ++threads) {
+    CHECK(chatter_uncertain_lobes(model, NULL, 20.0, 500.0, 1500.0, 3, 20, 3, threads, rows) == CHATTER_OK);
+    line = strtok_r(out, "\n", &save); /* the header */
+    for (i = 0; i < 3; ++i) {
+      line = strtok_r(NULL, "\n", &save);
+      /* spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe,p05,p50,p95 */
+      snprintf(got, sizeof got, "%.10g,%.10g", rows[i].spindle_rpm, rows[i].depth_limit_mm);
+      CHECK(line && strncmp(line, got, strlen(got)) == 0);
+      snprintf(got, sizeof got, ",%.10g,%.10g,%.10g", rows[i].depth_limit_p05_mm, rows[i].depth_limit_p50_mm,
+               rows[i].depth_limit_p95_mm);
+      CHECK(line && strlen(line) > strlen(got) && strcmp(line + strlen(line) - strlen(got), got) == 0);
+    }
+    free(out);
+    out = threads == 1 ? run_cli(args) : NULL;
+  }
+  /* The probability table: spindle_rpm,depth_mm,probability_stable. */
+  f = fopen(table, "r");
+  CHECK(f != NULL);
+  if (f) {
+    double rpm, depth, prob;
+    CHECK(fgets(expected, sizeof expected, f) != NULL); /* the header */
+    while (fscanf(f, "%lf,%lf,%lf", &rpm, &depth, &prob) == 3) {
+      if (depth <= 0.0) continue; /* the C API asks a depth > 0 */
+      CHECK(chatter_probability_stable(model, "analytic", 20.0, rpm, depth, 20, 3, 0, &p) == CHATTER_OK);
+      CHECK(p == prob);
+      ++compared;
+    }
+    fclose(f);
+    remove(table);
+  }
+  CHECK(compared == 12);
+  /* Errors: no [uncertainty] table, bad samples, bad speeds. */
+  CHECK(chatter_uncertain_lobes(model, NULL, 20.0, 500.0, 1500.0, 3, 0, 3, 1, rows) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "samples = 0: must be in [1, 1000000]") != NULL);
+  CHECK(chatter_probability_stable(model, NULL, 20.0, 1000.0, -1.0, 20, 3, 1, &p) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "depth_mm") != NULL);
+  CHECK(chatter_uncertain_lobes(model, NULL, 20.0, 1500.0, 500.0, 3, 20, 3, 1, rows) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_uncertain_lobes(model, NULL, 20.0, 500.0, 1500.0, 3, 20, 3, 1, NULL) == CHATTER_NULL_ARGUMENT);
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &plain) == CHATTER_OK);
+  CHECK(chatter_probability_stable(plain, NULL, 20.0, 1000.0, 1.0, 20, 3, 1, &p) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "no [uncertainty] table") != NULL);
+  chatter_model_free(plain);
+  chatter_model_free(model);
+  (void)expected;
+}
+
 int main(void) {
   chatter_model* model = NULL;
   chatter_solver* solver = NULL;
@@ -344,6 +412,7 @@ int main(void) {
 
   check_position();
   check_forced();
+  check_uncertainty();
 
   printf("%d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "chatter/io/config.hpp"
 #include "chatter/io/frf.hpp"
 
@@ -122,6 +124,42 @@ TEST_F(CliFit, CsvWithTwoPercentNoiseGivesTheModes) {
   const chatter::Config cfg = load_fragment(path("modes.toml"));
   expect_modes(cfg.model.tool.modes, kXModes, 1.0, 0.0);
   EXPECT_TRUE(cfg.model.workpiece.modes.empty());
+}
+
+// Issue 31 item 6: the fragment carries the [uncertainty] spreads from the
+// standard errors, commented out; uncommented, the loader reads them as
+// 100 x the standard error of ln p (4 significant digits), one per mode.
+TEST_F(CliFit, FragmentCarriesTheSpreadsCommentedOut) {
+  chatter::write_frf_csv(path("tap_xx.csv"), synth(kXModes, 0.02));
+  const RunResult r = run({path("tap_xx.csv").string(), "--out", path("modes.toml").string(), "--json",
+                           path("fit.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "standard errors")) << r.out;
+  const std::string toml = slurp(path("modes.toml"));
+  EXPECT_TRUE(contains(toml, "#[uncertainty]\n#frequency_percent = [")) << toml;
+  // As written: no [uncertainty] active.
+  EXPECT_FALSE(load_fragment(path("modes.toml")).uncertainty.has_value());
+  // Opted in: the spreads are the fit's standard errors.
+  std::ofstream(path("opted.toml")) << chatter::test::uncomment_uncertainty(toml);
+  const chatter::Config cfg = load_fragment(path("opted.toml"));
+  ASSERT_TRUE(cfg.uncertainty.has_value()) << slurp(path("opted.toml"));
+  const auto j = nlohmann::json::parse(slurp(path("fit.json")));
+  const auto& errors = j.at("records").at(0).at("relative_standard_errors");
+  ASSERT_EQ(errors.size(), 2u);
+  ASSERT_EQ(cfg.uncertainty->frequency.size(), 2u);
+  constexpr double kWritten = 5e-4;  // 4 significant digits in the TOML
+  for (std::size_t m = 0; m < 2; ++m) {
+    SCOPED_TRACE("mode " + std::to_string(m + 1));
+    const auto& se = errors[m];
+    const double want[3] = {se.at("frequency").get<double>(), se.at("damping_ratio").get<double>(),
+                            se.at("stiffness").get<double>()};
+    const double got[3] = {cfg.uncertainty->frequency[m], cfg.uncertainty->damping[m], cfg.uncertainty->stiffness[m]};
+    for (int p = 0; p < 3; ++p) {
+      EXPECT_GT(want[p], 0.0);
+      EXPECT_NEAR(got[p], want[p], kWritten * want[p]) << "parameter " << p << ": loaded " << got[p] << ", fit " << want[p];
+    }
+  }
+  EXPECT_EQ(cfg.uncertainty->tangential, 0.0);  // the fit says nothing of the cutting coefficients
 }
 
 TEST_F(CliFit, CleanCsvIsExact) {

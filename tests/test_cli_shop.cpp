@@ -127,6 +127,35 @@ TEST_F(ShopCli, CoefficientsFromAveragesAndTheFragmentLoads) {
   EXPECT_EQ(m.direction, MillingDirection::kDown);
 }
 
+// Issue 31 item 6: the [process] fragment carries [uncertainty] spreads of
+// K_tc and K_rc, commented out; uncommented, they load as standard error /
+// coefficient (written as percent with 4 significant digits).
+TEST_F(ShopCli, CoefficientsFragmentCarriesTheSpreadsCommentedOut) {
+  const MillingEngagement e{3, 0.5, MillingDirection::kDown};
+  write("tests.csv", force_table(e));
+  const auto r = run({"coefficients", path("tests.csv").string(), "--teeth", "3", "--radial-immersion", "0.5",
+                      "--milling-direction", "down", "--json", "-", "--out", path("coefficients.toml").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  const std::string mode = "\n[[tool.modes]]\nfrequency_hz = 922\ndamping_ratio = 0.011\nmass_kg = 0.03993\n"
+                           "direction = \"x\"\n";
+  const std::string toml = slurp(path("coefficients.toml"));
+  EXPECT_TRUE(contains(toml, "#[uncertainty]\n#tangential_coefficient_percent = ")) << toml;
+  EXPECT_FALSE(parse_config(toml + mode, "as written").uncertainty.has_value());
+  const Config c = parse_config(chatter::test::uncomment_uncertainty(toml) + mode, "opted in");
+  ASSERT_TRUE(c.uncertainty.has_value());
+  constexpr double kWritten = 5e-4;  // 4 significant digits
+  const double want_t = j.at("standard_error").at("tangential_coefficient_n_per_m2").get<double>() /
+                        j.at("tangential_coefficient_n_per_m2").get<double>();
+  const double want_r = j.at("standard_error").at("radial_coefficient_n_per_m2").get<double>() /
+                        j.at("radial_coefficient_n_per_m2").get<double>();
+  EXPECT_GT(want_t, 0.0);
+  EXPECT_GT(want_r, 0.0);
+  EXPECT_NEAR(c.uncertainty->tangential, want_t, kWritten * want_t);
+  EXPECT_NEAR(c.uncertainty->radial, want_r, kWritten * want_r);
+  EXPECT_TRUE(c.uncertainty->frequency.empty());
+}
+
 TEST_F(ShopCli, SeriesRouteEqualsTheAveragedRoute) {
   const MillingEngagement e{2, 1.0, MillingDirection::kUp};
   double pe = 0, px = 0;

@@ -339,5 +339,30 @@ TEST_F(ConsistencyCli, PointsBeyondThePhysicalRangeAreRefused) {
   EXPECT_TRUE(contains(sweep.err, "--rpm-max = 6e+06: at most 500000 rev/min")) << sweep.err;
 }
 
+// `--json -` means standard output in every command that writes a JSON file
+// (lobes and compare once wrote a file named "-"), the summary then on
+// standard error; with the table on standard output too it is refused.
+TEST_F(ConsistencyCli, JsonDashIsStandardOutputEverywhere) {
+  const std::string a = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml").string();
+  const std::vector<std::vector<std::string>> commands = {
+      {"lobes", a, "--rpm-points", "3"},
+      {"compare", a, "--rpm-points", "3"},
+      {"map", a, "--rpm-points", "3", "--depth-points", "3"},
+  };
+  for (std::vector<std::string> args : commands) {
+    args.insert(args.end(), {"--json", "-"});
+    const RunResult r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << args[0] << ": " << r.err;
+    EXPECT_TRUE(json::accept(r.out)) << args[0] << " did not write its JSON alone to standard output";
+    EXPECT_FALSE(fs::exists("-")) << args[0] << " wrote a file named '-'";
+  }
+  for (const std::string cmd : {"lobes", "compare"}) {
+    const RunResult r = run({cmd, a, "--rpm-points", "3", "--json", "-", "--table", "-"});
+    EXPECT_EQ(r.exit_code, 2) << cmd;
+    EXPECT_NE(r.err.find("only one of them can go to standard output"), std::string::npos) << r.err;
+  }
+}
+
+
 }  // namespace
 }  // namespace chatter::test

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -123,6 +124,72 @@ TEST(SdmSearch, FindsThinFlipBandTips) {
     EXPECT_NEAR(lim.depth_limit_m, scan.unstable, scan.unstable * (kScanRatio - 1.0));
     EXPECT_EQ(fr.type, MultiplierType::kFlip);
   }
+}
+
+// limit_above(rpm, d) stops the same depth search early: it must answer
+// exactly limit_at(rpm) > d, at depths on both sides of the limit, 5e-4 from
+// it (five depth tolerances) and far; stable_at(rpm, d) is analyse()'s
+// verdict at the depth (ρ within 1e-3 of 1 left out: the dense and the
+// Arnoldi eigen-solvers may round differently there).
+// Random milling models at 0.5 to 60 vibrations per tooth period (low speed:
+// large maps, Arnoldi), low-speed turning (branch roots), and the
+// variable-pitch helix cutter (the real-cutter path).
+TEST(SdmSearch, LimitAboveAndStableAtAnswerAsTheFullSearch) {
+  const double factors[] = {0.05, 0.3, 0.9, 0.9995, 1.0005, 1.1, 3.0, 30.0};
+  struct Job {
+    std::string name;
+    SemiDiscretizationSolver solver;
+    std::vector<double> rpms;
+  };
+  std::vector<Job> jobs;
+  std::mt19937_64 rng(20261125);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  SemiDiscretizationOptions o;
+  o.depth_max_m = 0.02;
+  for (int model_i = 0; model_i < 4; ++model_i) {
+    StructuralModel m;
+    const double f = 600.0 + 1500.0 * U(rng), angle = std::numbers::pi * U(rng);
+    m.tool.modes.push_back(Mode::from_stiffness(f, 0.01 + 0.03 * U(rng), 5e6 * std::pow(10.0, U(rng)),
+                                                {std::cos(angle), std::sin(angle)}));
+    const int teeth = 2 + model_i % 3;
+    const double kt = 5e8 + 1.5e9 * U(rng);
+    const Process p = Process::milling({teeth, kt, 0.3 * kt, model_i % 2 ? 0.05 : 0.5,
+                                        model_i % 2 ? MillingDirection::kDown : MillingDirection::kUp});
+    std::vector<double> rpms;
+    for (const double cycles : {0.7, 3.0, 15.0, 60.0}) rpms.push_back(60.0 * f / (teeth * cycles));
+    jobs.push_back({"milling model " + std::to_string(model_i), SemiDiscretizationSolver(m, p, o), rpms});
+  }
+  StructuralModel case_a;  // docs/physics.md case A
+  case_a.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));
+  jobs.push_back({"case A turning", SemiDiscretizationSolver(case_a, Process::turning({2.4e9}), o),
+                  {40.0, 150.0, 1500.0}});
+  const Config vp = load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/milling_variable_pitch_helix.toml");
+  jobs.push_back({"variable pitch helix", SemiDiscretizationSolver(vp.model, vp.process, o), {900.0, 7000.0}});
+  int asked = 0, above = 0;
+  for (const Job& job : jobs)
+    for (const double rpm : job.rpms) {
+      const StabilityLimit lim = job.solver.limit_at(rpm);
+      const double scale = lim.bounded() ? lim.depth_limit_m : o.depth_max_m;
+      for (const double f : factors) {
+        const double d = f * scale;
+        SCOPED_TRACE(job.name + ", " + std::to_string(rpm) + " rev/min, depth " + std::to_string(d));
+        const bool a = job.solver.limit_above(rpm, d);
+        EXPECT_EQ(a, lim.depth_limit_m > d) << "limit " << lim.depth_limit_m;
+        ++asked;
+        above += a;
+        if (std::abs(f - 1.0) > 1e-2) {
+          const FloquetResult fr = job.solver.analyse(rpm, d);
+          if (std::abs(fr.spectral_radius - 1.0) > 1e-3) {
+            const std::optional<bool> v = job.solver.stable_at(rpm, d);
+            ASSERT_TRUE(v.has_value());
+            EXPECT_EQ(*v, fr.stable()) << "rho " << fr.spectral_radius;
+          }
+        }
+      }
+    }
+  // Both answers occur (the test can fail either way).
+  EXPECT_GT(above, asked / 4);
+  EXPECT_LT(above, asked * 3 / 4);
 }
 
 std::vector<std::pair<double, double>> read_reference(const std::string& file) {

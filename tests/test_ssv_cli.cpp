@@ -160,9 +160,12 @@ TEST_F(CliSsv, SsvMapOptionsAreChecked) {
   auto r = run({"map", kCaseA, "--ssv-map", "--rpm", "300"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "--ssv-map: needs --rpm and --depth-mm")) << r.err;
-  r = run({"map", kCaseA, "--rpm", "300", "--depth-mm", "1"});
+  r = run({"map", kCaseA, "--rpm", "300"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(contains(r.err, "--rpm: only with --ssv-map")) << r.err;
+  EXPECT_TRUE(contains(r.err, "--rpm: only with --axes radial-axial or --ssv-map")) << r.err;
+  r = run({"map", kCaseA, "--depth-mm", "1"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--depth-mm: only with --ssv-map")) << r.err;
   r = run({"map", kCaseA, "--ssv-map", "--rpm", "300", "--depth-mm", "1", "--ssv-amplitude-max", "1"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "--ssv-amplitude-max = 1: must be in (0, 1)")) << r.err;

@@ -187,6 +187,46 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
                                     chatter_surface_row* rows);
 
 
+/* ================================================================ uncertainty
+ * Monte Carlo over the config's [uncertainty] spreads (docs/uncertainty.md),
+ * the numbers of `chatter lobes --samples N --seed S`: N models drawn from
+ * the spreads (truncated normal, |z| <= 3), each solved at every speed with
+ * the same method and options. Same seed, same numbers, whatever `threads`
+ * (and the same as the CLI's JSON to its 10 digits; bitwise the same doubles
+ * as Python's chatter.uncertain_lobes). */
+
+/* One speed of the Monte Carlo lobes. Depths in mm; HUGE_VAL where no
+ * chatter below depth_max_mm (the nominal limit) or where that many samples
+ * find none (a quantile). */
+typedef struct chatter_uncertain_row {
+  double spindle_rpm;
+  double depth_limit_mm;      /* the nominal model's limit (as chatter_lobe_table) */
+  double depth_limit_p05_mm;  /* 5 % of the samples chatter below it: 95 % stable below */
+  double depth_limit_p50_mm;  /* the median limit */
+  double depth_limit_p95_mm;  /* 95 % of the samples chatter below it */
+} chatter_uncertain_row;
+
+/* The quantile lobes at rpm_points (>= 2) speeds evenly spaced from rpm_min
+ * to rpm_max (both included, 0 < rpm_min < rpm_max); `rows` must hold
+ * rpm_points entries. method ("auto" or NULL: the CLI's default) and
+ * depth_max_mm as chatter_solver_create (the method's default options);
+ * samples in [1, 1e6] with samples x rpm_points <= 25e6; seed any value;
+ * threads: samples shared among this many threads (0 = every core). Fails
+ * with CHATTER_INPUT_ERROR when the config has no [uncertainty] table or its
+ * spreads do not suit the model. Cost: samples x (one solver build +
+ * rpm_points limits). */
+chatter_status chatter_uncertain_lobes(const chatter_model* model, const char* method, double depth_max_mm,
+                                       double rpm_min, double rpm_max, int rpm_points, int samples,
+                                       unsigned long long seed, int threads, chatter_uncertain_row* rows);
+
+/* The probability that one operation is stable: the fraction of `samples`
+ * models (drawn as above) whose limit at spindle_rpm lies above depth_mm
+ * (rev/min in (0, 500000], mm in (0, 1000]), in [0, 1] and a multiple of
+ * 1/samples; the value `chatter lobes --samples` plots at that point. */
+chatter_status chatter_probability_stable(const chatter_model* model, const char* method, double depth_max_mm,
+                                          double spindle_rpm, double depth_mm, int samples, unsigned long long seed,
+                                          int threads, double* probability);
+
 /* ====================================================================== grinding
  * Robotic grinding at controlled power (docs/grinding.md; docs/c_api.md,
  * "Grinding"): a config with a [grinding] table (configs/grinding_*.toml),

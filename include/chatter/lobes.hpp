@@ -134,6 +134,26 @@ class LobeSolver {
     (void)depth_m;
     return {};
   }
+  /// Whether the depth limit at `spindle_rpm` lies above `depth_m` (m >= 0):
+  /// always the answer of limit_at(spindle_rpm).depth_limit_m > depth_m, and
+  /// cheaper where the method can stop its search once the answer is sure
+  /// (sdm: the depth climb up to just past `depth_m`, no refinement and no
+  /// chatter frequency when the crossing is not near `depth_m`). Default:
+  /// limit_at().
+  virtual bool limit_above(double spindle_rpm, double depth_m) const {
+    return limit_at(spindle_rpm).depth_limit_m > depth_m;
+  }
+  /// The method's own stability verdict at one depth (true: stable) when it
+  /// has one much cheaper than a limit search (sdm: ρ < 1 of one period map,
+  /// without the eigenvector and chatter frequency analyse_point() adds);
+  /// nullopt by default (compare with limit_at() then). An unstable verdict
+  /// means a stability boundary at this speed lies below `depth_m`; a stable
+  /// one says nothing about smaller depths (an unstable band may lie below).
+  virtual std::optional<bool> stable_at(double spindle_rpm, double depth_m) const {
+    (void)spindle_rpm;
+    (void)depth_m;
+    return std::nullopt;
+  }
   /// The speed-independent minimum of every lobe when the method gives it
   /// directly (transfer-function methods); nullopt by default.
   virtual std::optional<AbsoluteLimit> known_absolute_limit() const { return std::nullopt; }

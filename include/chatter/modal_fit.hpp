@@ -65,6 +65,21 @@ struct ModalFitResult {
   int iterations = 0;               ///< evaluations of the residual (accepted steps or not).
   bool converged = false;           ///< stop rule met within max_iterations.
   std::size_t lines = 0;            ///< lines in the band.
+  /// Per fitted mode (same order as `modes`): the standard errors of
+  /// ln f, ln ζ and ln k, i.e. the relative (fractional) 1σ errors of the
+  /// frequency, damping ratio and stiffness to first order (σ_p / p). From
+  /// the linearised covariance at the solution, the heteroscedasticity-
+  /// consistent "sandwich" (HC1; White 1980):
+  /// (JᵀJ)⁻¹ Jᵀ diag(r²) J (JᵀJ)⁻¹ · n / (n − P), J the Jacobian of the
+  /// n = 2L real residuals r (real and imaginary parts) in the log
+  /// parameters: the noise may differ from line to line (a tap test's grows
+  /// with |G|) but is assumed independent between lines.
+  /// NaN where not identified (JᵀJ singular, or ζ held at its bound).
+  /// Reference: docs/frf.md, "Standard errors".
+  struct LogStandardErrors {
+    double frequency = 0.0, damping = 0.0, stiffness = 0.0;
+  };
+  std::vector<LogStandardErrors> standard_errors;
   double f_min_hz = 0.0, f_max_hz = 0.0;  ///< band actually used (first and last line).
 
   /// The fitted receptance (modes along their direction, plus residuals), m/N.

@@ -178,7 +178,9 @@ struct SpeedPocket {
   double speed_tolerance = 0.0;    ///< fraction (0.02 = ±2 %)
   /// Smallest exact limit over [N(1 − tol), N(1 + tol)], m (the band may
   /// reach past the machine range: the spindle's error does not stop there);
-  /// +inf when none is below the searched depth anywhere in the band.
+  /// +inf when none is below the searched depth anywhere in the band. A band
+  /// holding many lobes at low speed is sampled (see robust_speed(): the
+  /// smallest of exact limits in the band, within 5 % of the full search).
   double worst_limit_m = 0.0;
   double worst_margin = 0.0;       ///< worst_limit_m / depth (+inf if unbounded)
   /// The connected speed interval around N where the limit exceeds the
@@ -193,15 +195,43 @@ struct SpeedPocket {
 /// cusp), and its pocket at `depth_m`. Empty when even that worst limit is
 /// not above depth_m (no speed in range is stable over the whole band).
 ///
-/// Method (docs/operations.md): a scan evenly spaced in 1/rpm — 24 solves,
-/// then ≈ 8 per lobe, the lobe count from the lobe numbers of the first 24
-/// (at most 2 000 solves) — ranks the speeds by the worst limit in their band;
-/// the best (and any other within 10 %, at most 3) is refined by
+/// Method (docs/operations.md "Search"): a scan evenly spaced in 1/rpm — 24
+/// solves, then ≈ 8 per lobe, the lobe count from the lobe numbers of the
+/// first 24 (at most 2 000 solves) — ranks the speeds by the worst limit in
+/// their band; the best (and any other within 10 %, at most 3) is refined by
 /// Brent's minimiser on exact solves (speed located to 1e-4 of itself, 1e-8 at
 /// tolerance 0). The worst limit in a band is the smaller end value or a
 /// lobe bottom inside (found by the same minimiser between scan
-/// points); pocket edges by bracketed regula falsi (Illinois) to 1e-5 of the
+/// points); pocket edges by bracketed regula falsi (Illinois) to 1e-4 of the
 /// speed. Cost: the scan plus ≈ 40–80 solves.
+///
+/// Low speed (speed_tolerance > 0), where lobes crowd and every solve is
+/// dearer (sdm: steps ∝ 1/rpm): the first 24 solves cover only speeds >=
+/// rpm_max / 10 and the scan stops where a band holds a quarter of a lobe.
+/// Below (the dense region), rules that are stated and bounded:
+///  - the optimum: it is kept only if every band of the dense region holds a
+///    speed where the solver finds the depth of the optimum's worst limit
+///    unstable (LobeSolver::stable_at, or an exact limit at or below it):
+///    then no speed there has a higher worst limit; the test speeds are a
+///    band's width apart. Where that cannot be shown, the scan is extended
+///    down past it (at least ×1.5 in speed) and the optimum ranked again. No
+///    approximation: the optimum is the one the full scan would rank.
+///  - the worst limit of a band outside the scan holding two lobes or more
+///    (lobe numbers at its ends): the smallest exact limit at 9 speeds evenly
+///    spaced in 1/rpm (ends included), its centre and the vertex of the
+///    parabola through each of the two lowest sampled local minima. An exact
+///    limit in the band, so never below the true worst limit; measured above
+///    the full search's by at most 0.22 % on the shipped configs, except
+///    case C at 100–260 rev/min: up to 4.5 %, where the sdm envelope is
+///    jagged (docs/operations.md); held to 5 % (tests/test_operations.cpp).
+///    Fewer lobes: 8 samples per lobe and every sampled local minimum
+///    refined by Brent, as in the scan.
+///  - pocket edges below the scan: the limit is tested (limit_above) at
+///    speeds a band's width apart; a dip below the threshold narrower than
+///    that can be missed.
+/// Case C, a 0.5 mm row at 200 rev/min over 100–25 000 rev/min (check): 61
+/// solves for the scan, 35 further exact solves, 97 stable_at verdicts and
+/// 95 limit_above tests.
 /// @pre 0 < rpm_min < rpm_max, depth_m > 0, 0 <= speed_tolerance < 0.5.
 /// @throws InputError on a violated precondition.
 std::optional<SpeedPocket> robust_speed(const LobeSolver& solver, double rpm_min, double rpm_max, double depth_m,
@@ -336,6 +366,9 @@ struct OperationCheck {
   double suggestion_margin = 0.0;   ///< suggestion limit / depth (+inf if unbounded)
   /// Worst margin (smallest limit / depth) over op.spindle_rpm × (1 ± tol):
   /// below 1 the row is stable only if the spindle holds its speed exactly.
+  /// A band holding two lobes or more below the scan (low speed) is sampled
+  /// (robust_speed(): an exact limit in the band, within 5 % of the full
+  /// search).
   double worst_margin = 0.0;
   /// The suggestion's band and pocket (worst_margin there; pocket edges at
   /// this row's depth); set whenever `suggestion` is.
@@ -363,8 +396,11 @@ struct CheckReport {
 /// search per distinct (immersion, teeth, direction); per row one exact solve
 /// at its speed (the verdict), the worst limit over its speed band and the
 /// pocket edges of the suggestion. Cost: per distinct process the scan of
-/// robust_speed() (≈ 24 + 8 per lobe solves) and ≈ 30 refining solves, per
-/// row ≈ 10–30 solves.
+/// robust_speed() (≈ 24 + 8 per lobe solves, the dense low-speed region left
+/// out) and ≈ 30 refining solves, per row ≈ 10–30 solves; a row at low speed
+/// adds its band's samples and, when its suggestion's pocket reaches into
+/// the dense region, one limit_above test per band width there. The row
+/// loop is check_row() in src/ops/check.cpp.
 /// @throws InputError on invalid options or an unknown method.
 CheckReport check_operations(const StructuralModel& model, const Process& process,
                              const std::vector<OperationRow>& rows, const CheckOptions& options);

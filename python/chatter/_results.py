@@ -202,12 +202,21 @@ class Surface(Result):
 class StabilityMap(Result):
     """chatter.map(): plot() draws the spectral radius over speed and depth
     (log colour scale centred on 1), the boundary rho = 1, and (with
-    multiplier_types=True) the unstable points where flip dominates."""
+    multiplier_types=True) the unstable points where flip dominates. With
+    axes="radial-axial" the x axis is the radial depth a_e (mm; a_e/D without
+    a tool diameter) at the map's one speed, and the depth limit searched at
+    each immersion is drawn as points."""
 
     def plot(self, ax=None):
         ax = _axes(ax, figsize=self._figsize)[0]
         from matplotlib.colors import LinearSegmentedColormap, LogNorm
-        rpm, depth, rho = self["spindle_rpm"], self["depth_mm"], np.asarray(self["spectral_radius"])
+        radial = self.get("axes") == "radial-axial"
+        if radial:
+            mm = "radial_depth_mm" in self
+            rpm = self["radial_depth_mm"] if mm else self["radial_immersion"]
+        else:
+            rpm = self["spindle_rpm"]
+        depth, rho = self["depth_mm"], np.asarray(self["spectral_radius"])
         logs = np.abs(np.log(rho[np.isfinite(rho) & (rho > 0)]))
         spread = np.quantile(logs, 0.9) if logs.size else 1.0
         clip = next((r for r in (1.5, 2, 3, 5, 10) if np.log(r) >= spread), 10)  # the CLI's rule
@@ -225,8 +234,17 @@ class StabilityMap(Result):
                 ax.plot(rpm[i], depth[k], "x", color=FLIP, ms=4, label="flip dominates (μ ≈ −1)")
         ax.set_xlim(rpm.min(), rpm.max())
         ax.set_ylim(depth.min(), depth.max())
-        _style(ax, "spindle speed (rev/min)", "depth of cut (mm)")
-        ax.set_title(f"{self.get('name', '')}: spectral radius (sdm)")
+        if radial:
+            limit = np.asarray(self["depth_limit_mm"], dtype=float)
+            shown = np.isfinite(limit) & (limit <= depth.max())
+            ax.plot(rpm[shown], limit[shown], "o", color="black", mec="white", ms=4,
+                    label="depth limit searched at each a_e")
+            _style(ax, "radial depth of cut a_e (mm)" if mm else "radial immersion a_e/D (-)",
+                   "axial depth of cut a_p (mm)")
+            ax.set_title(f"{self.get('name', '')}: spectral radius (sdm) at {self['spindle_rpm']:g} rev/min")
+        else:
+            _style(ax, "spindle speed (rev/min)", "depth of cut (mm)")
+            ax.set_title(f"{self.get('name', '')}: spectral radius (sdm)")
         ax.legend(loc="upper left", fontsize="small")
         return ax
 

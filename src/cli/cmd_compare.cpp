@@ -34,7 +34,8 @@ int cmd_compare(const std::vector<std::string>& args) {
       ("table", po::value<std::string>(&table_path), "write the comparison CSV here ('-': standard output; by "
                                                      "default standard output only when neither --json nor --plot "
                                                      "is given)")
-      ("json", po::value<std::string>(&json_path), "write the pairwise differences as JSON")
+      ("json", po::value<std::string>(&json_path), "write the pairwise differences as JSON ('-': standard output, the report then goes "
+       "to standard error)")
       ("plot", po::value<std::string>(&plot_path), "draw every method's depth limit on one chart to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp);
   add_show_option(d);
@@ -64,7 +65,11 @@ int cmd_compare(const std::vector<std::string>& args) {
   const ShowRequest show = show_request(vm);              // a display or GNUPLOT_TERM, before computing
   const bool table_to_stdout =
       table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty() && !show.requested);
+  const bool json_to_stdout = json_path == "-";
+  if (table_path == "-" && json_to_stdout)
+    throw InputError("--table - and --json -: only one of them can go to standard output");
   if (table_path == "-") table_path.clear();
+  if (json_to_stdout) json_path.clear();
   check_outputs({{"--table", table_path}, {"--json", json_path}, {"--plot", plot_path, true}});  // before computing
   const double plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty() || show.requested);
   const Config cfg = load_checked(common);
@@ -89,11 +94,14 @@ int cmd_compare(const std::vector<std::string>& args) {
   const std::string csv = comparison_csv(c);
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!table_path.empty()) files.emplace_back(table_path, csv);
-  if (!json_path.empty())
-    files.emplace_back(json_path, comparison_record(c, record_source(cfg, common.position_mm)).dump(2) + "\n");
+  const std::string json_text =
+      json_path.empty() && !json_to_stdout ? std::string()
+                                           : comparison_record(c, record_source(cfg, common.position_mm)).dump(2) + "\n";
+  if (!json_path.empty()) files.emplace_back(json_path, json_text);
   write_text_files(files);
   if (table_to_stdout) std::cout << csv;
-  std::ostream& info = table_to_stdout ? std::cerr : std::cout;
+  if (json_to_stdout) std::cout << json_text;
+  std::ostream& info = table_to_stdout || json_to_stdout ? std::cerr : std::cout;
   info << c.explanation;
   PlotOptions options;
   options.depth_axis_max_mm = plot_depth_axis_mm;

@@ -56,7 +56,9 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm; deeper limits print as inf (default: sweep.depth_max_mm or 50)")
       ("table", po::value<std::string>(&table_path), "write the CSV table here ('-': standard output; by default "
                                                      "standard output only when neither --json nor --plot is given)")
-      ("json", po::value<std::string>(&json_path), "write the table with its provenance as JSON")
+      ("json", po::value<std::string>(&json_path),
+       "write the table with its provenance as JSON ('-': standard output, the summary then goes to standard "
+       "error)")
       ("plot", po::value<std::string>(&plot_path), "draw the lobe diagram to this .png, .svg or .pdf (with its gnuplot script and data beside it)")
       ("plot-frequency", "with --plot or --show: add a panel with the chatter frequency")
       ("plot-depth-max-mm", po::value<double>(), kPlotDepthMaxHelp)
@@ -95,12 +97,15 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
     throw InputError("--fail-on-chatter: give --depth-mm D too (the depth of cut to judge at every speed)");
   // The table goes to standard output when asked ('-') or when nothing else is.
   plan.show = show_request(vm);  // a display or GNUPLOT_TERM, before anything is computed
+  plan.json_to_stdout = json_path == "-";
+  if (plan.json_to_stdout && table_path == "-")
+    throw InputError("--table - and --json -: only one of them can go to standard output");
   plan.table_to_stdout =
       table_path == "-" || (table_path.empty() && json_path.empty() && plot_path.empty() && !plan.show.requested);
   if (table_path == "-") table_path.clear();
   if (check_output_files)
     check_outputs({{"--table", table_path},
-                   {"--json", json_path},
+                   {"--json", plan.json_to_stdout ? std::string() : json_path},
                    {"--plot", plot_path, true},
                    {"--probability-table",
                     vm.count("probability-table") ? vm["probability-table"].as<std::string>() : std::string()}});
@@ -270,18 +275,19 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!table_path.empty()) files.emplace_back(table_path, csv.str());
-  if (!json_path.empty()) files.emplace_back(json_path, json_text);
+  if (!json_path.empty() && !plan.json_to_stdout) files.emplace_back(json_path, json_text);
   if (mc && !uncertainty->probability_table.empty())
     files.emplace_back(uncertainty->probability_table, mc->probability_csv);
   write_text_files(files);  // all or nothing
   if (table_to_stdout) std::cout << csv.str();
-  std::ostream& info = table_to_stdout ? std::cerr : std::cout;
+  if (plan.json_to_stdout) std::cout << json_text;
+  std::ostream& info = table_to_stdout || plan.json_to_stdout ? std::cerr : std::cout;
   info << summary.str() << "\n";
   if (mc) info << mc->summary << "\n";
   if (mc && !uncertainty->probability_table.empty())
     info << "wrote probability table: " << uncertainty->probability_table << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
-  if (!json_path.empty()) info << "wrote JSON table: " << json_path << "\n";
+  if (!json_path.empty() && !plan.json_to_stdout) info << "wrote JSON table: " << json_path << "\n";
   const std::string plot_title = cfg.name + " (" + solver.method() + ")";
   if ((!plot_path.empty() || window) && mc) {
     const std::string title = cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)";

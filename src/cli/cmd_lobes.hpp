@@ -40,6 +40,7 @@ struct LobesPlan {
   std::string spacing = "even";
   bool adaptive = false;
   bool table_to_stdout = false;
+  bool json_to_stdout = false;  ///< --json - : the JSON on standard output, the summary on standard error
   double plot_depth_axis_mm = 0.0;                 ///< plot_depth_max_mm
   ShowRequest show;                                ///< --show (a live window; chatter-mpi refuses it)
   std::optional<UncertaintyRequest> uncertainty;   ///< --samples (checked, config included)

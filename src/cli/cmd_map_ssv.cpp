@@ -15,9 +15,10 @@
 namespace chatter::cli {
 namespace {
 
-constexpr const char* kOnlyWith[] = {"rpm", "depth-mm", "ssv-amplitude-max", "ssv-amplitude-points",
+constexpr const char* kOnlyWith[] = {"depth-mm", "ssv-amplitude-max", "ssv-amplitude-points",
                                      "ssv-frequency-min", "ssv-frequency-max", "ssv-frequency-points"};
-constexpr const char* kNotWith[] = {"rpm-min", "rpm-max", "rpm-points", "depth-points", "json", "show"};
+constexpr const char* kNotWith[] = {"rpm-min", "rpm-max",          "rpm-points",       "depth-points",    "json",
+                                    "show",    "immersion-min",    "immersion-max",    "immersion-points", "axes"};
 
 std::vector<double> evenly(double lo, double hi, int n) {
   std::vector<double> v;
@@ -31,7 +32,6 @@ void add_ssv_map_options(po::options_description& d) {
   d.add_options()
       ("ssv-map", "map the spindle speed variation instead: spectral radius per revolution over amplitude ratio x "
        "frequency ratio at --rpm and --depth-mm (docs/ssv.md)")
-      ("rpm", po::value<double>(), "with --ssv-map: the mean spindle speed, rev/min (required)")
       ("depth-mm", po::value<double>(), "with --ssv-map: the depth of cut, mm (required)")
       ("ssv-amplitude-max", po::value<double>()->default_value(0.3), "with --ssv-map: largest amplitude ratio "
        "R_VA, in (0, 1); the grid runs from 0 (constant speed)")

@@ -12,7 +12,8 @@
 
 namespace chatter::cli {
 
-/// Adds --ssv-map, --rpm, --depth-mm and the grid options.
+/// Adds --ssv-map, --depth-mm and the grid options (--rpm is map's own,
+/// shared with --axes radial-axial).
 void add_ssv_map_options(po::options_description& d);
 /// Refuses the --ssv-map options without --ssv-map. @throws InputError.
 void check_no_ssv_map_options(const po::variables_map& vm);

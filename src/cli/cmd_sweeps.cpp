@@ -27,7 +27,7 @@ int cmd_lobes(const std::vector<std::string>& args) {
     LiveWindow window(plan->show);
     status = write_lobes(*plan, nominal, samples, &window);
   }  // gnuplot has drawn
-  report_shown(plan->table_to_stdout ? std::cerr : std::cout, plan->show);
+  report_shown(plan->table_to_stdout || plan->json_to_stdout ? std::cerr : std::cout, plan->show);
   return status;
 }
 

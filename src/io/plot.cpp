@@ -885,19 +885,35 @@ bool strictly_increasing(const std::vector<double>& v) {
 
 namespace {
 
+// What the map's x values are (map.spindle_rpm holds them): spindle speed
+// for the speed x depth map, radial depth for the radial x axial one.
+struct MapXAxis {
+  std::string label = "spindle speed (rev/min)";  // axis title, with the unit
+  std::string column = "spindle_rpm";             // .dat column name, with the unit
+  std::string plural = "spindle speeds";          // in messages and the .dat header
+  std::string y_label = "depth of cut (mm)";
+  int digits = 10;                                 // of the range in the script
+};
+
+// `limit_depth_m` (empty, or one per x value: m, +inf = none) is drawn as
+// points over the map: the depth limit searched at each x.
 void draw_stability_map(const Target& t, const std::string& title, const StabilityMapGrid& map,
-                        const PlotOptions& options) {
+                        const PlotOptions& options, const MapXAxis& xaxis = {},
+                        const std::vector<double>& limit_depth_m = {}) {
   const std::size_t n = map.spindle_rpm.size(), k = map.depth_m.size();
   const std::string where = t.label + ": stability map: ";
   if (n < 2 || k < 2)
-    throw InputError(where + "needs >= 2 speeds and >= 2 depths (got " + std::to_string(n) + " x " +
+    throw InputError(where + "needs >= 2 " + xaxis.plural + " and >= 2 depths (got " + std::to_string(n) + " x " +
                      std::to_string(k) + ")");
   for (double r : map.spindle_rpm)
-    if (!(std::isfinite(r) && r > 0.0)) throw InputError(where + "spindle speeds must be finite and > 0");
+    if (!(std::isfinite(r) && r > 0.0)) throw InputError(where + xaxis.plural + " must be finite and > 0");
   for (double d : map.depth_m)
     if (!(std::isfinite(d) && d >= 0.0)) throw InputError(where + "depths must be finite and >= 0");
   if (!strictly_increasing(map.spindle_rpm) || !strictly_increasing(map.depth_m))
-    throw InputError(where + "speeds and depths must be strictly increasing");
+    throw InputError(where + xaxis.plural + " and depths must be strictly increasing");
+  if (!limit_depth_m.empty() && limit_depth_m.size() != n)
+    throw InputError(where + std::to_string(limit_depth_m.size()) + " depth limits for " + std::to_string(n) + " " +
+                     xaxis.plural);
   if (map.spectral_radius.size() != n * k)
     throw InputError(where + std::to_string(map.spectral_radius.size()) + " spectral radii for " +
                      std::to_string(n) + " x " + std::to_string(k) + " grid points");
@@ -930,12 +946,12 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
   // --- data ---
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": Floquet spectral radius map (chatter " << version() << ")\n"
-      << "# " << n << " spindle speeds x " << k << " depths; rho < 1 stable, rho >= 1 chatter.\n"
+      << "# " << n << " " << xaxis.plural << " x " << k << " depths; rho < 1 stable, rho >= 1 chatter.\n"
       << "# Missing values are '?' (gnuplot: set datafile missing '?').\n\n"
-      << "# index 0: the grid, one block per spindle speed (blocks separated by one blank line);\n"
+      << "# index 0: the grid, one block per " << xaxis.column << " value (blocks separated by one blank line);\n"
       << "# 7 significant digits.\n"
       << "# multiplier_type: type of the dominant multiplier (hopf, flip, fold) where rho >= 1, else '?'.\n"
-      << "# spindle_rpm depth_mm spectral_radius multiplier_type\n";
+      << "# " << xaxis.column << " depth_mm spectral_radius multiplier_type\n";
   for (std::size_t i = 0; i < n; ++i) {
     if (i > 0) dat << '\n';
     for (std::size_t j = 0; j < k; ++j) {
@@ -947,7 +963,7 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
   }
   dat << "\n\n# index 1: the rho = 1 contour (linear interpolation of ln rho along the grid edges), one block\n"
       << "# per piece; multiplier_type: the type on the unstable side (hopf, flip, fold; '?' if not given).\n"
-      << "# spindle_rpm depth_mm multiplier_type\n";
+      << "# " << xaxis.column << " depth_mm multiplier_type\n";
   for (std::size_t c = 0; c < contour.size(); ++c) {
     if (c > 0) dat << '\n';
     const char* word = contour[c].type < 0 ? "?" : type_word(static_cast<MultiplierType>(contour[c].type));
@@ -958,7 +974,7 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
   const std::size_t si = std::max<std::size_t>(1, (n + 39) / 40), sj = std::max<std::size_t>(1, (k + 24) / 25);
   dat << "\n\n# index 2: marks on unstable grid points where the dominant multiplier is flip or fold\n"
       << "# (every " << si << " speed(s) and " << sj << " depth(s))\n"
-      << "# spindle_rpm depth_mm multiplier_type\n";
+      << "# " << xaxis.column << " depth_mm multiplier_type\n";
   std::size_t marks[3] = {0, 0, 0};  // per type
   if (typed)
     for (std::size_t i = si / 2; i < n; i += si)
@@ -969,6 +985,19 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
             << type_word(map.multiplier_type[p]) << '\n';
         ++marks[static_cast<int>(map.multiplier_type[p])];
       }
+
+  std::size_t limit_points = 0;
+  if (!limit_depth_m.empty()) {
+    dat << "\n\n# index 3: the depth limit searched at each " << xaxis.column
+        << " (the limit search of the lobe table; none where no limit below the depths searched)\n"
+        << "# " << xaxis.column << " depth_limit_mm\n";
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::isfinite(limit_depth_m[i]) && limit_depth_m[i] * 1e3 <= map.depth_m.back() * 1e3) {
+        dat << num(map.spindle_rpm[i], 7) << ' ' << num(limit_depth_m[i] * 1e3, 7) << '\n';
+        ++limit_points;
+      }
+    if (limit_points == 0) dat << "? ?\n";  // gnuplot needs a block to read
+  }
 
   // --- script ---
   std::ostringstream gp;
@@ -992,12 +1021,12 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
      << "set border lw 1 lc rgb '#404040' front\n"
      << "set tics front\n"
      << "set mxtics 2; set mytics 2\n"
-     << "set xrange [" << short_num(map.spindle_rpm.front(), 10) << ":" << short_num(map.spindle_rpm.back(), 10)
-     << "]\n"
+     << "set xrange [" << short_num(map.spindle_rpm.front(), xaxis.digits) << ":"
+     << short_num(map.spindle_rpm.back(), xaxis.digits) << "]\n"
      << "set yrange [" << short_num(map.depth_m.front() * 1e3, 10) << ":" << short_num(map.depth_m.back() * 1e3, 10)
      << "]\n"
-     << "set xlabel 'spindle speed (rev/min)'\n"
-     << "set ylabel 'depth of cut (mm)'\n"
+     << "set xlabel " << quote(xaxis.label) << "\n"
+     << "set ylabel " << quote(xaxis.y_label) << "\n"
      << "set logscale cb\n"
      << "set cbrange [1.0/rho_clip:rho_clip]\n"
      << "set colorbox user origin screen 0.875, screen 0.11 size screen 0.022, screen 0.72 front border\n"
@@ -1045,6 +1074,10 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
     if (kd.index > 0 && marks[kd.index] > 0)
       gp << ", \\\n  data index 2 using 1:(strcol(3) eq '" << kd.word << "' ? $2 : NaN) with points pt "
          << kd.point_type << " ps 0.7 lw 1.5 lc rgb " << kd.colour << " title " << quote(kd.mark_title);
+  if (limit_points > 0)
+    gp << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.9 lc rgb '#ffffff' notitle"
+       << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.55 lc rgb '#000000' title "
+       << quote("limit search");
   gp << "\nunset multiplot\n";
   write_and_render(t, dat.str(), gp.str());
 }
@@ -1061,6 +1094,48 @@ PlotFiles plot_stability_map(const fs::path& image, const std::string& title, co
 void plot_stability_map(PlotWindow& window, const std::string& title, const StabilityMapGrid& map,
                         const PlotOptions& options) {
   draw_stability_map(live_target(window, options), title, map, options);
+}
+
+namespace {
+
+// The radial map as a StabilityMapGrid whose x values are a_e in mm (or
+// a_e/D without a diameter), and the axis that says so.
+std::pair<StabilityMapGrid, MapXAxis> radial_view(const RadialStabilityMapGrid& r) {
+  StabilityMapGrid g;
+  const bool mm = r.tool_diameter_m > 0.0;
+  for (double e : r.radial_immersion) g.spindle_rpm.push_back(mm ? e * r.tool_diameter_m * 1e3 : e);
+  g.depth_m = r.depth_m;
+  g.spectral_radius = r.spectral_radius;
+  g.multiplier_type = r.multiplier_type;
+  MapXAxis x;
+  x.label = mm ? "radial depth of cut a_e (mm)" : "radial immersion a_e/D (-)";
+  x.column = mm ? "radial_depth_mm" : "radial_immersion";
+  x.plural = mm ? "radial depths" : "radial immersions";
+  x.digits = 6;
+  x.y_label = "axial depth of cut a_p (mm)";
+  return {g, x};
+}
+
+std::vector<double> radial_limits(const RadialStabilityMapGrid& r) {
+  std::vector<double> v;
+  for (const StabilityLimit& l : r.limit) v.push_back(l.depth_limit_m);
+  return v;
+}
+
+}  // namespace
+
+PlotFiles plot_radial_stability_map(const fs::path& image, const std::string& title, const RadialStabilityMapGrid& map,
+                                    const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  const auto [grid, x] = radial_view(map);
+  draw_stability_map(t, title, grid, options, x, radial_limits(map));
+  return {t.image, t.script, t.data};
+}
+
+void plot_radial_stability_map(PlotWindow& window, const std::string& title, const RadialStabilityMapGrid& map,
+                               const PlotOptions& options) {
+  const auto [grid, x] = radial_view(map);
+  draw_stability_map(live_target(window, options), title, grid, options, x, radial_limits(map));
 }
 
 // ---------------------------------------------------------------------------

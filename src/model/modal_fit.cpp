@@ -360,12 +360,37 @@ ModalFitResult fit_modes(const FrfTable& receptance, const ModalFitOptions& opti
                   status == LmStatus::FtolTooSmall || status == LmStatus::XtolTooSmall ||
                   status == LmStatus::GtolTooSmall;
 
+  // Linearised covariance of θ at the solution (the sandwich estimator below).
+  Eigen::VectorXd se = Eigen::VectorXd::Constant(m.parameters(), std::numeric_limits<double>::quiet_NaN());
+  {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd J;
+    m.evaluate(th, r, &J);
+    const double rows = static_cast<double>(m.rows()), dof = rows - static_cast<double>(m.parameters());
+    const Eigen::MatrixXd normal = J.transpose() * J;
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(normal);
+    if (r.allFinite() && J.allFinite() && lu.isInvertible()) {
+      // Heteroscedasticity-consistent ("sandwich", HC1: White 1980,
+      // MacKinnon & White 1985): (JᵀJ)⁻¹ Jᵀ diag(r²) J (JᵀJ)⁻¹ · n/(n − p).
+      // A tap test's noise grows with |G| (it is about relative), which the
+      // plain s² (JᵀJ)⁻¹ would underestimate by 2-4x at the peaks.
+      const Eigen::MatrixXd inv = lu.inverse();
+      const Eigen::MatrixXd meat = J.transpose() * r.cwiseAbs2().asDiagonal() * J;
+      const Eigen::MatrixXd cov = (rows / dof) * inv * meat * inv;
+      for (Eigen::Index p = 0; p < m.parameters(); ++p)
+        if (cov(p, p) >= 0.0) se[p] = std::sqrt(cov(p, p));
+    }
+    for (std::size_t i = 0; i < m.n_modes; ++i)  // ζ at its bound: not identified
+      if (th[static_cast<Eigen::Index>(3 * i) + 1] >= std::log(kMaxDamping)) se[static_cast<Eigen::Index>(3 * i) + 1] = std::numeric_limits<double>::quiet_NaN();
+  }
+
   std::vector<std::size_t> order(peaks.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return th[static_cast<Eigen::Index>(3 * a)] < th[static_cast<Eigen::Index>(3 * b)]; });
   for (const std::size_t i : order) {
     const auto b = static_cast<Eigen::Index>(3 * i);
     res.modes.push_back(make_mode(std::exp(th[b]), std::exp(th[b + 1]), std::exp(th[b + 2]), options.direction, t.source));
+    res.standard_errors.push_back({se[b], se[b + 1], se[b + 2]});
   }
   if (m.residuals) {
     const auto b = static_cast<Eigen::Index>(3 * m.n_modes);

@@ -19,6 +19,7 @@
 #include "chatter/io/modes_toml.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/shop.hpp"
+#include "chatter/records.hpp"
 
 namespace chatter {
 
@@ -275,6 +276,13 @@ ModalFitResult fit_record_of(const FittedRecord& j, const FitArgs& a, ArgStyle s
     report << "  residual terms: upper " << g(res.residual_upper, 4) << " m/N, lower " << g(res.residual_lower, 4)
            << " m/N at " << g(res.residual_omega / (2 * std::numbers::pi), 6)
            << " Hz (not written: they stand for modes outside the band)\n";
+  report << "  1-sigma standard errors, % of the value (frequency, damping ratio, stiffness):";
+  for (std::size_t m = 0; m < res.standard_errors.size(); ++m) {
+    const auto& e = res.standard_errors[m];
+    report << (m ? ";" : "") << " mode " << m + 1 << ": " << g(100 * e.frequency, 3) << ", " << g(100 * e.damping, 3)
+           << ", " << g(100 * e.stiffness, 3);
+  }
+  report << "\n";
   report << "  fit error " << g(res.fit_error, 3) << " (relative RMS over the band; peak picking alone: "
          << g(res.initial_error, 3) << "), " << res.iterations << " iterations"
          << (res.converged ? "" : ", NOT converged") << "\n";
@@ -291,6 +299,41 @@ ModalFitResult fit_record_of(const FittedRecord& j, const FitArgs& a, ArgStyle s
           << " (relative RMS), " << res.iterations << " iterations" << (res.converged ? "" : ", not converged");
   toml << "\n" << modes_to_toml(res.modes, a.body, comment.str());
   return res;
+}
+
+// The spreads of [uncertainty] from the fit's standard errors, commented out
+// (docs/frf.md, "Standard errors and [uncertainty]"): 100 × the standard
+// error of ln p for each mode's frequency, damping ratio and stiffness, one
+// value per mode in the order of the fragment; capped to what [uncertainty]
+// accepts, with a note.
+std::string fit_uncertainty_toml(const std::vector<FittedRecord>& records) {
+  UncertaintyKey f{"frequency_percent", {}, true}, z{"damping_percent", {}, true}, k{"stiffness_percent", {}, true};
+  std::ostringstream notes;
+  std::size_t mode = 0;
+  for (const FittedRecord& j : records)
+    for (std::size_t m = 0; m < j.fit.modes.size(); ++m, ++mode) {
+      const auto& e = j.fit.standard_errors[m];
+      if (!(std::isfinite(e.frequency) && std::isfinite(e.damping) && std::isfinite(e.stiffness)))
+        return "# [uncertainty]: no spreads: the standard errors of mode " + std::to_string(mode + 1) +
+               " are not defined (a parameter is not identified by the data).\n";
+      const double zeta = j.fit.modes[m].damping_ratio;
+      const std::pair<UncertaintyKey*, std::pair<double, double>> parts[3] = {
+          {&f, {100 * e.frequency, 0.0}}, {&z, {100 * e.damping, zeta}}, {&k, {100 * e.stiffness, 0.0}}};
+      for (const auto& [key, p] : parts) {
+        const double allowed = allowed_spread_percent(p.first, p.second);
+        if (allowed < p.first)
+          notes << "\n" << key->key << " of mode " << mode + 1 << ": the standard error is " << g(p.first, 4)
+                << " %, capped to " << g(allowed, 4) << " % (the most [uncertainty] accepts)";
+        key->percent.push_back(allowed);
+      }
+    }
+  if (mode == 0) return "";
+  return commented_uncertainty_toml(
+      {f, z, k},
+      "[uncertainty]: 1-sigma spreads of the modes above, from the fit's standard errors (percent = 100 x the\n"
+      "standard error of ln p; docs/frf.md). To sample them with `chatter lobes --samples N`, remove the '#'\n"
+      "in front of [uncertainty] and of each key below. One value per mode in the order above: with other\n"
+      "modes in the config, give theirs too (tool modes first, then workpiece modes)." + notes.str());
 }
 
 // Two records along the same direction would put the same modes in twice.
@@ -347,6 +390,7 @@ FitReport fit_frf_file(const FitArgs& args, ArgStyle style) {
        << "# Paste the blocks below into a config (docs/config.md), or append a [process] table.\n";
   for (FittedRecord& j : r.records) j.fit = fit_record_of(j, a, style, report, toml, r.warnings);
   warn_same_directions(r.records, a, style, r.warnings);
+  toml << "\n" << fit_uncertainty_toml(r.records);
   r.fragment = toml.str();
   r.report = report.str();
   return r;
@@ -356,11 +400,18 @@ json fit_record(const FitReport& r) {
   json records = json::array();
   for (const FittedRecord& f : r.records) {
     const ModalFitResult& m = f.fit;
-    json modes = json::array();
-    for (const Mode& md : m.modes)
+    // modes: keys a Job takes as they are; their errors in a list beside.
+    json modes = json::array(), errors = json::array();
+    for (std::size_t i = 0; i < m.modes.size(); ++i) {
+      const Mode& md = m.modes[i];
+      const auto& e = m.standard_errors[i];
       modes.push_back({{"frequency_hz", md.natural_frequency_hz},
                        {"damping_ratio", md.damping_ratio},
                        {"stiffness_n_per_m", md.stiffness_n_per_m}});
+      errors.push_back({{"frequency", finite_or_null(e.frequency)},
+                        {"damping_ratio", finite_or_null(e.damping)},
+                        {"stiffness", finite_or_null(e.stiffness)}});
+    }
     json one = {{"label", f.label},
                 {"direction", direction_text(f.direction)},
                 {"measured_lines", f.table.size()},
@@ -370,6 +421,7 @@ json fit_record(const FitReport& r) {
                 {"band_max_hz", m.f_max_hz},
                 {"fitted_lines", m.lines},
                 {"modes", modes},
+                {"relative_standard_errors", errors},
                 {"fit_error", m.fit_error},
                 {"initial_error", m.initial_error},
                 {"iterations", m.iterations},

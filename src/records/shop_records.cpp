@@ -3,11 +3,13 @@
 // in a recording of the cut (issue 18), built once for the CLI and Python.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/io/modes_toml.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/shop.hpp"
 #include "chatter/report.hpp"
@@ -190,6 +192,30 @@ std::string coefficients_fragment(const CoefficientResult& r, ArgStyle style) {
     << table_number(fit.confidence_95[1]) << " (95 %)\n"
     << "radial_immersion = " << table_number(r.radial_immersion) << "\n"
     << "milling_direction = \"" << direction_word(r.engagement.direction) << "\"\n";
+  // [uncertainty], commented out: 100 x standard error / coefficient
+  // (docs/shop_data.md, "Spreads for [uncertainty]").
+  const double se_t = 100.0 * fit.standard_error[0] / fit.tangential_coefficient_n_per_m2;
+  const double se_r = fit.radial_coefficient_n_per_m2 > 0.0
+                          ? 100.0 * fit.standard_error[1] / fit.radial_coefficient_n_per_m2
+                          : std::numeric_limits<double>::quiet_NaN();
+  t << "\n";
+  if (!(std::isfinite(se_t) && std::isfinite(se_r))) {
+    t << "# [uncertainty]: no spreads: the standard errors are not defined (no degree of freedom left, or K_rc = 0).\n";
+    return t.str();
+  }
+  std::string notes;
+  const UncertaintyKey keys[2] = {{"tangential_coefficient_percent", {allowed_spread_percent(se_t)}, false},
+                                  {"radial_coefficient_percent", {allowed_spread_percent(se_r)}, false}};
+  for (const auto& [k, raw] : {std::pair{&keys[0], se_t}, std::pair{&keys[1], se_r}})
+    if (k->percent[0] < raw)
+      notes += "\n" + k->key + ": the standard error is " + fmt(raw, 4) + " %, capped to " + fmt(k->percent[0], 4) +
+               " % (the most [uncertainty] accepts)";
+  t << commented_uncertainty_toml(
+      {keys[0], keys[1]},
+      "[uncertainty]: 1-sigma spreads of K_tc and K_rc from the fit's standard errors (percent = 100 x standard\n"
+      "error / coefficient; docs/shop_data.md). To sample them with `chatter lobes --samples N`, remove the '#'\n"
+      "in front of [uncertainty] and of each key below (the edge coefficients have no spread: not used)." +
+          notes);
   return t.str();
 }
 

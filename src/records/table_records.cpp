@@ -112,6 +112,7 @@ json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solv
   json options = json::object();
   for (const auto& [k, v] : solver_options) options[k] = value_json(v);
   json j = {{"method", "sdm"},
+            {"axes", "speed-axial"},
             {"config", source.config_path},
             {"name", source.config_name},
             {"warnings", source.warnings},
@@ -127,6 +128,147 @@ json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solv
   double worst = 0.0;
   for (double r : grid.spectral_radius) worst = std::max(worst, r);
   j["max_spectral_radius"] = finite_or_null(worst);
+  if (!grid.multiplier_type.empty()) {
+    std::size_t flips = 0;
+    for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)
+      flips += grid.spectral_radius[i] >= 1.0 && grid.multiplier_type[i] == MultiplierType::kFlip;
+    j["unstable_flip_points"] = flips;
+  }
+  if (source.position_mm) j["position_mm"] = *source.position_mm;
+  return j;
+}
+
+// ------------------------------------------------------- radial x axial map
+
+MapAxes parse_map_axes(const std::string& text, ArgStyle style) {
+  if (text == "speed-axial") return MapAxes::kSpeedAxial;
+  if (text == "radial-axial") return MapAxes::kRadialAxial;
+  throw InputError(arg_name(style, "axes") + " '" + text +
+                   "': unknown; use speed-axial (spindle speed x axial depth, the default) or radial-axial "
+                   "(radial immersion x axial depth at one speed)");
+}
+
+std::vector<double> map_immersions(double min, double max, int points, std::size_t depths, ArgStyle style) {
+  const std::string lo = arg_name(style, "immersion_min"), hi = arg_name(style, "immersion_max");
+  if (!(std::isfinite(min) && min > 0.0 && min <= 1.0))
+    throw InputError(lo + " = " + fmt(min) + ": must be in (0, 1] (radial immersion a_e/D)");
+  if (!(std::isfinite(max) && max > 0.0 && max <= 1.0))
+    throw InputError(hi + " = " + fmt(max) + ": must be in (0, 1] (radial immersion a_e/D; 1 = slot)");
+  if (!(max > min)) throw InputError(hi + " = " + fmt(max) + ": must be > " + lo + " (" + fmt(min) + ")");
+  if (points < 2)
+    throw InputError(arg_name(style, "immersion_points") + " = " + std::to_string(points) + ": must be >= 2");
+  if (static_cast<long long>(points) * static_cast<long long>(depths) > kMaxMapPoints)
+    throw InputError(arg_name(style, "immersion_points") + " x " + arg_name(style, "depth_points") + " = " +
+                     std::to_string(points) + " x " + std::to_string(depths) + ": at most " +
+                     std::to_string(kMaxMapPoints) + " grid points (memory and time); use fewer points");
+  std::vector<double> v(static_cast<std::size_t>(points));
+  for (int i = 0; i < points; ++i) v[static_cast<std::size_t>(i)] = min + (max - min) * i / (points - 1);
+  v.back() = max;
+  return v;
+}
+
+RadialStabilityMapGrid radial_stability_map(const Process& process, double spindle_rpm,
+                                            const std::vector<double>& immersions, const std::vector<double>& depths,
+                                            const ProcessSolverFactory& make_solver, bool multiplier_types,
+                                            unsigned threads,
+                                            const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (process.operation() != Operation::kMilling)
+    throw InputError("the radial x axial map needs a milling process (turning has no radial immersion)");
+  RadialStabilityMapGrid grid;
+  grid.spindle_rpm = spindle_rpm;
+  grid.radial_immersion = immersions;
+  grid.tool_diameter_m = process.milling_parameters().tool_diameter_m;
+  grid.depth_m = depths;
+  const std::size_t ni = immersions.size(), nd = depths.size();
+  grid.spectral_radius.resize(ni * nd);
+  grid.limit.resize(ni);
+  if (multiplier_types) grid.multiplier_type.assign(ni * nd, MultiplierType::kHopf);
+  std::vector<std::string> errors(ni);
+  parallel_for(
+      ni, threads,
+      [&](std::size_t i) {
+        MillingParameters p = process.milling_parameters();
+        p.radial_immersion = immersions[i];
+        Process at = Process::milling(p);
+        at.set_speed_variation(process.speed_variation());  // the config's modulation, if any
+        const std::unique_ptr<LobeSolver> solver = make_solver(at);
+        const auto* sdm = dynamic_cast<const SemiDiscretizationSolver*>(solver.get());
+        if (!sdm) {
+          errors[i] = "the radial x axial map needs the Floquet (sdm) solver";
+          return;
+        }
+        const auto col = sdm->spectral_radius_map({spindle_rpm}, depths);
+        std::copy(col.begin(), col.end(), grid.spectral_radius.begin() + static_cast<std::ptrdiff_t>(i * nd));
+        grid.limit[i] = sdm->limit_at(spindle_rpm);
+        if (multiplier_types)
+          for (std::size_t k = 0; k < nd; ++k)
+            if (grid.spectral_radius[i * nd + k] >= 1.0)
+              grid.multiplier_type[i * nd + k] = sdm->analyse(spindle_rpm, depths[k]).type;
+      },
+      [&](std::size_t done) {
+        if (progress) progress(done, ni);
+      });
+  for (const std::string& e : errors)
+    if (!e.empty()) throw InputError(e);
+  return grid;
+}
+
+std::string radial_map_csv(const RadialStabilityMapGrid& grid) {
+  std::ostringstream os;
+  const bool mm = grid.tool_diameter_m > 0.0;
+  os << "radial_immersion," << (mm ? "radial_depth_mm," : "") << "depth_mm,spectral_radius,depth_limit_mm\n";
+  const std::size_t nd = grid.depth_m.size();
+  for (std::size_t i = 0; i < grid.radial_immersion.size(); ++i) {
+    const double e = grid.radial_immersion[i];
+    for (std::size_t k = 0; k < nd; ++k) {
+      os << table_number(e) << ',';
+      if (mm) os << table_number(e * grid.tool_diameter_m * 1e3) << ',';
+      os << table_number(grid.depth_m[k] * 1e3) << ',' << table_number(grid.spectral_radius[i * nd + k]) << ','
+         << table_number(grid.limit[i].depth_limit_m * 1e3) << '\n';
+    }
+  }
+  return os.str();
+}
+
+json radial_map_record(const RadialStabilityMapGrid& grid, const SolverValues& solver_options,
+                       const RecordSource& source) {
+  json options = json::object();
+  for (const auto& [k, v] : solver_options) options[k] = value_json(v);
+  std::size_t unstable = 0;
+  double worst = 0.0;
+  for (double r : grid.spectral_radius) {
+    unstable += r >= 1.0;
+    worst = std::max(worst, r);
+  }
+  const bool mm = grid.tool_diameter_m > 0.0;
+  json boundary = json::array();
+  for (std::size_t i = 0; i < grid.radial_immersion.size(); ++i) {
+    const StabilityLimit& l = grid.limit[i];
+    const double e = grid.radial_immersion[i];
+    boundary.push_back({{"radial_immersion", e},
+                        {"radial_depth_mm", mm ? json(e * grid.tool_diameter_m * 1e3) : json(nullptr)},
+                        {"depth_limit_mm", finite_or_null(l.depth_limit_m * 1e3)},
+                        {"chatter_frequency_hz", finite_or_null(l.chatter_frequency_hz)},
+                        {"lobe", l.lobe}});
+  }
+  json j = {{"method", "sdm"},
+            {"axes", "radial-axial"},
+            {"config", source.config_path},
+            {"name", source.config_name},
+            {"warnings", source.warnings},
+            {"notes", source.notes},
+            {"spindle_rpm", grid.spindle_rpm},
+            {"immersion_min", grid.radial_immersion.front()},
+            {"immersion_max", grid.radial_immersion.back()},
+            {"immersion_points", grid.radial_immersion.size()},
+            {"tool_diameter_mm", mm ? json(grid.tool_diameter_m * 1e3) : json(nullptr)},
+            {"depth_max_mm", grid.depth_m.back() * 1e3},
+            {"depth_points", grid.depth_m.size()},
+            {"grid_points", grid.spectral_radius.size()},
+            {"unstable_points", unstable},
+            {"max_spectral_radius", finite_or_null(worst)},
+            {"boundary", boundary},
+            {"solver_options", options}};
   if (!grid.multiplier_type.empty()) {
     std::size_t flips = 0;
     for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)

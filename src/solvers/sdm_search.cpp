@@ -1,4 +1,5 @@
-// The depth search of the `sdm` solver (SemiDiscretizationSolver::limit_at):
+// The depth search of the `sdm` solver (SemiDiscretizationSolver::limit_at,
+// and limit_above, the same search stopped once its answer is sure):
 // the first depth from 0 up where the spectral radius reaches 1, as a
 // continuation in depth that follows the largest multipliers of both
 // half-planes, looks for thin unstable bands, then refines the crossing
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "chatter/error.hpp"
 
@@ -96,10 +98,32 @@ class MapCache {
 StabilityLimit SemiDiscretizationSolver::limit_at(double rpm) const { return limit_at(rpm, nullptr); }
 
 StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* floquet) const {
+  return search(rpm, floquet, std::numeric_limits<double>::quiet_NaN(), nullptr);
+}
+
+bool SemiDiscretizationSolver::limit_above(double rpm, double depth_m) const {
+  if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
+    std::ostringstream os;
+    os << "depth " << depth_m << " m: must be >= 0 and finite";
+    throw InputError(os.str());
+  }
+  bool above = false;
+  search(rpm, nullptr, depth_m, &above);
+  return above;
+}
+
+StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floquet, double decide_depth,
+                                                bool* above) const {
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
+  // Deciding limit > decide_depth only: the search below stops as soon as
+  // the answer is sure (it takes the same steps as the whole search).
+  const bool deciding = !std::isnan(decide_depth);
   StabilityLimit lim;
   lim.spindle_rpm = rpm;
-  if (Wx_.rows() == 0) return lim;  // the process cannot see any mode: never unstable
+  if (Wx_.rows() == 0) {  // the process cannot see any mode: never unstable
+    if (deciding) *above = true;
+    return lim;
+  }
   const MatrixXd turning_hhat = turning_hhat_of(process_);
   const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
@@ -159,8 +183,19 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
     Radii r_lo = r;
     while (true) {
       if (lo >= dmax) {
+        if (deciding) {
+          *above = true;
+          return lim;
+        }
         if (floquet) *floquet = floquet_of(kernel, g, maps.at(dmax), rpm, dmax, A_, Wx_, f_max_hz_);
         return lim;  // stable up to depth_max
+      }
+      // The root will lie at or above a_prev (a band search below looks no
+      // lower), and at or above lo when ρ(lo) <= 1/4 (no band search starts
+      // from lo then): above decide_depth, the answer is sure.
+      if (deciding && (a_prev > decide_depth || (lo > decide_depth && flo <= kLogQuarter))) {
+        *above = true;
+        return lim;
       }
       const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
       double step = (std::pow(options_.bracket_ratio, trusted ? 4 : 1) - 1.0) * lo;
@@ -201,8 +236,17 @@ StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* flo
       flo = fhi;
     }
   }
+  // The root lies in [lo, hi].
+  if (deciding && (hi <= decide_depth || lo > decide_depth)) {
+    *above = lo > decide_depth;
+    return lim;
+  }
   const double root = detail::refine_root(detail::DepthBracket<double>{lo, hi, flo, fhi, true}, log_rho,
                                           options_.depth_tolerance * lo);
+  if (deciding) {
+    *above = root > decide_depth;
+    return lim;
+  }
   lim.depth_limit_m = root;
   const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;

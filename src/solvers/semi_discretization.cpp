@@ -88,6 +88,26 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   return floquet_of(kernel, g, pm, rpm, depth_m, A_, Wx_, f_max_hz_);
 }
 
+std::optional<bool> SemiDiscretizationSolver::stable_at(double rpm, double depth_m) const {
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
+  if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
+    std::ostringstream os;
+    os << "depth " << depth_m << " m: must be >= 0 and finite";
+    throw InputError(os.str());
+  }
+  if (Wx_.rows() == 0) return true;  // the process cannot see any mode
+  const MatrixXd turning_hhat = turning_hhat_of(process_);
+  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
+  PeriodMap pm;
+  kernel.build_map(g, depth_m, pm);
+  // The converged dominant multiplier, not the early-stopped verdict of the
+  // depth climb: with many vibration cycles per period the map is far from
+  // normal, and a Ritz value with a small residual can lie outside the unit
+  // circle while every multiplier lies inside (case C at 100 rev/min).
+  return std::abs(kernel.dominant(pm, false).mu) < 1.0;
+}
+
 std::vector<double> SemiDiscretizationSolver::spectral_radius_map(const std::vector<double>& rpms,
                                                                   const std::vector<double>& depths_m) const {
   for (double d : depths_m)

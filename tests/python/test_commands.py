@@ -275,6 +275,8 @@ def test_results_draw_themselves_and_lobes_mark_flips():
     assert np.array_equal(drawn, lobes["multiplier_type"] == "flip")
     assert lobes._repr_png_().startswith(b"\x89PNG")
     results = [chatter.map(job, rpm_points=8, depth_points=6, multiplier_types=True),
+               chatter.map(job, axes="radial-axial", rpm=10000, immersion_points=4, depth_points=6,
+                           multiplier_types=True),
                chatter.compare(job, rpm_points=10), chatter.frf(job), chatter.fit(TAP_TEST),
                chatter.simulate(job, rpm=17000, depth_mm=3, periods=20),
                chatter.uncertain_lobes(chatter.load(CONFIGS / "seed_turning_1dof_uncertain.toml"), samples=8,
@@ -287,3 +289,31 @@ def test_results_draw_themselves_and_lobes_mark_flips():
         assert r._repr_png_().startswith(b"\x89PNG"), type(r).__name__
         plt.close("all")
     assert repr(lobes).startswith("<chatter.Lobes ")
+
+
+def test_map_radial_axial_boundary_is_the_cli_one():
+    # axes="radial-axial": immersion x axial depth at one speed; the boundary
+    # (one sdm limit search per immersion) is the CLI's, and at the config's
+    # own immersion (0.05) it is chatter.point's limit at that speed.
+    job = chatter.load(CASE_C)
+    m = chatter.map(job, axes="radial-axial", rpm=10000, immersion_min=0.05, immersion_max=0.5,
+                    immersion_points=4, depth_points=11)
+    assert m["axes"] == "radial-axial" and m["spectral_radius"].shape == (4, 11)
+    assert m["radial_immersion"][0] == 0.05 and "radial_depth_mm" not in m  # case C gives no diameter
+    p = chatter.point(job, rpm=10000, depth_mm=1, method="sdm")
+    assert m["depth_limit_mm"][0] == pytest.approx(p["depth_limit_mm"], rel=1e-4)
+    status, out, _ = run_cli("map", CASE_C, "--axes", "radial-axial", "--rpm", "10000", "--immersion-min", "0.05",
+                             "--immersion-max", "0.5", "--immersion-points", "4", "--depth-points", "11",
+                             "--json", "-")
+    assert status == 0
+    import json
+    cli = json.loads(out)
+    assert [b["depth_limit_mm"] for b in cli["boundary"]] == list(m["depth_limit_mm"])
+    with pytest.raises(chatter.InputError, match=r"^rpm: required with axes=\"radial-axial\""):
+        chatter.map(job, axes="radial-axial")
+    with pytest.raises(chatter.InputError, match=r"^axes 'radial': unknown"):
+        chatter.map(job, axes="radial")
+    with pytest.raises(chatter.InputError, match=r"^immersion_min = 0: must be in \(0, 1\]"):
+        chatter.map(job, axes="radial-axial", rpm=10000, immersion_min=0)
+    with pytest.raises(chatter.InputError, match=r"^rpm: only with axes=\"radial-axial\""):
+        chatter.map(job, rpm=10000)

@@ -200,6 +200,35 @@ PlotFiles plot_stability_map(const std::filesystem::path& image, const std::stri
 void plot_stability_map(PlotWindow& window, const std::string& title, const StabilityMapGrid& map,
                         const PlotOptions& options = {});
 
+/// A Floquet stability map at one spindle speed over radial immersion
+/// (a_e / D) × axial depth (`chatter map --axes radial-axial`), with the
+/// depth limit searched at each immersion.
+struct RadialStabilityMapGrid {
+  double spindle_rpm = 0.0;  ///< the speed of the whole map, rev/min
+  /// a_e / D: >= 2 values in (0, 1], strictly increasing.
+  std::vector<double> radial_immersion;
+  /// D, m: > 0 draws the x axis as a_e in mm, 0 (not given) as a_e / D.
+  double tool_diameter_m = 0.0;
+  /// Axial depths of cut a_p, m: >= 2 values, finite, >= 0, strictly increasing.
+  std::vector<double> depth_m;
+  /// ρ at (radial_immersion[i], depth_m[j]) as element i * depth_m.size() + j.
+  std::vector<double> spectral_radius;
+  /// Empty, or the dominant multiplier's type at every point (as StabilityMapGrid).
+  std::vector<MultiplierType> multiplier_type;
+  /// Empty, or per immersion the limit of the lobe table's search at
+  /// spindle_rpm (depth_limit_m = +inf: none below the depth searched).
+  std::vector<StabilityLimit> limit;
+};
+
+/// The radial × axial map drawn as plot_stability_map draws the speed ×
+/// depth one (x: a_e in mm, or a_e / D without a diameter; y: a_p in mm),
+/// the searched limits as black points. @throws as plot_stability_map.
+PlotFiles plot_radial_stability_map(const std::filesystem::path& image, const std::string& title,
+                                    const RadialStabilityMapGrid& map, const PlotOptions& options = {});
+/// The same map in a live window (see PlotWindow).
+void plot_radial_stability_map(PlotWindow& window, const std::string& title, const RadialStabilityMapGrid& map,
+                               const PlotOptions& options = {});
+
 /// One method's depth limits for plot_compare().
 struct MethodLimits {
   /// Name in the legend and the data columns (e.g. "analytic"); not empty.

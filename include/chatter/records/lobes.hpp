@@ -125,6 +125,52 @@ std::size_t unstable_points(const StabilityMapGrid& grid);
 nlohmann::json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solver_options,
                                     const RecordSource& source);
 
+// ------------------------------------------------------- radial x axial map
+
+/// The axes of `chatter map`: speed x axial depth (the default) or, at one
+/// speed, radial immersion x axial depth.
+enum class MapAxes { kSpeedAxial, kRadialAxial };
+/// "speed-axial" or "radial-axial". @throws InputError
+/// "<axes> 'x': unknown; use speed-axial (spindle speed x axial depth) or radial-axial (...)".
+MapAxes parse_map_axes(const std::string& text, ArgStyle style);
+
+/// Radial immersions a_e / D from `min` to `max`, `points` of them evenly
+/// spaced, checked: 0 < min < max <= 1, points >= 2, points × depths <= 4e6.
+/// @throws InputError naming the argument and the rule.
+std::vector<double> map_immersions(double min, double max, int points, std::size_t depths, ArgStyle style);
+
+/// Builds the solver for one process (the config's, with another immersion).
+using ProcessSolverFactory = std::function<std::unique_ptr<LobeSolver>(const Process&)>;
+
+/// The radial x axial map at `spindle_rpm`: for each immersion the config's
+/// milling process with that radial_immersion (everything else unchanged), a
+/// solver from `make_solver` (must be the Floquet solver: sdm), its spectral
+/// radius at every depth, its limit search at the speed (the lobe table's
+/// limit_at, what `chatter point` reports), and with `multiplier_types` the
+/// dominant multiplier's type at every unstable point. Immersions run in
+/// parallel on `threads` (each has its own solver).
+/// @pre spindle_rpm > 0, immersions from map_immersions, depths from map_depths_m.
+/// @throws InputError when `process` is not milling (turning has no
+///         immersion) or the solver is not the Floquet one.
+/// Cost per immersion: one solver build, one Floquet map per depth, one
+/// limit search, plus one analysis per unstable point with types.
+RadialStabilityMapGrid radial_stability_map(const Process& process, double spindle_rpm,
+                                            const std::vector<double>& immersions, const std::vector<double>& depths_m,
+                                            const ProcessSolverFactory& make_solver, bool multiplier_types,
+                                            unsigned threads,
+                                            const std::function<void(std::size_t done, std::size_t total)>& progress = {});
+/// radial_immersion,[radial_depth_mm,]depth_mm,spectral_radius,depth_limit_mm:
+/// one row per grid point, immersions outermost; radial_depth_mm only when the
+/// tool diameter is known; depth_limit_mm is the searched limit at the row's
+/// immersion (the same on every row of it; `inf` when none below the depth searched).
+std::string radial_map_csv(const RadialStabilityMapGrid& grid);
+/// The record of `chatter map --axes radial-axial --json`: axes, spindle_rpm,
+/// the grid's extent, unstable_points, max_spectral_radius, `boundary` (per
+/// immersion: radial_immersion, radial_depth_mm or null, depth_limit_mm or
+/// null, chatter_frequency_hz or null, lobe), solver_options, source.
+nlohmann::json radial_map_record(const RadialStabilityMapGrid& grid, const SolverValues& solver_options,
+                                 const RecordSource& source);
+
 // ------------------------------------------------------------------ frf
 
 /// The frequencies of `chatter frf`: from fmin to fmax (defaults: half the

@@ -154,7 +154,9 @@ void check_fit_args(const FitArgs& args, ArgStyle style);
 /// fits every direct term. @throws InputError naming the argument or file.
 FitReport fit_frf_file(const FitArgs& args, ArgStyle style);
 /// The record: file, body, per record its label, direction, band, modes
-/// (frequency_hz, damping_ratio, stiffness_n_per_m), fit error, iterations,
+/// (frequency_hz, damping_ratio, stiffness_n_per_m) and beside them
+/// relative_standard_errors (per mode: frequency, damping_ratio, stiffness as
+/// fractions, null if not defined), fit error, iterations,
 /// residual terms; warnings; the fragment.
 nlohmann::json fit_record(const FitReport& r);
 /// "x", "y" or "[ux, uy]".

@@ -1,0 +1,238 @@
+// check_operations(): the verdict on every row of an operations file
+// (include/chatter/operations.hpp, docs/operations.md "chatter check").
+// One solver and one speed search per distinct process; check_row() judges
+// one row.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/operations.hpp"
+#include "chatter/solvers.hpp"
+#include "ops_internal.hpp"
+#include "speed_search.hpp"
+
+namespace chatter {
+
+using namespace detail::ops;
+
+std::string CheckOptions::validate() const {
+  std::ostringstream os;
+  if (const std::string e = machine.validate(); !e.empty()) os << e;
+  else if (!(std::isfinite(search_depth_factor) && search_depth_factor > 1.0))
+    os << "CheckOptions::search_depth_factor = " << search_depth_factor << ": must be > 1";
+  else if (!(std::isfinite(search_depth_min_m) && search_depth_min_m > 0.0))
+    os << "CheckOptions::search_depth_min_m = " << search_depth_min_m << ": must be > 0 m";
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "CheckOptions::speed_tolerance x 100"); !t.empty())
+    os << t;
+  else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
+    os << "CheckOptions::flute_length_m = " << *flute_length_m << ": must be > 0 m";
+  return os.str();
+}
+
+std::size_t CheckReport::out_of_tolerance() const {
+  return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
+    return c.forced && c.op.max_error_m && !c.forced->within_tolerance;
+  }));
+}
+
+std::size_t CheckReport::unstable() const {
+  return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const auto& c) { return !c.stable; }));
+}
+
+namespace {
+
+// A row deeper than this many times its own limit is probably typed in the
+// wrong unit (um for mm): warned, naming the row. Feeds above 1 mm per tooth
+// (or per revolution in turning) likewise.
+constexpr double kImplausibleMarginFactor = 10.0;
+constexpr double kPlausibleFeedM = 1e-3;
+
+// The verdict on one row (OperationCheck): its exact limit and margins, and
+// the suggested speed with its pocket. `s` is the speed search of the row's
+// process (it caches the solves the rows of a process share); `ds` the depth
+// searched for the row. Each per-row judgement is one step here.
+OperationCheck check_row(SpeedSearch& s, const std::string& method, const OperationRow& r, double ds) {
+  auto clipped = [&](double w) { return w > ds ? kInf : w; };
+  OperationCheck c;
+  c.op = r;
+  c.method = method;
+  c.search_depth_m = ds;
+  // The verdict: the exact limit at the row's own speed.
+  c.limit = clip(s.at(r.spindle_rpm), ds);
+  c.stable = r.depth_m < c.limit.depth_limit_m;
+  c.margin = c.limit.depth_limit_m / r.depth_m;
+  // The worst limit over the row's own speed band.
+  const double own_worst = clipped(s.band_min(r.spindle_rpm));
+  c.worst_margin = own_worst / r.depth_m;
+  // The suggestion: the speed whose band has the largest worst limit
+  // (unbounded for this row's searched depth: the nearest such speed); the
+  // row's own speed when it is as good.
+  double n = r.spindle_rpm;
+  if (std::isfinite(own_worst)) {
+    const double best = s.best(ds, r.spindle_rpm);
+    if (clipped(s.band_min(best)) > own_worst) n = best;
+  }
+  const double worst = clipped(s.band_min(n));
+  if (worst > r.depth_m) {
+    c.suggestion = clip(s.at(n), ds);
+    c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
+    SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
+    p.limit = *c.suggestion;
+    p.worst_limit_m = worst;
+    p.worst_margin = worst / r.depth_m;
+    c.suggestion_pocket = p;
+  }
+  return c;
+}
+
+}  // namespace
+
+CheckReport check_operations(const StructuralModel& model, const Process& process,
+                             const std::vector<OperationRow>& rows, const CheckOptions& options) {
+  if (const std::string e = options.validate(); !e.empty()) throw InputError("check: " + e);
+  CheckReport report;
+  auto search_depth = [&](const OperationRow& r) {
+    return std::max(options.search_depth_factor * r.depth_m, options.search_depth_min_m);
+  };
+
+  // One solver and one speed search per distinct process.
+  struct Group {
+    Process process = Process::turning({1.0});
+    std::string method;
+    double depth_max_m = 0.0;
+    std::vector<std::size_t> rows;
+  };
+  using Key = std::tuple<double, int, int>;
+  auto key_of = [&](const OperationRow& r) -> Key {
+    if (process.operation() == Operation::kTurning) return {0.0, 0, 0};
+    const auto& m = process.milling_parameters();
+    return {r.radial_immersion.value_or(m.radial_immersion), r.teeth.value_or(m.teeth),
+            static_cast<int>(r.direction.value_or(m.direction))};
+  };
+  std::map<Key, Group> by_key;
+  std::vector<char> judged(rows.size(), 1);  // 0: the row could not be judged (report.not_judged says why)
+  auto not_judged = [&](std::size_t i, const std::string& why) {
+    judged[i] = 0;
+    report.not_judged.push_back({rows[i].line, rows[i].id, why});
+  };
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const OperationRow& r = rows[i];
+    if (!by_key.count(key_of(r))) {
+      // A row whose overrides make no cutter (e.g. teeth that contradict
+      // the config's pitch angles) is that row's error, not the file's.
+      try {
+        (void)process_for(process, r);
+      } catch (const InputError& e) {
+        not_judged(i, e.what());
+        continue;
+      }
+    }
+    Group& g = by_key[key_of(r)];
+    if (g.method.empty()) {
+      g.process = process_for(process, r);
+      std::string warning;
+      g.method = resolve_lobe_method(options.method, model, g.process, &warning);
+      std::vector<std::string> notes = ignored_feature_notes(find_lobe_method(g.method), g.process);
+      if (!warning.empty()) notes.insert(notes.begin(), warning);
+      for (const std::string& n : notes)
+        if (std::find(report.warnings.begin(), report.warnings.end(), n) == report.warnings.end())
+          report.warnings.push_back(n);
+    }
+    g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
+    g.rows.push_back(i);
+    if (options.flute_length_m && r.depth_m > *options.flute_length_m)
+      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): depth " +
+                                num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
+                                num(*options.flute_length_m * 1e3) + " mm");
+    if (r.feed_per_tooth_m && *r.feed_per_tooth_m > kPlausibleFeedM)
+      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): feed " +
+                                num(*r.feed_per_tooth_m * 1e3) + " mm per " +
+                                (process.operation() == Operation::kMilling ? "tooth" : "revolution") +
+                                " is above 1 mm: a feed in um, or per revolution?");
+  }
+  std::vector<Group*> groups;
+  for (auto& [key, g] : by_key) groups.push_back(&g);
+
+  // Groups are independent: solved in parallel (each deterministic, so the
+  // report does not depend on the thread count); a lone group scans in parallel.
+  std::vector<OperationCheck> checks(rows.size());
+  const unsigned scan_threads = groups.size() == 1 ? options.threads : 1;
+  // Progress: exact solves against a rough estimate of the total (a scan of
+  // a few lobes plus the refinements), never reaching 1 before the end.
+  std::atomic<std::size_t> solves{0};
+  const double expected = static_cast<double>(kProgressSolvesPerProcess * groups.size() +
+                                              kProgressSolvesPerRow * rows.size());
+  auto tick = [&] {
+    const double f = static_cast<double>(++solves) / expected;
+    if (options.progress) options.progress(std::min(f, kProgressCeiling));
+  };
+  const double tol = options.speed_tolerance;
+  std::vector<std::vector<std::pair<std::size_t, std::string>>> failed(groups.size());  // per group, in row order
+  parallel_for(groups.size(), options.threads, [&](std::size_t gi) {
+    const Group& g = *groups[gi];
+    std::unique_ptr<LobeSolver> solver;
+    std::optional<SpeedSearch> search;
+    try {
+      solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
+      search.emplace(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
+      search->on_solve = tick;
+      search->scan(true);
+    } catch (const std::exception& e) {
+      // A solver that fails on this process fails every row of it; the
+      // other processes' rows are still checked.
+      for (const std::size_t i : g.rows)
+        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed on this row's process: " +
+                                       e.what());
+      return;
+    }
+    SpeedSearch& s = *search;
+    for (const std::size_t i : g.rows) {
+      try {
+        checks[i] = check_row(s, g.method, rows[i], search_depth(rows[i]));
+      } catch (const std::exception& e) {
+        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed at this row: " + e.what());
+      }
+    }
+  });
+  for (const auto& f : failed)
+    for (const auto& [i, why] : f) not_judged(i, why);
+  std::sort(report.not_judged.begin(), report.not_judged.end(),
+            [](const RejectedRow& a, const RejectedRow& b) { return a.line < b.line; });
+  // Depths far beyond the limit are probably typed in the wrong unit.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const OperationCheck& c = checks[i];
+    if (judged[i] && c.limit.bounded() && rows[i].depth_m > kImplausibleMarginFactor * c.limit.depth_limit_m)
+      report.warnings.push_back("operation '" + rows[i].id + "' (line " + std::to_string(rows[i].line) + "): depth " +
+                                num(rows[i].depth_m * 1e3) + " mm is over " + num(kImplausibleMarginFactor) +
+                                " times the stability limit " + num(c.limit.depth_limit_m * 1e3) +
+                                " mm at its speed: a depth in um?");
+  }
+  // The forced vibration of every judged row with a feed (issue 27): its
+  // surface location or diametral error and the part's tolerance. A solver
+  // that cannot give it (e.g. measured FRFs) leaves the row without it, said
+  // once in the warnings.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!judged[i]) continue;
+    try {
+      checks[i].forced = forced_check(model, process, rows[i]);
+    } catch (const std::exception& e) {
+      const std::string w = std::string("forced vibration not computed: ") + e.what();
+      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
+        report.warnings.push_back(w);
+    }
+  }
+  if (options.progress) options.progress(1.0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (judged[i]) report.checks.push_back(std::move(checks[i]));
+  return report;
+}
+
+}  // namespace chatter

@@ -1,0 +1,53 @@
+// Internal to the ops layer (src/ops): helpers and constants shared by the
+// lobe-table queries, the robust speed search, the operations-file reader,
+// check and recommend. Not part of the public API.
+#pragma once
+
+#include <limits>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "chatter/lobes.hpp"
+
+namespace chatter::detail::ops {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Speed maximisations (Brent: golden section with parabolic steps,
+// src/solvers/extremum.hpp) stop when x is located to this
+// fraction of the speed (≈ 1e-4 rev/min at 10 000 rev/min: well below what a
+// spindle holds); at most kGoldenMaxIterations limit_at() calls.
+inline constexpr double kGoldenRelativeWidth = 1e-8;
+inline constexpr int kGoldenMaxIterations = 100;
+
+// Progress estimates (solves): a scan of a few lobes and its refinements per
+// process, the band and pocket searches per row; the reported fraction stops
+// at kProgressCeiling until the work is done.
+inline constexpr std::size_t kProgressSolvesPerProcess = 150;
+inline constexpr std::size_t kProgressSolvesPerRow = 30;
+inline constexpr double kProgressCeiling = 0.99;
+
+/// A number with 10 significant digits, for messages.
+inline std::string num(double x) {
+  std::ostringstream os;
+  os.precision(10);
+  os << x;
+  return os.str();
+}
+
+/// `s` in single quotes, for messages.
+inline std::string in_quotes(std::string_view s) { return "'" + std::string(s) + "'"; }
+
+/// A limit above `search_depth` counts as "none below the searched depth".
+inline StabilityLimit clip(StabilityLimit lim, double search_depth_m) {
+  if (lim.bounded() && lim.depth_limit_m > search_depth_m) {
+    const double rpm = lim.spindle_rpm;
+    lim = StabilityLimit{};
+    lim.spindle_rpm = rpm;
+  }
+  return lim;
+}
+
+}  // namespace chatter::detail::ops

@@ -1,0 +1,323 @@
+// recommend() and explain(): the speed and depth that remove the most
+// material within stability, power, torque and the tool
+// (include/chatter/operations.hpp, docs/operations.md "chatter recommend").
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/operations.hpp"
+#include "chatter/solvers.hpp"
+#include "ops_internal.hpp"
+#include "speed_search.hpp"
+
+namespace chatter {
+
+using namespace detail::ops;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+}  // namespace
+
+namespace {
+
+// Two MRR values this close (relative) are a tie: power-bound MRR is the same
+// at every speed up to round-off.
+constexpr double kTieRelative = 1e-9;
+// A depth cap within this relative distance of the chosen depth binds too.
+// The speed search locates the optimum to 1e-8 of the speed; on a
+// steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
+// optimum then differ by up to ~1e-5.
+constexpr double kBindingRelative = 1e-5;
+// With a speed tolerance the optimum is bracketed to kRobustRelativeWidth
+// (1e-4 of the speed): on a flank of log-slope up to 10 crossing caps then
+// differ by up to 1e-3.
+constexpr double kRobustBindingRelative = 1e-3;
+// The recommendation searches limits up to this multiple of depth_max/safety,
+// so a limit near the tool's depth cap is still reported (and can co-bind).
+constexpr double kRecommendSearchFactor = 2.0;
+
+}  // namespace
+
+std::string RecommendOptions::validate() const {
+  std::ostringstream os;
+  if (const std::string e = machine.validate(); !e.empty()) os << e;
+  else if (!(safety > 0.0 && safety <= 1.0))
+    os << "safety = " << safety << ": must be in (0, 1] (fraction of the depth limit)";
+  else if (!(std::isfinite(feed_per_tooth_m) && feed_per_tooth_m > 0.0))
+    os << "feed_per_tooth = " << feed_per_tooth_m * 1e3 << " mm: must be > 0";
+  else if (!(std::isfinite(diameter_m) && diameter_m >= 0.0))
+    os << "diameter = " << diameter_m * 1e3 << " mm: must be > 0 (or 0 = unknown)";
+  else if (!(std::isfinite(depth_max_m) && depth_max_m > 0.0))
+    os << "depth_max = " << depth_max_m * 1e3 << " mm: must be > 0";
+  else if (cutting_coefficient_n_per_m2 && !(std::isfinite(*cutting_coefficient_n_per_m2) && *cutting_coefficient_n_per_m2 > 0.0))
+    os << "cutting coefficient = " << *cutting_coefficient_n_per_m2 << " N/m²: must be > 0";
+  else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
+    os << "flute_length = " << *flute_length_m * 1e3 << " mm: must be > 0";
+  else if (const std::string t = validate_speed_tolerance(speed_tolerance, "speed tolerance x 100"); !t.empty())
+    os << t;
+  return os.str();
+}
+
+std::string to_string(Binding b) {
+  switch (b) {
+    case Binding::kStability: return "stability";
+    case Binding::kPower: return "power";
+    case Binding::kTorque: return "torque";
+    case Binding::kDepthMax: return "depth_max";
+    case Binding::kSpeedRange: return "speed_range";
+    case Binding::kFluteLength: return "flute_length";
+  }
+  return "?";
+}
+
+namespace {
+
+// Mean-force model per unit depth (see recommend()).
+struct CutModel {
+  double force_per_depth = 0.0;         // N/m
+  double torque_per_depth = 0.0;        // N·m/m (NaN without diameter)
+  double power_per_depth_rpm = 0.0;     // W/(m·rev/min)
+  double mrr_per_depth_rpm = 0.0;       // m³/s per (m·rev/min) (NaN without diameter)
+  double mrr_per_diam_depth_rpm = 0.0;  // m²/s per (m·rev/min)
+};
+
+CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings) {
+  CutModel c;
+  const double D = o.diameter_m > 0.0 ? o.diameter_m : kNaN;
+  const double f = o.feed_per_tooth_m;
+  if (p.operation() == Operation::kTurning) {
+    const double kc = o.cutting_coefficient_n_per_m2.value_or(p.turning_parameters().feed_force_coefficient_n_per_m2);
+    if (!o.cutting_coefficient_n_per_m2)
+      warnings.push_back("turning power and torque use the feed-force coefficient K_f as cutting pressure (no "
+                         "tangential coefficient given); with force angle θ the true value is K_f·tanθ, larger");
+    c.force_per_depth = kc * f;                           // F_c = K_c b f
+    c.torque_per_depth = c.force_per_depth * D / 2.0;     // T = F_c D/2
+    c.power_per_depth_rpm = c.force_per_depth * kPi * D / 60.0;  // P = F_c v_c, v_c = πDN/60
+    c.mrr_per_depth_rpm = f * kPi * D / 60.0;             // b f v_c
+    c.mrr_per_diam_depth_rpm = f * kPi / 60.0;
+  } else {
+    const auto& m = p.milling_parameters();
+    const double span = std::cos(p.entry_angle()) - std::cos(p.exit_angle());  // ∫ sinφ dφ over the cut
+    // Sum of the teeth's tangential forces averaged over a revolution.
+    c.force_per_depth = m.teeth / (2.0 * kPi) * m.tangential_coefficient_n_per_m2 * f * span;
+    c.torque_per_depth = c.force_per_depth * D / 2.0;
+    c.power_per_depth_rpm = c.torque_per_depth * 2.0 * kPi / 60.0;
+    c.mrr_per_diam_depth_rpm = m.radial_immersion * f * m.teeth / 60.0;  // a·(a_e/D)·f_z·N_t·N/60 per D
+    c.mrr_per_depth_rpm = c.mrr_per_diam_depth_rpm * D;
+  }
+  return c;
+}
+
+}  // namespace
+
+Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options) {
+  if (const std::string e = options.validate(); !e.empty()) throw InputError("recommend: " + e);
+  const MachineLimits& mc = options.machine;
+  const bool limits = std::isfinite(mc.max_power_w) || std::isfinite(mc.max_torque_n_m);
+  if (limits && !(options.diameter_m > 0.0))
+    throw InputError(std::string("recommend: a power or torque limit needs the ") +
+                     (process.operation() == Operation::kMilling ? "tool diameter (RecommendOptions::diameter_m)"
+                                                                 : "workpiece diameter (RecommendOptions::diameter_m)"));
+  Recommendation rec;
+  std::string warning;
+  rec.method = resolve_lobe_method(options.method, model, process, &warning);
+  if (!warning.empty()) rec.warnings.push_back(warning);
+  for (const std::string& n : ignored_feature_notes(find_lobe_method(rec.method), process)) rec.warnings.push_back(n);
+  std::vector<std::string> model_warnings;
+  const CutModel cm = cut_model(process, options, model_warnings);
+  if (options.diameter_m > 0.0)
+    rec.warnings.insert(rec.warnings.end(), model_warnings.begin(), model_warnings.end());
+
+  const double flute = options.flute_length_m.value_or(kInf);
+  rec.search_depth_m = kRecommendSearchFactor * std::min(options.depth_max_m, flute) / options.safety;
+  const auto solver = make_lobe_solver(rec.method, model, process, rec.search_depth_m);
+  SpeedSearch s(*solver, mc.rpm_min, mc.rpm_max, options.speed_tolerance, options.threads);
+  std::atomic<std::size_t> solves{0};
+  s.on_solve = [&] {
+    const double f = static_cast<double>(++solves) / static_cast<double>(kProgressSolvesPerProcess);
+    if (options.progress) options.progress(std::min(f, kProgressCeiling));
+  };
+  s.scan();
+
+  struct Cand {
+    double rpm, worst, stab, power, torque, cap, flute, depth, objective, margin;
+  };
+  // `exact`: the worst limit over the band from exact solves, else the scan's estimate.
+  auto evaluate = [&](double n, bool exact) {
+    Cand c;
+    c.rpm = n;
+    const double w = exact ? s.band_min(n) : s.band_min_scan(n, kInf);
+    c.worst = w > rec.search_depth_m || w >= solver->depth_max_m() ? kInf : w;
+    c.stab = options.safety * c.worst;
+    c.power = std::isfinite(mc.max_power_w) ? mc.max_power_w / (cm.power_per_depth_rpm * n) : kInf;
+    c.torque = std::isfinite(mc.max_torque_n_m) ? mc.max_torque_n_m / cm.torque_per_depth : kInf;
+    c.cap = options.depth_max_m;
+    c.flute = flute;
+    c.depth = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
+    c.objective = n * c.depth;  // MRR / (mrr per depth·rpm)
+    c.margin = c.worst / c.depth;
+    return c;
+  };
+  auto better = [](const Cand& x, const Cand& y) {  // x strictly better than y
+    if (x.objective > y.objective * (1.0 + kTieRelative)) return true;
+    if (x.objective < y.objective * (1.0 - kTieRelative)) return false;
+    return x.margin > y.margin;
+  };
+
+  // Rank the scanned speeds, refine the best local maxima with exact solves.
+  const std::vector<double>& pts = s.scan_speeds();
+  std::vector<Cand> scanned;
+  for (double n : pts) scanned.push_back(evaluate(n, false));
+  std::vector<std::size_t> cand;
+  double top = 0.0;
+  for (const auto& c : scanned) top = std::max(top, c.objective);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
+                       (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
+    if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+  }
+  if (cand.empty()) cand.push_back(0);  // only with NaN objectives
+  std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
+  if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
+  const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
+  Cand best = evaluate(pts[cand.front()], true);
+  std::size_t ib = cand.front();
+  for (const std::size_t i : cand) {
+    const Cand at_point = evaluate(pts[i], true);
+    if (better(at_point, best)) best = at_point, ib = i;
+    const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
+    // Power-bound MRR is flat in speed: then the largest worst margin.
+    const bool power_bound = at_point.depth == at_point.power;
+    auto f = [&](double n) {
+      const Cand c = evaluate(n, true);
+      if (better(c, best)) best = c, ib = i;
+      return power_bound ? c.margin : c.objective;
+    };
+    // Bound by stability or power near a cusp, the optimum is where the band's
+    // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
+    // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
+    // with N up to where stability takes over: Brent's minimiser.
+    const bool stability_bound = at_point.depth == at_point.stab;
+    const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
+    if (x > 0.0) f(x);
+    else s.maximize(f, a, b, rel);
+  }
+
+  rec.spindle_rpm = best.rpm;
+  rec.depth_m = best.depth;
+  rec.limit = clip(s.at(best.rpm), rec.search_depth_m);
+  rec.margin = rec.limit.depth_limit_m / rec.depth_m;
+  rec.depth_stability_m = best.stab;
+  rec.depth_power_m = best.power;
+  rec.depth_torque_m = best.torque;
+  rec.depth_cap_m = best.cap;
+  rec.depth_flute_m = best.flute;
+  rec.pocket = make_pocket(s, best.rpm, rec.depth_m, rec.depth_m / options.safety);
+  rec.pocket.limit = rec.limit;
+  rec.pocket.worst_limit_m = best.worst;
+  rec.pocket.worst_margin = best.margin;
+  rec.force_n = cm.force_per_depth * rec.depth_m;
+  rec.torque_n_m = cm.torque_per_depth * rec.depth_m;
+  rec.power_w = cm.power_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
+  rec.mrr_m3_per_s = cm.mrr_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
+  rec.mrr_per_diameter_m2_per_s = cm.mrr_per_diam_depth_rpm * rec.depth_m * rec.spindle_rpm;
+  const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
+  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
+  if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
+  if (binds(best.power)) rec.binding.push_back(Binding::kPower);
+  if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
+  if (binds(best.cap)) rec.binding.push_back(Binding::kDepthMax);
+  if (binds(best.flute)) rec.binding.push_back(Binding::kFluteLength);
+  // The speed range binds when the optimum sits on an end of the range and MRR
+  // still grows towards it (a power-bound MRR is flat in speed: it does not).
+  if (!binds(best.power) && (ib == 0 || ib + 1 == pts.size()) && best.rpm == pts[ib]) {
+    const Cand inner = evaluate(pts[ib == 0 ? 1 : ib - 1], true);
+    if (best.objective > inner.objective * (1.0 + kTieRelative)) rec.binding.push_back(Binding::kSpeedRange);
+  }
+  if (options.progress) options.progress(1.0);
+  return rec;
+}
+
+std::string explain(const Recommendation& r, const RecommendOptions& o) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  auto f = [](double x, int d) {
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(d);
+    s << x;
+    return s.str();
+  };
+  const double d_mm = r.depth_m * 1e3;
+  os << "Recommended: " << f(r.spindle_rpm, 0) << " rev/min, depth " << f(d_mm, 3) << " mm (" << r.method
+     << " lobes, feed " << f(o.feed_per_tooth_m * 1e3, 3) << " mm)\n";
+  os << "Binding: ";
+  for (std::size_t i = 0; i < r.binding.size(); ++i) {
+    if (i) os << "; ";
+    switch (r.binding[i]) {
+      case Binding::kStability:
+        // The cap is safety x the worst limit over the speed band (the limit
+        // at the speed itself when the tolerance is 0).
+        if (o.speed_tolerance > 0.0)
+          os << "stability (depth = " << f(o.safety, 3) << " x the worst limit "
+             << f(r.pocket.worst_limit_m * 1e3, 3) << " mm over the speed band +/-"
+             << f(o.speed_tolerance * 100.0, 1) << " %; " << f(r.limit.depth_limit_m * 1e3, 3)
+             << " mm at this speed)";
+        else
+          os << "stability (depth = " << f(o.safety, 3) << " x limit " << f(r.limit.depth_limit_m * 1e3, 3)
+             << " mm at this speed)";
+        break;
+      case Binding::kPower:
+        os << "spindle power (mean cutting power = " << f(o.machine.max_power_w * 1e-3, 3) << " kW limit)";
+        break;
+      case Binding::kTorque:
+        os << "spindle torque (mean cutting torque = " << f(o.machine.max_torque_n_m, 2) << " N*m limit)";
+        break;
+      case Binding::kDepthMax: os << "the tool's maximum depth " << f(r.depth_cap_m * 1e3, 3) << " mm"; break;
+      case Binding::kFluteLength:
+        os << "the cutter's usable flute length " << f(r.depth_flute_m * 1e3, 3) << " mm";
+        break;
+      case Binding::kSpeedRange:
+        os << "speed range (at the machine's "
+           << (r.spindle_rpm >= o.machine.rpm_max ? "maximum " : "minimum ") << f(r.spindle_rpm, 0)
+           << " rev/min; more MRR lies beyond it)";
+        break;
+    }
+  }
+  os << "\n";
+  const SpeedPocket& p = r.pocket;
+  os << "Speed band +/-" << f(p.speed_tolerance * 100.0, 1) << " %: ";
+  if (std::isfinite(p.worst_limit_m))
+    os << "worst limit " << f(p.worst_limit_m * 1e3, 3) << " mm, worst margin " << f(p.worst_margin, 3);
+  else
+    os << "no chatter below " << f(r.search_depth_m * 1e3, 3) << " mm";
+  os << "; stable pocket " << f(p.pocket_min_rpm, 0) << "-" << f(p.pocket_max_rpm, 0)
+     << " rev/min (safety x limit >= depth)\n";
+  if (r.limit.bounded())
+    os << "Stability margin: " << f(r.margin, 3) << " (limit " << f(r.limit.depth_limit_m * 1e3, 3)
+       << " mm / depth; chatter would start at " << f(r.limit.chatter_frequency_hz, 1) << " Hz, lobe "
+       << r.limit.lobe << ")\n";
+  else
+    os << "Stability margin: no chatter below " << f(r.search_depth_m * 1e3, 3) << " mm at this speed\n";
+  if (std::isfinite(r.mrr_m3_per_s)) {
+    os << "MRR: " << f(r.mrr_m3_per_s * 6e7, 2) << " cm^3/min; mean power " << f(r.power_w * 1e-3, 3) << " kW";
+    if (std::isfinite(o.machine.max_power_w)) os << " of " << f(o.machine.max_power_w * 1e-3, 3) << " kW";
+    os << ", torque " << f(r.torque_n_m, 2) << " N*m";
+    if (std::isfinite(o.machine.max_torque_n_m)) os << " of " << f(o.machine.max_torque_n_m, 2) << " N*m";
+    os << "\n";
+  } else {
+    os << "MRR: " << f(r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3, 4)
+       << " cm^3/min per mm of diameter (give the diameter for MRR, power and torque)\n";
+  }
+  for (const auto& w : r.warnings) os << "warning: " << w << "\n";
+  return os.str();
+}
+
+}  // namespace chatter
