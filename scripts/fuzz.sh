@@ -57,7 +57,7 @@ case "$target" in
     srcs="$(layer_sources CORE) $(layer_sources OPS)"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
-    srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp"
+    srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp src/model/spindle_speed.cpp"
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
   fit)
     srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp"

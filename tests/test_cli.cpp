@@ -390,6 +390,8 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
   ASSERT_TRUE(cfg.sweep.rpm_min && cfg.sweep.rpm_max && cfg.sweep.rpm_points)
       << "shipped configs carry a full [sweep]";
   const int n_points = *cfg.sweep.rpm_points;
+  if (cfg.process.has_speed_variation())
+    GTEST_SKIP() << "spindle speed variation: no transfer-function lobes (sdm only; tests/test_ssv.cpp)";
 
   const fs::path table = path("lobes.csv"), json = path("lobes.json");
   // The transfer-function formulas are analytic's (the default, auto, is sdm for milling).
@@ -501,6 +503,8 @@ TEST_P(CliConfigTest, LobesTableMatchesTransferFunctionFormulas) {
 TEST_P(CliConfigTest, LobesTableIsTheEnvelope) {
   const fs::path cfg_file = config_path(GetParam());
   const chatter::Config cfg = chatter::load_config(cfg_file);
+  if (cfg.process.has_speed_variation())
+    GTEST_SKIP() << "spindle speed variation: no transfer-function lobes (sdm only; tests/test_ssv.cpp)";
   const Physics ph(cfg);
   if (!ph.scalar()) GTEST_SKIP() << "independent envelope scan implemented for one eigenvalue branch only";
 

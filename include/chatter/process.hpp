@@ -33,6 +33,8 @@
 
 #include <Eigen/Core>
 
+#include "chatter/spindle_speed.hpp"
+
 namespace chatter {
 
 enum class Operation { kTurning, kMilling };
@@ -139,6 +141,22 @@ class Process {
   bool has_runout() const;
   /// True with C_pd > 0.
   bool has_process_damping() const;
+
+  // ---- spindle speed variation (docs/ssv.md, chatter/spindle_speed.hpp) ----
+  /// The modulation of the spindle speed; inactive (R_VA = 0) by default.
+  const SpeedVariation& speed_variation() const { return speed_variation_; }
+  /// True with R_VA > 0: the delay varies in time (only methods that accept
+  /// SolverFeature::kSpeedVariation handle it).
+  bool has_speed_variation() const { return speed_variation_.active(); }
+  /// Sets the modulation (R_VA = 0 turns it off). @throws InputError naming
+  /// the rule (SpeedVariation::validate).
+  void set_speed_variation(SpeedVariation v);
+  /// This process at constant speed (the reference of the SSV gain).
+  Process at_constant_speed() const {
+    Process p = *this;
+    p.speed_variation_ = {};
+    return p;
+  }
   /// θ_j (rad), Θ_j = θ_1 + … + θ_j (Θ_0 = 0), β_j (rad), ρ_j (m) of tooth
   /// j in [0, N_t). @pre operation() == kMilling.
   double pitch_angle_rad(int j) const;
@@ -229,6 +247,7 @@ class Process {
   MillingParameters milling_;
   // Filled by milling(): per tooth θ_j, Θ_j, tan β_j / R, ρ_j.
   std::vector<double> pitch_, offset_, lag_, runout_;
+  SpeedVariation speed_variation_{};
 };
 
 }  // namespace chatter

@@ -51,6 +51,18 @@ void check_spindle_rpm(double rpm, const std::string& name);
 ///         [0, kMaxDepthMm]).
 void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero = false);
 
+/// What `chatter point` adds with spindle speed variation (docs/ssv.md): the
+/// modulation, the principal period it was solved over, and the gain over
+/// constant speed at the mean speed.
+struct SpeedVariationGain {
+  SpeedVariation asked;          ///< the modulation as given
+  SpeedVariationPeriod period;   ///< speed_variation_period at the speed
+  double constant_speed_limit_m = std::numeric_limits<double>::infinity();  ///< same method, R_VA = 0
+  /// depth limit with SSV / at constant speed (> 1: SSV raises the limit);
+  /// NaN when either limit is beyond the searched depth.
+  double gain = std::numeric_limits<double>::quiet_NaN();
+};
+
 /// Everything `chatter point` reports (and Python's chatter.point, the C API's
 /// chatter_point): the lobe-table row at the speed, the process's
 /// frequencies, and the method's own analysis at the asked depth, each in
@@ -75,6 +87,8 @@ struct PointReport {
   /// +inf when no limit lies below depth_max_m.
   double margin = std::numeric_limits<double>::infinity();
   PointAnalysis at_depth;  ///< the method's analysis at the asked depth
+  /// With speed variation and a constant-speed solver given (report_point).
+  std::optional<SpeedVariationGain> speed_variation;
   /// Sentences for the reader, e.g. when the method's verdict at the depth
   /// differs from the depth against the first limit (a stable island).
   std::vector<std::string> notes;
@@ -83,8 +97,13 @@ struct PointReport {
 /// The report of one point: limit_with_diagnostics(rpm) (the table row),
 /// analyse_point(rpm, depth), the process's frequencies. The depth is taken
 /// in mm as the user gave it (the report echoes it unchanged). Cost: one
-/// limit and one analysis. @pre rpm > 0, depth_mm > 0 (check_spindle_rpm,
-/// check_depth_mm).
-PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm);
+/// limit and one analysis. With speed variation, also the limit at constant
+/// speed and the gain (PointReport::speed_variation): one more limit, by
+/// `constant_speed` (the same method on process.at_constant_speed()) when
+/// given, else, for sdm, by an sdm solver built from the solver's own model,
+/// process at constant speed and options (what every front end gets).
+/// @pre rpm > 0, depth_mm > 0 (check_spindle_rpm, check_depth_mm).
+PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
+                         const LobeSolver* constant_speed = nullptr);
 
 }  // namespace chatter

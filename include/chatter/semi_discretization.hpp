@@ -38,6 +38,13 @@
 // steps. Turning with process damping keeps the constant step. Runout is not
 // seen (linear method).
 //
+// Spindle speed variation (Process::speed_variation, docs/ssv.md; Insperger
+// & Stépán 2004 turning, Seguy et al. 2010 milling): the same real-cutter
+// path over the principal period p T_m = q T_F (speed_variation_period),
+// with the delay τ(t_i) at every step boundary from the integral of the
+// speed; ρ and μ are per that period (FloquetResult::period_s). Not with
+// process damping (InputError).
+//
 // Thread safety: the solver is immutable after construction; every const
 // member allocates its own workspace, so several threads may call them.
 #pragma once

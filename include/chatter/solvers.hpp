@@ -45,6 +45,7 @@ enum class SolverFeature : std::uint32_t {
   kVariableHelix = 6,   ///< unequal helix angles: delays that vary along the flute
   kRunout = 7,          ///< teeth at unequal radii (static chip only)
   kProcessDamping = 8,  ///< flank rubbing damping C_pd a / V
+  kSpeedVariation = 9,  ///< spindle speed variation: a time-varying delay (docs/ssv.md)
 };
 
 /// Name of a feature for messages ("measured FRFs", "milling", ...).

@@ -103,6 +103,41 @@ Config load_checked(const Common& common) {
   return cfg;
 }
 
+void add_speed_variation_options(po::options_description& d) {
+  d.add_options()
+      ("ssv-amplitude", po::value<double>(), "spindle speed variation: amplitude ratio R_VA in [0, 1), the speed "
+       "swings +-R_VA around the mean (replaces process.speed_variation.amplitude_ratio; 0: constant speed; methods: "
+       "sdm)")
+      ("ssv-frequency", po::value<double>(), "spindle speed variation: frequency ratio R_VF > 0, modulation "
+       "frequency / spindle frequency (replaces process.speed_variation.frequency_ratio)");
+}
+
+void apply_speed_variation_options(const po::variables_map& vm, const Common& common, Config& cfg) {
+  const bool amp = vm.count("ssv-amplitude") > 0, freq = vm.count("ssv-frequency") > 0;
+  if (!amp && !freq) return;
+  SpeedVariation v = cfg.process.speed_variation();
+  if (!cfg.process.has_speed_variation() && amp != freq)
+    throw InputError(std::string(amp ? "--ssv-amplitude" : "--ssv-frequency") + ": needs " +
+                     (amp ? "--ssv-frequency" : "--ssv-amplitude") + " too (" + cfg.source.string() +
+                     " has no process.speed_variation to take it from)");
+  if (amp) v.amplitude_ratio = vm["ssv-amplitude"].as<double>();
+  if (freq) v.frequency_ratio = vm["ssv-frequency"].as<double>();
+  if (const std::string why = v.validate(); !why.empty()) {
+    const bool amplitude_rule = why.rfind("amplitude_ratio", 0) == 0;
+    throw InputError(std::string(amplitude_rule ? "--ssv-amplitude" : "--ssv-frequency") +
+                     why.substr(why.find(" =")));
+  }
+  if (v.amplitude_ratio > kLargeSpeedVariation) {
+    const std::string w = "--ssv-amplitude = " + fmt(v.amplitude_ratio) + ": a swing of more than +-" +
+                          fmt(100.0 * kLargeSpeedVariation) +
+                          " % of the mean speed is beyond what spindle drives follow (usual R_VA: 0.05 to 0.3)";
+    if (common.strict) throw InputError(w + " (--strict)");
+    std::cerr << "warning: " << w << "\n";
+    cfg.warnings.push_back(w);
+  }
+  cfg.process.set_speed_variation(v);
+}
+
 Sweep resolve_sweep(const po::variables_map& vm, const Config& cfg) {
   Sweep s;
   auto pick = [&](const char* flag, const std::optional<double>& from_cfg, const char* key) -> double {

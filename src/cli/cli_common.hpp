@@ -73,6 +73,15 @@ Config load_checked(const Common& common);
 
 // position_m() and position_range_text(): in the io layer (chatter/io/config.hpp).
 
+/// --ssv-amplitude / --ssv-frequency: spindle speed variation on the
+/// command line (lobes, point, map; docs/ssv.md).
+void add_speed_variation_options(po::options_description& d);
+/// Sets cfg.process's speed variation from the flags: both flags, or one of
+/// them on top of the config's [process] speed_variation (the other kept).
+/// Prints a warning above kLargeSpeedVariation (an error with --strict).
+/// @throws InputError naming the flag and the rule.
+void apply_speed_variation_options(const po::variables_map& vm, const Common& common, Config& cfg);
+
 /// Speeds and depth from --rpm-min/--rpm-max/--rpm-points/--depth-max-mm,
 /// falling back on the config's [sweep]. @throws InputError.
 struct Sweep {

@@ -63,7 +63,9 @@ void apply_immersion(const po::variables_map& vm, Config& cfg) {
   if (!is_milling(cfg)) throw InputError("--radial-immersion: " + cfg.source.string() + " is turning (milling only)");
   MillingParameters mp = cfg.process.milling_parameters();
   mp.radial_immersion = vm["radial-immersion"].as<double>();
+  const SpeedVariation ssv = cfg.process.speed_variation();
   cfg.process = with_flag("--radial-immersion = " + fmt(mp.radial_immersion), [&] { return Process::milling(mp); });
+  cfg.process.set_speed_variation(ssv);
 }
 
 ForcedOptions forced_options(const po::variables_map& vm, double depth_max_mm) {

@@ -68,6 +68,7 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
                           "(for scripts: 0 stable everywhere, 3 chatter, 2 bad input)");
   add_show_option(d);
   add_uncertainty_options(d);
+  add_speed_variation_options(d);
   add_solver_options(d);
   po::variables_map& vm = plan.vm;
   if (!parse(args, "Usage: chatter lobes CONFIG [options]\n\n"
@@ -110,6 +111,7 @@ std::optional<LobesPlan> plan_lobes(const std::vector<std::string>& args, bool c
                     vm.count("probability-table") ? vm["probability-table"].as<std::string>() : std::string()}});
   plan.plot_depth_axis_mm = plot_depth_max_mm(vm, !plot_path.empty() || plan.show.requested);
   plan.cfg = load_checked(common);
+  apply_speed_variation_options(vm, common, plan.cfg);
   const Config& cfg = plan.cfg;
   const Sweep s = plan.sweep = resolve_sweep(vm, cfg);
   plan.uncertainty = uncertainty_request(vm, adaptive, s.rpm_points);

@@ -18,6 +18,7 @@
 #include "chatter/records/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "cli_common.hpp"
+#include "cmd_map_ssv.hpp"
 #include "commands.hpp"
 #include "live_plot.hpp"
 
@@ -122,7 +123,8 @@ int cmd_map(const std::vector<std::string>& args) {
       ("axes", po::value<std::string>(&axes_text)->default_value("speed-axial"),
        "speed-axial: spindle speed x axial depth; radial-axial: radial immersion a_e/D x axial depth at one "
        "speed (--rpm; milling only)")
-      ("rpm", po::value<double>(), "with --axes radial-axial: the spindle speed of the map, rev/min (required there)")
+      ("rpm", po::value<double>(), "with --axes radial-axial or --ssv-map: the spindle speed of the map, rev/min "
+                                   "(required there)")
       ("immersion-min", po::value<double>(), "with --axes radial-axial: smallest radial immersion a_e/D, in (0, 1] "
                                              "(default 0.05)")
       ("immersion-max", po::value<double>(), "with --axes radial-axial: largest radial immersion a_e/D, in (0, 1] "
@@ -140,6 +142,7 @@ int cmd_map(const std::vector<std::string>& args) {
                                                    "as JSON ('-': standard output)")
       ("plot", po::value<std::string>(&plot_path), "draw the map to this .png, .svg or .pdf (with its gnuplot script and data beside it)");
   add_show_option(d);
+  add_ssv_map_options(d);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv] [--plot map.png]\n"
@@ -154,16 +157,22 @@ int cmd_map(const std::vector<std::string>& args) {
                    "--axes radial-axial --rpm N (milling): the same over radial immersion a_e/D x axial\n"
                    "depth a_p at one speed, plus the depth limit a_p,lim searched at each a_e. CSV columns:\n"
                    "radial_immersion,[radial_depth_mm,]depth_mm,spectral_radius,depth_limit_mm\n"
-                   "(radial_depth_mm when the config gives tool_diameter_mm).\n",
+                   "(radial_depth_mm when the config gives tool_diameter_mm).\n\n"
+                   "--ssv-map --rpm N --depth-mm D: the spectral radius per revolution over the spindle\n"
+                   "speed variation (amplitude ratio x frequency ratio) at that speed and depth instead\n"
+                   "(CSV columns amplitude_ratio,frequency_ratio,frequency_ratio_used,exact_period,\n"
+                   "spectral_radius_per_revolution; docs/ssv.md).\n",
              d, common, vm))
     return 0;
   map_method(common.method, ArgStyle::kFlag);
+  if (vm.count("ssv-map")) return run_ssv_map(vm, common, floquet_method, out_path, plot_path);
+  check_no_ssv_map_options(vm);
   const MapAxes axes = parse_map_axes(axes_text, ArgStyle::kFlag);
   if (axes == MapAxes::kRadialAxial) return map_radial_axial(common, floquet_method, vm, out_path, json_path, plot_path, depth_points);
   for (const char* flag : {"rpm", "immersion-min", "immersion-max", "immersion-points"})
     if (vm.count(flag))
-      throw InputError(std::string("--") + flag + ": only with --axes radial-axial (the speed x depth map takes "
-                       "--rpm-min, --rpm-max, --rpm-points)");
+      throw InputError(std::string("--") + flag + ": only with --axes radial-axial or --ssv-map (the speed x depth "
+                       "map takes --rpm-min, --rpm-max, --rpm-points)");
   const ShowRequest show = show_request(vm);  // a display or GNUPLOT_TERM, before computing
   const bool drawn = !plot_path.empty() || show.requested;
   const bool json_to_stdout = json_path == "-";

@@ -33,6 +33,7 @@ int cmd_point(const std::vector<std::string>& args) {
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
       ("depth-max-mm", po::value<double>(), "deepest cut searched, mm (default: the larger of sweep.depth_max_mm or 50, and 2 x --depth-mm)")
       ("fail-on-chatter", "exit with status 3 when the point chatters (for scripts: 0 stable, 3 chatter, 2 bad input)");
+  add_speed_variation_options(d);
   add_solver_options(d);
   po::variables_map vm;
   if (!parse(args, "Usage: chatter point CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -43,7 +44,8 @@ int cmd_point(const std::vector<std::string>& args) {
                    "stable), multiplier_type (hopf, flip, fold) and the dominant multiplier.\n",
              d, common, vm))
     return 0;
-  const chatter::Config cfg = load_checked(common);
+  chatter::Config cfg = load_checked(common);
+  apply_speed_variation_options(vm, common, cfg);
   chatter::check_spindle_rpm(rpm, "--rpm");
   chatter::check_depth_mm(depth_mm, "--depth-mm");
   double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);

@@ -81,7 +81,8 @@ constexpr std::string_view kProcessKeys[] = {"operation",
                                              "runout_um",
                                              "radial_coefficient_ratio",
                                              "process_damping_coefficient_n_per_m",
-                                             "workpiece_diameter_mm"};
+                                             "workpiece_diameter_mm",
+                                             "speed_variation"};
 // Pitch angles as written must sum to 360° to this (deg); they are then
 // scaled to sum to exactly one revolution.
 constexpr double kPitchSumToleranceDeg = 1e-3;
@@ -134,6 +135,12 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
   const auto operation = process->string("operation", kOperationRule);
   if (!operation) throw Skip{};
   const std::size_t mark = doc.error_count();
+  // Spindle speed variation, for either operation (docs/ssv.md).
+  const std::optional<SpeedVariation> ssv = attempt([&] { return read_speed_variation(*process); }).value_or(std::nullopt);
+  auto with_ssv = [&](Process p) {
+    if (ssv) p.set_speed_variation(*ssv);
+    return p;
+  };
 
   if (*operation == "turning") {
     reject_keys_of(*process, kMillingKeys, "milling");
@@ -154,7 +161,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     Band band = kCoefficientBand;
     band.symbol = "K_f";
     warn_band(*process, kf, kFeedForce, band);
-    return model_checked(*process, [&] { return Process::turning(p); });
+    return model_checked(*process, [&] { return with_ssv(Process::turning(p)); });
   }
   if (*operation == "milling") {
     reject_keys_of(*process, kTurningKeys, "turning");
@@ -320,7 +327,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                    ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
                    "titanium 0.3 to 0.8)");
     }
-    return model_checked(*process, [&] { return Process::milling(p); });
+    return model_checked(*process, [&] { return with_ssv(Process::milling(p)); });
   }
   doc.fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
 }

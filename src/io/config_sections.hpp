@@ -25,6 +25,11 @@ namespace chatter::config_detail {
 /// feed (`feed_per_rev_mm` / `feed_per_tooth_mm`) and the flute length when given.
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m);
 
+// config_speed_variation.cpp
+/// `[process] speed_variation = { amplitude_ratio, frequency_ratio }`: both
+/// required together; nullopt when absent (errors recorded, Skip on errors).
+std::optional<SpeedVariation> read_speed_variation(const Table& process);
+
 // config_structure.cpp
 /// `[tool]` / `[workpiece]`: modes (given, or from a cantilever bar) and
 /// measured FRF terms; absent, or without `modes`, means rigid.

@@ -136,10 +136,12 @@ UncertainSample sample_inputs(const StructuralModel& model, const Process& proce
     p.tangential_coefficient_n_per_m2 = scale(p.tangential_coefficient_n_per_m2, spreads.tangential, kParamTangential);
     p.radial_coefficient_n_per_m2 = scale(p.radial_coefficient_n_per_m2, spreads.radial, kParamRadial);
     out.process = Process::milling(p);
+    out.process.set_speed_variation(process.speed_variation());
   } else {
     TurningParameters p = process.turning_parameters();
     p.feed_force_coefficient_n_per_m2 = scale(p.feed_force_coefficient_n_per_m2, spreads.tangential, kParamTangential);
     out.process = Process::turning(p);
+    out.process.set_speed_variation(process.speed_variation());
   }
   return out;
 }

@@ -301,7 +301,9 @@ Process process_for(const Process& base, const OperationRow& row) {
   if (row.teeth) p.teeth = *row.teeth;
   if (row.direction) p.direction = *row.direction;
   try {
-    return Process::milling(p);
+    Process out = Process::milling(p);
+    out.set_speed_variation(base.speed_variation());
+    return out;
   } catch (const InputError& e) {
     throw InputError("operation " + in_quotes(row.id) + ": " + e.what());
   }

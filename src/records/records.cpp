@@ -105,6 +105,20 @@ json point_record(const PointReport& r, const RecordSource& source) {
   if (a.dominant_frequency_hz) j["dominant_frequency_hz"] = finite_or_null(*a.dominant_frequency_hz);
   if (a.dominant_multiplier_type) j["dominant_multiplier_type"] = to_string(*a.dominant_multiplier_type);
   for (const auto& [key, value] : a.extra) j[key] = value_json(value);
+  // Spindle speed variation (docs/ssv.md): the modulation, the period it was
+  // solved over, and the gain over constant speed.
+  if (r.speed_variation) {
+    const SpeedVariationGain& g = *r.speed_variation;
+    j["speed_variation"] = {{"amplitude_ratio", g.asked.amplitude_ratio},
+                            {"frequency_ratio", g.asked.frequency_ratio},
+                            {"frequency_ratio_used", g.period.frequency_ratio_used},
+                            {"exact_period", g.period.exact},
+                            {"period_s", g.period.period_s},
+                            {"modulation_periods", g.period.modulation_periods},
+                            {"floquet_periods", g.period.floquet_periods},
+                            {"constant_speed_depth_limit_mm", finite_or_null(g.constant_speed_limit_m * 1e3)},
+                            {"gain", finite_or_null(g.gain)}};
+  }
   return j;
 }
 

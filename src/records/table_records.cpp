@@ -189,7 +189,9 @@ RadialStabilityMapGrid radial_stability_map(const Process& process, double spind
       [&](std::size_t i) {
         MillingParameters p = process.milling_parameters();
         p.radial_immersion = immersions[i];
-        const std::unique_ptr<LobeSolver> solver = make_solver(Process::milling(p));
+        Process at = Process::milling(p);
+        at.set_speed_variation(process.speed_variation());  // the config's modulation, if any
+        const std::unique_ptr<LobeSolver> solver = make_solver(at);
         const auto* sdm = dynamic_cast<const SemiDiscretizationSolver*>(solver.get());
         if (!sdm) {
           errors[i] = "the radial x axial map needs the Floquet (sdm) solver";

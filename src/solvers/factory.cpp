@@ -103,9 +103,11 @@ SolverDescriptor sdm_descriptor() {
   d.name = "sdm";
   d.summary = "semi-discretisation / Floquet: sees the flip lobes of low-immersion milling; slower";
   d.kind = SolverKind::kFloquet;
-  d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling,       SolverFeature::kTurning,
-               SolverFeature::kHelix,      SolverFeature::kProcessDamping, SolverFeature::kVariablePitch,
-               SolverFeature::kVariableHelix};
+  // Speed variation: the time-varying delay over the principal period
+  // (docs/ssv.md); not with process damping (refused by the solver).
+  d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
+               SolverFeature::kHelix,         SolverFeature::kProcessDamping, SolverFeature::kVariablePitch,
+               SolverFeature::kVariableHelix, SolverFeature::kSpeedVariation};
   d.in_default_compare = true;
   d.options = {{"steps", Kind::kInt,
                 "steps per delay period (default 64; the step is also at most 1/64 of the shortest natural "
@@ -238,6 +240,7 @@ std::string to_string(SolverFeature f) {
     case SolverFeature::kVariableHelix: return "a variable helix (one process.helix_angle_deg per tooth)";
     case SolverFeature::kRunout: return "runout (process.runout_um)";
     case SolverFeature::kProcessDamping: return "process damping (process.process_damping_coefficient_n_per_m)";
+    case SolverFeature::kSpeedVariation: return "spindle speed variation (process.speed_variation)";
   }
   return "feature " + std::to_string(static_cast<std::uint32_t>(f));
 }
@@ -260,6 +263,7 @@ FeatureSet needed_features(const StructuralModel& model, const Process& process)
   if (process.has_variable_pitch()) s.insert(SolverFeature::kVariablePitch);
   if (process.has_variable_helix()) s.insert(SolverFeature::kVariableHelix);
   if (process.has_process_damping()) s.insert(SolverFeature::kProcessDamping);
+  if (process.has_speed_variation()) s.insert(SolverFeature::kSpeedVariation);
   return s;
 }
 

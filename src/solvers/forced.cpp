@@ -87,6 +87,9 @@ ForcedResponseSolver::ForcedResponseSolver(StructuralModel model, Process proces
         if (model_.has_measured())
           throw InputError("forced response needs modes, not measured FRFs: fit modes to the measurement first "
                            "(chatter fit)");
+        if (process_.has_speed_variation())
+          throw InputError("the forced response (surface location error) is computed at constant spindle speed: "
+                           "remove process.speed_variation (docs/ssv.md)");
         return SemiDiscretizationSolver(model_, process_, options_.sdm);
       }()) {}
 

@@ -2,9 +2,11 @@
 #include "chatter/report.hpp"
 
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "chatter/error.hpp"
+#include "chatter/semi_discretization.hpp"
 
 namespace chatter {
 
@@ -44,7 +46,8 @@ void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
                      " mm (no cut is a metre deep): typed in um?");
 }
 
-PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm) {
+PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
+                         const LobeSolver* constant_speed) {
   const double depth_m = depth_mm * 1e-3;
   PointReport r;
   r.depth_mm = depth_mm;
@@ -60,6 +63,24 @@ PointReport report_point(const LobeSolver& solver, const Process& process, doubl
   const bool below_limit = depth_m < r.limit.limit.depth_limit_m;
   r.stable = r.at_depth.stable.value_or(below_limit);
   r.margin = r.limit.limit.bounded() ? r.limit.limit.depth_limit_m / depth_m : std::numeric_limits<double>::infinity();
+  // Speed variation: the same method at constant speed — the caller's, or
+  // for sdm (the method that solves SSV) one built here from its own model,
+  // process and options, so every front end reports the same record.
+  std::unique_ptr<SemiDiscretizationSolver> own;
+  if (process.has_speed_variation() && !constant_speed)
+    if (const auto* sdm = dynamic_cast<const SemiDiscretizationSolver*>(&solver)) {
+      own = std::make_unique<SemiDiscretizationSolver>(sdm->model(), sdm->process().at_constant_speed(), sdm->options());
+      constant_speed = own.get();
+    }
+  if (process.has_speed_variation() && constant_speed) {
+    SpeedVariationGain g;
+    g.asked = process.speed_variation();
+    g.period = speed_variation_period(process, spindle_rpm);
+    const StabilityLimit base = constant_speed->limit_at(spindle_rpm);
+    g.constant_speed_limit_m = base.depth_limit_m;
+    if (base.bounded() && r.limit.limit.bounded()) g.gain = r.limit.limit.depth_limit_m / base.depth_limit_m;
+    r.speed_variation = g;
+  }
   if (r.at_depth.stable && *r.at_depth.stable != below_limit) {
     std::ostringstream os;
     os.precision(4);

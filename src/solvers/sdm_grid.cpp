@@ -88,7 +88,9 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   const double T = g.tau, rpm = g.rpm;
   const int nt = p.teeth();
   const double ph = p.period_s(rpm);
-  const int reps = std::max(1, static_cast<int>(std::lround(T / ph)));
+  // Whole repeats of the events (T is a whole number of periods; with speed
+  // variation a whole number of Floquet periods, which may be half a revolution).
+  const int reps = std::max(1, static_cast<int>(std::ceil(T / ph - 1e-9)));
   std::vector<double> bnd{0.0, T};
   const std::vector<double> ev = p.engagement_events_s(rpm, a);
   for (int r = 0; r < reps; ++r)
@@ -162,6 +164,7 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
                const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
                const MatrixXd& Sv) {
+  if (p.has_speed_variation()) return make_ssv_grid(p, o, f_max_hz, rpm);
   Grid g;
   if (p.operation() == Operation::kMilling &&
       (o.general_cutter_path || p.has_helix() || !p.uniform_cutter() || p.has_process_damping())) {

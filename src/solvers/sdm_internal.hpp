@@ -12,6 +12,8 @@
 //   sdm_floquet.cpp      the Floquet analysis at a point: multiplier type
 //                        and the chatter-frequency rule;
 //   sdm_search.cpp       the depth search (limit_at);
+//   sdm_ssv.cpp          spindle speed variation: the grid of the principal
+//                        period with the time-varying delay (docs/ssv.md);
 // and the forced response (forced_periodic.cpp) solves for the periodic
 // response on the same grid and step maps with the static chip force.
 //   semi_discretization.cpp  the solver class: options, construction,
@@ -91,7 +93,10 @@ struct CutterGrid {
   std::vector<char> free;          // 1: free flight (exact step)
   std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
   std::vector<Eigen::Matrix2d> D;  // M
-  std::vector<double> gtau;        // delay of each group, s
+  std::vector<double> gtau;        // delay of each group, s (at the mean speed with SSV)
+  // Spindle speed variation: the delay of group k at boundary t_i is
+  // tau_at[i · groups + k] (M + 1 rows); empty: the constant gtau.
+  std::vector<double> tau_at;
 };
 
 // The step grid of one delay period at one spindle speed.
@@ -113,6 +118,10 @@ struct Grid {
   double rpm = 0.0;
   double h_target = 0.0;       // longest cutting step, s
   std::shared_ptr<const CutterGrid> cutter_grid;  // straight teeth: built once per speed at 1 m
+  // Spindle speed variation (sdm_ssv.cpp): the real-cutter path over the
+  // principal period (tau), with the time-varying delays of CutterGrid::tau_at.
+  bool ssv = false;
+  SpeedVariationPeriod ssv_period;
 };
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
@@ -212,6 +221,16 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
                const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
                const MatrixXd& Sv);
+// Spindle speed variation (sdm_ssv.cpp): the grid of the principal period
+// (SpeedVariationPeriod) at mean speed `rpm`; the steps are built per depth
+// from ssv_cutter_grid (once per speed for straight teeth).
+// @throws InputError with process damping, or beyond max_steps_per_period.
+Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm);
+// The steps of one principal period at depth a: turning in equal steps;
+// milling on the constant-speed grid in the mean-speed time θ(t)/Ω₀, mapped
+// to real time, its integrals scaled by dt/dt'. tau_at: the delays τ(t_i).
+CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+
 // Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
 MatrixXd turning_hhat_of(const Process& p);
 // Turning with a map larger than dense_max_dimension and τ min ζω >=

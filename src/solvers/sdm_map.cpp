@@ -301,7 +301,7 @@ void SdmKernel::apply_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y
 // independent of the number of delays: B has 2 columns, the force).
 void SdmKernel::build_cutter(const Grid& g, double a, PeriodMap& pm) const {
   if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm, &g.cutter_grid);
-  const CutterGrid cg = cutter_grid(*p_, g, o_.axial_slices, a);
+  const CutterGrid cg = g.ssv ? ssv_cutter_grid(*p_, g, o_.axial_slices, a) : cutter_grid(*p_, g, o_.axial_slices, a);
   cutter_map(g, cg, a, 1.0, pm, nullptr);
 }
 
@@ -362,6 +362,7 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
   std::vector<int>& gid = cm.gid;
   MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1, &Xh = cm.Xh, &Yh = cm.Yh, &G1 = cm.G1,
            &G2 = cm.G2;
+  int nd = 0;  // delay groups cutting in the current step: Bt, HU, gid [0, nd)
   for (int i = 0; i < M; ++i) {
     const auto iu = static_cast<std::size_t>(i);
     CutterStep& st = cm.steps[iu];
@@ -379,90 +380,106 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
       if (shared) cache.free_P[iu] = st.P;
       continue;
     }
-    int nd = 0;  // delay groups cutting in this step: Bt, HU, gid [0, nd)
-    At = A_;
-    for (int k = 0; k < ng; ++k) {
-      const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
-      if (F.norm() <= kFreeForce * kscale * a * h) continue;
-      const auto ku = static_cast<std::size_t>(nd);
-      if (ku == HU.size()) {
-        HU.emplace_back();
-        Bt.emplace_back();
-        gid.push_back(0);
-      }
-      HU[ku].noalias() = (F / h) * U_;
-      Bt[ku].noalias() = B_ * HU[ku];
-      At.noalias() -= Bt[ku] * Wx_;
-      gid[ku] = k;
-      ++nd;
+    // A cutting step equal to the one before (the equal steps of turning
+    // with speed variation: same length, same integrals) has the same P, R0
+    // and R1; only where its delayed samples fall differs.
+    bool repeat = i > 0 && !cm.forcing && !cg.free[iu - 1] && cg.h[iu - 1] == h && cg.D[iu - 1] == cg.D[iu];
+    for (int k = 0; k < ng && repeat; ++k) {
+      const auto kk = static_cast<std::size_t>(k), ngu = static_cast<std::size_t>(ng);
+      repeat = cg.F[(iu - 1) * ngu + kk] == cg.F[iu * ngu + kk];
     }
-    if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
-    if (R0.size() < static_cast<std::size_t>(nd)) {
-      R0.resize(static_cast<std::size_t>(nd));
-      R1.resize(static_cast<std::size_t>(nd));
-    }
-    // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
-    // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
-    const int nb = static_cast<int>(B_.cols());
-    const bool stacked = nd * nr <= nb;
-    const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
-    // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
-    // the exponential scale by sc and sc², undone below): the norm of the
-    // augmented matrix is then that of Ã h, so the Padé degree and the
-    // squarings stay low (with I of norm 1, every step took degree 9).
-    Xh = At * h;
-    const double sc = std::clamp(Xh.cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
-    const int nk = stacked ? nd * nr : nb;  // input columns
-    Yh.resize(n2, nk);
-    if (stacked) {
-      for (int k = 0; k < nd; ++k) Yh.middleCols(k * nr, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
+    if (repeat) {
+      st.P = cm.steps[iu - 1].P;
     } else {
-      Yh = B_ * (h * sc);
-    }
-    // The blocks of the exponential: by blocks for the common sizes (1 or
-    // 2 modes, augmented_exp), else of the whole matrix, stack-allocated up
-    // to kSmallAugmented (no heap traffic), else dynamic.
-    if (!augmented_exp(Xh, Yh, sc, st.P, G1, G2)) {
-      aug.setZero(na, na);
-      aug.topLeftCorner(n2, n2) = Xh;
-      aug.block(0, n2, n2, nk) = Yh;
-      aug.block(n2, n2 + nk, nk, nk) = MatrixXd::Identity(nk, nk) * sc;
-      if (na <= kSmallAugmented)
-        small_exp(aug, E);
-      else
-        E = aug.exp();
-      st.P = E.topLeftCorner(n2, n2);
-      G1 = E.block(0, n2, n2, nk);
-      G2 = E.block(0, n2 + nk, n2, nk);
-    }
-    if (stacked) {
-      for (int k = 0; k < nd; ++k) {
-        const auto ku = static_cast<std::size_t>(k);
-        R1[ku] = G2.middleCols(k * nr, nr) / (sc * sc);
-        R0[ku] = G1.middleCols(k * nr, nr) / sc - R1[ku];
+      nd = 0;
+      At = A_;
+      for (int k = 0; k < ng; ++k) {
+        const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
+        if (F.norm() <= kFreeForce * kscale * a * h) continue;
+        const auto ku = static_cast<std::size_t>(nd);
+        if (ku == HU.size()) {
+          HU.emplace_back();
+          Bt.emplace_back();
+          gid.push_back(0);
+        }
+        // Turning (SSV): H = [K_f; 0] e_xᵀ and e_xᵀ S = U W, so H S = F e_x U W.
+        if (U_.rows() == 1)
+          HU[ku].noalias() = (F.col(0) / h) * U_;
+        else
+          HU[ku].noalias() = (F / h) * U_;
+        Bt[ku].noalias() = B_ * HU[ku];
+        At.noalias() -= Bt[ku] * Wx_;
+        gid[ku] = k;
+        ++nd;
       }
-    } else {
-      Q1 = G2 / (sc * sc);
-      Q0 = G1 / sc - Q1;
-      for (int k = 0; k < nd; ++k) {
-        const auto ku = static_cast<std::size_t>(k);
-        R0[ku].noalias() = Q0 * HU[ku];
-        R1[ku].noalias() = Q1 * HU[ku];
+      if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
+      if (R0.size() < static_cast<std::size_t>(nd)) {
+        R0.resize(static_cast<std::size_t>(nd));
+        R1.resize(static_cast<std::size_t>(nd));
       }
-    }
-    if (cm.forcing) {
-      // The forced response (forced_periodic.cpp): G = ∫₀ʰ e^{Ã s} ds B, the
-      // (1,2) block of exp([[Ã h, B h], [0, 0]]).
-      MatrixXd Pf, Gf, Gf2;
-      const MatrixXd Bh = B_ * h;
-      if (!augmented_exp(Xh, Bh, 0.0, Pf, Gf, Gf2)) {
-        MatrixXd augf = MatrixXd::Zero(n2 + nb, n2 + nb);
-        augf.topLeftCorner(n2, n2) = Xh;
-        augf.topRightCorner(n2, nb) = Bh;
-        const MatrixXd Ef = augf.exp();
-        Gf = Ef.topRightCorner(n2, nb);
+      // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
+      // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
+      const int nb = static_cast<int>(B_.cols());
+      const bool stacked = nd * nr <= nb;
+      const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
+      // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
+      // the exponential scale by sc and sc², undone below): the norm of the
+      // augmented matrix is then that of Ã h, so the Padé degree and the
+      // squarings stay low (with I of norm 1, every step took degree 9).
+      Xh = At * h;
+      const double sc = std::clamp(Xh.cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
+      const int nk = stacked ? nd * nr : nb;  // input columns
+      Yh.resize(n2, nk);
+      if (stacked) {
+        for (int k = 0; k < nd; ++k) Yh.middleCols(k * nr, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
+      } else {
+        Yh = B_ * (h * sc);
       }
-      st.G = Gf;
+      // The blocks of the exponential: by blocks for the common sizes (1 or
+      // 2 modes, augmented_exp), else of the whole matrix, stack-allocated up
+      // to kSmallAugmented (no heap traffic), else dynamic.
+      if (!augmented_exp(Xh, Yh, sc, st.P, G1, G2)) {
+        aug.setZero(na, na);
+        aug.topLeftCorner(n2, n2) = Xh;
+        aug.block(0, n2, n2, nk) = Yh;
+        aug.block(n2, n2 + nk, nk, nk) = MatrixXd::Identity(nk, nk) * sc;
+        if (na <= kSmallAugmented)
+          small_exp(aug, E);
+        else
+          E = aug.exp();
+        st.P = E.topLeftCorner(n2, n2);
+        G1 = E.block(0, n2, n2, nk);
+        G2 = E.block(0, n2 + nk, n2, nk);
+      }
+      if (stacked) {
+        for (int k = 0; k < nd; ++k) {
+          const auto ku = static_cast<std::size_t>(k);
+          R1[ku] = G2.middleCols(k * nr, nr) / (sc * sc);
+          R0[ku] = G1.middleCols(k * nr, nr) / sc - R1[ku];
+        }
+      } else {
+        Q1 = G2 / (sc * sc);
+        Q0 = G1 / sc - Q1;
+        for (int k = 0; k < nd; ++k) {
+          const auto ku = static_cast<std::size_t>(k);
+          R0[ku].noalias() = Q0 * HU[ku];
+          R1[ku].noalias() = Q1 * HU[ku];
+        }
+      }
+      if (cm.forcing) {
+        // The forced response (forced_periodic.cpp): G = ∫₀ʰ e^{Ã s} ds B, the
+        // (1,2) block of exp([[Ã h, B h], [0, 0]]).
+        MatrixXd Pf, Gf, Gf2;
+        const MatrixXd Bh = B_ * h;
+        if (!augmented_exp(Xh, Bh, 0.0, Pf, Gf, Gf2)) {
+          MatrixXd augf = MatrixXd::Zero(n2 + nb, n2 + nb);
+          augf.topLeftCorner(n2, n2) = Xh;
+          augf.topRightCorner(n2, nb) = Bh;
+          const MatrixXd Ef = augf.exp();
+          Gf = Ef.topRightCorner(n2, nb);
+        }
+        st.G = Gf;
+      }
     }
     auto add = [&](int gi, double w, const MatrixXd& C) {
       if (w == 0.0) return;
@@ -486,9 +503,15 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
       if (shared && cache.located[key]) {
         l = cache.where[key];
       } else {
-        const double tau = cg.gtau[static_cast<std::size_t>(gid[ku])];
-        locate(cm.t[iu] - tau, l.g0, l.w0);
-        locate(cm.t[iu + 1] - tau, l.g1, l.w1);
+        const auto gk = static_cast<std::size_t>(gid[ku]);
+        // The delay at the two ends of the step: constant, or (speed
+        // variation) τ(t_i) and τ(t_{i+1}); the delayed value is linear over
+        // the step between them, each interpolated linearly in the samples.
+        const double tau0 = cg.tau_at.empty() ? cg.gtau[gk] : cg.tau_at[iu * static_cast<std::size_t>(ng) + gk];
+        const double tau1 =
+            cg.tau_at.empty() ? cg.gtau[gk] : cg.tau_at[(iu + 1) * static_cast<std::size_t>(ng) + gk];
+        locate(cm.t[iu] - tau0, l.g0, l.w0);
+        locate(cm.t[iu + 1] - tau1, l.g1, l.w1);
         if (shared) {
           cache.where[key] = l;
           cache.located[key] = 1;

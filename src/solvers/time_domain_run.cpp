@@ -556,6 +556,9 @@ TimeDomainSimulator::TimeDomainSimulator(StructuralModel model, Process process,
   if (!why.empty()) throw InputError("time-domain options: " + why);
   if (model_.mode_count() == 0)
     throw InputError("structural model: both bodies are rigid: give at least one mode");
+  if (process_.has_speed_variation())
+    throw InputError("method \"time-domain\" does not handle spindle speed variation (process.speed_variation) "
+                     "yet (methods that do: sdm)");
   if (model_.has_measured())
     throw InputError("time-domain needs modes, not measured FRFs: fit modes to the measurement first "
                      "(chatter fit) and use them in the config");
