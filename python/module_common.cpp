@@ -95,34 +95,32 @@ chatter::SolverValues solver_values(const chatter::Config& cfg, const chatter::S
       values[name] = v;
     }
   }
-  // As the CLI: the time-domain feed defaults to the config's feed.
-  for (const auto& o : descriptor.options)
-    if (o.name == "feed_per_tooth_mm" && cfg.feed_mm && !values.count(o.name)) values[o.name] = *cfg.feed_mm;
-  return values;
+  // As every front end: the config's defaults for the options not given.
+  return chatter::with_config_defaults(descriptor, cfg, std::move(values));
 }
 
 std::shared_ptr<const Built> build_solver(const Job& job, const std::string& requested, double depth_max_m,
                                           const std::optional<py::dict>& options) {
   const chatter::Config& cfg = *job.cfg;
-  std::string averaged_milling;
-  const std::string method = chatter::resolve_lobe_method(requested, cfg.model, cfg.process, &averaged_milling);
+  const std::string method = chatter::resolve_lobe_method(requested, cfg.model, cfg.process);
   const chatter::SolverDescriptor& descriptor = chatter::find_lobe_method(method);
   const chatter::SolverValues values = solver_values(cfg, descriptor, method, options);
-  std::string key = method + "|" + value_key(depth_max_m);
+  std::string key = requested + "|" + method + "|" + value_key(depth_max_m);
   for (const auto& [k, v] : values) key += "|" + k + "=" + value_key(v);
   {
     std::lock_guard<std::mutex> lock(job.cache->mutex);
     if (const auto it = job.cache->solvers.find(key); it != job.cache->solvers.end()) return it->second;
   }
   auto b = std::make_shared<Built>();
-  b->descriptor = &descriptor;
+  chatter::ConfiguredSolver c;
   {
     py::gil_scoped_release release;
-    b->solver = chatter::make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, values);
+    c = chatter::configure_solver(requested, cfg, depth_max_m, values, chatter::ArgStyle::kKeyword);
   }
-  b->notes = chatter::method_notes(requested, descriptor, cfg.process, values, averaged_milling,
-                                   chatter::ArgStyle::kKeyword);
-  b->values = values;
+  b->descriptor = c.descriptor;
+  b->solver = std::move(c.solver);
+  b->notes = std::move(c.notes);
+  b->values = std::move(c.values);
   std::lock_guard<std::mutex> lock(job.cache->mutex);
   if (job.cache->solvers.size() >= kMaxCachedSolvers) job.cache->solvers.clear();
   job.cache->solvers.emplace(key, b);

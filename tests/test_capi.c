@@ -311,6 +311,40 @@ static void check_uncertainty(void) {
   (void)expected;
 }
 
+/* The time-domain solver takes the chip's feed from the config's
+ * [process] feed_per_tooth_mm as the CLI does (the C API used to build it
+ * with the solver's own default): above the limit the saturated vibration
+ * scales with the feed, so max_amplitude_mm of chatter_point_json equals
+ * `chatter point --method time-domain` bitwise, and a CLI feed 10x smaller
+ * gives a 10x smaller amplitude (so the check can tell them apart). */
+static void check_time_domain_feed(void) {
+  const char* config = CHATTER_SOURCE_DIR "/tests/data/capi/time_domain_feed.toml";
+  chatter_model* model = NULL;
+  chatter_solver* solver = NULL;
+  const char* json = NULL;
+  char args[1024];
+  char* out;
+  double api, cli, small;
+  CHECK(chatter_model_load(config, &model) == CHATTER_OK);
+  CHECK(chatter_solver_create(model, "time-domain", 50.0, &solver) == CHATTER_OK);
+  CHECK(chatter_point_json(solver, 9000.0, 14.0, &json) == CHATTER_OK);
+  api = json_number(json, "max_amplitude_mm");
+  snprintf(args, sizeof args, "point '%s' --method time-domain --rpm 9000 --depth-mm 14", config);
+  out = run_cli(args);
+  cli = json_number(out, "max_amplitude_mm");
+  free(out);
+  snprintf(args, sizeof args, "point '%s' --method time-domain --rpm 9000 --depth-mm 14 --feed-per-tooth-mm 0.02",
+           config);
+  out = run_cli(args);
+  small = json_number(out, "max_amplitude_mm");
+  free(out);
+  CHECK(api > 0.0 && api == cli);
+  if (api != cli) fprintf(stderr, "  time-domain max_amplitude_mm: API %.17g, CLI %.17g\n", api, cli);
+  CHECK(fabs(small / cli - 0.1) < 1e-3);
+  chatter_solver_free(solver);
+  chatter_model_free(model);
+}
+
 int main(void) {
   chatter_model* model = NULL;
   chatter_solver* solver = NULL;
@@ -319,6 +353,7 @@ int main(void) {
   int i;
 
   CHECK(strlen(chatter_version()) > 0);
+  check_time_domain_feed();
   CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
   CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
   CHECK(chatter_limit_at(solver, 1800.0, &lim) == CHATTER_OK);

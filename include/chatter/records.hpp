@@ -10,6 +10,7 @@
 // functions includes <nlohmann/json.hpp> to use the returned values.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +50,30 @@ std::string arg_name(ArgStyle style, const std::string& key);
 std::vector<std::string> method_notes(const std::string& requested, const SolverDescriptor& descriptor,
                                       const Process& process, const SolverValues& options,
                                       const std::string& averaged_milling, ArgStyle style);
+
+/// The options of `descriptor`'s method as the front ends use them: the
+/// ones the user gave (`given`, already checked against the option's rule),
+/// plus the config's defaults for those not given — today the time-domain
+/// chip's feed from [process] feed_per_tooth_mm / feed_per_rev_mm. The one
+/// place the config feeds a solver option (CLI, Python, C API, compare,
+/// Monte Carlo).
+SolverValues with_config_defaults(const SolverDescriptor& descriptor, const Config& config, SolverValues given);
+
+/// A lobe solver built for a front end: the method ("auto" resolved by
+/// resolve_lobe_method), its descriptor, the solver, the options it was
+/// built with (with_config_defaults) and the notes of what it does not see
+/// (method_notes). Every front end builds its solvers here.
+struct ConfiguredSolver {
+  std::string method;
+  const SolverDescriptor* descriptor = nullptr;
+  std::unique_ptr<LobeSolver> solver;
+  SolverValues values;
+  std::vector<std::string> notes;
+};
+/// @throws InputError on an unknown method or an input the method refuses
+///         (make_lobe_solver). @pre depth_max_m > 0.
+ConfiguredSolver configure_solver(const std::string& requested, const Config& config, double depth_max_m,
+                                  SolverValues given, ArgStyle style);
 
 /// What every record says about its inputs.
 struct RecordSource {

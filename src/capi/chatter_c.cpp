@@ -95,16 +95,13 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
       throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
     const chatter::Config& cfg = model->config;
-    std::string averaged_milling;
-    const std::string m = chatter::resolve_lobe_method(method ? method : chatter::kAutoMethod, cfg.model,
-                                                       cfg.process, &averaged_milling);
-    auto s = chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3);
+    // Built as the CLI and Python build it (the config's defaults, e.g. the
+    // time-domain chip's feed, and the notes).
+    chatter::ConfiguredSolver c = chatter::configure_solver(method ? method : chatter::kAutoMethod, cfg,
+                                                            depth_max_mm * 1e-3, {}, chatter::ArgStyle::kKeyword);
     chatter::RecordSource source = chatter::record_source(cfg);
-    source.notes = chatter::ignored_feature_notes(chatter::find_lobe_method(m), cfg.process);
-    if ((!method || std::string(method) == chatter::kAutoMethod) && !averaged_milling.empty())
-      source.notes.insert(source.notes.begin(), "method auto chose \"" + m +
-                                                    "\" (no Floquet method handles this input): " + averaged_milling);
-    *out = new chatter_solver{std::move(s), m, cfg.process, std::move(source)};
+    source.notes = std::move(c.notes);
+    *out = new chatter_solver{std::move(c.solver), c.method, cfg.process, std::move(source)};
   });
 }
 
@@ -239,11 +236,13 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
                                                                      position_points);
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
     const std::string m = chatter::resolve_lobe_method(method ? method : chatter::kAutoMethod, cfg.model, cfg.process);
+    const chatter::SolverValues values = chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {});
     const double depth_max_m = depth_max_mm * 1e-3;
     // The method checked on the first position before the sweep (as the CLI).
-    (void)chatter::make_lobe_solver(m, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m);
+    (void)chatter::make_lobe_solver(m, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m,
+                                    values);
     const chatter::SolverFactory factory = [&](const chatter::StructuralModel& s) {
-      return chatter::make_lobe_solver(m, s, cfg.process, depth_max_m);
+      return chatter::make_lobe_solver(m, s, cfg.process, depth_max_m, values);
     };
     const auto surface = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory,
                                                static_cast<unsigned>(threads));

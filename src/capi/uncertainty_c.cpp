@@ -51,10 +51,12 @@ std::vector<std::vector<chatter::StabilityLimit>> sample_rows(const chatter::Con
                                                               double depth_max_mm, const std::vector<double>& speeds,
                                                               int samples, unsigned long long seed, int threads) {
   const double depth_max_m = depth_max_mm * 1e-3;
-  (void)chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_m);  // the method checked before sampling
+  const chatter::SolverValues values = chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {});
+  // The method checked before sampling.
+  (void)chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_m, values);
   const chatter::SampleSolverFactory factory = [&](const chatter::StructuralModel& model,
                                                    const chatter::Process& process) {
-    return chatter::make_lobe_solver(m, model, process, depth_max_m);
+    return chatter::make_lobe_solver(m, model, process, depth_max_m, values);
   };
   return chatter::monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty, static_cast<std::uint64_t>(seed), 0,
                                      static_cast<std::uint64_t>(samples), speeds, factory,
@@ -77,7 +79,9 @@ chatter_status chatter_uncertain_lobes(const chatter_model* model, const char* m
       throw chatter::InputError(fn + ": rpm_min, rpm_max: must be 0 < rpm_min < rpm_max");
     const std::string m = checked_method(cfg, method, depth_max_mm, samples, rpm_points, threads, fn);
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
-    const auto nominal_solver = chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3);
+    const auto nominal_solver =
+        chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3,
+                                  chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {}));
     const auto nominal = chatter::lobe_envelope(*nominal_solver, speeds, static_cast<unsigned>(threads));
     const auto sampled = sample_rows(cfg, m, depth_max_mm, speeds, samples, seed, threads);
     // No probability grid is asked: one depth (the reduction needs one).

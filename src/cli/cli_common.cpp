@@ -340,12 +340,7 @@ SolverValues solver_option_values(const SolverDescriptor& descriptor, const Conf
     if (!o.cli) continue;
     const std::string flag = option_flag(o);
     const std::string key = flag.substr(2);
-    if (vm.count(key) == 0) {
-      // The feed of the time-domain chip defaults to the config's
-      // [process] feed_per_tooth_mm / feed_per_rev_mm (validated by the loader).
-      if (o.name == "feed_per_tooth_mm" && cfg.feed_mm) options[o.name] = *cfg.feed_mm;
-      continue;
-    }
+    if (vm.count(key) == 0) continue;
     SolverValue v;
     switch (o.kind) {
       case SolverOption::Kind::kInt: v = vm[key].as<int>(); break;
@@ -359,24 +354,25 @@ SolverValues solver_option_values(const SolverDescriptor& descriptor, const Conf
     }
     options[o.name] = v;
   }
-  return options;
+  // The config's defaults (the time-domain chip's feed) for the options not given.
+  return with_config_defaults(descriptor, cfg, std::move(options));
 }
 
 BuiltSolver build_solver(const std::string& requested, const Config& cfg, double depth_max_m,
                          const po::variables_map& vm, bool check_options) {
-  BuiltSolver b;
-  std::string averaged_milling;
-  const std::string method =
-      with_flag("--method", [&] { return resolve_lobe_method(requested, cfg.model, cfg.process, &averaged_milling); });
-  b.method = method;
-  b.descriptor = &method_descriptor(method);
+  // The method as "auto" resolves it, for the options' check and parse.
+  const std::string method = with_flag("--method", [&] { return resolve_lobe_method(requested, cfg.model, cfg.process); });
   if (check_options) check_solver_options({method}, vm, "--method");
-  const SolverValues options = solver_option_values(*b.descriptor, cfg, vm);
-  b.solver = make_lobe_solver(method, cfg.model, cfg.process, depth_max_m, options);
+  const SolverValues given = solver_option_values(method_descriptor(method), cfg, vm);
+  ConfiguredSolver c = configure_solver(requested, cfg, depth_max_m, given, ArgStyle::kFlag);
+  BuiltSolver b;
+  b.method = c.method;
+  b.descriptor = c.descriptor;
+  b.solver = std::move(c.solver);
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options_json = j.dump();
-  b.notes = method_notes(requested, *b.descriptor, cfg.process, options, averaged_milling, ArgStyle::kFlag);
+  b.notes = std::move(c.notes);
   for (const std::string& n : b.notes) std::cerr << "note: " << n << "\n";
   return b;
 }

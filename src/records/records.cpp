@@ -38,6 +38,24 @@ std::vector<std::string> method_notes(const std::string& requested, const Solver
   return notes;
 }
 
+SolverValues with_config_defaults(const SolverDescriptor& descriptor, const Config& config, SolverValues given) {
+  for (const SolverOption& o : descriptor.options)
+    if (o.name == "feed_per_tooth_mm" && config.feed_mm && !given.count(o.name)) given[o.name] = *config.feed_mm;
+  return given;
+}
+
+ConfiguredSolver configure_solver(const std::string& requested, const Config& config, double depth_max_m,
+                                  SolverValues given, ArgStyle style) {
+  ConfiguredSolver c;
+  std::string averaged_milling;
+  c.method = resolve_lobe_method(requested, config.model, config.process, &averaged_milling);
+  c.descriptor = &find_lobe_method(c.method);
+  c.values = with_config_defaults(*c.descriptor, config, std::move(given));
+  c.solver = make_lobe_solver(c.method, config.model, config.process, depth_max_m, c.values);
+  c.notes = method_notes(requested, *c.descriptor, config.process, c.values, averaged_milling, style);
+  return c;
+}
+
 RecordSource record_source(const Config& config, std::optional<double> position_mm) {
   RecordSource s;
   s.config_name = config.name;
