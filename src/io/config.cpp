@@ -14,7 +14,8 @@
 // in config_read.hpp; each table has its section reader (config_sections.hpp):
 // config_process.cpp, config_structure.cpp ([tool], [workpiece]),
 // config_positions.cpp, config_sweep.cpp, config_uncertainty.cpp,
-// config_optimization.cpp, config_grinding.cpp. This file is the top level: read_config (a cutting
+// config_optimization.cpp, config_grinding.cpp; `include` is merged first by
+// config_include.cpp. This file is the top level: read_config (a cutting
 // process) and read_grinding_config (a [grinding] config) call them in order,
 // parse_config / load_config and parse_grinding_config / load_grinding_config
 // wrap them with the same parsing.
@@ -219,46 +220,6 @@ namespace chatter {
 
 namespace {
 
-// Parses TOML text (sanitized, NUL refused) and runs `read` on it with a
-// Document for its messages: the one parsing of every kind of config.
-template <class Read>
-auto parse_with(const std::string& original_text, const std::string& origin, Read&& read) {
-  const std::string toml_text = config_detail::sanitize_for_parser(original_text, origin);
-  // A NUL byte is never valid TOML; toml++ 3.3 asserts on some (found by
-  // fuzzing, fuzz/corpus/config/crash_nul_in_key.toml), so refuse it first.
-  if (const auto nul = toml_text.find('\0'); nul != std::string::npos) {
-    const auto line = 1 + std::count(toml_text.begin(), toml_text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
-    throw InputError(origin + ":" + std::to_string(line) + ": contains a NUL byte: a config must be UTF-8 text");
-  }
-  const config_detail::Document doc(toml_text, origin);
-  try {
-#if TOML_EXCEPTIONS
-    const toml::table root = toml::parse(std::string_view(toml_text), std::string_view(origin));
-#else
-    toml::parse_result result = toml::parse(std::string_view(toml_text), std::string_view(origin));
-    if (!result) {
-      const toml::parse_error& e = result.error();
-      throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
-                       std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
-    }
-    const toml::table root = std::move(result).table();
-#endif
-    return read(root, doc);
-  } catch (const InputError&) {
-    throw;
-  } catch (const config_detail::Skip&) {
-    // Every Skip is caught where reading resumes; should one get here, its
-    // error is recorded: report it.
-    doc.throw_if_errors();
-    throw InputError(origin + ": invalid config");
-#if TOML_EXCEPTIONS
-  } catch (const toml::parse_error& e) {
-    throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
-                     std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
-#endif
-  }
-}
-
 // The text of a config file. @throws InputError "<file>: cannot read file (...)".
 std::string read_text(const std::filesystem::path& file) {
   const std::string origin = file.string();
@@ -275,6 +236,60 @@ std::string read_text(const std::filesystem::path& file) {
   buffer << in.rdbuf();
   if (in.bad()) throw InputError(origin + ": cannot read file (read error)");
   return buffer.str();
+}
+
+
+// The TOML table of a text (sanitized, NUL refused; `toml_text` set to the
+// text parsed). @throws InputError "<origin>:<line>:<col>: <syntax error>".
+toml::table parse_toml(const std::string& original_text, const std::string& origin, std::string* toml_text) {
+  *toml_text = config_detail::sanitize_for_parser(original_text, origin);
+  // A NUL byte is never valid TOML; toml++ 3.3 asserts on some (found by
+  // fuzzing, fuzz/corpus/config/crash_nul_in_key.toml), so refuse it first.
+  if (const auto nul = toml_text->find('\0'); nul != std::string::npos) {
+    const auto line = 1 + std::count(toml_text->begin(), toml_text->begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    throw InputError(origin + ":" + std::to_string(line) + ": contains a NUL byte: a config must be UTF-8 text");
+  }
+#if TOML_EXCEPTIONS
+  try {
+    return toml::parse(std::string_view(*toml_text), std::string_view(origin));
+  } catch (const toml::parse_error& e) {
+    throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
+                     std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
+  }
+#else
+  toml::parse_result result = toml::parse(std::string_view(*toml_text), std::string_view(origin));
+  if (!result) {
+    const toml::parse_error& e = result.error();
+    throw InputError(origin + ":" + std::to_string(e.source().begin.line) + ":" +
+                     std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
+  }
+  return std::move(result).table();
+#endif
+}
+
+// Parses TOML text, merges the files it includes (config_include.cpp) and
+// runs `read` on the result with a Document for its messages: the one
+// parsing of every kind of config.
+template <class Read>
+auto parse_with(const std::string& original_text, const std::string& origin, Read&& read) {
+  std::string toml_text;
+  toml::table root = parse_toml(original_text, origin, &toml_text);
+  const std::vector<config_detail::IncludedFile> included = config_detail::merge_includes(
+      root, origin, [](const std::filesystem::path& file, std::string* text) {
+        return parse_toml(read_text(file), file.string(), text);
+      });
+  config_detail::Document doc(toml_text, origin);
+  for (const config_detail::IncludedFile& f : included) doc.add_source(f.origin, f.text, f.paths);
+  try {
+    return read(root, static_cast<const config_detail::Document&>(doc));
+  } catch (const InputError&) {
+    throw;
+  } catch (const config_detail::Skip&) {
+    // Every Skip is caught where reading resumes; should one get here, its
+    // error is recorded: report it.
+    doc.throw_if_errors();
+    throw InputError(origin + ": invalid config");
+  }
 }
 
 }  // namespace

@@ -69,10 +69,35 @@ std::string unknown_key_rule(std::string_view key, std::span<const std::string_v
 
 // ----------------------------------------------------------------- document
 
-Document::Document(std::string_view text, std::string origin) : text_(text), origin_(std::move(origin)) {
-  line_starts_.push_back(0);
-  for (std::size_t i = 0; i < text_.size(); ++i)
-    if (text_[i] == '\n') line_starts_.push_back(i + 1);
+Document::Source Document::make_source(std::string origin, std::string_view text, std::vector<Path> paths) {
+  Source src{std::move(origin), text, {0}, std::move(paths)};
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') src.line_starts.push_back(i + 1);
+  return src;
+}
+
+Document::Document(std::string_view text, std::string origin) : origin_(std::move(origin)) {
+  sources_.push_back(make_source(origin_, text, {}));
+}
+
+void Document::add_source(std::string origin, std::string_view text, std::vector<Path> paths) {
+  sources_.push_back(make_source(std::move(origin), text, std::move(paths)));
+}
+
+const std::string& Document::origin_of(const Path& path) const {
+  for (std::size_t s = 1; s < sources_.size(); ++s)
+    for (const Path& p : sources_[s].paths)
+      if (path.compare(0, p.size(), p) == 0 &&
+          (path.size() == p.size() || path[p.size()] == '.' || path[p.size()] == '['))
+        return sources_[s].origin;
+  return origin_;
+}
+
+const Document::Source& Document::source_of(const toml::node& n) const {
+  if (const auto& file = n.source().path)
+    for (const Source& src : sources_)
+      if (src.origin == *file) return src;
+  return sources_.front();
 }
 
 void Document::throw_if_errors() const {
@@ -93,13 +118,13 @@ std::string Document::as_written(const toml::node& n) const {
   return s;
 }
 
-std::optional<std::size_t> Document::offset(const toml::source_position& p) const {
-  if (p.line < 1 || p.line > line_starts_.size() || p.column < 1) return std::nullopt;
-  std::size_t i = line_starts_[p.line - 1];
+std::optional<std::size_t> Document::offset(const Source& src, const toml::source_position& p) {
+  if (p.line < 1 || p.line > src.line_starts.size() || p.column < 1) return std::nullopt;
+  std::size_t i = src.line_starts[p.line - 1];
   for (toml::source_index col = 1; col < p.column; ++col) {
-    if (i >= text_.size() || text_[i] == '\n') return std::nullopt;
+    if (i >= src.text.size() || src.text[i] == '\n') return std::nullopt;
     ++i;
-    while (i < text_.size() && (static_cast<unsigned char>(text_[i]) & 0xC0u) == 0x80u) ++i;
+    while (i < src.text.size() && (static_cast<unsigned char>(src.text[i]) & 0xC0u) == 0x80u) ++i;
   }
   return i;
 }
@@ -109,10 +134,11 @@ std::optional<std::string> Document::written_text(const toml::node& n) const {
   if (const toml::array* a = n.as_array(); a && a->is_array_of_tables()) return std::nullopt;
   const toml::source_region& r = n.source();
   if (r.begin.line != r.end.line) return std::nullopt;
-  const auto b = offset(r.begin);
-  const auto e = offset(r.end);
-  if (!b || !e || *e <= *b || *e > text_.size()) return std::nullopt;
-  std::string s(text_.substr(*b, *e - *b));
+  const Source& src = source_of(n);
+  const auto b = offset(src, r.begin);
+  const auto e = offset(src, r.end);
+  if (!b || !e || *e <= *b || *e > src.text.size()) return std::nullopt;
+  std::string s(src.text.substr(*b, *e - *b));
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.pop_back();
   if (s.empty()) return std::nullopt;
   return s;

@@ -134,15 +134,24 @@ class Document {
  public:
   Document(std::string_view text, std::string origin);
 
+  /// The file read (the one that includes the others).
   const std::string& origin() const { return origin_; }
+  /// A file merged in by `include` (config_include.cpp): its text (kept
+  /// alive by the caller) for as_written, and the key paths it gave
+  /// (`tool.modes`, `process.tangential_coefficient_n_per_mm2`), so that a
+  /// message about a key names the file the key is in.
+  void add_source(std::string origin, std::string_view text, std::vector<Path> paths);
+  /// The file that gave `path` (or the key path it lies under): an included
+  /// file's name, else origin().
+  const std::string& origin_of(const Path& path) const;
 
   /// Records "<origin>: <path> = <value>: <rule>" and goes on reading.
   void error(const Path& path, const toml::node& value, std::string_view rule) const {
-    add_error(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
+    add_error(origin_of(path) + ": " + path + " = " + as_written(value) + ": " + std::string(rule));
   }
   /// Records "<origin>: <path>: <rule>" (missing or unknown keys, whole-model rules).
   void error_key(const Path& path, std::string_view rule) const {
-    add_error(origin_ + ": " + path + ": " + std::string(rule));
+    add_error(origin_of(path) + ": " + path + ": " + std::string(rule));
   }
   /// Records a whole message (e.g. from an FRF reader).
   void add_error(std::string message) const {
@@ -166,11 +175,11 @@ class Document {
 
   /// Records "<origin>: <path> = <value>: <what>" as a plausibility warning.
   void warn(const Path& path, const toml::node& value, std::string_view what) const {
-    warnings_.push_back(origin_ + ": " + path + " = " + as_written(value) + ": " + std::string(what));
+    warnings_.push_back(origin_of(path) + ": " + path + " = " + as_written(value) + ": " + std::string(what));
   }
   /// Records "<origin>: <path>: <what>" (a value derived from several keys).
   void warn_key(const Path& path, std::string_view what) const {
-    warnings_.push_back(origin_ + ": " + path + ": " + std::string(what));
+    warnings_.push_back(origin_of(path) + ": " + path + ": " + std::string(what));
   }
   std::size_t warning_count() const { return warnings_.size(); }
   std::vector<std::string> take_warnings() const { return std::move(warnings_); }
@@ -180,15 +189,24 @@ class Document {
   std::string as_written(const toml::node& n) const;
 
  private:
+  // One file's text and where its lines start.
+  struct Source {
+    std::string origin;
+    std::string_view text;
+    std::vector<std::size_t> line_starts;
+    std::vector<Path> paths;  // the key paths it gave (empty for the file read)
+  };
+  static Source make_source(std::string origin, std::string_view text, std::vector<Path> paths);
+  // The file a node was parsed from (toml++ keeps its origin), else the first.
+  const Source& source_of(const toml::node& n) const;
   // Byte offset of a toml++ position (1-based line, 1-based column counted in
-  // code points).
-  std::optional<std::size_t> offset(const toml::source_position& p) const;
+  // code points) in `src`'s text.
+  static std::optional<std::size_t> offset(const Source& src, const toml::source_position& p);
   std::optional<std::string> written_text(const toml::node& n) const;
   static std::string render(const toml::node& n);
 
-  std::string_view text_;
   std::string origin_;
-  std::vector<std::size_t> line_starts_;
+  std::vector<Source> sources_;  // [0]: the file read; then the included ones
   // Reading goes on after an error so that one run reports them all.
   mutable std::vector<std::string> errors_;
   mutable std::size_t error_total_ = 0;

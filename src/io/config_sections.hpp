@@ -10,7 +10,10 @@
 // [grinding], then [tool] and [workpiece] (the robot's modes).
 #pragma once
 
+#include <filesystem>
+#include <functional>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -19,6 +22,25 @@
 #include "config_read.hpp"
 
 namespace chatter::config_detail {
+
+// config_include.cpp
+/// A file merged in by `include`: its name as written (relative names joined
+/// to the including file's directory), its text as parsed (for messages) and
+/// the key paths it gave.
+struct IncludedFile {
+  std::string origin;
+  std::string text;
+  std::vector<Path> paths;
+};
+/// Reads and parses one file (the reader's own parsing: sanitised, NUL
+/// refused), setting `text` to the text parsed. @throws InputError.
+using ParseFile = std::function<toml::table(const std::filesystem::path& file, std::string* text)>;
+/// Merges the files named by `root`'s top-level `include` (and the files
+/// they include) into `root` and removes the key; `origin` is the file
+/// `root` was read from (relative names are relative to its directory).
+/// @throws InputError: a bad `include` value, an unreadable file, a cycle,
+///         a key given in two files (both named).
+std::vector<IncludedFile> merge_includes(toml::table& root, const std::string& origin, const ParseFile& parse);
 
 // config_process.cpp
 /// `[process]`: turning or milling (with the real-cutter keys). Also sets the

@@ -249,7 +249,7 @@ MeasuredTerm read_frf_term(const Table& t) {
   stop_if_errors_since(doc, mark);  // read no file for a bad entry
   if (!file) throw Skip{};
   std::filesystem::path path(*file);
-  if (path.is_relative()) path = std::filesystem::path(doc.origin()).parent_path() / path;
+  if (path.is_relative()) path = std::filesystem::path(doc.origin_of(t.path())).parent_path() / path;
   std::string format = format_key.value_or("");
   if (format.empty()) {
     std::string ext = path.extension().string();
@@ -308,7 +308,7 @@ Body read_body(const Table& root, std::string_view name) {
             body.measured.push_back(std::move(*term));
         } catch (const InputError& e) {
           // A reader error names the measurement file; say which entry read it.
-          doc.add_error(doc.origin() + ": " + element(fpath, i) + ": " + e.what());
+          doc.add_error(doc.origin_of(fpath) + ": " + element(fpath, i) + ": " + e.what());
         }
       }
     } else {
