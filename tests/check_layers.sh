@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The include rules of the layers (docs/architecture.md), checked on the
 # sources: prints every #include that breaks one and fails if any does.
-#   core (src/model, src/solvers, src/grinding, include/chatter/*.hpp but operations.hpp,
+#   core (src/model, src/solvers, src/grinding, src/shop, include/chatter/*.hpp but operations.hpp,
 #        optimization.hpp and records.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
@@ -34,7 +34,7 @@ check() {
 core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|optimization|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
   'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
-  src/model/* src/solvers/* src/grinding/* $core_headers
+  src/model/* src/solvers/* src/grinding/* src/shop/* $core_headers
 check "io includes a solver class header, ops, records or Boost" \
   'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
   src/io/* include/chatter/io/*

@@ -297,9 +297,13 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
     r.config_name = cfg->name;
     r.depth_mm = *a.depth_mm;
     r.check_depth_max_mm = kCheckDepthFactor * r.depth_mm;
-    const auto solver = make_lobe_solver("sdm", cfg->model, cfg->process, r.check_depth_max_mm * 1e-3);
+    // The default method, as every command builds it (sdm where it applies;
+    // an averaged method for a measured FRF in milling, with its note).
+    ConfiguredSolver c = configure_solver(kAutoMethod, *cfg, r.check_depth_max_mm * 1e-3, {}, style);
+    r.check_method = c.method;
+    for (const std::string& n : c.notes) det.warnings.push_back(n);
     for (const SpeedSuggestion& s : det.suggestions) {
-      const StabilityLimit l = solver->limit_at(s.spindle_rpm);
+      const StabilityLimit l = c.solver->limit_at(s.spindle_rpm);
       r.checks.push_back({l.bounded(), l.depth_limit_m * 1e3, l.depth_limit_m * 1e3 / r.depth_mm});
     }
   }
@@ -382,7 +386,7 @@ json detect_record(const DetectResult& r) {
   if (checked) {
     j["config"] = r.config_name;
     j["depth_mm"] = r.depth_mm;
-    j["check_method"] = "sdm";
+    j["check_method"] = r.check_method;
   }
   j["evidence"] = {{"measure", "chatter when the strongest line that is no spindle or tooth-passing harmonic has "
                                "peak_ratio >= peak_ratio_threshold and prominence >= prominence_threshold"},

@@ -94,11 +94,13 @@ struct DetectResult {
   std::string config_name;             ///< "" without a config
   double depth_mm = 0.0;               ///< with a config
   double check_depth_max_mm = 0.0;     ///< the depth searched for the checks (4 x depth_mm)
+  std::string check_method;            ///< the method of the checks: "auto" as every command resolves it
   std::vector<SuggestionCheck> checks;  ///< per suggestion, with a config
 };
 
 /// Checks the arguments (before reading), reads the recording, detects
-/// chatter and checks each suggested speed against the config (sdm, depths
+/// chatter and checks each suggested speed against the config (the default
+/// method, "auto" as every command resolves it: sdm where it applies; depths
 /// up to 4 x depth_mm). A recording without the tooth-passing line of rpm
 /// and teeth is refused unless `force` (then a warning says so).
 /// @throws InputError naming the argument or the file.
