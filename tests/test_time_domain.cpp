@@ -480,3 +480,61 @@ TEST(TimeDomain, NoCutNoMotion) {
 
 }  // namespace
 }  // namespace chatter
+
+namespace chatter {
+namespace {
+
+// One definition of "a harmonic" (SimulationResult::spectrum_harmonic): the
+// lines marked k lie within 2.5 frequency resolutions of k / floquet_period_s,
+// no line nearer than that to a multiple is unmarked, and the chatter
+// frequency is never on a marked line (the spectrum CSV's `harmonic` column
+// prints this field: records' spectrum_harmonics). Milling case C in its flip
+// lobe (17 000 rev/min, 3.6 mm: chatter at ~ (k + 1/2) f_tp) and turning.
+TEST(TimeDomainSpectrum, HarmonicLinesHaveOneDefinition) {
+  struct Case {
+    const char* config;
+    double rpm, depth_mm;
+  };
+  for (const Case& c : {Case{"milling_benchmark_ae005_down.toml", 17000, 3.6}, Case{"seed_turning_1dof.toml", 1000, 1.5}}) {
+    SCOPED_TRACE(c.config);
+    const Config cfg = config(c.config);
+    TimeDomainSimulator sim(cfg.model, cfg.process);
+    SimulationSettings s;
+    s.spindle_rpm = c.rpm;
+    s.depth_m = c.depth_mm * 1e-3;
+    s.periods = 120;
+    s.record_series = false;
+    const SimulationResult r = sim.simulate(s);
+    ASSERT_EQ(r.spectrum_harmonic.size(), r.spectrum_hz.size());
+    ASSERT_GT(r.spectrum_hz.size(), 10u);
+    // The resolution of the analysed window (its second half): 1 / its length.
+    const double window_s = (r.periods - r.analysed_from_period) * r.floquet_period_s;
+    const double res = 1.0 / window_s;
+    const double f1 = 1.0 / r.floquet_period_s;
+    int marked = 0;
+    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
+      const double f = r.spectrum_hz[k];
+      const long h = std::lround(f / f1);
+      const double off = std::abs(f - h * f1);
+      if (r.spectrum_harmonic[k] > 0) {
+        ++marked;
+        EXPECT_EQ(r.spectrum_harmonic[k], h) << f;
+        EXPECT_LE(off, 2.5 * res * (1 + 0.02)) << f;
+      } else if (h >= 1) {
+        EXPECT_GE(off, 2.5 * res * (1 - 0.02)) << f;
+      }
+    }
+    EXPECT_GT(marked, 0);
+    ASSERT_EQ(r.verdict, SimulationVerdict::kChatter);
+    ASSERT_TRUE(std::isfinite(r.chatter_frequency_hz));
+    // The chatter line is not a harmonic line.
+    std::size_t nearest = 0;
+    for (std::size_t k = 1; k < r.spectrum_hz.size(); ++k)
+      if (std::abs(r.spectrum_hz[k] - r.chatter_frequency_hz) < std::abs(r.spectrum_hz[nearest] - r.chatter_frequency_hz))
+        nearest = k;
+    EXPECT_EQ(r.spectrum_harmonic[nearest], 0) << r.chatter_frequency_hz << " Hz";
+  }
+}
+
+}  // namespace
+}  // namespace chatter

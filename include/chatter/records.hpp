@@ -122,9 +122,10 @@ SimulationRequest simulation_request(const SimulationSettings& settings, const P
 nlohmann::json simulation_record(const SimulationResult& result, const SimulationRequest& request,
                                  const RecordSource& source);
 
-/// The spectrum's harmonic index per line: k where f is within half a
-/// resolution of k / floquet_period_s (k >= 1), else 0 (the `harmonic`
-/// column of simulate --spectrum and of Python's spectrum).
+/// The spectrum's harmonic index per line (SimulationResult::spectrum_harmonic:
+/// k >= 1 within the harmonic window of k / floquet_period_s, else 0), the
+/// `harmonic` column of simulate --spectrum and of Python's spectrum; all 0
+/// for a result without it.
 std::vector<int> spectrum_harmonics(const SimulationResult& result);
 
 /// `chatter check --json`: every operation (verdict, limit, margins,

@@ -107,6 +107,12 @@ struct SimulationResult {
   /// Amplitude spectrum (m) of the relative displacement over the analysed
   /// window (Hann window, |X| combined over x and y), from 0 to Nyquist.
   std::vector<double> spectrum_hz, spectrum_amplitude_m;
+  /// Per spectrum line: k >= 1 when the line lies within the harmonic
+  /// window (2.5 frequency resolutions 1/T_window) of k / floquet_period_s,
+  /// else 0. The one definition of "a harmonic": the chatter frequency
+  /// (dominant_nonharmonic_hz) is never taken from such a line, and the
+  /// spectrum CSV's `harmonic` column marks exactly these lines.
+  std::vector<int> spectrum_harmonic;
   /// The forced lines k / floquet_period_s (tooth-passing harmonics for a
   /// uniform cutter, spindle harmonics for an irregular one) up to the
   /// highest natural frequency × 3.

@@ -141,16 +141,8 @@ json point_record(const PointReport& r, const RecordSource& source) {
 }
 
 std::vector<int> spectrum_harmonics(const SimulationResult& r) {
-  std::vector<int> out(r.spectrum_hz.size(), 0);
-  if (!(r.floquet_period_s > 0.0)) return out;
-  const double res = r.spectrum_hz.size() > 1 ? r.spectrum_hz[1] - r.spectrum_hz[0] : 0.0;
-  for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
-    const double f = r.spectrum_hz[k];
-    const long hk = std::lround(f * r.floquet_period_s);
-    if (hk >= 1 && std::abs(f - static_cast<double>(hk) / r.floquet_period_s) <= 0.5 * res)
-      out[k] = static_cast<int>(hk);
-  }
-  return out;
+  if (r.spectrum_harmonic.size() == r.spectrum_hz.size()) return r.spectrum_harmonic;
+  return std::vector<int>(r.spectrum_hz.size(), 0);
 }
 
 SimulationRequest simulation_request(const SimulationSettings& settings, const Process& process,

@@ -25,6 +25,7 @@ using detail::VerdictOutcome;
 using detail::amplitude_spectrum;
 using detail::decide_verdict;
 using detail::dominant_nonharmonic_hz;
+using detail::harmonic_index;
 using detail::growth_per_period;
 using detail::tooth_passing_harmonics;
 
@@ -56,6 +57,9 @@ SimulationResult SimulationRun::finish() {
   const Spectrum sp = amplitude_spectrum(win_x_, win_y_, dt_);
   res_.spectrum_hz = sp.f;
   res_.spectrum_amplitude_m = sp.amp;
+  res_.spectrum_harmonic.assign(sp.f.size(), 0);
+  for (std::size_t k = 0; k < sp.f.size(); ++k)
+    res_.spectrum_harmonic[k] = std::max(0, harmonic_index(sp.f[k], 1.0 / tau_, sp.resolution_hz));
   const double best_f = dominant_nonharmonic_hz(sp, 1.0 / tau_);
   res_.dominant_nonharmonic_hz = best_f;
   res_.harmonics = tooth_passing_harmonics(sp, 1.0 / tau_, 3.0 * f_max_);
