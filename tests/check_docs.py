@@ -9,6 +9,9 @@ against the binary they describe.
 3. Every flag the docs show on a `chatter <command>` line (in a code block,
    with its continuation lines, or in inline code) is accepted by that
    command (`chatter <command> --help` lists it).
+4. The key tables of docs/config.md list exactly the keys the config reader
+   accepts, table by table (the reader's own list, from its "unknown key
+   (expected one of: ...)" message on a probe config).
 
 Usage: check_docs.py SOURCE_DIR CHATTER_BINARY
 Prints every problem; exit status 1 if there is one."""
@@ -134,7 +137,94 @@ for path in [src / "README.md", *sorted((src / "docs").glob("*.md"))]:
             if m and m.group(1) in names and "chatter-mpi" not in code:
                 check_flags(where, *resolve(m.group(1), m.group(2)))
 
+# ---- 4. the config key tables against the reader
+import tempfile
+
+BASE = """[process]
+operation = "milling"
+teeth = 2
+tangential_coefficient_n_per_mm2 = 600
+radial_coefficient_ratio = 0.3
+radial_immersion = 0.5
+[[tool.modes]]
+frequency_hz = 800
+damping_ratio = 0.02
+stiffness_n_per_um = 8
+"""
+PROBE = "zq9x"  # far from every key: the message lists them all
+
+
+def reader_keys(text, where):
+    """The keys the reader lists for the table holding the probe key."""
+    with tempfile.TemporaryDirectory() as d:
+        f = pathlib.Path(d) / "probe.toml"
+        f.write_text(text)
+        out = run("point", str(f), "--rpm", "1000", "--depth-mm", "1")
+    m = re.search(re.escape(where) + r": unknown key \(expected one of: ([^)]*)\)", out)
+    if not m:
+        problems.append(f"config keys: no key list for {where} in: {out.strip()[:300]}")
+        return set()
+    return {k.strip() for k in m.group(1).split(",")}
+
+
+def with_unit_alternative(base, alt):
+    """`x_n_per_m2` (or `_n_per_mm2`): the alternative's segments replace as
+    many trailing segments of the key (its unit suffix)."""
+    if not alt.startswith("_"):
+        return alt
+    n = len(alt.strip("_").split("_"))
+    return "_".join(base.split("_")[:-n]) + alt
+
+
+config_md = (src / "docs" / "config.md").read_text().splitlines()
+
+
+def doc_keys(heading, stop_level=3):
+    """Keys in the tables from `heading` to the next heading of level <= stop_level."""
+    keys, inside = set(), False
+    for line in config_md:
+        h = re.match(r"^(#+) ", line)
+        if h:
+            if inside and len(h.group(1)) <= stop_level:
+                break
+            if line.startswith(heading):
+                inside = True
+            continue
+        if not inside:
+            continue
+        m = re.match(r"^\| `(?:[a-z_0-9]+\.)?([a-z_0-9]+)`(?: \(or `([a-z_0-9]+)`\))? \|", line)
+        if m:
+            keys.add(m.group(1))
+            if m.group(2):
+                keys.add(with_unit_alternative(m.group(1), m.group(2)))
+    return keys
+
+
+sections = [
+    ("### Top level", [(PROBE + " = 1\n" + BASE, PROBE)]),
+    ("### `[process]`", [(BASE.replace("[process]\n", "[process]\n" + PROBE + " = 1\n"), "process." + PROBE)]),
+    ("### `[[tool.modes]]`", [(BASE + PROBE + " = 1\n", "tool.modes[0]." + PROBE),
+                              (BASE + "cantilever = { " + PROBE + " = 1 }\n", "tool.modes[0].cantilever." + PROBE)]),
+    ("### Measured FRFs", [(BASE + "[[tool.frf]]\n" + PROBE + " = 1\n", "tool.frf[0]." + PROBE)]),
+    ("### `[sweep]`", [(BASE + "[sweep]\n" + PROBE + " = 1\n", "sweep." + PROBE)]),
+    ("### `[uncertainty]`", [(BASE + "[uncertainty]\n" + PROBE + " = 1\n", "uncertainty." + PROBE)]),
+    ("### `[[positions]]`", [(BASE + "".join(f"[[positions]]\nposition_mm = {x}\n" + (PROBE + " = 1\n" if x == 0 else "") +
+                                     "[[positions.tool.modes]]\nfrequency_hz = 800\ndamping_ratio = 0.02\n"
+                                     "stiffness_n_per_um = 8\n" for x in (0, 10)), "positions[0]." + PROBE)]),
+]
+config_keys = 0
+for heading, probes in sections:
+    accepted = set()
+    for text, where in probes:
+        accepted |= reader_keys(text, where)
+    documented = doc_keys(heading)
+    config_keys += len(accepted)
+    for k in sorted(accepted - documented):
+        problems.append(f"docs/config.md {heading}: the reader accepts `{k}`, the tables do not list it")
+    for k in sorted(documented - accepted):
+        problems.append(f"docs/config.md {heading}: lists `{k}`, which the reader refuses")
+
 for p in problems:
     print(p)
-print(f"docs: {len(commands)} commands, {len(problems)} problem(s)")
+print(f"docs: {len(commands)} commands, {config_keys} config keys, {len(problems)} problem(s)")
 sys.exit(1 if problems else 0)

@@ -87,8 +87,9 @@ Config read_config(const toml::table& root_table, const Document& doc) {
   if (root.has("grinding"))
     doc.fail_key("grinding", "a grinding config ([grinding]) has no turning or milling [process], so no stability "
                              "lobes: read it with the grinding commands (chatter grind ..., load_grinding_config)");
-  constexpr std::string_view kTopKeys[] = {"name",      "process",     "tool",        "workpiece",
-                                           "sweep",     "positions",   "uncertainty", "optimization"};
+  // (`include` was merged and removed before; listed so a near miss is named.)
+  constexpr std::string_view kTopKeys[] = {"name",      "process",     "tool",        "workpiece",    "sweep",
+                                           "positions", "uncertainty", "optimization", "include"};
   root.reject_unknown(kTopKeys);
 
   Config config;
