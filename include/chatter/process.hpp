@@ -57,6 +57,10 @@ struct TurningParameters {
 /// tables of gigabytes.
 inline constexpr int kMaxTeeth = 1000;
 
+/// The largest feed (per tooth in milling, per revolution in turning) any
+/// input takes, mm: the config's feed keys and the time-domain option.
+inline constexpr double kMaxFeedMm = 10.0;
+
 struct MillingParameters {
   int teeth = 0;                                     ///< N_t in [1, kMaxTeeth].
   double tangential_coefficient_n_per_m2 = 0.0;      ///< K_t > 0, N/m².

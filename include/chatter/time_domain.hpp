@@ -56,6 +56,12 @@
 
 namespace chatter {
 
+/// The range of TimeDomainOptions::periods (the lobe search's periods per
+/// verdict): fewer than 20 leave too little to analyse, more than 1e5 is an
+/// hour per speed. One range for the option, the CLI and Python.
+inline constexpr int kMinVerdictPeriods = 20;
+inline constexpr int kMaxVerdictPeriods = 100000;
+
 struct TimeDomainOptions {
   /// CVODE relative tolerance (in [1e-12, 1e-2]). The absolute tolerance is
   /// relative_tolerance × a displacement scale (the static deflection of the
@@ -74,7 +80,9 @@ struct TimeDomainOptions {
   long max_steps = 20000000;
 
   // --- lobes by simulation (TimeDomainSolver) ---
-  /// Delay periods simulated per verdict (>= 20). The last half is analysed.
+  /// Delay periods simulated per verdict, in [kMinVerdictPeriods,
+  /// kMaxVerdictPeriods] (the registry's `periods` option takes the same
+  /// range). The last half is analysed.
   /// Counted in tooth periods: a run whose period is one revolution (variable
   /// pitch or helix, runout) simulates max(20, ⌈periods / N_t⌉) revolutions.
   int periods = 200;

@@ -60,7 +60,8 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "radial_coefficient_ratio"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
-const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, 10.0, false};
+const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, kMaxFeedMm, false};
+static_assert(kMaxFeedMm == 10.0, "kFeedMm's text names the bound");
 constexpr std::string_view kProcessKeys[] = {"operation",
                                              "feed_force_coefficient_n_per_m2",
                                              "feed_force_coefficient_n_per_mm2",

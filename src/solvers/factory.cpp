@@ -151,11 +151,11 @@ SolverDescriptor time_domain_descriptor() {
       {"periods", Kind::kInt,
        "delay periods simulated per verdict (default 200; the last half is analysed); more: sharper verdict near "
        "the limit, slower",
-       20.0, 100000.0, "", true},
+       kMinVerdictPeriods, kMaxVerdictPeriods, "", true},
       {"feed_per_tooth_mm", Kind::kReal,
        "feed per tooth (milling) or per revolution (turning), mm (default: [process] feed_per_tooth_mm / "
        "feed_per_rev_mm, else 0.1); sets where the tool leaves the cut",
-       0.0, 100.0, "mm", true},
+       0.0, kMaxFeedMm, "mm", true},
       {"multiple_regeneration", Kind::kFlag, "the chip is cut from the surface left by all earlier passes", 0.0,
        0.0, "", true},
       {"linear", Kind::kFlag,

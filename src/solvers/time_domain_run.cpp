@@ -539,8 +539,8 @@ std::string TimeDomainOptions::validate() const {
     os << "max_steps = " << max_steps << ": must be >= 1000";
   else if (axial_slices < 0 || axial_slices > 1000)
     os << "axial_slices = " << axial_slices << ": must be in [0, 1000] (0 = automatic)";
-  else if (periods < 20)
-    os << "periods = " << periods << ": must be >= 20";
+  else if (periods < kMinVerdictPeriods || periods > kMaxVerdictPeriods)
+    os << "periods = " << periods << ": must be in [" << kMinVerdictPeriods << ", " << kMaxVerdictPeriods << "]";
   else if (!(depth_max_m > 0.0 && std::isfinite(depth_max_m)))
     os << "depth_max_m = " << depth_max_m << ": must be > 0 and finite";
   else if (!(depth_tolerance > 0.0 && depth_tolerance < 0.5))
