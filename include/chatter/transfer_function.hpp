@@ -44,7 +44,7 @@
 // H(a) = d nᵀ / sin κ_eq(a): both methods then find the smallest a with
 // F(a) <= a, F(a) the limit of the same method with the chord frozen at a
 // (a sharp-corner insert at lead angle κ_eq(a), Process::with_chord_at), by
-// the march and Brent iteration of the variable helix (about 10 to 30 frozen
+// the march and Brent iteration of the variable helix (about 14 frozen
 // solvers per speed); no lobe curves and no absolute limit then.
 //
 // Thread safety: solvers are immutable after construction; all const members
