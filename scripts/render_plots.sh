@@ -39,6 +39,11 @@ for stem in seed_turning_1dof milling_benchmark_ae005_down; do
     --plot "plots/${stem}_compare.png" > /dev/null
   echo "plots/${stem}_compare.png"
 done
+# The turning insert (docs/turning_inserts.md): lead angle and nose radius,
+# analytic, coupled and sdm on one chart (they agree).
+./build/chatter compare configs/turning_insert_lead_angle.toml --methods analytic,coupled,sdm --quiet \
+  --table plots/turning_insert_lead_angle_compare.csv --plot plots/turning_insert_lead_angle_compare.png > /dev/null
+echo "plots/turning_insert_lead_angle_compare.png"
 # Case C by all four methods, the simulation included (81 speeds: about 20 s
 # on 2 cores): time-domain follows sdm into the flip lobe the transfer-function
 # methods miss.

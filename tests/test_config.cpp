@@ -992,7 +992,8 @@ rpm_max = 100
   EXPECT_EQ(msg,
             "mem/case.toml: nmae: unknown key (did you mean name?)\n"
             "mem/case.toml: process.colour: unknown key (expected one of: operation, feed_force_coefficient_n_per_m2, "
-            "feed_force_coefficient_n_per_mm2, feed_per_rev_mm, feed_per_tooth_mm, teeth, "
+            "feed_force_coefficient_n_per_mm2, radial_force_coefficient_n_per_m2, radial_force_coefficient_n_per_mm2, "
+            "lead_angle_deg, nose_radius_mm, feed_per_rev_mm, feed_per_tooth_mm, teeth, "
             "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
             "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, flute_length_mm, tool_diameter_mm, "
             "radial_depth_mm, helix_angle_deg, pitch_angles_deg, runout_um, radial_coefficient_ratio, "

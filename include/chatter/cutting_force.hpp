@@ -4,8 +4,10 @@
 // function: `recommend`'s mean-force model (src/ops/operations.cpp) computes
 // the same means for its caps and may call this once that file is split.
 //
-//  turning: F_c = K_c b f (tangential), F_f = K_f b f (along the chip
-//           thickness), force = |(F_c, F_f)|, torque = F_c D/2, power = F_c V;
+//  turning: F_c = K_c a f (tangential), in the plane F = a f |(K_f, K_r)|
+//           (the insert's −b h d, b h = a f for any lead angle and nose
+//           radius, docs/turning_inserts.md), force = |(F_c, F)|, torque =
+//           F_c D/2, power = F_c V;
 //  milling: the teeth's forces F = Σ_j ∫₀ᵃ h_j(φ_j(t, z)) v(φ_j) dz over one
 //           revolution (v the process's force direction, h_j its static chip
 //           with runout, the helix by slices), force = the largest |F|, torque

@@ -29,6 +29,7 @@
 // in rad, measured clockwise from +Y.
 #pragma once
 
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,17 +41,60 @@ namespace chatter {
 enum class Operation { kTurning, kMilling };
 enum class MillingDirection { kDown, kUp };
 
+/// Turning with an insert (docs/turning_inserts.md). Plane of the model: X
+/// the feed direction, Y the radial (depth) direction, positive into the
+/// workpiece. The insert's major edge makes the lead angle κ_r with the feed
+/// direction and meets the minor edge in a nose arc of radius r_ε. At depth
+/// a the engaged edge is replaced by its chord (Colwell 1954): width b (the
+/// chord's length), equivalent lead angle κ_eq (the chord's angle to X),
+/// chip thickness h = f sin κ_eq along the chord's normal
+///   n = (sin κ_eq, cos κ_eq),
+/// and the force on the tool −b h d, d = K_f n + K_r e with e = (−cos κ_eq,
+/// sin κ_eq) along the chord, pointing into the workpiece. b sin κ_eq = a
+/// always, so H = (1/sin κ_eq) d nᵀ. The defaults (κ_r = 90°, r_ε = 0,
+/// K_r = 0) are the orthogonal cut of §3: H = [[K_f, 0], [0, 0]].
 struct TurningParameters {
-  /// K_f: feed-direction specific cutting force, N/m² (> 0). Chip thickness and
-  /// feed force both along X, H = [[K_f, 0], [0, 0]].
+  /// K_f: specific cutting force normal to the engaged edge (its chord), in
+  /// the X-Y plane, N/m² (> 0); at κ_r = 90° the feed force.
   double feed_force_coefficient_n_per_m2 = 0.0;
-  /// C_pd >= 0, N/m: process damping (§8), the flank force −C_pd (a/V) ẋ
-  /// along X, V = π D_w N / 60. 0 = none.
+  /// C_pd >= 0, N/m: process damping (§8), the flank force −C_pd (b/V)
+  /// (n·ṙ) n, V = π D_w N / 60 (at κ_r = 90°: −C_pd (a/V) ẋ along X). 0 = none.
   double process_damping_coefficient_n_per_m = 0.0;
   /// D_w, m: workpiece diameter, for the cutting speed V. Required (> 0)
   /// when C_pd > 0; else 0 (= not given).
   double workpiece_diameter_m = 0.0;
+  /// K_r >= 0: specific cutting force along the engaged edge (its chord),
+  /// pushing the tool out of the workpiece, N/m²; at κ_r = 90° the radial
+  /// force. 0 = the in-plane force along the chip thickness (§3).
+  double radial_force_coefficient_n_per_m2 = 0.0;
+  /// κ_r in (0, π/2], rad: lead (approach) angle, from the feed direction to
+  /// the major cutting edge. π/2 = the edge perpendicular to the feed.
+  double lead_angle_rad = 0.5 * std::numbers::pi;
+  /// r_ε >= 0, m: nose radius. 0 = a sharp corner.
+  double nose_radius_m = 0.0;
 };
+
+/// Largest nose radius accepted, m: round inserts reach 16 mm (32 mm
+/// diameter); the cap catches a diameter or a unit mistake.
+inline constexpr double kMaxNoseRadiusM = 0.025;  // 25 mm
+
+/// The chord of the engaged edge of a turning insert at one depth of cut
+/// (Colwell 1954; docs/turning_inserts.md).
+struct InsertChord {
+  double width_m = 0.0;         ///< b: length of the chord = chip width, m
+  double lead_angle_rad = 0.0;  ///< κ_eq: angle from the feed direction X to the chord, rad
+  bool nose_only = false;       ///< true when a <= r_ε (1 − cos κ_r): only the nose arc cuts
+};
+
+/// The chord from the lowest point of the nose (the tip, on the finished
+/// surface) to the point where the edge leaves the uncut surface at depth
+/// a (m, >= 0), for lead angle κ_r (rad, in (0, π/2]) and nose radius r_ε
+/// (m, >= 0). Sharp corner: b = a / sin κ_r, κ_eq = κ_r. Nose arc only
+/// (a <= r_ε(1 − cos κ_r)): b = sqrt(2 r_ε a), sin κ_eq = sqrt(a / 2r_ε).
+/// Else the end point is (r_ε sin κ_r + (a − r_ε(1 − cos κ_r)) cot κ_r, a)
+/// from the tip. Always b sin κ_eq = a. Feeds small against r_ε are
+/// assumed (the trailing arc of length ~f/2 is left out). Cost O(1).
+InsertChord insert_chord(double lead_angle_rad, double nose_radius_m, double depth_m);
 
 /// Most teeth a milling cutter may have. Slitting saws reach ~200; the cap
 /// keeps a unit mistake (or a fuzzed 57 483 648) from allocating per-tooth
@@ -89,8 +133,9 @@ struct MillingParameters {
 /// which validate their arguments.
 class Process {
  public:
-  /// @throws InputError if K_f <= 0 or not finite, C_pd < 0, or C_pd > 0
-  ///         without a workpiece diameter > 0.
+  /// @throws InputError if K_f <= 0 or not finite, K_r < 0, C_pd < 0, C_pd
+  ///         > 0 without a workpiece diameter > 0, a lead angle outside
+  ///         (0, 90] deg or a nose radius outside [0, kMaxNoseRadiusM].
   static Process turning(TurningParameters p);
   /// @throws InputError if teeth < 1, K_t <= 0, K_r < 0, radial immersion
   ///         outside (0, 1], pitch angles not N_t values > 0 summing to 2π
@@ -146,6 +191,34 @@ class Process {
   /// True with C_pd > 0.
   bool has_process_damping() const;
 
+  // ---- the turning insert (docs/turning_inserts.md) ----
+  /// True for turning with κ_r = 90°, r_ε = 0 and K_r = 0: the orthogonal
+  /// cut of §3, H = [[K_f, 0], [0, 0]] exactly. False for milling.
+  bool orthogonal_turning() const;
+  /// True for turning with a nose radius > 0: the chord, hence H, depends on
+  /// the depth (solvers rebuild H per depth; docs/turning_inserts.md).
+  bool has_nose_radius() const;
+  /// The chord of the engaged edge at depth a (m >= 0). @pre turning.
+  InsertChord chord(double depth_m) const;
+  /// n: unit chip-thickness direction at depth a (the chord's normal),
+  /// exactly (1, 0) for the orthogonal cut. @pre turning.
+  Eigen::Vector2d chip_direction(double depth_m) const;
+  /// d = K_f n + K_r e (N/m²): the force on the tool is −b h d. @pre turning.
+  Eigen::Vector2d edge_force(double depth_m) const;
+  /// H(a) = (b/a) d nᵀ = d nᵀ / sin κ_eq, N/m²: the turning directional
+  /// matrix at depth a (m; > 0 with a nose radius, any otherwise, where it
+  /// does not depend on a). @pre turning.
+  Eigen::Matrix2d turning_matrix(double depth_m) const;
+  /// a H(a) = b d nᵀ, N/m: finite at a = 0 (= 0) also with a nose radius.
+  Eigen::Matrix2d turning_force_matrix(double depth_m) const;
+  /// b n nᵀ (m): the process-damping direction times the chip width at
+  /// depth a (the flank force is −(C_pd/V) b (n·ṙ) n). @pre turning.
+  Eigen::Matrix2d turning_damping_matrix(double depth_m) const;
+  /// This process with the insert of a sharp corner at the lead angle
+  /// κ_eq(a): the same H as this one at depth a (m > 0), independent of the
+  /// depth. What the averaged methods solve for a frozen chord. @pre turning.
+  Process with_chord_at(double depth_m) const;
+
   // ---- spindle speed variation (docs/ssv.md, chatter/spindle_speed.hpp) ----
   /// The modulation of the spindle speed; inactive (R_VA = 0) by default.
   const SpeedVariation& speed_variation() const { return speed_variation_; }
@@ -195,7 +268,9 @@ class Process {
   double process_damping_per_depth(double rpm) const;
   /// Average over one revolution of the process-damping direction of all
   /// teeth in the cut: milling N_t/(2π) ∫_{φ_en}^{φ_ex} n nᵀ dφ, turning
-  /// [[1, 0], [0, 0]]. The averaged (§4) methods use a·(C_pd/V)·this.
+  /// (b/a) n nᵀ ([[1, 0], [0, 0]] for the orthogonal cut). The averaged (§4)
+  /// methods use a·(C_pd/V)·this. @throws std::logic_error for turning with
+  /// a nose radius (depth-dependent: turning_damping_matrix).
   Eigen::Matrix2d average_damping_direction() const;
   /// The times in [0, period_s(rpm)) at which a tooth tip (z = 0) or the
   /// top of the cut (z = a) enters or leaves the arc, sorted, duplicates
@@ -235,7 +310,9 @@ class Process {
   /// Directional matrix H(t) at time t (s) after tooth 0 passes φ = 0, for
   /// spindle speed `rpm`, N/m²: Σ_j g_j(φ_j) tooth_matrix(φ_j) with
   /// φ_j = Ωt + 2πj/N_t (straight, equally spaced teeth: the §3 cutter).
-  /// Turning: the constant [[K_f, 0], [0, 0]].
+  /// Turning: the constant turning_matrix ([[K_f, 0], [0, 0]] for the
+  /// orthogonal cut). @throws std::logic_error for turning with a nose
+  /// radius (depth-dependent: turning_matrix(depth)).
   Eigen::Matrix2d directional_matrix(double t_s, double rpm) const;
 
   /// Average of H over one delay, H₀ (N/m²): turning H itself; milling

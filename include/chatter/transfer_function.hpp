@@ -38,6 +38,15 @@
 // solved by an iteration on a (about 9 searches per speed). The uniform
 // cutter keeps the path above.
 //
+// Turning inserts (docs/turning_inserts.md): a lead angle only changes H₀
+// (a constant rank-one matrix), so both methods solve it as above. A nose
+// radius makes H depend on the depth through the chord of the engaged edge,
+// H(a) = d nᵀ / sin κ_eq(a): both methods then find the smallest a with
+// F(a) <= a, F(a) the limit of the same method with the chord frozen at a
+// (a sharp-corner insert at lead angle κ_eq(a), Process::with_chord_at), by
+// the march and Brent iteration of the variable helix (about 14 frozen
+// solvers per speed); no lobe curves and no absolute limit then.
+//
 // Thread safety: solvers are immutable after construction; all const members
 // may be called from several threads at once.
 #pragma once
@@ -99,7 +108,7 @@ class TransferFunctionSolver : public LobeSolver {
   std::optional<AbsoluteLimit> known_absolute_limit() const override;
   /// True when limit_at uses the general per-speed search (variable pitch or
   /// helix, process damping), false for the phase search of the uniform cutter.
-  bool per_speed_search() const { return general_ != nullptr; }
+  bool per_speed_search() const { return general_ != nullptr || chord_iteration_; }
   SearchBand band() const;
   const StructuralModel& model() const { return model_; }
   const Process& process() const { return process_; }
@@ -114,6 +123,12 @@ class TransferFunctionSolver : public LobeSolver {
   void build_general_search();
   /// Fills the branch values at ω (see src/solvers/phase_search.hpp).
   virtual void evaluate(double omega, std::array<detail::BranchValue, 2>& out) const = 0;
+  /// The same method on the same model for another process (the frozen
+  /// chord of a nose radius).
+  virtual std::unique_ptr<TransferFunctionSolver> with_process(Process process) const = 0;
+  /// Turning with a nose radius: limit_at iterates on the depth over frozen
+  /// chords (chord_limit_at) instead of a search of its own.
+  bool chord_iteration_ = false;
 
   StructuralModel model_;
   Process process_;
@@ -121,6 +136,7 @@ class TransferFunctionSolver : public LobeSolver {
   Eigen::Matrix2d H0_;
 
  private:
+  StabilityLimit chord_limit_at(double rpm) const;
   std::unique_ptr<detail::PhaseSearch> search_;
   std::unique_ptr<detail::MultiDelaySearch> general_;
 };
@@ -134,6 +150,7 @@ class AnalyticSolver final : public TransferFunctionSolver {
 
  protected:
   void evaluate(double omega, std::array<detail::BranchValue, 2>& out) const override;
+  std::unique_ptr<TransferFunctionSolver> with_process(Process process) const override;
 
  private:
   bool rank_one_ = false;
@@ -148,6 +165,7 @@ class CoupledSolver final : public TransferFunctionSolver {
 
  protected:
   void evaluate(double omega, std::array<detail::BranchValue, 2>& out) const override;
+  std::unique_ptr<TransferFunctionSolver> with_process(Process process) const override;
 
  private:
   Eigen::VectorXd omega_n_, zeta_, mass_;

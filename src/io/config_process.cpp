@@ -21,12 +21,15 @@ constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel c
 // keys whose suffix names the unit (docs/config.md, "Units").
 constexpr UnitKey kFeedForceKeys[] = {{"feed_force_coefficient_n_per_m2", 1.0, "N/m^2"},
                                       {"feed_force_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
+constexpr UnitKey kRadialForceKeys[] = {{"radial_force_coefficient_n_per_m2", 1.0, "N/m^2"},
+                                       {"radial_force_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
 constexpr UnitKey kTangentialKeys[] = {{"tangential_coefficient_n_per_m2", 1.0, "N/m^2"},
                                        {"tangential_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
 constexpr UnitKey kRadialKeys[] = {{"radial_coefficient_n_per_m2", 1.0, "N/m^2"},
                                    {"radial_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
 
 const Quantity kFeedForce{kFeedForceKeys};
+const Quantity kRadialForce{kRadialForceKeys};
 const Quantity kTangential{kTangentialKeys};
 const Quantity kRadial{kRadialKeys};
 
@@ -41,8 +44,14 @@ constexpr double kRatioLo = 0.05, kRatioHi = 1.5;
 
 // ------------------------------------------------------------------ keys
 
-constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2", "feed_force_coefficient_n_per_mm2",
-                                             "feed_per_rev_mm", "workpiece_diameter_mm"};
+constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2",
+                                             "feed_force_coefficient_n_per_mm2",
+                                             "radial_force_coefficient_n_per_m2",
+                                             "radial_force_coefficient_n_per_mm2",
+                                             "lead_angle_deg",
+                                             "nose_radius_mm",
+                                             "feed_per_rev_mm",
+                                             "workpiece_diameter_mm"};
 constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "tangential_coefficient_n_per_m2",
                                              "tangential_coefficient_n_per_mm2",
@@ -65,6 +74,10 @@ static_assert(kMaxFeedMm == 10.0, "kFeedMm's text names the bound");
 constexpr std::string_view kProcessKeys[] = {"operation",
                                              "feed_force_coefficient_n_per_m2",
                                              "feed_force_coefficient_n_per_mm2",
+                                             "radial_force_coefficient_n_per_m2",
+                                             "radial_force_coefficient_n_per_mm2",
+                                             "lead_angle_deg",
+                                             "nose_radius_mm",
                                              "feed_per_rev_mm",
                                              "feed_per_tooth_mm",
                                              "teeth",
@@ -95,6 +108,15 @@ const Range kHelixDeg{"in [0, 90) (deg)", 0.0, false, 90.0, true};
 constexpr double kSteepHelixDeg = 60.0;
 constexpr double kRadianLikeHelixDeg = 1.6;
 constexpr double kPlausibleFeedMm = 1.0;
+// The turning insert (docs/turning_inserts.md): lead angle in (0, 90] deg
+// (above 90 the chord model does not apply), nose radius in [0, 25] mm
+// (round inserts reach 16 mm). Warned: a lead angle below 1.6 deg (radians
+// typed as degrees), a nose radius above 2.4 mm (the largest of ISO
+// turning inserts but round ones: a diameter, or um typed as mm?).
+const Range kLeadAngleDeg{"in (0, 90] (deg)", 0.0, true, 90.0, false};
+const Range kNoseRadiusMm{"in [0, 25] (mm)", 0.0, false, 25.0, false};
+constexpr double kRadianLikeLeadDeg = 1.6;
+constexpr double kLargeNoseRadiusMm = 2.4;
 
 void warn_feed(const Table& process, std::string_view key, const std::optional<double>& feed, const char* per) {
   if (feed && *feed > kPlausibleFeedMm)
@@ -150,6 +172,21 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     warn_feed(*process, "feed_per_rev_mm", *feed_mm, "per revolution");
     const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
     const auto dw = process->number("workpiece_diameter_mm", kPositive);
+    double kr = 0.0;  // K_r of the insert, N/m² (absent: 0)
+    if (const Given g = process->quantity(kRadialForce, kNonNegative);
+        g.si && process->plausible(g.unit->key, *g.si, kCoefficientBound, g.unit))
+      kr = *g.si;
+    const auto lead = process->number("lead_angle_deg", kLeadAngleDeg);
+    const auto nose = process->number("nose_radius_mm", kNoseRadiusMm);
+    if (lead && *lead < kRadianLikeLeadDeg)
+      doc.warn(process->path_of("lead_angle_deg"), *process->find("lead_angle_deg"),
+               "a lead angle of " + number_text(*lead) + " deg: a value in radians (" + number_text(*lead) +
+                   " rad = " + number_text(*lead * 180.0 / kPi) + " deg)? the key is in degrees, 90 = edge "
+                   "perpendicular to the feed");
+    if (nose && *nose > kLargeNoseRadiusMm)
+      doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
+               "a nose radius of " + number_text(*nose) + " mm is above the 0.1 to 2.4 mm of turning inserts (round "
+               "inserts excepted): the diameter, or another unit?");
     if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
       doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
                 "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
@@ -159,6 +196,9 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     p.feed_force_coefficient_n_per_m2 = *kf.si;
     p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
     p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
+    p.radial_force_coefficient_n_per_m2 = kr;
+    if (lead) p.lead_angle_rad = *lead / 180.0 * kPi;  // 90 → π/2 exactly
+    if (nose) p.nose_radius_m = *nose * 1e-3;
     Band band = kCoefficientBand;
     band.symbol = "K_f";
     warn_band(*process, kf, kFeedForce, band);

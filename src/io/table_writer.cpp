@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 
 #include <nlohmann/json.hpp>
 
@@ -42,6 +43,11 @@ nlohmann::json model_process_json(const Process& p) {
     if (p.has_process_damping()) {
       j["process_damping_coefficient_n_per_m"] = t.process_damping_coefficient_n_per_m;
       j["workpiece_diameter_mm"] = t.workpiece_diameter_m * 1e3;
+    }
+    if (!p.orthogonal_turning()) {  // the insert (docs/turning_inserts.md)
+      j["radial_force_coefficient_n_per_m2"] = t.radial_force_coefficient_n_per_m2;
+      j["lead_angle_deg"] = t.lead_angle_rad * 180.0 / std::numbers::pi;
+      j["nose_radius_mm"] = t.nose_radius_m * 1e3;
     }
     return j;
   }

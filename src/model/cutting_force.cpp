@@ -35,7 +35,13 @@ CuttingLoad cutting_load(const Process& process, double rpm, double depth_m, dou
   if (process.operation() == Operation::kTurning) {
     if (!(std::isfinite(kc) && kc > 0.0)) throw InputError(where + "turning needs the tangential coefficient K_c > 0");
     const double fc = kc * depth_m * feed_m;
-    const double ff = process.turning_parameters().feed_force_coefficient_n_per_m2 * depth_m * feed_m;
+    // In the plane: −b h d with b h = a f whatever the insert (the chord's
+    // width b times its chip f sin κ_eq), |d| = |(K_f, K_r)|.
+    const TurningParameters& tp = process.turning_parameters();
+    const double ff = (tp.radial_force_coefficient_n_per_m2 == 0.0
+                           ? tp.feed_force_coefficient_n_per_m2
+                           : std::hypot(tp.feed_force_coefficient_n_per_m2, tp.radial_force_coefficient_n_per_m2)) *
+                      depth_m * feed_m;
     load.force_n = std::hypot(fc, ff);
     load.torque_n_m = fc * diameter_m / 2.0;
     load.power_w = fc * std::numbers::pi * diameter_m * rpm / 60.0;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -134,11 +135,53 @@ typename Windowed<T>::Value time_height_integral(const Windowed<T>& w, double om
   return (w.w2(pb) - w.w2(pb - lag) - w.w2(pa) + w.w2(pa - lag)) / (omega * kappa);
 }
 
+constexpr double kHalfPi = 0.5 * std::numbers::pi;
+
+// sin and cos of a lead angle, exactly (1, 0) at 90° (cos(π/2) is 6e-17 in
+// double): the orthogonal cut must give H = [[K_f, 0], [0, 0]] exactly.
+double lead_sin(double kappa) { return kappa == kHalfPi ? 1.0 : std::sin(kappa); }
+double lead_cos(double kappa) { return kappa == kHalfPi ? 0.0 : std::cos(kappa); }
+
 }  // namespace
+
+InsertChord insert_chord(double kappa_r, double r, double a) {
+  InsertChord c;
+  if (!(a > 0.0)) {  // nothing engaged: the limit a → 0 of the direction
+    c.lead_angle_rad = r > 0.0 ? 0.0 : kappa_r;
+    c.nose_only = r > 0.0;
+    return c;
+  }
+  const double s = lead_sin(kappa_r), co = lead_cos(kappa_r);
+  if (r == 0.0) {
+    c.width_m = a / s;
+    c.lead_angle_rad = kappa_r;
+    return c;
+  }
+  const double nose_height = r * (1.0 - co);  // where the arc meets the straight edge
+  if (a <= nose_height) {
+    // The arc from the tip (0, 0) to (r sin θ, r(1 − cos θ)), r(1 − cos θ) = a:
+    // the chord is at θ/2 to X, of length 2 r sin(θ/2), sin(θ/2) = sqrt(a/2r).
+    const double sh = std::sqrt(a / (2.0 * r));
+    c.width_m = std::sqrt(2.0 * r * a);
+    c.lead_angle_rad = std::asin(std::min(1.0, sh));
+    c.nose_only = true;
+    return c;
+  }
+  const double x_end = r * s + (a - nose_height) * co / s;
+  c.width_m = std::hypot(x_end, a);
+  c.lead_angle_rad = std::atan2(a, x_end);
+  return c;
+}
 
 Process Process::turning(TurningParameters p) {
   require(std::isfinite(p.feed_force_coefficient_n_per_m2) && p.feed_force_coefficient_n_per_m2 > 0.0,
           "feed force coefficient K_f must be > 0 N/m^2");
+  require(std::isfinite(p.radial_force_coefficient_n_per_m2) && p.radial_force_coefficient_n_per_m2 >= 0.0,
+          "radial force coefficient K_r must be >= 0 N/m^2");
+  require(std::isfinite(p.lead_angle_rad) && p.lead_angle_rad > 0.0 && p.lead_angle_rad <= kHalfPi,
+          "lead angle " + deg_text(p.lead_angle_rad) + ": must be in (0, 90] deg");
+  require(std::isfinite(p.nose_radius_m) && p.nose_radius_m >= 0.0 && p.nose_radius_m <= kMaxNoseRadiusM,
+          "nose radius must be in [0, 25] mm (round inserts reach 16 mm)");
   require(std::isfinite(p.process_damping_coefficient_n_per_m) && p.process_damping_coefficient_n_per_m >= 0.0,
           "process damping coefficient C_pd must be >= 0 N/m");
   require(std::isfinite(p.workpiece_diameter_m) && p.workpiece_diameter_m >= 0.0,
@@ -217,6 +260,61 @@ Process Process::milling(MillingParameters p) {
   if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
   return pr;
+}
+
+bool Process::orthogonal_turning() const {
+  return operation_ == Operation::kTurning && turning_.lead_angle_rad == kHalfPi && turning_.nose_radius_m == 0.0 &&
+         turning_.radial_force_coefficient_n_per_m2 == 0.0;
+}
+
+bool Process::has_nose_radius() const { return operation_ == Operation::kTurning && turning_.nose_radius_m > 0.0; }
+
+InsertChord Process::chord(double depth_m) const {
+  return insert_chord(turning_.lead_angle_rad, turning_.nose_radius_m, depth_m);
+}
+
+Eigen::Vector2d Process::chip_direction(double depth_m) const {
+  const double k = chord(depth_m).lead_angle_rad;
+  return {lead_sin(k), lead_cos(k)};
+}
+
+Eigen::Vector2d Process::edge_force(double depth_m) const {
+  const double k = chord(depth_m).lead_angle_rad;
+  const double s = lead_sin(k), c = lead_cos(k);
+  const double kf = turning_.feed_force_coefficient_n_per_m2, kr = turning_.radial_force_coefficient_n_per_m2;
+  if (kr == 0.0) return {kf * s, kf * c};
+  return {kf * s - kr * c, kf * c + kr * s};  // K_f n + K_r e, e = (−cos κ, sin κ)
+}
+
+Eigen::Matrix2d Process::turning_matrix(double depth_m) const {
+  if (orthogonal_turning()) {
+    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+    h(0, 0) = turning_.feed_force_coefficient_n_per_m2;
+    return h;
+  }
+  if (has_nose_radius() && !(depth_m > 0.0))
+    throw std::logic_error("turning_matrix: with a nose radius H depends on the depth; needs depth > 0");
+  const double s = lead_sin(chord(depth_m).lead_angle_rad);
+  return edge_force(depth_m) * chip_direction(depth_m).transpose() / s;
+}
+
+Eigen::Matrix2d Process::turning_force_matrix(double depth_m) const {
+  if (!has_nose_radius()) return depth_m * turning_matrix(depth_m);
+  return chord(depth_m).width_m * edge_force(depth_m) * chip_direction(depth_m).transpose();
+}
+
+Eigen::Matrix2d Process::turning_damping_matrix(double depth_m) const {
+  const Eigen::Vector2d n = chip_direction(depth_m);
+  return chord(depth_m).width_m * n * n.transpose();
+}
+
+Process Process::with_chord_at(double depth_m) const {
+  if (!has_nose_radius()) return *this;
+  if (!(depth_m > 0.0)) throw std::logic_error("with_chord_at: needs depth > 0");
+  Process p = *this;
+  p.turning_.lead_angle_rad = chord(depth_m).lead_angle_rad;
+  p.turning_.nose_radius_m = 0.0;
+  return p;
 }
 
 int Process::teeth() const { return operation_ == Operation::kTurning ? 1 : milling_.teeth; }
@@ -331,9 +429,14 @@ double Process::process_damping_per_depth(double rpm) const {
 
 Eigen::Matrix2d Process::average_damping_direction() const {
   if (operation_ == Operation::kTurning) {
-    Eigen::Matrix2d m = Eigen::Matrix2d::Zero();
-    m(0, 0) = 1.0;
-    return m;
+    if (orthogonal_turning()) {
+      Eigen::Matrix2d m = Eigen::Matrix2d::Zero();
+      m(0, 0) = 1.0;
+      return m;
+    }
+    if (has_nose_radius())
+      throw std::logic_error("average_damping_direction: with a nose radius it depends on the depth");
+    return turning_damping_matrix(1.0);  // b n nᵀ at a = 1 m: (b/a) n nᵀ
   }
   const Trig2 t = damping_trig();
   return milling_.teeth / kTwoPi * (t.f1(exit_angle()) - t.f1(entry_angle()));
@@ -422,9 +525,9 @@ Eigen::Matrix2d Process::tooth_matrix(double phi) const {
 
 Eigen::Matrix2d Process::directional_matrix(double t_s, double rpm) const {
   if (operation_ == Operation::kTurning) {
-    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
-    h(0, 0) = turning_.feed_force_coefficient_n_per_m2;
-    return h;
+    if (has_nose_radius())
+      throw std::logic_error("directional_matrix: with a nose radius H depends on the depth (turning_matrix)");
+    return turning_matrix(1.0);
   }
   const double omega = kTwoPi * rpm / 60.0;
   const double en = entry_angle(), ex = exit_angle();

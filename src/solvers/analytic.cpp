@@ -11,6 +11,7 @@
 #include "chatter/solvers.hpp"
 #include "multi_delay.hpp"
 #include "phase_search.hpp"
+#include "roots.hpp"
 
 namespace chatter {
 namespace {
@@ -22,6 +23,13 @@ double wrap_2pi(double x) {  // into [0, 2π)
   x = std::fmod(x, kTwoPi);
   return x < 0.0 ? x + kTwoPi : x;
 }
+
+// Nose radius (chord_limit_at): the depth iteration starts this far
+// (relative to depth_max) above 0, stops when F(a) = a to this relative
+// tolerance, after at most so many frozen solvers.
+constexpr double kChordStartDepth = 1e-9;
+constexpr double kChordDepthTolerance = 1e-12;
+constexpr int kMaxChordIterations = 200;
 
 detail::BranchValue from_eigenvalue(Complex lambda) {
   // 1 + a(1 − e^{−jωτ})λ = 0 with a real: a = −1/(2 Re λ), ωτ = 3π + 2ψ + 2πk.
@@ -46,7 +54,11 @@ TransferFunctionSolver::TransferFunctionSolver(StructuralModel model, Process pr
     throw InputError("transfer-function options: " + e);
   if (model_.rigid())
     throw InputError("structural model: both bodies are rigid: give at least one mode or measured FRF");
-  H0_ = process_.average_directional_matrix();
+  // A nose radius: H depends on the depth; H₀ here is H at depth_max, whose
+  // a·H bounds a·H(a) for every a <= depth_max (the chord grows with a).
+  H0_ = process_.has_nose_radius() ? process_.turning_matrix(options_.depth_max_m)
+                                   : process_.average_directional_matrix();
+  chord_iteration_ = process_.has_nose_radius();
 }
 
 TransferFunctionSolver::~TransferFunctionSolver() = default;
@@ -71,6 +83,7 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
     os << "spindle speed " << rpm << " rev/min: must be > 0";
     throw InputError(os.str());
   }
+  if (chord_iteration_) return chord_limit_at(rpm);
   if (general_) {
     try {
       return general_->limit_at(rpm);
@@ -99,10 +112,55 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
   return lim;
 }
 
+// Turning with a nose radius (docs/turning_inserts.md): the cut at depth a is
+// the frozen process with_chord_at(a) at that depth, so the boundary is the
+// smallest a with F(a) <= a, F(a) the limit of this method for the frozen
+// chord. h(a) = F(a) − a > 0 near a = 0 (F ~ sqrt(a) there: the chord turns
+// towards the feed as sin κ_eq = sqrt(a/2r_ε)). March up with the fixed-point
+// step a → F(a), never shorter than the step before, until h <= 0 brackets
+// the root; then Brent's method on h (the variable helix's iteration,
+// multi_delay.cpp). A root where h jumps between lobes is the jump depth.
+StabilityLimit TransferFunctionSolver::chord_limit_at(double rpm) const {
+  const double depth_max = options_.depth_max_m;
+  auto limit_with = [&](double a) { return with_process(process_.with_chord_at(a))->limit_at(rpm); };
+  auto h_of = [&](const StabilityLimit& l, double a) {
+    return (l.bounded() ? l.depth_limit_m : depth_max + 1.0) - a;  // finite, > 0 when unbounded
+  };
+  double lo = 0.0, h_lo = 0.0, hi = 0.0, h_hi = 0.0, stride = 0.0;
+  double a = kChordStartDepth * depth_max;
+  bool bracketed = false;
+  for (int it = 0; it < kMaxChordIterations && !bracketed; ++it) {
+    const StabilityLimit l = limit_with(a);
+    const double h = h_of(l, a);
+    if (l.bounded() && std::abs(h) <= kChordDepthTolerance * l.depth_limit_m) return l;
+    if (h <= 0.0) {
+      hi = a;
+      h_hi = h;
+      bracketed = true;
+      break;
+    }
+    if (a >= depth_max) return StabilityLimit{rpm};  // no self-consistent limit below depth_max
+    lo = a;
+    h_lo = h;
+    stride = std::max(stride, std::min(h, depth_max - a));
+    a = std::min(depth_max, a + stride);
+  }
+  if (!bracketed)
+    throw NumericalError("nose radius at " + std::to_string(rpm) +
+                         " rev/min: the depth iteration over the chord did not converge");
+  if (lo == 0.0) return limit_with(hi);  // unstable at the smallest depth tried
+  const double root =
+      detail::brent_root([&](double x) { return h_of(limit_with(x), x); }, lo, hi, h_lo, h_hi, kChordDepthTolerance * hi);
+  StabilityLimit l = limit_with(root);
+  if (!l.bounded() || l.depth_limit_m > root) l = limit_with(std::min(hi, root * (1.0 + 4.0 * kChordDepthTolerance)));
+  if (l.bounded()) l.depth_limit_m = std::min(l.depth_limit_m, root);
+  return l;
+}
+
 std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, double rpm_max) const {
   if (!(rpm_min > 0.0 && rpm_max >= rpm_min)) throw InputError("lobe curves: need 0 < rpm_min <= rpm_max");
   std::vector<LobeCurve> out;
-  if (general_) return out;
+  if (general_ || chord_iteration_) return out;
   for (const auto& c : search_->curves(process_.delay_s(rpm_max), process_.delay_s(rpm_min))) {
     LobeCurve lc{c.lobe, c.branch, {}};
     lc.points.reserve(c.points.size());
@@ -113,11 +171,14 @@ std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, doubl
 }
 
 std::optional<AbsoluteLimit> TransferFunctionSolver::known_absolute_limit() const {
-  if (general_) return std::nullopt;
+  if (general_ || chord_iteration_) return std::nullopt;
   return absolute_limit();
 }
 
 AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
+  if (chord_iteration_)
+    throw InputError("absolute limit: not defined for a turning insert with a nose radius (the direction of the "
+                     "cut changes with the depth); use limit_at");
   if (general_)
     throw InputError("absolute limit: not defined with variable pitch or helix or process damping (the limit "
                      "depends on the speed beyond the lobe phase); use limit_at");
@@ -132,12 +193,18 @@ AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
 }
 
 SearchBand TransferFunctionSolver::band() const {
+  if (chord_iteration_) return with_process(process_.with_chord_at(options_.depth_max_m))->band();
   if (general_) return {general_->omega_lo(), general_->omega_hi(), general_->grid_size()};
   return {search_->omega_lo(), search_->omega_hi(), search_->grid_size()};
 }
 
+std::unique_ptr<TransferFunctionSolver> AnalyticSolver::with_process(Process process) const {
+  return std::make_unique<AnalyticSolver>(model_, std::move(process), options_);
+}
+
 AnalyticSolver::AnalyticSolver(StructuralModel model, Process process, TransferFunctionOptions options)
     : TransferFunctionSolver(std::move(model), std::move(process), options) {
+  if (chord_iteration_) return;  // per speed over frozen chords (chord_limit_at)
   // Variable pitch or helix, or process damping: the general per-speed search
   // (the uniform cutter keeps the phase search below, unchanged).
   if (process_.has_variable_pitch() || process_.has_variable_helix() || process_.has_process_damping()) {

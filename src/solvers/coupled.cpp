@@ -15,6 +15,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <memory>
 #include <utility>
 
 #include <Eigen/LU>
@@ -53,6 +54,7 @@ CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFun
   if (model_.has_measured())
     throw InputError("coupled needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
                      "or use the analytic method");
+  if (chord_iteration_) return;  // per speed over frozen chords (chord_limit_at)
   const ModalMatrices mm = modal_matrices(model_);
   omega_n_ = mm.omega;
   zeta_ = mm.damping_ratio;
@@ -67,6 +69,10 @@ CoupledSolver::CoupledSolver(StructuralModel model, Process process, TransferFun
   const double d_scale = (mass_.array() * omega_n_.array().square()).maxCoeff();
   sigma_ = rank_ > 0 ? d_scale / P_.cwiseAbs().maxCoeff() : 1.0;
   build_search(rank_);
+}
+
+std::unique_ptr<TransferFunctionSolver> CoupledSolver::with_process(Process process) const {
+  return std::make_unique<CoupledSolver>(model_, std::move(process), options_);
 }
 
 std::array<Complex, 2> CoupledSolver::roots(double omega, int* count) const {

@@ -71,7 +71,10 @@ PathSource fourier_response(const StructuralModel& model, const Process& process
   const double tau = process.delay_s(rpm);  // the tooth period (one revolution in turning)
   if (process.operation() == Operation::kTurning) {
     // h = f along x, F = −b K_f f along x: constant, so r = G(0) F.
-    const Eigen::Vector2d F(-depth_m * process.turning_parameters().feed_force_coefficient_n_per_m2 * feed_m, 0.0);
+    // An insert: F = −b h d = −a f d (b h = a f, docs/turning_inserts.md).
+    const Eigen::Vector2d F = process.orthogonal_turning()
+                                  ? Eigen::Vector2d(-depth_m * process.turning_parameters().feed_force_coefficient_n_per_m2 * feed_m, 0.0)
+                                  : Eigen::Vector2d(-depth_m * feed_m * process.edge_force(depth_m));
     const Matrix2c G0 = model.receptance(0.0);
     out.mean_force_n = F;
     out.path = std::make_unique<FourierPath>(tau, G0.real() * F, std::vector<Vector2cd>{});
@@ -132,6 +135,11 @@ TurningDeflection static_deflection_turning(const StructuralModel& model, const 
   }
   if (model.has_measured())
     throw InputError("static deflection: needs modes, not measured FRFs (their static compliance is not measured)");
+  if (!process.orthogonal_turning())
+    throw InputError("static deflection and diametral error of turning: modelled for the orthogonal cut only "
+                     "(lead_angle_deg = 90, nose_radius_mm = 0, no radial_force_coefficient); with an insert the "
+                     "finished diameter is left by the nose, which this model does not follow "
+                     "(docs/turning_inserts.md)");
   TurningDeflection d;
   d.force_n = process.turning_parameters().feed_force_coefficient_n_per_m2 * depth_m * feed_per_rev_m;
   // G(0) = Σ u uᵀ / k over the tool and workpiece modes; the force on the

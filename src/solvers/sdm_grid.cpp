@@ -60,8 +60,16 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process) 
   ss.slowest_decay_per_s = kInf;
   for (const Cplx& l : ss.free_poles) ss.slowest_decay_per_s = std::min(ss.slowest_decay_per_s, -l.real());
   ss.f_max_hz = model.max_omega() / kTwoPi;
-  // H(t) = Ĥ(t) L: L = e_xᵀ for turning, I for milling. L S = U W by SVD.
-  MatrixXd LS = process.operation() == Operation::kTurning ? MatrixXd(mm.S.topRows(1)) : MatrixXd(mm.S);
+  // H(t) = Ĥ(t) L: L = nᵀ for turning (e_xᵀ for the orthogonal cut), I for
+  // milling and for turning with a nose radius (n varies with the depth).
+  // L S = U W by SVD.
+  MatrixXd LS;
+  if (process.operation() == Operation::kMilling || process.has_nose_radius())
+    LS = mm.S;
+  else if (process.orthogonal_turning())
+    LS = mm.S.topRows(1);
+  else
+    LS = process.chip_direction(0.0).transpose() * mm.S;
   Eigen::JacobiSVD<MatrixXd> svd(LS, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const auto& sv = svd.singularValues();
   Index nr = 0;
@@ -205,10 +213,20 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
   if (p.operation() == Operation::kTurning) {
     g.constant = true;
     g.m = count(g.tau);
+    if (p.has_nose_radius()) {  // B H(a) U per depth (SdmKernel::build_steps)
+      g.steps.push_back({g.tau / g.m, MatrixXd()});
+      g.nose = &p;
+      g.nose_cbar = p.process_damping_per_depth(rpm);
+      if (p.has_process_damping()) g.nose_Sv = Sv;
+      return g;
+    }
     g.steps.push_back({g.tau / g.m, B * turning_hhat * U});
-    if (p.has_process_damping()) {  // − a (C_pd/V) B e_x e_xᵀ ṙ
+    if (p.has_process_damping()) {  // − a (C_pd/V) B (b/a) n nᵀ ṙ
       MatrixXd D = MatrixXd::Zero(2, 2);
-      D(0, 0) = p.process_damping_per_depth(rpm);
+      if (p.orthogonal_turning())
+        D(0, 0) = p.process_damping_per_depth(rpm);
+      else
+        D = p.process_damping_per_depth(rpm) * p.average_damping_direction();
       g.damping = B * D * Sv;
     }
     return g;
@@ -251,10 +269,15 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
   return g;
 }
 
-// Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
+// ĥ of turning: H = ĥ nᵀ, ĥ = H n since |n| = 1 ([K_f; 0] for the orthogonal
+// cut; unused for milling and for a nose radius).
 MatrixXd turning_hhat_of(const Process& p) {
   MatrixXd h = MatrixXd::Zero(2, 1);
-  if (p.operation() == Operation::kTurning) h(0, 0) = p.turning_parameters().feed_force_coefficient_n_per_m2;
+  if (p.operation() != Operation::kTurning || p.has_nose_radius()) return h;
+  if (p.orthogonal_turning())
+    h(0, 0) = p.turning_parameters().feed_force_coefficient_n_per_m2;
+  else
+    h = p.turning_matrix(1.0) * p.chip_direction(1.0);
   return h;
 }
 

@@ -63,7 +63,9 @@ inline constexpr double kDecideFactor = 20.0;
 // The modal state space of the solver, x = [q; q̇/ω] (the scaled state keeps
 // the exponentials well balanced): ẋ = A x + B F, and the reduced delayed
 // quantity z = Wx x (n_r × 2n) with H(t) S q = Ĥ(t) U W q (Ĥ = H U for
-// milling, [K_f; 0] for turning). Sv: ṙ = Sv x.
+// milling and for turning with a nose radius; for other turning H = ĥ nᵀ,
+// Ĥ = ĥ = (b/a) d, and U W = nᵀ S: [K_f; 0] and e_xᵀ S for the orthogonal
+// cut). Sv: ṙ = Sv x.
 struct SdmStateSpace {
   MatrixXd A;   // 2n × 2n free dynamics
   MatrixXd B;   // 2n × 2 force input
@@ -109,8 +111,15 @@ struct Grid {
   MatrixXd E_free;             // exp(A t_free), depth-independent: built once per speed
   bool branch_roots = false;   // see SdmKernel::branches
   // Turning with process damping: c̄ B D Sv (2n × 2n, per unit depth), D =
-  // e_x e_xᵀ; empty without it.
+  // (b/a) n nᵀ (e_x e_xᵀ for the orthogonal cut); empty without it.
   MatrixXd damping;
+  // Turning with a nose radius (docs/turning_inserts.md): H depends on the
+  // depth, so build_steps forms a B H(a) U (and a c̄ B D(a) Sv) per depth
+  // from this process (the caller's, which outlives the grid); Wx is then
+  // the whole S. nullptr otherwise.
+  const Process* nose = nullptr;
+  double nose_cbar = 0.0;  // C_pd / V, N·s/m²
+  MatrixXd nose_Sv;        // 2 × 2n, with process damping only
   // Real cutter (milling with helix, variable pitch or helix, or process
   // damping): steps are built per depth by SdmKernel::build_cutter; tau is
   // then the period of H (tooth period, or one revolution).
@@ -231,7 +240,8 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
 // to real time, its integrals scaled by dt/dt'. tau_at: the delays τ(t_i).
 CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
 
-// Ĥ of turning: H = [K_f; 0] e_xᵀ (unused for milling).
+// ĥ of turning, H = ĥ nᵀ: (b/a) d ([K_f; 0] for the orthogonal cut); empty
+// for milling and for a nose radius (H per depth).
 MatrixXd turning_hhat_of(const Process& p);
 // Turning with a map larger than dense_max_dimension and τ min ζω >=
 // kBranchMinDecay: multipliers from the branch roots (SdmKernel::branches).

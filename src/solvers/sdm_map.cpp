@@ -213,11 +213,20 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
   M Bt(n2, nr);
   for (std::size_t i = 0; i < g.steps.size(); ++i) {
     const Step& s = g.steps[i];
-    Bt.noalias() = (depth * s.BHU);  // 2n × n_r
-    if (g.damping.size() > 0)  // process damping (turning): − a c̄ B D Sv
-      aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_ - depth * g.damping) * s.h;
-    else
-      aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
+    if (g.nose) {  // a nose radius: a H(a) = b d nᵀ and b n nᵀ at this depth
+      Bt.noalias() = B_ * g.nose->turning_force_matrix(depth) * U_;
+      if (g.nose_Sv.size() > 0)
+        aug.topLeftCorner(n2, n2).noalias() =
+            (A_ - Bt * Wx_ - g.nose_cbar * B_ * g.nose->turning_damping_matrix(depth) * g.nose_Sv) * s.h;
+      else
+        aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
+    } else {
+      Bt.noalias() = (depth * s.BHU);  // 2n × n_r
+      if (g.damping.size() > 0)  // process damping (turning): − a c̄ B D Sv
+        aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_ - depth * g.damping) * s.h;
+      else
+        aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
+    }
     aug.block(0, n2, n2, nr) = Bt * s.h;
     aug.block(n2, n2 + nr, nr, nr).setIdentity();
     const M E = aug.exp();
@@ -402,9 +411,12 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
           Bt.emplace_back();
           gid.push_back(0);
         }
-        // Turning (SSV): H = [K_f; 0] e_xᵀ and e_xᵀ S = U W, so H S = F e_x U W.
-        if (U_.rows() == 1)
+        // Turning (SSV): H = ĥ nᵀ and nᵀ S = U W, so H S = F n U W (n = e_x
+        // for the orthogonal cut: F's first column).
+        if (U_.rows() == 1 && p.orthogonal_turning())
           HU[ku].noalias() = (F.col(0) / h) * U_;
+        else if (U_.rows() == 1)
+          HU[ku].noalias() = ((F * p.chip_direction(a)) / h) * U_;
         else
           HU[ku].noalias() = (F / h) * U_;
         Bt[ku].noalias() = B_ * HU[ku];

@@ -70,7 +70,8 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
           "steps_per_vibration_cycle";
     throw InputError(os.str());
   }
-  if (!p.has_helix()) g.cutter_grid = std::make_shared<const CutterGrid>(ssv_cutter_grid(p, g, o.axial_slices, 1.0));
+  if (!p.has_helix() && !p.has_nose_radius())  // linear in a: once per speed at 1 m
+    g.cutter_grid = std::make_shared<const CutterGrid>(ssv_cutter_grid(p, g, o.axial_slices, 1.0));
   return g;
 }
 
@@ -84,7 +85,8 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
     // Constant coefficients: equal steps, a whole number m of them per
     // revolution at the mean speed (so that at R_VA = 0 the grid and the
     // delayed samples are those of the constant-speed solver), q m in the
-    // period; H = [[K_f, 0], [0, 0]]; one delay, one revolution back.
+    // period; H = [[K_f, 0], [0, 0]] (an insert: H(a)); one delay, one
+    // revolution back.
     const double rev = p.delay_s(g.rpm);
     const int per_rev = std::max(1, static_cast<int>(std::ceil(rev / g.h_target - 1e-9)));
     const auto m = static_cast<std::size_t>(std::llround(g.ssv_period.floquet_periods)) * static_cast<std::size_t>(per_rev);
@@ -93,7 +95,10 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
     cg.t.resize(m + 1);
     for (std::size_t i = 0; i <= m; ++i) cg.t[i] = (i == m) ? T : T * static_cast<double>(i) / static_cast<double>(m);
     Eigen::Matrix2d F = Eigen::Matrix2d::Zero();
-    F(0, 0) = kf * a * (T / static_cast<double>(m));
+    if (p.orthogonal_turning())
+      F(0, 0) = kf * a * (T / static_cast<double>(m));
+    else  // an insert: a H(a) = b d nᵀ (docs/turning_inserts.md)
+      F = p.turning_force_matrix(a) * (T / static_cast<double>(m));
     cg.h.assign(m, T / static_cast<double>(m));
     cg.free.assign(m, 0);
     cg.F.assign(m, F);

@@ -55,6 +55,17 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
     phi_ex_ = process.exit_angle();
   } else {
     kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
+    orthogonal_ = process.orthogonal_turning();
+    if (!orthogonal_) {  // the chord at this run's depth: exact for the nonlinear chip too
+      const InsertChord c = process.chord(s.depth_m);
+      const Eigen::Vector2d n = process.chip_direction(s.depth_m), d = process.edge_force(s.depth_m);
+      chip_n_[0] = n.x();
+      chip_n_[1] = n.y();
+      d_[0] = d.x();
+      d_[1] = d.y();
+      width_m_ = c.width_m;
+      chip_per_feed_ = std::sin(c.lead_angle_rad);
+    }
   }
   pd_per_depth_ = process.process_damping_per_depth(s.spindle_rpm);
   general_ = general_cutter(process, options, homogeneous(s));
@@ -129,8 +140,10 @@ void Model::chips(double t, const double* q, double* h) const {
       const double phi = angle(t, j);
       const double sn = std::sin(phi), cs = std::cos(phi);
       hj = feed * sn + sn * dx + cs * dy;
-    } else {
+    } else if (orthogonal_) {
       hj = feed + dx;
+    } else {  // h = f sin κ_eq + n·Δr
+      hj = feed * chip_per_feed_ + chip_n_[0] * dx + chip_n_[1] * dy;
     }
     if (settings_.multiple_regeneration && !settings_.linear)
       hj -= history_->gap(t - tau_, (j + teeth_ - 1) % teeth_);
@@ -175,13 +188,23 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
       const double sn = std::sin(phi), cs = std::cos(phi);
       F[0] += -a * (kt_ * cs + kr_ * sn) * hc;
       F[1] += a * (kt_ * sn - kr_ * cs) * hc;
-    } else {
+    } else if (orthogonal_) {
       F[0] += -a * kf_ * hc;
       if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
         // Process damping (turning, n = x): −C_pd (a/V) ṙ_x while cutting.
         double rv[2];
         relative(qd, rv);
         F[0] -= pd_per_depth_ * a * rv[0];
+      }
+    } else {  // an insert: F = −b h d, process damping −C_pd (b/V) (n·ṙ) n
+      F[0] += -width_m_ * d_[0] * hc;
+      F[1] += -width_m_ * d_[1] * hc;
+      if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
+        double rv[2];
+        relative(qd, rv);
+        const double vn = chip_n_[0] * rv[0] + chip_n_[1] * rv[1];
+        F[0] -= pd_per_depth_ * width_m_ * vn * chip_n_[0];
+        F[1] -= pd_per_depth_ * width_m_ * vn * chip_n_[1];
       }
     }
   }

@@ -177,6 +177,13 @@ class Model {
   bool milling_ = false;
   double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
   double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m²
+  // Turning insert at this run's depth (docs/turning_inserts.md): chip
+  // direction n, force vector d (the force on the tool is −b h d), chip
+  // width b, static chip per unit feed sin κ_eq. Unused for the orthogonal
+  // cut, which keeps h = f + Δx, F_x = −a K_f h exactly.
+  bool orthogonal_ = true;
+  double chip_n_[2] = {1.0, 0.0}, d_[2] = {0.0, 0.0};
+  double width_m_ = 0.0, chip_per_feed_ = 1.0;
   bool general_ = false;
   int slices_ = 1;
   std::vector<CutElement> elements_;
