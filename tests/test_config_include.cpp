@@ -16,18 +16,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kModes = R"(# as `chatter fit --out` writes it
+const std::string kModes = R"(# as `chatter fit --out` writes it
 [[tool.modes]]
 frequency_hz = 800
 damping_ratio = 0.02
 stiffness_n_per_um = 8
 direction = "x"
 )";
-const char* const kCoefficients = R"([process]
+const std::string kCoefficients = R"([process]
 tangential_coefficient_n_per_mm2 = 600
 radial_coefficient_ratio = 0.3
 )";
-const char* const kProcess = R"([process]
+const std::string kProcess = R"([process]
 operation = "milling"
 teeth = 2
 tool_diameter_mm = 12
@@ -92,8 +92,9 @@ TEST_F(ConfigInclude, NestedIncludesAreRelativeToTheirOwnFile) {
 }
 
 TEST_F(ConfigInclude, AnErrorNamesTheFileTheKeyIsIn) {
-  std::string bad = kModes;
-  bad.replace(bad.find("0.02"), 4, "2");
+  const std::size_t at = kModes.find("0.02");
+  ASSERT_NE(at, std::string::npos);
+  const std::string bad = kModes.substr(0, at) + "2" + kModes.substr(at + 4);
   const fs::path modes = write("parts/modes.toml", bad);
   write("parts/coefficients.toml", kCoefficients);
   const fs::path main =

@@ -22,6 +22,7 @@ chatter::grinding::Prediction predict(const chatter::GrindingConfig& c, chatter_
     case CHATTER_GRINDING_POWER_W: return chatter::grinding::predict_at_power(c.process, value);
     case CHATTER_GRINDING_DEPTH_MM: return chatter::grinding::predict_for_depth(c.process, value * 1e-3);
     case CHATTER_GRINDING_REMOVAL_MM3_PER_S: return chatter::grinding::predict_for_removal(c.process, value * 1e-9);
+    case CHATTER_GRINDING_TARGET_FORCE_INT: break;  // the enum's size marker, no target
   }
   throw chatter::InputError("target = " + std::to_string(static_cast<int>(target)) +
                             ": must be CHATTER_GRINDING_POWER_W, _DEPTH_MM or _REMOVAL_MM3_PER_S");
