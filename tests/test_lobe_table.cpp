@@ -27,6 +27,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
 
 namespace {
@@ -511,6 +512,32 @@ TEST(RefineEnvelope, SameRowsWhateverTheThreadCount) {
     EXPECT_EQ(one.rows[i].spindle_rpm, two.rows[i].spindle_rpm) << "row " << i;
     EXPECT_EQ(one.rows[i].depth_limit_m, two.rows[i].depth_limit_m) << "row " << i;
   }
+}
+
+// The adaptive sdm table (`lobes --rpm-spacing adaptive`) on case C, 2-DOF
+// milling: every row (speed, depth, frequency, lobe, branch) the same on 1,
+// 2 and 3 threads: the midpoints of one refinement level are solved in
+// parallel and merged in speed order.
+TEST(RefineEnvelope, AdaptiveSdmTableSameRowsWhateverTheThreadCount) {
+  const chatter::Config cfg = chatter::load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/milling_up_ae05_2dof.toml");
+  const chatter::SemiDiscretizationSolver sdm(cfg.model, cfg.process);
+  const auto limit = [&](double rpm) { return sdm.limit_at(rpm); };
+  const chatter::EnvelopeRefinement o;
+  const auto one = chatter::adaptive_envelope(limit, 5000, 25000, 120, o, 1);
+  for (unsigned threads : {2u, 3u}) {
+    const auto many = chatter::adaptive_envelope(limit, 5000, 25000, 120, o, threads);
+    ASSERT_EQ(one.rows.size(), many.rows.size()) << threads << " threads";
+    EXPECT_EQ(one.solves, many.solves);
+    for (std::size_t i = 0; i < one.rows.size(); ++i) {
+      SCOPED_TRACE("row " + std::to_string(i) + ", " + std::to_string(threads) + " threads");
+      EXPECT_EQ(one.rows[i].spindle_rpm, many.rows[i].spindle_rpm);
+      EXPECT_EQ(one.rows[i].depth_limit_m, many.rows[i].depth_limit_m);
+      EXPECT_EQ(one.rows[i].chatter_frequency_hz, many.rows[i].chatter_frequency_hz);
+      EXPECT_EQ(one.rows[i].lobe, many.rows[i].lobe);
+      EXPECT_EQ(one.rows[i].branch, many.rows[i].branch);
+    }
+  }
+  EXPECT_GT(one.rows.size(), 60u);
 }
 
 TEST(RefineEnvelope, KeepsToTheSolveBudget) {
