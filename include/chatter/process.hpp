@@ -101,6 +101,16 @@ InsertChord insert_chord(double lead_angle_rad, double nose_radius_m, double dep
 /// tables of gigabytes.
 inline constexpr int kMaxTeeth = 1000;
 
+/// The milling force law of §3, the one formula every method uses (Process's
+/// directional matrices, the time-domain right-hand side, the forced
+/// response): the force on the tool per unit chip thickness and unit depth
+/// of a tooth at angle φ (given by sin φ, cos φ) with tangential and radial
+/// coefficients K_t, K_r (N/m²) is −v, v = (K_t cos φ + K_r sin φ,
+/// −(K_t sin φ − K_r cos φ)); the tooth's chip direction is n = (sin φ, cos φ).
+inline Eigen::Vector2d milling_force_direction(double kt, double kr, double sin_phi, double cos_phi) {
+  return Eigen::Vector2d(kt * cos_phi + kr * sin_phi, -(kt * sin_phi - kr * cos_phi));
+}
+
 /// The largest feed (per tooth in milling, per revolution in turning) any
 /// input takes, mm: the config's feed keys and the time-domain option.
 inline constexpr double kMaxFeedMm = 10.0;

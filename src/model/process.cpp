@@ -468,8 +468,7 @@ std::vector<double> Process::engagement_events_s(double rpm, double depth_m) con
 Eigen::Vector2d Process::force_direction(double phi) const {
   const double kt = milling_.tangential_coefficient_n_per_m2;
   const double kr = milling_.radial_coefficient_n_per_m2;
-  const double sn = std::sin(phi), cs = std::cos(phi);
-  return Eigen::Vector2d(kt * cs + kr * sn, -(kt * sn - kr * cs));
+  return milling_force_direction(kt, kr, std::sin(phi), std::cos(phi));
 }
 
 double Process::feed_of_tooth_m(int j, double feed_per_tooth_m) const {

@@ -185,9 +185,9 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
     chip_max = std::max(chip_max, settings_.linear ? std::abs(h) : hc);
     if (milling_) {
       const double phi = angle(t, j);
-      const double sn = std::sin(phi), cs = std::cos(phi);
-      F[0] += -a * (kt_ * cs + kr_ * sn) * hc;
-      F[1] += a * (kt_ * sn - kr_ * cs) * hc;
+      const Eigen::Vector2d v = milling_force_direction(kt_, kr_, std::sin(phi), std::cos(phi));
+      F[0] -= a * v[0] * hc;
+      F[1] -= a * v[1] * hc;
     } else if (orthogonal_) {
       F[0] += -a * kf_ * hc;
       if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
@@ -435,8 +435,9 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
     if (h > -air_margin_) touching = true;
     chip_max = std::max(chip_max, settings_.linear ? std::abs(h) : hc);
     const double sn = sin_[ei], cs = cos_[ei];
-    F[0] += -dz * (kt_ * cs + kr_ * sn) * hc;
-    F[1] += dz * (kt_ * sn - kr_ * cs) * hc;
+    const Eigen::Vector2d v = milling_force_direction(kt_, kr_, sn, cs);
+    F[0] -= dz * v[0] * hc;
+    F[1] -= dz * v[1] * hc;
     if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
       const double vn = sn * rv[0] + cs * rv[1];
       F[0] -= pd_per_depth_ * dz * vn * sn;
