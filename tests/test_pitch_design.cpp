@@ -37,14 +37,15 @@ constexpr int kLobe = 2;  // the band sits on the bottom of lobe k = 2 (about 50
 // the averaged equation (its limit differs by its discretisation and by the
 // intermittent force: a few tenths of a percent in frequency here) and the
 // row is on a grid of 0.5 % speed steps, within a quarter step of the bottom.
-// Measured: see RuleStartMatchesClosedForm's message; held to 1.5 %.
+// Measured 2026-11-26: 7e-7 (the worst row falls on the closed-form bottom);
+// held to 1.5 %.
 constexpr double kRuleTolerance = 0.015;
 // The polished step against the rule's roots: the geometric sum vanishes at
 // ψ = 2πk/N_t, k = 1 … N_t − 1, i.e. at k times the rule's step; the search
 // finds the best over the family's whole range, which on this case is near
 // the k = 3 root (26.4°) and stops at the bound 30° (measured 2026-11-26: the
-// k = 1 root polishes to 11.3° with a worst limit of 0.058 mm, the bound
-// gives 0.0655 mm). Asked: within 15 % of a root (the bound is 13.5 % away).
+// scan point 11.25° near the k = 1 root gives a worst limit of 0.058 mm, the
+// bound 0.0655 mm). Asked: within 15 % of a root (the bound is 13.5 % away).
 constexpr double kPolishFromRoot = 0.15;
 // Gain of the designed cutter's worst sdm limit over equal pitch's on this
 // case: measured 2.73 (the rule's start alone 1.97); asked a clear rise.
