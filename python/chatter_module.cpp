@@ -50,6 +50,7 @@ PYBIND11_MODULE(_chatter, m) {
   chatter_py::bind_tables(m);
   chatter_py::bind_shop(m);
   chatter_py::bind_optimization(m);
+  chatter_py::bind_pitch(m);
   bind_grinding(m);
   bind_forced(m);
 }

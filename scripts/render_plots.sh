@@ -105,3 +105,8 @@ echo "plots/grinding_scompi_ch4_sweep.png plots/grinding_scompi_ch4_simulate.png
 ./build/chatter forced configs/coupled_tool1_workpiece1.toml --along-shaft --depth-mm 1 --feed-mm-per-rev 0.2 \
   --table plots/coupled_tool1_workpiece1_diametral.csv --plot plots/coupled_tool1_workpiece1_diametral.png > /dev/null
 echo "plots/*_forced.png plots/*_sle.png plots/coupled_tool1_workpiece1_diametral.png"
+# Variable-pitch design (docs/design_pitch.md): the 4-flute example over the
+# band around its equal-pitch lobe bottom, equal vs designed pitch.
+./build/chatter design-pitch configs/milling_pitch_design_4flute.toml --rpm-min 6600 --rpm-max 8000 --teeth 4 --quiet \
+  --table plots/milling_pitch_design_4flute_pitch.csv --plot plots/milling_pitch_design_4flute_pitch.png > /dev/null
+echo "plots/milling_pitch_design_4flute_pitch.png"

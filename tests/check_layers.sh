@@ -2,13 +2,13 @@
 # The include rules of the layers (docs/architecture.md), checked on the
 # sources: prints every #include that breaks one and fails if any does.
 #   core (src/model, src/solvers, src/grinding, src/shop, include/chatter/*.hpp but operations.hpp,
-#        optimization.hpp and records.hpp):
+#        optimization.hpp, pitch_design.hpp and records.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
 #   io   (src/io, include/chatter/io): core data headers and the solver
 #        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
 #        nlohmann; no solver class header, no ops, no Boost.
-#   ops  (src/ops, include/chatter/operations.hpp, optimization.hpp): core only.
+#   ops  (src/ops, include/chatter/operations.hpp, optimization.hpp, pitch_design.hpp): core only.
 #   records (src/records, include/chatter/records.hpp, include/chatter/records/):
 #        no Boost, toml++ or CLI header.
 #   gnuplot-iostream (and Boost.Iostreams) only in src/cli/live_plot.cpp
@@ -31,16 +31,16 @@ check() {
     bad=1
   fi
 }
-core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|optimization|records)\.hpp$')
+core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|optimization|pitch_design|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
-  'chatter/io/|chatter/operations\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
+  'chatter/io/|chatter/operations\.hpp|chatter/pitch_design\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
   src/model/* src/solvers/* src/grinding/* src/shop/* $core_headers
 check "io includes a solver class header, ops, records or Boost" \
-  'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
+  'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/pitch_design\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
   src/io/* include/chatter/io/*
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
-  src/ops/* include/chatter/operations.hpp include/chatter/optimization.hpp
+  src/ops/* include/chatter/operations.hpp include/chatter/optimization.hpp include/chatter/pitch_design.hpp
 check "records includes Boost, toml++ or the CLI" 'boost|toml\+\+|gnuplot-iostream|(\.\./)+cli/' src/records/* include/chatter/records.hpp \
   include/chatter/records/*
 check "gnuplot-iostream (and the Boost.Iostreams it pulls in) outside src/cli/live_plot.cpp" \

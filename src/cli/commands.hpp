@@ -25,5 +25,6 @@ int cmd_sle(const std::vector<std::string>& args);           // src/cli/cmd_forc
 int cmd_performance(const std::vector<std::string>& args);   // src/cli/cmd_optimize.cpp
 int cmd_optimize(const std::vector<std::string>& args);      // src/cli/cmd_optimize.cpp
 int cmd_adapt(const std::vector<std::string>& args);         // src/cli/cmd_optimize.cpp
+int cmd_design_pitch(const std::vector<std::string>& args);  // src/cli/cmd_design_pitch.cpp
 
 }  // namespace chatter::cli

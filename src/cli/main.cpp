@@ -55,6 +55,8 @@ const Command kCommands[] = {
      "docs/optimization.md", chatter::cli::cmd_optimize},
     {"adapt", "the adaptive loop: correct the models from measurements and move toward the optimum",
      "docs/optimization.md", chatter::cli::cmd_adapt},
+    {"design-pitch", "variable-pitch angles that raise the worst stability limit over a speed band, vs equal pitch",
+     "docs/design_pitch.md", chatter::cli::cmd_design_pitch},
     {"fit", "modes (frequency, damping, stiffness) fitted to a measured FRF (tap test)", "docs/frf.md",
      chatter::cli::cmd_fit},
     {"frf", "receptance of the tool, the workpiece and the relative motion", "docs/frf.md", chatter::cli::cmd_frf},

@@ -324,3 +324,24 @@ def test_map_radial_axial_boundary_is_the_cli_one():
         chatter.map(job, axes="radial-axial", rpm=10000, immersion_min=0)
     with pytest.raises(chatter.InputError, match=r"^rpm: only with axes=\"radial-axial\""):
         chatter.map(job, rpm=10000)
+
+
+# ---------------------------------------------------------------- design_pitch
+
+
+def test_design_pitch_is_the_record_and_checks_name_the_keywords():
+    job = chatter.load(CONFIGS / "milling_pitch_design_4flute.toml")
+    d = chatter.design_pitch(job, rpm_min=6600, rpm_max=8000, teeth=4, rpm_points=11, scan_points=4)
+    assert d["format"] == "chatter-pitch-design" and d["method"] == "sdm"
+    assert abs(sum(d["pitch_angles_deg"]) - 360.0) < 1e-9
+    designed = [row["depth_limit_designed_mm"] for row in d["band"]]
+    equal = [row["depth_limit_equal_mm"] for row in d["band"]]
+    assert d["designed"]["worst_limit_mm"] == min(designed) and d["equal"]["worst_limit_mm"] == min(equal)
+    assert d["gain"] == d["designed"]["worst_limit_mm"] / d["equal"]["worst_limit_mm"] > 1.0
+    assert d["designed"]["worst_limit_mm"] >= d["start"]["worst_limit_mm"]
+    with pytest.raises(chatter.InputError, match=r"^rpm_max = 6600: must be > rpm_min = 8000"):
+        chatter.design_pitch(job, rpm_min=8000, rpm_max=6600)
+    with pytest.raises(chatter.InputError, match=r"^teeth = 3: the config's cutter has 4 teeth"):
+        chatter.design_pitch(job, rpm_min=6600, rpm_max=8000, teeth=3)
+    with pytest.raises(chatter.InputError, match=r"^rpm_min: required"):
+        chatter.design_pitch(job, rpm_max=8000)
