@@ -79,7 +79,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   const Sweep s = resolve_sweep(vm, cfg);
   q.speeds_rpm = evenly_spaced_speeds(s.rpm_min, s.rpm_max, s.rpm_points);
   q.depth_max_mm = s.depth_max_mm;
-  q.options = [&](const SolverDescriptor& d) { return solver_option_values(d, cfg, vm); };
+  q.options = [&](const SolverDescriptor& method) { return solver_option_values(method, cfg, vm); };
   q.threads = thread_count(vm);
   std::unique_ptr<Progress> progress;
   q.progress = [&](const std::string& method, std::size_t done, std::size_t total) {
