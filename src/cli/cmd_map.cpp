@@ -28,6 +28,21 @@ namespace chatter::cli {
 
 namespace {
 
+// A map's outputs (the speed map and the radial map alike): the CSV and the
+// record written all or nothing, then whichever of them goes to standard
+// output. Returns the stream for the summary lines (standard error when
+// standard output carries the table or the JSON).
+std::ostream& write_map_outputs(const std::string& csv, const nlohmann::json& record, const std::string& out_path,
+                                const std::string& json_path, bool table_to_stdout, bool json_to_stdout) {
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  if (!out_path.empty()) files.emplace_back(out_path, csv);
+  if (!json_path.empty()) files.emplace_back(json_path, record.dump(2) + "\n");
+  write_text_files(files);  // all or nothing
+  if (table_to_stdout) std::cout << csv;
+  if (json_to_stdout) std::cout << record.dump(2) << "\n";
+  return table_to_stdout || json_to_stdout ? std::cerr : std::cout;
+}
+
 // `chatter map --axes radial-axial`: immersion x axial depth at one speed
 // (radial_stability_map, chatter/records/lobes.hpp).
 int map_radial_axial(const Common& common, const std::string& floquet_method, const po::variables_map& vm,
@@ -80,13 +95,7 @@ int map_radial_axial(const Common& common, const std::string& floquet_method, co
   RecordSource source = record_source(cfg, common.position_mm);
   source.notes = built.notes;
   const nlohmann::json record = radial_map_record(grid, built.descriptor->effective_options(*built.solver), source);
-  std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!out_path.empty()) files.emplace_back(out_path, csv);
-  if (!json_path.empty()) files.emplace_back(json_path, record.dump(2) + "\n");
-  write_text_files(files);  // all or nothing
-  if (table_to_stdout) std::cout << csv;
-  if (json_to_stdout) std::cout << record.dump(2) << "\n";
-  std::ostream& info = table_to_stdout || json_to_stdout ? std::cerr : std::cout;
+  std::ostream& info = write_map_outputs(csv, record, out_path, json_path, table_to_stdout, json_to_stdout);
   std::size_t unstable = 0;
   for (double r : grid.spectral_radius) unstable += r >= 1.0;
   info << cfg.name << " (sdm) at " << fmt(rpm) << " rev/min: " << immersions.size() << " immersions x "
@@ -202,13 +211,7 @@ int cmd_map(const std::vector<std::string>& args) {
   RecordSource source = record_source(cfg, common.position_mm);
   source.notes = built.notes;
   const nlohmann::json record = stability_map_record(grid, built.descriptor->effective_options(*built.solver), source);
-  std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!out_path.empty()) files.emplace_back(out_path, csv);
-  if (!json_path.empty()) files.emplace_back(json_path, record.dump(2) + "\n");
-  write_text_files(files);  // all or nothing
-  if (table_to_stdout) std::cout << csv;
-  if (json_to_stdout) std::cout << record.dump(2) << "\n";
-  std::ostream& info = table_to_stdout || json_to_stdout ? std::cerr : std::cout;
+  std::ostream& info = write_map_outputs(csv, record, out_path, json_path, table_to_stdout, json_to_stdout);
   info << cfg.name << " (sdm): " << speeds.size() << " x " << depths.size() << " points, " << unstable_points(grid)
        << " unstable" << (out_path.empty() ? "" : "; wrote map: " + out_path)
        << (json_path.empty() ? "" : "; wrote JSON: " + json_path) << "\n";
