@@ -10,44 +10,8 @@
 
 #include "chatter/chatter.h"
 
-static int passed = 0, failed = 0;
-#define CHECK(cond)                                                   \
-  do {                                                                \
-    if (cond) {                                                       \
-      ++passed;                                                       \
-    } else {                                                          \
-      ++failed;                                                       \
-      fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                 \
-  } while (0)
+#include "capi_check.h"
 
-/* The whole standard output of a CLI command (NULL on failure); free() it. */
-static char* run_cli(const char* args) {
-  char cmd[2048];
-  FILE* p;
-  char* buf = NULL;
-  size_t len = 0, cap = 0, n;
-  snprintf(cmd, sizeof cmd, "'%s' %s 2>/dev/null", CHATTER_CLI, args);
-  p = popen(cmd, "r");
-  if (!p) return NULL;
-  for (;;) {
-    if (cap - len < 4096) {
-      char* grown = (char*)realloc(buf, cap + 65536);
-      if (!grown) break;
-      buf = grown;
-      cap += 65536;
-    }
-    n = fread(buf + len, 1, cap - len - 1, p);
-    if (n == 0) break;
-    len += n;
-  }
-  if (pclose(p) != 0 || !buf) {
-    free(buf);
-    return NULL;
-  }
-  buf[len] = 0;
-  return buf;
-}
 
 /* A limit as the CLI's CSV prints it (%.10g, "inf", empty cells when
  * unbounded): "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe". */

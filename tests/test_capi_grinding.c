@@ -10,43 +10,11 @@
 
 #include "chatter/chatter.h"
 
-static int passed = 0, failed = 0;
-#define CHECK(cond)                                                            \
-  do {                                                                         \
-    if (cond) {                                                                \
-      ++passed;                                                                \
-    } else {                                                                   \
-      ++failed;                                                                \
-      fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                          \
-  } while (0)
+#include "capi_check.h"
 
 /* The seeds print 3 significant digits: half a unit of the last one. */
 #define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
 
-static char* run_cli(const char* args) {
-  char cmd[2048];
-  FILE* p;
-  char* buf = NULL;
-  size_t len = 0, cap = 0, n;
-  snprintf(cmd, sizeof cmd, "'%s' %s 2>/dev/null", CHATTER_CLI, args);
-  p = popen(cmd, "r");
-  if (!p) return NULL;
-  for (;;) {
-    if (cap - len < 4096) {
-      char* grown = (char*)realloc(buf, cap + 65536);
-      if (!grown) break;
-      buf = grown;
-      cap += 65536;
-    }
-    n = fread(buf + len, 1, cap - len - 1, p);
-    if (n == 0) break;
-    len += n;
-  }
-  pclose(p);
-  if (buf) buf[len] = '\0';
-  return buf;
-}
 
 int main(void) {
   const char* scompi = CHATTER_SOURCE_DIR "/configs/grinding_scompi_ch4.toml";

@@ -11,16 +11,7 @@
 
 #include "chatter/chatter.h"
 
-static int passed = 0, failed = 0;
-#define CHECK(cond)                                                            \
-  do {                                                                         \
-    if (cond) {                                                                \
-      ++passed;                                                                \
-    } else {                                                                   \
-      ++failed;                                                                \
-      fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                          \
-  } while (0)
+#include "capi_check.h"
 
 /* The number of "key" at `indent` spaces in a JSON text written with an
  * indent of 2 (top level: 2; in an object of the top level: 4), or NAN. */
