@@ -105,6 +105,24 @@ py::dict compare(const Job& job_in, const py::object& methods, std::optional<dou
 
 // axes="radial-axial": immersion x axial depth at one speed (the CLI's
 // map --axes radial-axial, radial_stability_map).
+
+// The map's cells as arrays of shape (rows, cols): `spectral_radius` and,
+// when asked, `multiplier_type` ('' where stable: its type is not
+// computed; else hopf / flip / fold). Shared by the speed map and the
+// radial map.
+void add_map_cells(py::dict& out, const std::vector<double>& rho_cells,
+                   const std::vector<chatter::MultiplierType>& types, bool multiplier_types, py::ssize_t rows,
+                   py::ssize_t cols) {
+  py::array_t<double> rho({rows, cols});
+  std::copy(rho_cells.begin(), rho_cells.end(), rho.mutable_data());
+  out["spectral_radius"] = rho;
+  if (!multiplier_types) return;
+  py::list cells;
+  for (std::size_t i = 0; i < rho_cells.size(); ++i)
+    cells.append(rho_cells[i] >= 1.0 ? chatter::to_string(types[i]) : std::string());
+  out["multiplier_type"] = py::module_::import("numpy").attr("array")(cells, "dtype"_a = "str").attr("reshape")(rows, cols);
+}
+
 py::dict radial_map(const Job& job, const std::string& floquet, std::optional<double> rpm,
                     std::optional<double> immersion_min, std::optional<double> immersion_max,
                     std::optional<int> immersion_points, std::optional<double> depth_max_mm, int depth_points,
@@ -151,16 +169,7 @@ py::dict radial_map(const Job& job, const std::string& floquet, std::optional<do
   out["depth_mm"] = array_of(depth_mm);
   out["depth_limit_mm"] = array_of(limit_mm);
   out["chatter_frequency_hz"] = array_of(freq);
-  py::array_t<double> rho({ni, nd});
-  std::copy(grid.spectral_radius.begin(), grid.spectral_radius.end(), rho.mutable_data());
-  out["spectral_radius"] = rho;
-  if (multiplier_types) {
-    py::list cells;
-    for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)
-      cells.append(grid.spectral_radius[i] >= 1.0 ? chatter::to_string(grid.multiplier_type[i]) : std::string());
-    out["multiplier_type"] =
-        py::module_::import("numpy").attr("array")(cells, "dtype"_a = "str").attr("reshape")(ni, nd);
-  }
+  add_map_cells(out, grid.spectral_radius, grid.multiplier_type, multiplier_types, ni, nd);
   return out;
 }
 
@@ -209,17 +218,7 @@ py::dict stability_map(const Job& job_in, const std::string& method, const std::
   std::vector<double> depth_mm(depths.size());
   for (std::size_t k = 0; k < depths.size(); ++k) depth_mm[k] = depths[k] * 1e3;
   out["depth_mm"] = array_of(depth_mm);
-  py::array_t<double> rho({ns, nd});
-  std::copy(grid.spectral_radius.begin(), grid.spectral_radius.end(), rho.mutable_data());
-  out["spectral_radius"] = rho;
-  if (multiplier_types) {
-    // '' where stable (its type is not computed), else hopf / flip / fold.
-    py::list cells;
-    for (std::size_t i = 0; i < grid.spectral_radius.size(); ++i)
-      cells.append(grid.spectral_radius[i] >= 1.0 ? chatter::to_string(grid.multiplier_type[i]) : std::string());
-    out["multiplier_type"] =
-        py::module_::import("numpy").attr("array")(cells, "dtype"_a = "str").attr("reshape")(ns, nd);
-  }
+  add_map_cells(out, grid.spectral_radius, grid.multiplier_type, multiplier_types, ns, nd);
   return out;
 }
 
