@@ -9,9 +9,20 @@ works and ``plot()`` raises ImportError saying how to install it.
 """
 import io
 
-import numpy as np
 
-# The CLI's plot colours (src/io/plot.cpp).
+class _Numpy:
+    """NumPy, imported at its first use (a figure, an array): `import chatter`
+    stays cheap for a post-processor that only reads verdicts (docs/python.md,
+    "Python in a loop")."""
+
+    def __getattr__(self, name):
+        import numpy
+        return getattr(numpy, name)
+
+
+np = _Numpy()
+
+# The CLI's plot colours (src/io/plot_kit.hpp).
 STABLE = "#8cc97e"    # stable region (drawn 40 % opaque)
 CHATTER = "#f08a7e"   # chatter region (30 % opaque)
 ENVELOPE = "#1a4d80"  # the stability limit
