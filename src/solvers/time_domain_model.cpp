@@ -295,6 +295,10 @@ bool Model::in_window(double phi) const {
   return phi >= phi_en_ && phi <= phi_ex_;
 }
 
+// How far (rad) a tooth's edge must miss the arc for element_angles to skip
+// its slices: far above the rotation chain's round-off (~1e-16 per slice).
+constexpr double kOutOfArcMargin = 1e-9;
+
 // Engaged fraction of a slice whose edge spans the angles φ ± w/2 (w =
 // κ dz, the helix lag over the slice height): the part of that interval
 // inside the arc [φ_en, φ_ex] (mod 2π), over w. It ramps linearly while
@@ -351,16 +355,39 @@ void Model::element_angles(double t) const {
     c.cs = c.cs * c.cd + c.sn * c.sd;
     c.sn = sn1;
   };
-  int j = 0;
-  for (; j + 1 < teeth_; j += 2) {
-    Chain c0 = start(j), c1 = start(j + 1);
+  // A tooth whose slices all miss the arc (the span [φ_0 − S δ, φ_0] of its
+  // edge, φ_0 its angle at z = 0, widened by kOutOfArcMargin, far beyond the
+  // chain's round-off) is marked out: engaged_fraction would give exactly 0
+  // for each of its slices, so general_chips skips them (the same values,
+  // about half the work at half immersion).
+  tooth_out_.assign(static_cast<std::size_t>(teeth_), 0);
+  std::vector<int>& in = teeth_in_;
+  in.clear();
+  for (int j = 0; j < teeth_; ++j) {
+    const double span = slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) + 2.0 * kOutOfArcMargin;
+    if (span < 2.0 * kPi) {
+      const double lo = wrap(process_.tooth_angle_rad(j, t, 0.0, settings_.spindle_rpm) -
+                             slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) - kOutOfArcMargin);
+      const double hi = lo + span;
+      const bool meets = std::min(hi, phi_ex_) >= std::max(lo, phi_en_) ||
+                         std::min(hi, phi_ex_ + 2.0 * kPi) >= std::max(lo, phi_en_ + 2.0 * kPi);
+      if (!meets) {
+        tooth_out_[static_cast<std::size_t>(j)] = 1;
+        continue;
+      }
+    }
+    in.push_back(j);
+  }
+  std::size_t k = 0;
+  for (; k + 1 < in.size(); k += 2) {
+    Chain c0 = start(in[k]), c1 = start(in[k + 1]);
     for (int sl = 0; sl < slices_; ++sl) {
       advance(c0);
       advance(c1);
     }
   }
-  if (j < teeth_) {
-    Chain c0 = start(j);
+  if (k < in.size()) {
+    Chain c0 = start(in[k]);
     for (int sl = 0; sl < slices_; ++sl) advance(c0);
   }
 }
@@ -382,6 +409,11 @@ void Model::general_chips(double t, const double* q, double* h) const {
   element_angles(t);
   for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
     const CutElement& e = elements_[ei];
+    if (slices_ > 1 && tooth_out_[static_cast<std::size_t>(e.tooth)]) {  // no slice of the tooth in the arc
+      engaged_[ei] = 0.0;
+      h[ei] = 1.0;
+      continue;
+    }
     const double phi = phi_[ei];
     const double frac = slices_ == 1 ? (in_arc_[ei] != 0 ? 1.0 : 0.0) : engaged_fraction(phi, slice_lag_[e.tooth]);
     engaged_[ei] = frac;

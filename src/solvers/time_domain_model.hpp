@@ -194,6 +194,12 @@ class Model {
   mutable std::vector<double> engaged_, phi_, sin_, cos_;
   std::vector<double> slice_lag_, slice_cos_, slice_sin_;  // per tooth: δ_j = κ_j dz, cos δ_j, sin δ_j
   std::vector<char> in_arc_;
+  // At the last element_angles() call (several slices), per tooth: 1 when
+  // every slice of the tooth lies outside the arc by more than
+  // kOutOfArcMargin (its slices' engaged fractions are all exactly 0, so
+  // their angles are not computed).
+  mutable std::vector<char> tooth_out_;
+  mutable std::vector<int> teeth_in_;  // the teeth not out, in order (scratch of element_angles)
   History* history_ = nullptr;
   mutable std::vector<double> chips_;
   mutable long rhs_count_ = 0;
