@@ -36,9 +36,7 @@ struct Merger {
   std::string owner(const Path& path) const {
     for (const IncludedFile& f : files)
       for (const Path& p : f.paths)
-        if (path.compare(0, p.size(), p) == 0 &&
-            (path.size() == p.size() || path[p.size()] == '.' || path[p.size()] == '['))
-          return f.origin;
+        if (path_under(path, p)) return f.origin;
     return root_origin;
   }
 

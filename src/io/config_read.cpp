@@ -56,6 +56,11 @@ Path element(const Path& parent, std::size_t index) { return parent + "[" + std:
 using detail::text::near_miss;
 
 // "did you mean" for a near miss, else the allowed list.
+bool path_under(const Path& path, const Path& prefix) {
+  return path.compare(0, prefix.size(), prefix) == 0 &&
+         (path.size() == prefix.size() || path[prefix.size()] == '.' || path[prefix.size()] == '[');
+}
+
 std::string unknown_key_rule(std::string_view key, std::span<const std::string_view> allowed) {
   if (const std::string_view best = near_miss(key, allowed); !best.empty())
     return "unknown key (did you mean " + std::string(best) + "?)";
@@ -87,9 +92,7 @@ void Document::add_source(std::string origin, std::string_view text, std::vector
 const std::string& Document::origin_of(const Path& path) const {
   for (std::size_t s = 1; s < sources_.size(); ++s)
     for (const Path& p : sources_[s].paths)
-      if (path.compare(0, p.size(), p) == 0 &&
-          (path.size() == p.size() || path[p.size()] == '.' || path[p.size()] == '['))
-        return sources_[s].origin;
+      if (path_under(path, p)) return sources_[s].origin;
   return origin_;
 }
 

@@ -80,6 +80,9 @@ std::string quote_string(std::string_view s);
 Path child(const Path& parent, std::string_view key);
 /// `parent[index]`.
 Path element(const Path& parent, std::size_t index);
+/// True when `path` is `prefix` or lies under it (`tool.modes[0].mass_kg`
+/// under `tool.modes`, not under `tool.mode`).
+bool path_under(const Path& path, const Path& prefix);
 
 /// The rule for an unknown key: "unknown key (did you mean <key>?)" for a
 /// near miss, else "unknown key (expected one of: <allowed>)".
