@@ -271,15 +271,16 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
       V.col(j + 1) = w / beta;
       if (j + 1 >= 8 && j + 1 < k && (j + 1) % 6 == 2) {
         // Early verdict (decide) or early convergence of the dominant Ritz
-        // value: a short Krylov space is often enough.
+        // pair: a short Krylov space is often enough (the Ritz vector, when
+        // asked for, has the same residual as a restarted one's).
         Cplx th;
         Eigen::VectorXcd yy;
         hessenberg_dominant(H.topLeftCorner(j + 1, j + 1), th, yy, nullptr, &eigs);
         const double res = beta * std::abs(yy(j));
-        if ((decide && std::abs(std::abs(th) - 1.0) > kDecideFactor * res) ||
-            (!want_vector && res <= kArnoldiTol * std::abs(th))) {
+        if ((decide && std::abs(std::abs(th) - 1.0) > kDecideFactor * res) || res <= kArnoldiTol * std::abs(th)) {
           out.mu = th;
           half_plane_radii(eigs, out);
+          if (want_vector) out.vec = V.leftCols(j + 1).cast<Cplx>() * yy;
           return out;
         }
       }
