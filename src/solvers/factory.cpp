@@ -141,7 +141,7 @@ SolverDescriptor time_domain_descriptor() {
   SolverDescriptor d;
   d.name = "time-domain";
   d.summary = "simulation with the real chip; the depth where the simulated cut starts to chatter; about 0.3 s "
-              "per speed";
+              "per speed (straight cutter), ~1 s on a helical variable-pitch one";
   d.kind = SolverKind::kSimulation;
   d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
                SolverFeature::kHelix,         SolverFeature::kVariablePitch, SolverFeature::kVariableHelix,
