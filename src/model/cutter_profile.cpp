@@ -67,11 +67,11 @@ SliceEngagement slice_engagement(double r, double r0, double immersion, bool dow
   if (!(r > 0.0)) return e;
   // The band's inner edge as a cosine on this slice's circle.
   const double c = (down ? 2.0 * immersion - 1.0 : 1.0 - 2.0 * immersion) * (r0 / r);
-  if (down) {
-    if (c >= 1.0) return e;  // the circle ends before the band
-    e.entry_rad = c <= -1.0 ? 0.0 : std::acos(c);
+  if (down) {  // cuts where cos φ <= c
+    if (c <= -1.0) return e;  // the circle does not reach the band
+    e.entry_rad = c >= 1.0 ? 0.0 : std::acos(c);
     e.exit_rad = std::numbers::pi;
-  } else {
+  } else {  // cuts where cos φ >= c
     if (c >= 1.0) return e;
     e.entry_rad = 0.0;
     e.exit_rad = c <= -1.0 ? std::numbers::pi : std::acos(c);

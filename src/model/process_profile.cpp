@@ -106,8 +106,9 @@ Eigen::Matrix2d Process::average_directional_matrix_at(double depth_m) const {
 
 std::vector<double> Process::profile_events_s(double rpm, double depth_m) const {
   // Straight teeth: every slice's entry and exit is a jump of its force (one
-  // time per slice arc). A helix smears them: the first and last engaged
-  // slices' ends (where the sliced force has its kinks), as for the cylinder.
+  // time per slice arc). A helix smears them into ramps: the entry and exit
+  // of the lowest engaged edge point and of the top of the cut (for a
+  // cylinder z = 0 and z = a, the flat cutter's events exactly).
   std::vector<double> out;
   const double omega = kTwoPi * rpm / 60.0;
   const std::vector<AxialSlice> slices = axial_slices(depth_m);
@@ -125,13 +126,9 @@ std::vector<double> Process::profile_events_s(double rpm, double depth_m) const 
     const auto first = std::find_if(slices.begin(), slices.end(), [](const AxialSlice& s) { return s.engaged; });
     if (first == slices.end()) continue;
     const AxialSlice& top = slices.back();
-    for (const AxialSlice* s : {&*first, &top}) {
-      if (!s->engaged) continue;
-      for (const double edge : {s->entry_rad, s->exit_rad}) {
-        push(edge, tb * s->lag_lo);
-        push(edge, tb * s->lag_hi);
-      }
-    }
+    for (const double edge : {first->entry_rad, first->exit_rad}) push(edge, tb * first->lag_lo);
+    if (top.engaged)
+      for (const double edge : {top.entry_rad, top.exit_rad}) push(edge, tb * top.lag_hi);
   }
   return out;
 }
