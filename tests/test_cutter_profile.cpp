@@ -234,6 +234,38 @@ TEST(CutterProfile, AveragedMatrixConvergesWithSlices) {
   EXPECT_LT(previous, 3e-5) << "128 slices";
 }
 
+TEST(CutterProfile, BullNoseOfFullRadiusIsTheBallAndATabulatedBallConverges) {
+  const double a = 3e-3;
+  const MillingParameters ball = ball_cutter(0.3);
+  MillingParameters bull = ball;
+  bull.cutter.geometry = CutterGeometry::kBullNose;
+  bull.cutter.corner_radius_m = kR0;
+  const Process pb = Process::milling(ball), pn = Process::milling(bull);
+  EXPECT_TRUE(MatrixNear(pn.average_directional_matrix_at(a), pb.average_directional_matrix_at(a), kClosedForm));
+  EXPECT_TRUE(RelNear(pn.tooth_angle_rad(1, 1e-4, 2e-3, 9000.0), pb.tooth_angle_rad(1, 1e-4, 2e-3, 9000.0), kClosedForm));
+  // The ball tabulated as a general profile (straight teeth: a radius 0 at
+  // the tip is allowed): linear between rows, so the error falls with the
+  // row spacing (second order away from the tip).
+  double previous = 1.0;
+  for (const int rows : {10, 40, 160}) {
+    MillingParameters g = ball;
+    g.helix_angles_rad.clear();
+    g.cutter.geometry = CutterGeometry::kGeneral;
+    g.cutter.slices = 400;
+    for (int i = 0; i <= rows; ++i) {
+      const double z = kR0 * i / rows, kappa = std::acos(1.0 - z / kR0);
+      g.cutter.profile.push_back({z, kR0 * std::sin(kappa), kappa});
+    }
+    MillingParameters b = ball;
+    b.cutter.slices = 400;
+    const Eigen::Matrix2d ref = Process::milling(b).average_directional_matrix_at(a);
+    const double err = (Process::milling(g).average_directional_matrix_at(a) - ref).norm() / ref.norm();
+    EXPECT_LT(err, previous) << rows << " rows: error " << err << " not below " << previous;
+    previous = err;
+  }
+  EXPECT_LT(previous, 1e-3) << "160 rows";
+}
+
 MillingParameters flat_as_general(double helix_deg) {
   MillingParameters p = ball_cutter(0.3);
   p.axial_coefficient_n_per_m2 = 0.4e9;  // no effect at κ = 90°
