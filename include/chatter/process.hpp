@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 
+#include "chatter/cutter_profile.hpp"
 #include "chatter/spindle_speed.hpp"
 
 namespace chatter {
@@ -137,6 +138,34 @@ struct MillingParameters {
   std::vector<double> runout_m{};
   /// C_pd >= 0, N/m: process damping per tooth and slice in the cut. 0 = none.
   double process_damping_coefficient_n_per_m = 0.0;
+  /// The cutter's shape along its axis (docs/cutter_geometry.md): flat (the
+  /// default, the cylinder above), ball, bull nose or a general profile.
+  CutterProfileParameters cutter{};
+  /// K_a >= 0, N/m²: axial force coefficient of Lee & Altintas (1996). Only
+  /// a slice with lead angle κ < 90° (ball, bull nose, profile) turns part
+  /// of it into the x-y plane: K_a cos κ adds to the radial coefficient.
+  double axial_coefficient_n_per_m2 = 0.0;
+};
+
+/// One axial slice z_lo <= z <= z_hi of the cut of a cutter with a profile
+/// (Process::axial_slices). With the lead angle κ at its mid height the
+/// Lee–Altintas slice force per unit regenerative displacement is that of a
+/// flat-cutter slice of height dz with the radial coefficient replaced by
+/// K_r sin κ + K_a cos κ: the chip h = Δr·n sin κ and the width dz / sin κ
+/// cancel their sin κ, the radial force (along the surface normal) has the
+/// in-plane part sin κ and the axial force cos κ (the z part of both is
+/// dropped: the structural modes act in the x-y plane).
+struct AxialSlice {
+  double z_lo_m = 0.0, z_hi_m = 0.0;  ///< heights above the tip, m
+  double z_m = 0.0;                   ///< mid height, m
+  double radius_m = 0.0;              ///< R at mid height, m
+  double lead_angle_rad = 0.0;        ///< κ at mid height, rad
+  double lag_lo = 0.0, lag_hi = 0.0;  ///< Λ(z_lo), Λ(z_hi): lag per unit tan β, rad
+  double entry_rad = 0.0, exit_rad = 0.0;  ///< the slice's cutting arc (slice_engagement)
+  bool engaged = false;               ///< false: the slice's circle misses the cut
+  /// K_r sin κ + K_a cos κ, N/m²: the in-plane radial coefficient of the slice.
+  double radial_coefficient_n_per_m2 = 0.0;
+  double height_m() const { return z_hi_m - z_lo_m; }
 };
 
 /// The process description. Build with Process::turning / Process::milling,
@@ -151,7 +180,10 @@ class Process {
   ///         outside (0, 1], pitch angles not N_t values > 0 summing to 2π
   ///         (to 1e-6 rad), helix angles not 1 or N_t values in [0, π/2),
   ///         a helix or process damping without a diameter > 0, runout not
-  ///         N_t finite values with |ρ_j| < R (when D is given), C_pd < 0.
+  ///         N_t finite values with |ρ_j| < R (when D is given), C_pd < 0,
+  ///         K_a < 0, a cutter profile CutterProfile::make refuses, a profile
+  ///         with process damping (not modelled), a helix on a general
+  ///         profile with a radius 0.
   static Process milling(MillingParameters p);
 
   Operation operation() const { return operation_; }
@@ -200,6 +232,38 @@ class Process {
   bool has_runout() const;
   /// True with C_pd > 0.
   bool has_process_damping() const;
+
+  // ---- the cutter's shape along its axis (docs/cutter_geometry.md) ----
+  /// True for a ball, bull-nose or general cutter (milling): the cut is
+  /// integrated over axial_slices(); false for the flat end mill, whose
+  /// closed forms (and results) are those of the cylinder, bit for bit.
+  bool has_profile() const { return operation_ == Operation::kMilling && !profile_.flat(); }
+  const CutterProfile& cutter_profile() const { return profile_; }
+  /// The slices of the cut at depth a (m > 0): cutter_profile().slices()
+  /// equal heights a/S from the tip, each with R, κ and Λ at its heights,
+  /// its arc and its radial coefficient. Cost O(S). @pre has_profile().
+  std::vector<AxialSlice> axial_slices(double depth_m) const;
+  /// ∫_{t_a}^{t_b} ∫_{z_lo}^{z_hi} g(φ) H₁,κ(φ) dz dt over slice `s` of tooth
+  /// j, φ = Ω t − Θ_j − tan β_j Λ(z) with Λ linear over the slice, g the
+  /// slice's arc, in closed form (N/m² · m · s). @pre has_profile().
+  Eigen::Matrix2d slice_force_integral(int j, const AxialSlice& s, double t_a, double t_b, double rpm) const;
+  /// The same for the force direction v (the constant-chip force).
+  Eigen::Vector2d slice_force_direction_integral(int j, const AxialSlice& s, double t_a, double t_b, double rpm) const;
+  /// tan β_j · Λ(z) (rad): how far the edge of tooth j at height z (m) lags
+  /// its tip; z tan β_j / R for the flat cutter.
+  double helix_lag_rad(int j, double z_m) const;
+  /// True when H (the average H₀ too) depends on the depth: a turning nose
+  /// radius, or a cutter profile not frozen by at_depth().
+  bool depth_dependent_force() const;
+  /// This process with its depth-dependent force frozen at depth a (m > 0):
+  /// the insert's chord (with_chord_at), or the profile's slices at a, whose
+  /// average_directional_matrix() is then H₀(a). What the averaged methods
+  /// solve for one depth. Other processes: a copy.
+  Process at_depth(double depth_m) const;
+  /// H₀(a), N/m²: the average of H over a revolution, integrated over the
+  /// slices of depth a and divided by a; = average_directional_matrix() for
+  /// a cutter without a profile. @pre milling, a > 0.
+  Eigen::Matrix2d average_directional_matrix_at(double depth_m) const;
 
   // ---- the turning insert (docs/turning_inserts.md) ----
   /// True for turning with κ_r = 90°, r_ε = 0 and K_r = 0: the orthogonal
@@ -252,9 +316,11 @@ class Process {
   double runout_m(int j) const;
   /// tan β_j / R (rad per m of height): how far a slice lags the tooth tip.
   double helix_lag_rad_per_m(int j) const;
-  /// φ_j(t, z) = Ω t − Θ_j − z tan β_j / R (rad, not wrapped).
+  /// φ_j(t, z) = Ω t − Θ_j − z tan β_j / R (rad, not wrapped); with a
+  /// profile Ω t − Θ_j − helix_lag_rad(j, z).
   double tooth_angle_rad(int j, double t_s, double z_m, double rpm) const;
-  /// τ_j(z) = [θ_j + z (tan β_j − tan β_{j−1}) / R] / Ω, s.
+  /// τ_j(z) = [θ_j + z (tan β_j − tan β_{j−1}) / R] / Ω, s (with a profile
+  /// Λ(z) in place of z / R).
   double tooth_delay_s(int j, double z_m, double rpm) const;
   /// True when φ (any real, wrapped to [0, 2π)) lies in [φ_en, φ_ex].
   bool in_cut(double phi) const;
@@ -338,6 +404,13 @@ class Process {
   MillingParameters milling_;
   // Filled by milling(): per tooth θ_j, Θ_j, tan β_j / R, ρ_j.
   std::vector<double> pitch_, offset_, lag_, runout_;
+  // The cutter's shape; per tooth tan β_j (with a profile); the depth frozen
+  // by at_depth (0 = not frozen).
+  CutterProfile profile_{};
+  std::vector<double> tan_helix_;
+  double frozen_depth_m_ = 0.0;
+  // Entry and exit times (s, not wrapped) of the profile's slices (engagement_events_s).
+  std::vector<double> profile_events_s(double rpm, double depth_m) const;
   SpeedVariation speed_variation_{};
 };
 

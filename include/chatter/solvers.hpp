@@ -46,6 +46,7 @@ enum class SolverFeature : std::uint32_t {
   kRunout = 7,          ///< teeth at unequal radii (static chip only)
   kProcessDamping = 8,  ///< flank rubbing damping C_pd a / V
   kSpeedVariation = 9,  ///< spindle speed variation: a time-varying delay (docs/ssv.md)
+  kCutterProfile = 10,  ///< ball, bull-nose or general cutter: axial slices (docs/cutter_geometry.md)
 };
 
 /// Name of a feature for messages ("measured FRFs", "milling", ...).

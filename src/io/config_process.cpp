@@ -66,7 +66,13 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "helix_angle_deg",
                                              "pitch_angles_deg",
                                              "runout_um",
-                                             "radial_coefficient_ratio"};
+                                             "radial_coefficient_ratio",
+                                             "cutter_geometry",
+                                             "corner_radius_mm",
+                                             "profile",
+                                             "profile_slices",
+                                             "axial_force_coefficient_n_per_m2",
+                                             "axial_force_coefficient_n_per_mm2"};
 // The static chip of the time-domain simulation (feed per revolution in
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, kMaxFeedMm, false};
@@ -94,6 +100,12 @@ constexpr std::string_view kProcessKeys[] = {"operation",
                                              "pitch_angles_deg",
                                              "runout_um",
                                              "radial_coefficient_ratio",
+                                             "cutter_geometry",
+                                             "corner_radius_mm",
+                                             "profile",
+                                             "profile_slices",
+                                             "axial_force_coefficient_n_per_m2",
+                                             "axial_force_coefficient_n_per_mm2",
                                              "process_damping_coefficient_n_per_m",
                                              "workpiece_diameter_mm",
                                              "speed_variation"};
@@ -296,6 +308,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                  "a helix of " + number_text(low) + " deg is hardly a helix: a value in radians (" + number_text(low) +
                      " rad = " + number_text(low * 180.0 / kPi) + " deg)? the key is in degrees");
     }
+    read_cutter(*process, diameter_mm, &p);  // the shape along the axis (config_cutter.cpp)
     if (cpd && *cpd > 0.0)
       need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
     if (teeth) {

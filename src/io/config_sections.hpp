@@ -47,6 +47,12 @@ std::vector<IncludedFile> merge_includes(toml::table& root, const std::string& o
 /// feed (`feed_per_rev_mm` / `feed_per_tooth_mm`) and the flute length when given.
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m);
 
+// config_cutter.cpp
+/// The milling cutter's shape along its axis (cutter_geometry,
+/// corner_radius_mm, [[process.profile]], profile_slices) and K_a
+/// (axial_force_coefficient_n_per_m2) into `p`; errors recorded.
+void read_cutter(const Table& process, std::optional<double> diameter_mm, MillingParameters* p);
+
 // config_speed_variation.cpp
 /// `[process] speed_variation = { amplitude_ratio, frequency_ratio }`: both
 /// required together; nullopt when absent (errors recorded, Skip on errors).

@@ -52,11 +52,29 @@ CuttingLoad cutting_load(const Process& process, double rpm, double depth_m, dou
   const int slices = process.has_helix() ? kHelixSlices : 1;
   const int samples = kSamplesPerTooth * nt;
   const double period = 60.0 / rpm, dz = depth_m / slices;
+  // A cutter profile: its own slices, each with its arc and radial
+  // coefficient (the chip f sin φ sin κ times the width dz / sin κ: f sin φ dz).
+  const std::vector<AxialSlice> cut =
+      process.has_profile() && depth_m > 0.0 ? process.axial_slices(depth_m) : std::vector<AxialSlice>{};
   double torque_sum = 0.0;
   for (int s = 0; s < samples; ++s) {
     const double t = period * s / samples;
     double fx = 0.0, fy = 0.0, tangential = 0.0;
     for (int j = 0; j < nt; ++j)
+      for (const AxialSlice& c : cut) {
+        if (!c.engaged) continue;
+        double phi = std::fmod(process.tooth_angle_rad(j, t, c.z_m, rpm), kTwoPi);
+        if (phi < 0.0) phi += kTwoPi;
+        if (phi < c.entry_rad || phi > c.exit_rad) continue;
+        const double h = process.static_chip_m(j, phi, feed_m) * c.height_m();
+        const auto v = milling_force_direction(mp.tangential_coefficient_n_per_m2, c.radial_coefficient_n_per_m2,
+                                               std::sin(phi), std::cos(phi));
+        fx += h * v.x();
+        fy += h * v.y();
+        // The torque arm is the slice's radius (the sum below takes D/2).
+        tangential += mp.tangential_coefficient_n_per_m2 * h * c.radius_m / (0.5 * diameter_m);
+      }
+    for (int j = 0; j < nt && cut.empty(); ++j)
       for (int k = 0; k < slices; ++k) {
         const double phi = process.tooth_angle_rad(j, t, (k + 0.5) * dz, rpm);
         if (!process.in_cut(phi)) continue;

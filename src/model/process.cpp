@@ -10,11 +10,11 @@
 #include <utility>
 
 #include "chatter/error.hpp"
+#include "windowed_integral.hpp"
 
 namespace chatter {
+using namespace process_detail;
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw InputError(what);
@@ -32,115 +32,6 @@ std::string deg_text(double rad) {
 constexpr double kPitchSumTolerance = 1e-6;
 // Helix angles below 90° by at least this (rad): tan β stays finite.
 constexpr double kHelixMax = 0.5 * std::numbers::pi - 1e-6;
-// Below this lag κa (rad) across the cut, the helix integral uses the
-// midpoint slice (error (κa)²/24 relative, < 1e-9) instead of the exact
-// four-term difference, which cancels there.
-constexpr double kSmallHelixLag = 1e-4;
-
-// A 2×2 matrix-valued trigonometric polynomial of degree 2,
-//   f(φ) = A0 + A1 sin 2φ + A2 cos 2φ,
-// with its first and second antiderivatives. Both H₁ (§3) and n nᵀ are of
-// this form, so one closed form serves the force and the damping integrals.
-struct Trig2 {
-  Eigen::Matrix2d a0, a1, a2;
-  Eigen::Matrix2d f1(double phi) const {
-    return a0 * phi - a1 * (0.5 * std::cos(2.0 * phi)) + a2 * (0.5 * std::sin(2.0 * phi));
-  }
-  Eigen::Matrix2d f2(double phi) const {
-    return a0 * (0.5 * phi * phi) - a1 * (0.25 * std::sin(2.0 * phi)) - a2 * (0.25 * std::cos(2.0 * phi));
-  }
-};
-
-Trig2 force_trig(double kt, double kr) {
-  Trig2 t;
-  t.a0 << 0.5 * kr, 0.5 * kt, -0.5 * kt, 0.5 * kr;
-  t.a1 << 0.5 * kt, 0.5 * kr, 0.5 * kr, -0.5 * kt;
-  t.a2 << -0.5 * kr, 0.5 * kt, 0.5 * kt, 0.5 * kr;
-  return t;
-}
-
-Trig2 damping_trig() {
-  Trig2 t;
-  t.a0 << 0.5, 0.0, 0.0, 0.5;
-  t.a1 << 0.0, 0.5, 0.5, 0.0;
-  t.a2 << -0.5, 0.0, 0.0, 0.5;
-  return t;
-}
-
-// The force direction of a tooth per unit chip thickness (§3), v(φ) =
-// (K_t cos φ + K_r sin φ, −(K_t sin φ − K_r cos φ)) = c1 cos φ + s1 sin φ
-// (vector-valued, degree 1), with its first and second antiderivatives.
-struct Trig1 {
-  Eigen::Vector2d c1, s1;
-  Eigen::Vector2d f1(double phi) const { return c1 * std::sin(phi) - s1 * std::cos(phi); }
-  Eigen::Vector2d f2(double phi) const { return -c1 * std::cos(phi) - s1 * std::sin(phi); }
-};
-
-Trig1 force_direction_trig(double kt, double kr) {
-  Trig1 t;
-  t.c1 << kt, kr;
-  t.s1 << kr, -kt;
-  return t;
-}
-
-// The windowed, 2π-periodic integrand w(φ) = f(φ) g(φ) (g = 1 on [en, ex]
-// + 2πn) and its antiderivatives W1, W2 with W1(0) = W2(0) = 0:
-//   W1(2πn + ψ) = n I + w1(ψ),  w1(ψ) = F1(clamp(ψ)) − F1(en),  I = w1(2π);
-//   W2(2πn + ψ) = π I n(n − 1) + n J + n I ψ + w2(ψ),  J = w2(2π),
-// with w2(ψ) = 0 before en, F2(ψ) − F2(en) − F1(en)(ψ − en) in the arc and
-// w2(ex) + I (ψ − ex) after it. (W2' = W1 and continuity at every 2πn.)
-// T: Trig2 (matrix-valued: H₁, n nᵀ) or Trig1 (vector-valued: v).
-template <class T>
-class Windowed {
- public:
-  using Value = decltype(std::declval<T>().f1(0.0));
-  Windowed(const T& f, double en, double ex) : f_(f), en_(en), ex_(ex) {
-    f1en_ = f.f1(en);
-    f2en_ = f.f2(en);
-    I_ = f.f1(ex) - f1en_;
-    w2ex_ = f.f2(ex) - f2en_ - f1en_ * (ex - en);
-    J_ = w2ex_ + I_ * (kTwoPi - ex);
-  }
-  Value w1(double phi) const {
-    const double n = std::floor(phi / kTwoPi);
-    const double psi = phi - kTwoPi * n;
-    return I_ * n + (f_.f1(std::clamp(psi, en_, ex_)) - f1en_);
-  }
-  Value w2(double phi) const {
-    const double n = std::floor(phi / kTwoPi);
-    const double psi = phi - kTwoPi * n;
-    Value local;
-    if (psi <= en_) local.setZero();
-    else if (psi <= ex_) local = f_.f2(psi) - f2en_ - f1en_ * (psi - en_);
-    else local = w2ex_ + I_ * (psi - ex_);
-    return I_ * (std::numbers::pi * n * (n - 1.0)) + J_ * n + I_ * (n * psi) + local;
-  }
-
- private:
-  T f_;
-  double en_, ex_;
-  Value f1en_, f2en_, I_, w2ex_, J_;
-};
-
-// ∫_{ta}^{tb} ∫_0^a w(Ω t − Θ − κ z) dz dt for the windowed integrand.
-template <class T>
-typename Windowed<T>::Value time_height_integral(const Windowed<T>& w, double omega, double theta, double kappa,
-                                                 double ta, double tb, double a) {
-  const double pa = omega * ta - theta, pb = omega * tb - theta;
-  const double lag = kappa * a;
-  if (lag < kSmallHelixLag) {  // straight (or nearly): a times the time integral at the mid slice
-    const double mid = 0.5 * lag;
-    return (w.w1(pb - mid) - w.w1(pa - mid)) * (a / omega);
-  }
-  return (w.w2(pb) - w.w2(pb - lag) - w.w2(pa) + w.w2(pa - lag)) / (omega * kappa);
-}
-
-constexpr double kHalfPi = 0.5 * std::numbers::pi;
-
-// sin and cos of a lead angle, exactly (1, 0) at 90° (cos(π/2) is 6e-17 in
-// double): the orthogonal cut must give H = [[K_f, 0], [0, 0]] exactly.
-double lead_sin(double kappa) { return kappa == kHalfPi ? 1.0 : std::sin(kappa); }
-double lead_cos(double kappa) { return kappa == kHalfPi ? 0.0 : std::cos(kappa); }
 
 }  // namespace
 
@@ -256,6 +147,19 @@ Process Process::milling(MillingParameters p) {
   for (std::size_t j = 1; j < nt; ++j) pr.offset_[j] = pr.offset_[j - 1] + pr.pitch_[j];
   pr.lag_.assign(nt, 0.0);
   for (std::size_t j = 0; j < nt; ++j) pr.lag_[j] = helix[j] > 0.0 ? std::tan(helix[j]) / radius : 0.0;
+  require(std::isfinite(p.axial_coefficient_n_per_m2) && p.axial_coefficient_n_per_m2 >= 0.0,
+          "axial force coefficient K_a must be >= 0 N/m^2");
+  pr.profile_ = CutterProfile::make(p.cutter, radius);
+  if (!pr.profile_.flat()) {
+    const std::string what = std::string("cutter_geometry = ") + to_string(p.cutter.geometry);
+    require(p.process_damping_coefficient_n_per_m == 0.0,
+            "process damping with " + what + " is not modelled (the flank contact of a curved edge): use a flat cutter "
+            "or no process damping");
+    require(!any_helix || pr.profile_.finite_lag(),
+            "a helix on a general profile needs every radius > 0 (the lag tan(beta) / R(z) grows without bound at R = 0)");
+    pr.tan_helix_.assign(nt, 0.0);
+    for (std::size_t j = 0; j < nt; ++j) pr.tan_helix_[j] = helix[j] > 0.0 ? std::tan(helix[j]) : 0.0;
+  }
   p.helix_angles_rad = helix;
   if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
@@ -379,11 +283,14 @@ double Process::runout_m(int j) const { return runout_[static_cast<std::size_t>(
 double Process::helix_lag_rad_per_m(int j) const { return lag_[static_cast<std::size_t>(j)]; }
 
 double Process::tooth_angle_rad(int j, double t_s, double z_m, double rpm) const {
+  if (has_profile()) return kTwoPi * rpm / 60.0 * t_s - tooth_offset_rad(j) - helix_lag_rad(j, z_m);
   return kTwoPi * rpm / 60.0 * t_s - tooth_offset_rad(j) - z_m * helix_lag_rad_per_m(j);
 }
 
 double Process::tooth_delay_s(int j, double z_m, double rpm) const {
   const int prev = (j + milling_.teeth - 1) % milling_.teeth;
+  if (has_profile())
+    return (pitch_angle_rad(j) + helix_lag_rad(j, z_m) - helix_lag_rad(prev, z_m)) / (kTwoPi * rpm / 60.0);
   return (pitch_angle_rad(j) + z_m * (helix_lag_rad_per_m(j) - helix_lag_rad_per_m(prev))) / (kTwoPi * rpm / 60.0);
 }
 
@@ -394,6 +301,12 @@ bool Process::in_cut(double phi) const {
 }
 
 Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
+  if (has_profile()) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    if (a_m > 0.0)
+      for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_integral(j, s, t_a, t_b, rpm);
+    return sum;
+  }
   const Windowed w(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
                    entry_angle(), exit_angle());
   return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
@@ -401,6 +314,12 @@ Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, dou
 
 Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
                                                        double rpm) const {
+  if (has_profile()) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    if (a_m > 0.0)
+      for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_direction_integral(j, s, t_a, t_b, rpm);
+    return sum;
+  }
   const Windowed w(force_direction_trig(milling_.tangential_coefficient_n_per_m2,
                                         milling_.radial_coefficient_n_per_m2),
                    entry_angle(), exit_angle());
@@ -446,7 +365,15 @@ std::vector<double> Process::engagement_events_s(double rpm, double depth_m) con
   std::vector<double> out;
   if (operation_ == Operation::kTurning) return out;
   const double omega = kTwoPi * rpm / 60.0, period = period_s(rpm);
-  for (int j = 0; j < milling_.teeth; ++j) {
+  if (has_profile()) {
+    out = profile_events_s(rpm, depth_m);
+    for (double& t : out) {
+      t = std::fmod(t, period);
+      if (t < 0.0) t += period;
+      if (period - t <= 1e-12 * period) t = 0.0;
+    }
+  }
+  for (int j = 0; j < milling_.teeth && !has_profile(); ++j) {
     for (const double edge : {entry_angle(), exit_angle()}) {
       for (const double z : {0.0, depth_m}) {
         // φ_j(t, z) = edge (mod 2π) → t = (edge + Θ_j + κ z) / Ω (mod period)
@@ -554,6 +481,12 @@ Eigen::Matrix2d Process::tooth_matrix_antiderivative(double phi) const {
 
 Eigen::Matrix2d Process::average_directional_matrix() const {
   if (operation_ == Operation::kTurning) return directional_matrix(0.0, 1.0);
+  if (has_profile()) {
+    if (!(frozen_depth_m_ > 0.0))
+      throw std::logic_error("average_directional_matrix: with a cutter profile H0 depends on the depth "
+                             "(average_directional_matrix_at, or at_depth)");
+    return average_directional_matrix_at(frozen_depth_m_);
+  }
   const Eigen::Matrix2d integral = tooth_matrix_antiderivative(exit_angle()) -
                                    tooth_matrix_antiderivative(entry_angle());
   return milling_.teeth / kTwoPi * integral;

@@ -55,10 +55,16 @@ TransferFunctionSolver::TransferFunctionSolver(StructuralModel model, Process pr
   if (model_.rigid())
     throw InputError("structural model: both bodies are rigid: give at least one mode or measured FRF");
   // A nose radius: H depends on the depth; H₀ here is H at depth_max, whose
-  // a·H bounds a·H(a) for every a <= depth_max (the chord grows with a).
-  H0_ = process_.has_nose_radius() ? process_.turning_matrix(options_.depth_max_m)
-                                   : process_.average_directional_matrix();
-  chord_iteration_ = process_.has_nose_radius();
+  // a·H bounds a·H(a) for every a <= depth_max (the chord grows with a). A
+  // cutter profile (docs/cutter_geometry.md): H₀(a) at depth_max likewise;
+  // the limit comes from the same iteration over frozen depths.
+  H0_ = process_.has_nose_radius()          ? process_.turning_matrix(options_.depth_max_m)
+        : process_.depth_dependent_force() ? process_.average_directional_matrix_at(options_.depth_max_m)
+                                            : process_.average_directional_matrix();
+  chord_iteration_ = process_.depth_dependent_force();
+  if (chord_iteration_ && process_.has_profile() && process_.has_variable_helix())
+    throw InputError("the averaged methods do not handle a variable helix on a ball-end, bull-nose or general "
+                     "cutter (the delays vary along the curved edge): use sdm or time-domain");
 }
 
 TransferFunctionSolver::~TransferFunctionSolver() = default;
@@ -112,8 +118,9 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
   return lim;
 }
 
-// Turning with a nose radius (docs/turning_inserts.md): the cut at depth a is
-// the frozen process with_chord_at(a) at that depth, so the boundary is the
+// Turning with a nose radius (docs/turning_inserts.md), or a milling cutter
+// profile (docs/cutter_geometry.md, H₀(a) averaged over the slices of depth
+// a): the cut at depth a is the frozen process at_depth(a), so the boundary is the
 // smallest a with F(a) <= a, F(a) the limit of this method for the frozen
 // chord. h(a) = F(a) − a > 0 near a = 0 (F ~ sqrt(a) there: the chord turns
 // towards the feed as sin κ_eq = sqrt(a/2r_ε)). March up with the fixed-point
@@ -122,7 +129,7 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
 // multi_delay.cpp). A root where h jumps between lobes is the jump depth.
 StabilityLimit TransferFunctionSolver::chord_limit_at(double rpm) const {
   const double depth_max = options_.depth_max_m;
-  auto limit_with = [&](double a) { return with_process(process_.with_chord_at(a))->limit_at(rpm); };
+  auto limit_with = [&](double a) { return with_process(process_.at_depth(a))->limit_at(rpm); };
   auto h_of = [&](const StabilityLimit& l, double a) {
     return (l.bounded() ? l.depth_limit_m : depth_max + 1.0) - a;  // finite, > 0 when unbounded
   };
@@ -146,8 +153,8 @@ StabilityLimit TransferFunctionSolver::chord_limit_at(double rpm) const {
     a = std::min(depth_max, a + stride);
   }
   if (!bracketed)
-    throw NumericalError("nose radius at " + std::to_string(rpm) +
-                         " rev/min: the depth iteration over the chord did not converge");
+    throw NumericalError((process_.has_profile() ? "cutter profile at " : "nose radius at ") + std::to_string(rpm) +
+                         " rev/min: the depth iteration over the frozen depths did not converge");
   if (lo == 0.0) return limit_with(hi);  // unstable at the smallest depth tried
   const double root =
       detail::brent_root([&](double x) { return h_of(limit_with(x), x); }, lo, hi, h_lo, h_hi, kChordDepthTolerance * hi);
@@ -177,8 +184,11 @@ std::optional<AbsoluteLimit> TransferFunctionSolver::known_absolute_limit() cons
 
 AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
   if (chord_iteration_)
-    throw InputError("absolute limit: not defined for a turning insert with a nose radius (the direction of the "
-                     "cut changes with the depth); use limit_at");
+    throw InputError(process_.has_profile()
+                         ? "absolute limit: not defined for a ball-end, bull-nose or general cutter (the averaged "
+                           "force changes with the depth); use limit_at"
+                         : "absolute limit: not defined for a turning insert with a nose radius (the direction of the "
+                           "cut changes with the depth); use limit_at");
   if (general_)
     throw InputError("absolute limit: not defined with variable pitch or helix or process damping (the limit "
                      "depends on the speed beyond the lobe phase); use limit_at");
@@ -193,7 +203,7 @@ AbsoluteLimit TransferFunctionSolver::absolute_limit() const {
 }
 
 SearchBand TransferFunctionSolver::band() const {
-  if (chord_iteration_) return with_process(process_.with_chord_at(options_.depth_max_m))->band();
+  if (chord_iteration_) return with_process(process_.at_depth(options_.depth_max_m))->band();
   if (general_) return {general_->omega_lo(), general_->omega_hi(), general_->grid_size()};
   return {search_->omega_lo(), search_->omega_hi(), search_->grid_size()};
 }

@@ -66,7 +66,7 @@ SolverDescriptor analytic_descriptor() {
   // damping go to the general per-speed search.
   d.accepts = {SolverFeature::kModalModel, SolverFeature::kMeasuredFrf, SolverFeature::kMilling,
                SolverFeature::kTurning, SolverFeature::kHelix, SolverFeature::kVariablePitch,
-               SolverFeature::kVariableHelix, SolverFeature::kProcessDamping};
+               SolverFeature::kVariableHelix, SolverFeature::kProcessDamping, SolverFeature::kCutterProfile};
   d.in_default_compare = true;
   d.options = {kMaxPhaseStep};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
@@ -85,7 +85,7 @@ SolverDescriptor coupled_descriptor() {
   // The helix leaves the averaged equation unchanged (note from
   // ignored_feature_notes); variable pitch and process damping are analytic's.
   d.accepts = {SolverFeature::kModalModel, SolverFeature::kMilling, SolverFeature::kTurning,
-               SolverFeature::kHelix};
+               SolverFeature::kHelix, SolverFeature::kCutterProfile};
   d.in_default_compare = true;
   d.options = {kMaxPhaseStep};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
@@ -107,7 +107,7 @@ SolverDescriptor sdm_descriptor() {
   // (docs/ssv.md); not with process damping (refused by the solver).
   d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
                SolverFeature::kHelix,         SolverFeature::kProcessDamping, SolverFeature::kVariablePitch,
-               SolverFeature::kVariableHelix, SolverFeature::kSpeedVariation};
+               SolverFeature::kVariableHelix, SolverFeature::kSpeedVariation, SolverFeature::kCutterProfile};
   d.in_default_compare = true;
   d.options = {{"steps", Kind::kInt,
                 "steps per delay period (default 64; the step is also at most 1/64 of the shortest natural "
@@ -145,7 +145,7 @@ SolverDescriptor time_domain_descriptor() {
   d.kind = SolverKind::kSimulation;
   d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
                SolverFeature::kHelix,         SolverFeature::kVariablePitch, SolverFeature::kVariableHelix,
-               SolverFeature::kRunout,        SolverFeature::kProcessDamping};
+               SolverFeature::kRunout,        SolverFeature::kProcessDamping, SolverFeature::kCutterProfile};
   d.in_default_compare = false;  // slow: opt-in
   d.options = {
       {"periods", Kind::kInt,
@@ -241,6 +241,7 @@ std::string to_string(SolverFeature f) {
     case SolverFeature::kRunout: return "runout (process.runout_um)";
     case SolverFeature::kProcessDamping: return "process damping (process.process_damping_coefficient_n_per_m)";
     case SolverFeature::kSpeedVariation: return "spindle speed variation (process.speed_variation)";
+    case SolverFeature::kCutterProfile: return "a ball-end, bull-nose or general cutter (process.cutter_geometry)";
   }
   return "feature " + std::to_string(static_cast<std::uint32_t>(f));
 }
@@ -264,6 +265,7 @@ FeatureSet needed_features(const StructuralModel& model, const Process& process)
   if (process.has_variable_helix()) s.insert(SolverFeature::kVariableHelix);
   if (process.has_process_damping()) s.insert(SolverFeature::kProcessDamping);
   if (process.has_speed_variation()) s.insert(SolverFeature::kSpeedVariation);
+  if (process.has_profile()) s.insert(SolverFeature::kCutterProfile);
   return s;
 }
 

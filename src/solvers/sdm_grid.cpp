@@ -109,11 +109,14 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   for (const double t : bnd)
     if (b.empty() || t - b.back() > kEventMerge * T) b.push_back(t);
   b.back() = T;
-  const int slices = (p.has_variable_helix() && a > 0.0) ? axial_slices : 1;
+  // A cutter profile: its own slices (each with its radius, lead angle and
+  // arc), which also carry the delays of a variable helix.
+  const std::vector<AxialSlice> cut = (p.has_profile() && a > 0.0) ? p.axial_slices(a) : std::vector<AxialSlice>{};
+  const int slices = !cut.empty() ? static_cast<int>(cut.size()) : (p.has_variable_helix() && a > 0.0) ? axial_slices : 1;
   std::vector<int> group(static_cast<std::size_t>(nt * slices));
   for (int j = 0; j < nt; ++j)
     for (int s = 0; s < slices; ++s) {
-      const double tau = p.tooth_delay_s(j, a * (s + 0.5) / slices, rpm);
+      const double tau = p.tooth_delay_s(j, !cut.empty() ? cut[static_cast<std::size_t>(s)].z_m : a * (s + 0.5) / slices, rpm);
       std::size_t k = 0;
       while (k < cg.gtau.size() && std::abs(cg.gtau[k] - tau) > kEventMerge * T) ++k;
       if (k == cg.gtau.size()) cg.gtau.push_back(tau);
@@ -128,7 +131,12 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   for (std::size_t s = 0; s + 1 < b.size(); ++s) {
     const double ta = b[s], tb = b[s + 1], d = tb - ta;
     Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
-    for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
+    if (!cut.empty()) {
+      for (int j = 0; j < nt; ++j)
+        for (const AxialSlice& c : cut) tot += p.slice_force_integral(j, c, ta, tb, rpm);
+    } else {
+      for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
+    }
     if (tot.norm() <= kFreeForce * kscale * a * d) {  // free flight: one step with any free neighbour
       if (!cg.free.empty() && cg.free.back()) {
         cg.h.back() += d;
@@ -149,6 +157,12 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
       cg.F.resize(first + ng, Eigen::Matrix2d::Zero());
       Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
       for (int j = 0; j < nt; ++j) {
+        if (!cut.empty()) {
+          for (int sl = 0; sl < slices; ++sl)
+            cg.F[first + static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] +=
+                p.slice_force_integral(j, cut[static_cast<std::size_t>(sl)], sa, sb, rpm);
+          continue;  // no process damping with a profile (Process::milling)
+        }
         Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
         for (int sl = 0; sl < slices; ++sl) {
           const Eigen::Matrix2d upto = p.tooth_force_integral(j, sa, sb, a * (sl + 1) / slices, rpm);
@@ -172,10 +186,16 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
                const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
                const MatrixXd& Sv) {
-  if (p.has_speed_variation()) return make_ssv_grid(p, o, f_max_hz, rpm);
+  if (p.has_speed_variation()) {
+    if (p.has_profile())
+      throw InputError("sdm: spindle speed variation with a ball-end, bull-nose or general cutter is not modelled "
+                       "(docs/cutter_geometry.md): remove process.speed_variation or use a flat cutter");
+    return make_ssv_grid(p, o, f_max_hz, rpm);
+  }
   Grid g;
   if (p.operation() == Operation::kMilling &&
-      (o.general_cutter_path || p.has_helix() || !p.uniform_cutter() || p.has_process_damping())) {
+      (o.general_cutter_path || p.has_helix() || !p.uniform_cutter() || p.has_process_damping() ||
+       p.has_profile())) {
     // Real cutter: the steps depend on the depth (SdmKernel::build_cutter).
     g.cutter = true;
     g.rpm = rpm;
@@ -194,7 +214,8 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
          << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
       throw InputError(os.str());
     }
-    if (!p.has_helix()) g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
+    if (!p.has_helix() && !p.has_profile())  // linear in a: once per speed at 1 m
+      g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
     return g;
   }
   g.tau = p.delay_s(rpm);

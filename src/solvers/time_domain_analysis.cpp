@@ -117,14 +117,17 @@ void SimulationRun::measure_forced(bool converged) {
           process_.milling_parameters().direction == MillingDirection::kDown ? std::numbers::pi : 0.0;
       const double nx = 0.0, ny = phi_w == 0.0 ? 1.0 : -1.0;  // n_w = (sin φ_w, cos φ_w), exactly
       const double rev = 60.0 / s_.spindle_rpm, omega = 2.0 * std::numbers::pi / rev, ex = std::exp(log_scale_);
-      const int heights = process_.has_helix() ? kWallHeights : 0;
+      const int heights = process_.has_helix() || process_.has_profile() ? kWallHeights : 0;
       const double t_now = history_->newest().t;  // the end of the run (the last grid point)
       double worst = kNaN;
       for (int i = 0; i <= heights; ++i) {
         const double z = heights > 0 ? s_.depth_m * i / heights : 0.0;
         double wall = std::numeric_limits<double>::infinity();
         for (int j = 0; j < teeth_; ++j) {
-          const double base = (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad_per_m(j) * z) / omega;
+          const double base =
+              process_.has_profile()
+                  ? (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad(j, z)) / omega
+                  : (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad_per_m(j) * z) / omega;
           // The last pass, <= t_end (min: round-off may put a pass at t_end a hair beyond it).
           const double t = std::min(base + std::floor((t_now - base) / rev) * rev, t_now);
           if (!(t > t_now - tau_ * (1.0 + 1e-9))) continue;                   // not in the last period

@@ -49,7 +49,7 @@ constexpr int kMaxBracketSteps = 30;
 /// this model and process (its constructor's rules, e.g. a model with both
 /// bodies rigid).
 std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulator& sim) {
-  if (sim.process().has_helix() && !sim.model().has_measured() && sim.model().mode_count() > 0) {
+  if ((sim.process().has_helix() || sim.process().has_profile()) && !sim.model().has_measured() && sim.model().mode_count() > 0) {
     SemiDiscretizationOptions so;
     so.depth_max_m = sim.options().depth_max_m;
     try {

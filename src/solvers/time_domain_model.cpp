@@ -28,7 +28,7 @@ constexpr int kDefaultHelixSlices = 20;
 bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
   if (p.operation() != Operation::kMilling) return false;
   return o.axial_slices > 0 || p.has_helix() || !p.uniform_cutter() || p.has_process_damping() ||
-         (p.has_runout() && !linear);
+         (p.has_runout() && !linear) || p.has_profile();
 }
 
 /// The period of a run (s): the Floquet period of the process
@@ -77,7 +77,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
 void Model::set_segment(double t_mid) {
   if (!milling_) return;
   if (general_) {
-    if (slices_ != 1) return;  // several slices: tested in the right-hand side
+    if (slices_ != 1 || profile_) return;  // several slices, a profile: tested in the right-hand side
     for (std::size_t e = 0; e < elements_.size(); ++e)
       in_arc_[e] = in_window(element_angle(elements_[e], t_mid)) ? 1 : 0;
     return;
@@ -97,7 +97,7 @@ std::vector<double> Model::arc_events(double t_end) const {
       for (long k = 0; t0 + static_cast<double>(k) * every <= t_end; ++k)
         out.push_back(t0 + static_cast<double>(k) * every);
     };
-    if (slices_ == 1) {
+    if (slices_ == 1 && !profile_) {
       for (const CutElement& e : elements_)
         for (const double edge : {phi_en_, phi_ex_}) {
           const double lag = process_.tooth_offset_rad(e.tooth) + e.z * process_.helix_lag_rad_per_m(e.tooth);
@@ -233,6 +233,13 @@ void Model::relative(const double* q, double r[2]) const {
 void Model::build_elements(const TimeDomainOptions& o) {
   const double a = settings_.depth_m, rpm = settings_.spindle_rpm;
   slices_ = o.axial_slices > 0 ? o.axial_slices : (process_.has_helix() ? kDefaultHelixSlices : 1);
+  // A cutter profile: the process's slices (the same as every method's).
+  profile_ = process_.has_profile();
+  std::vector<AxialSlice> cut;
+  if (profile_) {
+    cut = process_.axial_slices(a);
+    slices_ = static_cast<int>(cut.size());
+  }
   // Multiple regeneration: the chip is cut from the nearest of the surfaces
   // the N_t earlier teeth left (one revolution back).
   const int surfaces = (!settings_.linear && settings_.multiple_regeneration) ? teeth_ : 1;
@@ -243,6 +250,17 @@ void Model::build_elements(const TimeDomainOptions& o) {
       e.tooth = j;
       e.dz = a / slices_;
       e.z = (sl + 0.5) * e.dz;
+      if (profile_) {
+        const AxialSlice& c = cut[static_cast<std::size_t>(sl)];
+        e.z = c.z_m;
+        e.dz = c.height_m();
+        e.kr = c.radial_coefficient_n_per_m2;
+        e.en = c.entry_rad;
+        e.ex = c.exit_rad;
+        e.engaged = c.engaged;
+        e.lag = process_.helix_lag_rad(j, c.z_m);
+        e.width = process_.helix_lag_rad(j, c.z_hi_m) - process_.helix_lag_rad(j, c.z_lo_m);
+      }
       double delay = 0.0, pitch = 0.0;
       for (int k = 1; k <= surfaces; ++k) {
         const int cur = wrap_tooth(j - k + 1), prev = wrap_tooth(j - k);
@@ -306,13 +324,16 @@ constexpr double kOutOfArcMargin = 1e-9;
 // (the exact windowed integral over the slice height, with the chip and
 // direction taken at the midpoint). w = 0: the arc test.
 // φ is wrapped to [0, 2π).
-double Model::engaged_fraction(double phi, double w) const {
-  if (!(w > 0.0)) return (phi >= phi_en_ && phi <= phi_ex_) ? 1.0 : 0.0;
+double Model::engaged_fraction(double phi, double w) const { return engaged_fraction(phi, w, phi_en_, phi_ex_); }
+
+// The same for an arc [en, ex] of its own (a slice of a cutter profile).
+double Model::engaged_fraction(double phi, double w, double en, double ex) const {
+  if (!(w > 0.0)) return (phi >= en && phi <= ex) ? 1.0 : 0.0;
   double lo = phi - 0.5 * w;
   while (lo < 0.0) lo += 2.0 * kPi;
   const double hi = lo + w;
-  const double first = std::min(hi, phi_ex_) - std::max(lo, phi_en_);
-  const double second = std::min(hi, phi_ex_ + 2.0 * kPi) - std::max(lo, phi_en_ + 2.0 * kPi);
+  const double first = std::min(hi, ex) - std::max(lo, en);
+  const double second = std::min(hi, ex + 2.0 * kPi) - std::max(lo, en + 2.0 * kPi);
   if (!(first > 0.0) && !(second > 0.0)) return 0.0;  // outside the arc (what the formula gives)
   return std::min(1.0, (std::max(0.0, first) + std::max(0.0, second)) / w);
 }
@@ -322,6 +343,18 @@ double Model::engaged_fraction(double phi, double w) const {
 // tooth step back by δ = κ_j dz each, a rotation (round-off ~1e-16 per
 // slice).
 void Model::element_angles(double t) const {
+  if (profile_) {  // each slice its own lag: one angle per element
+    tooth_out_.assign(static_cast<std::size_t>(teeth_), 0);
+    const double base = omega_spindle_ * t;
+    for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+      const CutElement& e = elements_[ei];
+      const double phi = wrap(base - process_.tooth_offset_rad(e.tooth) - e.lag);
+      phi_[ei] = phi;
+      sin_[ei] = std::sin(phi);
+      cos_[ei] = std::cos(phi);
+    }
+    return;
+  }
   if (slices_ == 1) {
     for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
       const double phi = wrap(element_angle(elements_[ei], t));
@@ -415,7 +448,9 @@ void Model::general_chips(double t, const double* q, double* h) const {
       continue;
     }
     const double phi = phi_[ei];
-    const double frac = slices_ == 1 ? (in_arc_[ei] != 0 ? 1.0 : 0.0) : engaged_fraction(phi, slice_lag_[e.tooth]);
+    const double frac = profile_ ? (e.engaged ? engaged_fraction(phi, e.width, e.en, e.ex) : 0.0)
+                        : slices_ == 1 ? (in_arc_[ei] != 0 ? 1.0 : 0.0)
+                                       : engaged_fraction(phi, slice_lag_[e.tooth]);
     engaged_[ei] = frac;
     if (!(frac > 0.0)) {
       h[ei] = 1.0;
@@ -467,7 +502,7 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
     if (h > -air_margin_) touching = true;
     chip_max = std::max(chip_max, settings_.linear ? std::abs(h) : hc);
     const double sn = sin_[ei], cs = cos_[ei];
-    const Eigen::Vector2d v = milling_force_direction(kt_, kr_, sn, cs);
+    const Eigen::Vector2d v = milling_force_direction(kt_, profile_ ? e.kr : kr_, sn, cs);
     F[0] -= dz * v[0] * hc;
     F[1] -= dz * v[1] * hc;
     if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {

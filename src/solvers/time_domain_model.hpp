@@ -57,6 +57,11 @@ struct Diagnostics {
 struct CutElement {
   int tooth = 0;
   double z = 0.0, dz = 0.0;
+  // A cutter profile (Process::axial_slices; unused otherwise): the slice's
+  // radial coefficient K_r sin κ + K_a cos κ (N/m²), its arc, its lag at mid
+  // height tan β Λ(z) and across its height (rad); engaged = 0: never cuts.
+  double kr = 0.0, en = 0.0, ex = 0.0, lag = 0.0, width = 0.0;
+  bool engaged = true;
   std::vector<int> delay_index;   // into Model::delays_ (k = 1 … K)
   std::vector<double> advance;    // (θ_j + … + θ_{j−k+1}) / 2π
   std::vector<double> runout_diff;  // ρ_j − ρ_{j−k}, m
@@ -95,7 +100,9 @@ class Model {
   /// Root functions: one per tooth (uniform path) or per element when every
   /// element's entry and exit is a stop (one slice); none with several
   /// slices (their chips are clipped, see docs/time_domain.md).
-  int root_count() const { return general_ ? (slices_ == 1 ? static_cast<int>(elements_.size()) : 0) : teeth_; }
+  int root_count() const {
+    return general_ ? (slices_ == 1 && !profile_ ? static_cast<int>(elements_.size()) : 0) : teeth_;
+  }
   /// Largest delay any element reads (s): the history must hold it.
   double max_delay() const {
     return delays_.empty() ? tau_ : *std::max_element(delays_.begin(), delays_.end());
@@ -162,6 +169,7 @@ class Model {
   bool in_window(double phi) const;
   // Engaged fraction of a slice whose edge spans φ ± w/2 (ramps in and out).
   double engaged_fraction(double phi, double w) const;
+  double engaged_fraction(double phi, double w, double en, double ex) const;
   // φ, sin φ, cos φ of every element at t.
   void element_angles(double t) const;
   // Chips of every element (unclipped; +1 out of the arc).
@@ -185,6 +193,7 @@ class Model {
   double chip_n_[2] = {1.0, 0.0}, d_[2] = {0.0, 0.0};
   double width_m_ = 0.0, chip_per_feed_ = 1.0;
   bool general_ = false;
+  bool profile_ = false;  // a cutter profile: per-element arcs, coefficients and lags
   int slices_ = 1;
   std::vector<CutElement> elements_;
   std::vector<double> delays_;            // distinct delays read by the elements, s
