@@ -120,7 +120,8 @@ TEST_F(CliSsv, SimulateRunsTheModulatedSpeedOverThePrincipalPeriod) {
   const json c = json::parse(r.out);
   EXPECT_FALSE(z.contains("speed_variation"));
   EXPECT_EQ(z["growth_per_period"], c["growth_per_period"]);
-  EXPECT_EQ(z["steps"], c["steps"]);
+  EXPECT_EQ(z["integrator"]["steps"], c["integrator"]["steps"]);
+  EXPECT_EQ(z["integrator"]["rhs_evaluations"], c["integrator"]["rhs_evaluations"]);
   EXPECT_EQ(c["verdict"], "chatter");
   // --revolutions: the whole principal periods that hold them.
   r = run({"simulate", kExample, "--rpm", "300", "--depth-mm", "2", "--linear", "--revolutions", "45"});
@@ -138,9 +139,17 @@ TEST_F(CliSsv, TimeDomainPointAndLobesTakeSpeedVariation) {
   const double a_sdm = sdm["depth_limit_mm"].get<double>(), a_td = td["depth_limit_mm"].get<double>();
   EXPECT_NEAR(a_td / a_sdm, 1.0, 0.03) << "sdm " << a_sdm << " mm, time-domain " << a_td << " mm";
   EXPECT_GT(td["speed_variation"]["gain"].get<double>(), 1.0);
-  const auto r = run({"lobes", kExample, "--method", "time-domain", "--rpm-min", "1200", "--rpm-max", "1200",
-                      "--rpm-points", "1", "--out", "-"});
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  // lobes at the mean speed: the row at 1 200 rev/min is point's limit.
+  const auto r = run({"lobes", kExample, "--method", "time-domain", "--rpm-min", "1200", "--rpm-max", "1300",
+                      "--rpm-points", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream rows(r.out);
+  std::string header, first;
+  std::getline(rows, header);
+  std::getline(rows, first);
+  EXPECT_EQ(header, "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe") << r.out;
+  const double row_limit = std::stod(first.substr(first.find(',') + 1));
+  EXPECT_NEAR(row_limit / a_td, 1.0, 1e-8) << first << " vs point " << a_td;
 }
 
 TEST_F(CliSsv, PointReportsTheGainOverConstantSpeed) {
