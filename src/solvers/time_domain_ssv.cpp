@@ -103,7 +103,15 @@ void check_locked_orbit(const TimeDomainSimulator& sim, const SimulationSettings
      << "(linear run: growth per period |mu| = " << l.growth_per_period << ")";
   r.verdict = SimulationVerdict::kChatter;
   r.verdict_measure = os.str();
-  r.chatter_frequency_hz = r.dominant_nonharmonic_hz;
+  // The orbit's lines are all harmonics of the principal period: the
+  // chatter frequency is the growing linear run's largest line (a
+  // homogeneous run has no forced lines; with a window of a few principal
+  // periods the harmonic windows k / T ± 2.5 / T_window would hide most of
+  // its spectrum).
+  std::size_t peak = 0;
+  for (std::size_t k = 1; k < l.spectrum_amplitude_m.size(); ++k)
+    if (peak == 0 || l.spectrum_amplitude_m[k] > l.spectrum_amplitude_m[peak]) peak = k;
+  r.chatter_frequency_hz = peak > 0 ? l.spectrum_hz[peak] : l.dominant_nonharmonic_hz;
   r.linear_limit_warning.clear();
 }
 
