@@ -20,6 +20,11 @@
 // plus the process damping −(C_pd/V) dz (n·ṙ) n of each cutting slice
 // (turning: −(C_pd/V) a ṙ_x). With a variable pitch or helix, or runout in
 // nonlinear mode, the period is one revolution.
+// Spindle speed variation (docs/ssv.md "In the time domain"; Insperger &
+// Stépán 2004, Seguy et al. 2010): Ω(t) = Ω₀ (1 + R_VA sin(R_VF Ω₀ t)); the
+// tooth angles follow θ(t) = ∫Ω, each delay τ(t) solves θ(t) − θ(t − τ) =
+// the constant-speed delay angle, V in C_pd/V follows Ω(t), and the period
+// is sdm's principal period p T_m = q T_F (speed_variation_period).
 //
 // Integrator: SUNDIALS CVODE, variable-order Adams–Moulton (order <= 5) with
 // fixed-point iteration — the structural modes are lightly damped and not
@@ -196,8 +201,11 @@ class TimeDomainSimulator {
   TimeDomainSimulator(StructuralModel model, Process process, TimeDomainOptions options = {});
 
   /// One run. @throws InputError on rpm <= 0, depth < 0, periods < 4, a
-  /// negative feed, a wrong-sized initial state, or a speed needing more than
-  /// max_samples_per_period samples; NumericalError if CVODE fails.
+  /// negative feed, a wrong-sized initial state, a speed needing more than
+  /// max_samples_per_period samples, or runout with speed variation outside
+  /// the homogeneous linear mode; NumericalError if CVODE fails.
+  /// With speed variation a nonlinear run that settles while the tool
+  /// leaves the cut costs one more (linear) run (docs/ssv.md).
   SimulationResult simulate(const SimulationSettings& settings) const;
 
   const StructuralModel& model() const { return model_; }
