@@ -55,12 +55,11 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("feed_per_tooth_mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
   if (revolutions && periods) throw InputError("revolutions and periods: give one of them");
-  const int per_rev = chatter::simulation_periods_per_revolution(cfg.process, rpm, linear);
-  int n_periods = 200;
+  int n_periods = chatter::default_simulation_periods(cfg.process, rpm, linear);
   if (revolutions) {
     if (*revolutions < 1 || *revolutions > 1000000)
       throw InputError("revolutions = " + std::to_string(*revolutions) + ": must be in [1, 1000000]");
-    n_periods = *revolutions * per_rev;
+    n_periods = chatter::simulation_periods_in_revolutions(cfg.process, rpm, linear, *revolutions);
   } else if (periods) {
     n_periods = *periods;
   }

@@ -81,12 +81,75 @@ TEST_F(CliSsv, FlagsAreCheckedAndNeedEachOther) {
 }
 
 TEST_F(CliSsv, MethodsThatCannotRefuseNamingSdm) {
-  for (const std::string method : {"analytic", "coupled", "time-domain"}) {
+  for (const std::string method : {"analytic", "coupled"}) {
     const auto r = run({"point", kExample, "--rpm", "300", "--depth-mm", "1", "--method", method});
     EXPECT_EQ(r.exit_code, 2) << method;
     EXPECT_TRUE(contains(r.err, "method \"" + method + "\" does not handle spindle speed variation")) << r.err;
     EXPECT_TRUE(contains(r.err, "sdm")) << r.err;
+    EXPECT_TRUE(contains(r.err, "time-domain")) << r.err;  // it solves SSV too
   }
+}
+
+TEST_F(CliSsv, SimulateRunsTheModulatedSpeedOverThePrincipalPeriod) {
+  // Case A, R_VA 0.1, R_VF 0.1 at 300 rev/min: the period is ten
+  // revolutions (2 s, sdm's); 2 mm is stable with SSV (sdm: 2.65 mm) although
+  // constant speed chatters there (1.35 mm).
+  auto r = run({"simulate", kExample, "--rpm", "300", "--depth-mm", "2", "--linear"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["verdict"], "stable") << j["verdict_measure"];
+  EXPECT_NEAR(j["floquet_period_s"].get<double>(), 2.0, 1e-12);
+  EXPECT_EQ(j["periods"], 20);  // 200 revolutions by default
+  EXPECT_NEAR(j["revolutions"].get<double>(), 200.0, 1e-9);
+  ASSERT_TRUE(j.contains("speed_variation"));
+  EXPECT_EQ(j["speed_variation"]["frequency_ratio_used"], 0.1);
+  EXPECT_EQ(j["speed_variation"]["exact_period"], true);
+  EXPECT_DOUBLE_EQ(j["speed_variation"]["floquet_periods"].get<double>(), 10.0);
+  // The same modulation from the flags on the constant-speed config: the same run.
+  r = run({"simulate", kCaseA, "--rpm", "300", "--depth-mm", "2", "--linear", "--ssv-amplitude", "0.1",
+           "--ssv-frequency", "0.1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json f = json::parse(r.out);
+  EXPECT_EQ(f["growth_per_period"], j["growth_per_period"]);
+  // --ssv-amplitude 0: constant speed, the constant-speed config's run bit for bit.
+  r = run({"simulate", kExample, "--rpm", "300", "--depth-mm", "2", "--linear", "--ssv-amplitude", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json z = json::parse(r.out);
+  r = run({"simulate", kCaseA, "--rpm", "300", "--depth-mm", "2", "--linear"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json c = json::parse(r.out);
+  EXPECT_FALSE(z.contains("speed_variation"));
+  EXPECT_EQ(z["growth_per_period"], c["growth_per_period"]);
+  EXPECT_EQ(z["integrator"]["steps"], c["integrator"]["steps"]);
+  EXPECT_EQ(z["integrator"]["rhs_evaluations"], c["integrator"]["rhs_evaluations"]);
+  EXPECT_EQ(c["verdict"], "chatter");
+  // --revolutions: the whole principal periods that hold them.
+  r = run({"simulate", kExample, "--rpm", "300", "--depth-mm", "2", "--linear", "--revolutions", "45"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["periods"], 5);
+}
+
+TEST_F(CliSsv, TimeDomainPointAndLobesTakeSpeedVariation) {
+  // 1 200 rev/min: sdm's SSV limit; the simulation's within its depth
+  // tolerance (1 %) and the verdict's margin (docs/ssv.md).
+  const json sdm = point({kExample, "--rpm", "1200", "--depth-mm", "2", "--method", "sdm"});
+  const json td = point({kExample, "--rpm", "1200", "--depth-mm", "2", "--method", "time-domain"});
+  ASSERT_TRUE(td.contains("speed_variation")) << td.dump();
+  EXPECT_NEAR(td["floquet_period_s"].get<double>(), sdm["floquet_period_s"].get<double>(), 1e-12);
+  const double a_sdm = sdm["depth_limit_mm"].get<double>(), a_td = td["depth_limit_mm"].get<double>();
+  EXPECT_NEAR(a_td / a_sdm, 1.0, 0.03) << "sdm " << a_sdm << " mm, time-domain " << a_td << " mm";
+  EXPECT_GT(td["speed_variation"]["gain"].get<double>(), 1.0);
+  // lobes at the mean speed: the row at 1 200 rev/min is point's limit.
+  const auto r = run({"lobes", kExample, "--method", "time-domain", "--rpm-min", "1200", "--rpm-max", "1300",
+                      "--rpm-points", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream rows(r.out);
+  std::string header, first;
+  std::getline(rows, header);
+  std::getline(rows, first);
+  EXPECT_EQ(header, "spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe") << r.out;
+  const double row_limit = std::stod(first.substr(first.find(',') + 1));
+  EXPECT_NEAR(row_limit / a_td, 1.0, 1e-8) << first << " vs point " << a_td;
 }
 
 TEST_F(CliSsv, PointReportsTheGainOverConstantSpeed) {

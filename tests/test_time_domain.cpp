@@ -515,7 +515,7 @@ TEST(TimeDomainSpectrum, HarmonicLinesHaveOneDefinition) {
     for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k) {
       const double f = r.spectrum_hz[k];
       const long h = std::lround(f / f1);
-      const double off = std::abs(f - h * f1);
+      const double off = std::abs(f - static_cast<double>(h) * f1);
       if (r.spectrum_harmonic[k] > 0) {
         ++marked;
         EXPECT_EQ(r.spectrum_harmonic[k], h) << f;

@@ -110,6 +110,10 @@ struct SimulationRequest {
   double tooth_period_s = 0.0;  ///< Process::delay_s at the speed
   double depth_mm = 0.0;        ///< the depth as given (echoed as is)
   double feed_mm = 0.0;         ///< the feed as given (echoed as is)
+  /// Spindle speed variation (docs/ssv.md): the modulation asked and the
+  /// principal period the run is over; empty at constant speed.
+  std::optional<SpeedVariation> speed_variation;
+  SpeedVariationPeriod speed_variation_period;
 };
 /// The request of a run as the user gave it: depth and feed in mm as typed,
 /// the periods per revolution and the tooth period from the process.

@@ -100,8 +100,9 @@ struct PointReport {
 /// limit and one analysis. With speed variation, also the limit at constant
 /// speed and the gain (PointReport::speed_variation): one more limit, by
 /// `constant_speed` (the same method on process.at_constant_speed()) when
-/// given, else, for sdm, by an sdm solver built from the solver's own model,
-/// process at constant speed and options (what every front end gets).
+/// given, else, for sdm and time-domain, by a solver of the same method
+/// built from the solver's own model, process at constant speed and options
+/// (what every front end gets).
 /// @pre rpm > 0, depth_mm > 0 (check_spindle_rpm, check_depth_mm).
 PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
                          const LobeSolver* constant_speed = nullptr);

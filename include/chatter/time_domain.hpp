@@ -20,6 +20,11 @@
 // plus the process damping −(C_pd/V) dz (n·ṙ) n of each cutting slice
 // (turning: −(C_pd/V) a ṙ_x). With a variable pitch or helix, or runout in
 // nonlinear mode, the period is one revolution.
+// Spindle speed variation (docs/ssv.md "In the time domain"; Insperger &
+// Stépán 2004, Seguy et al. 2010): Ω(t) = Ω₀ (1 + R_VA sin(R_VF Ω₀ t)); the
+// tooth angles follow θ(t) = ∫Ω, each delay τ(t) solves θ(t) − θ(t − τ) =
+// the constant-speed delay angle, V in C_pd/V follows Ω(t), and the period
+// is sdm's principal period p T_m = q T_F (speed_variation_period).
 //
 // Integrator: SUNDIALS CVODE, variable-order Adams–Moulton (order <= 5) with
 // fixed-point iteration — the structural modes are lightly damped and not
@@ -166,14 +171,29 @@ struct SimulationSettings {
 /// The period of a simulation (s) at `rpm` (rev/min): one tooth period for
 /// a uniform cutter (and turning: one revolution); one revolution with
 /// variable pitch or helix, or with runout in nonlinear mode (`linear` false),
-/// since the chips then repeat once per revolution only. Periods, the
-/// once-per-period samples and growth_per_period of a run are per this.
+/// since the chips then repeat once per revolution only. With spindle speed
+/// variation (process.speed_variation, docs/ssv.md) the principal period of
+/// the modulated equation, p T_m = q T_F (speed_variation_period: sdm's),
+/// usually several revolutions. Periods, the once-per-period samples and
+/// growth_per_period of a run are per this.
 double simulation_period_s(const Process& process, double rpm, bool linear);
 
 /// Periods of that length in one revolution: N_t for a uniform milling
 /// cutter, 1 when the period is a revolution (and in turning). What
-/// `--revolutions` is multiplied by.
+/// `--revolutions` is multiplied by. 0 with speed variation (a period of
+/// several revolutions): see simulation_periods_in_revolutions.
 int simulation_periods_per_revolution(const Process& process, double rpm, bool linear);
+
+/// The periods of a run of `revolutions` (>= 1) revolutions: revolutions ×
+/// simulation_periods_per_revolution; with speed variation the fewest whole
+/// principal periods that hold them (at least 4, the fewest a run takes).
+int simulation_periods_in_revolutions(const Process& process, double rpm, bool linear, int revolutions);
+
+/// The periods a run takes by default: 200 (tooth periods, or revolutions
+/// for a cutter whose period is one); with speed variation as many whole
+/// principal periods as hold 200 tooth periods, at least 20 (the lobe
+/// search's rule, TimeDomainOptions::periods).
+int default_simulation_periods(const Process& process, double rpm, bool linear);
 
 class TimeDomainSimulator {
  public:
@@ -181,8 +201,11 @@ class TimeDomainSimulator {
   TimeDomainSimulator(StructuralModel model, Process process, TimeDomainOptions options = {});
 
   /// One run. @throws InputError on rpm <= 0, depth < 0, periods < 4, a
-  /// negative feed, a wrong-sized initial state, or a speed needing more than
-  /// max_samples_per_period samples; NumericalError if CVODE fails.
+  /// negative feed, a wrong-sized initial state, a speed needing more than
+  /// max_samples_per_period samples, or runout with speed variation outside
+  /// the homogeneous linear mode; NumericalError if CVODE fails.
+  /// With speed variation a nonlinear run that settles while the tool
+  /// leaves the cut costs one more (linear) run (docs/ssv.md).
   SimulationResult simulate(const SimulationSettings& settings) const;
 
   const StructuralModel& model() const { return model_; }

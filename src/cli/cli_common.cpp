@@ -107,7 +107,7 @@ void add_speed_variation_options(po::options_description& d) {
   d.add_options()
       ("ssv-amplitude", po::value<double>(), "spindle speed variation: amplitude ratio R_VA in [0, 1), the speed "
        "swings +-R_VA around the mean (replaces process.speed_variation.amplitude_ratio; 0: constant speed; methods: "
-       "sdm)")
+       "sdm, time-domain)")
       ("ssv-frequency", po::value<double>(), "spindle speed variation: frequency ratio R_VF > 0, modulation "
        "frequency / spindle frequency (replaces process.speed_variation.frequency_ratio)");
 }

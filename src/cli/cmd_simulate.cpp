@@ -52,9 +52,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("rpm", po::value<double>(&rpm)->required(), "spindle speed, rev/min (required)")
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
       ("revolutions", po::value<int>(&revolutions), "spindle revolutions to simulate (default: enough for 200 delay "
-                                                    "periods: 200 in turning, 200 / teeth in milling)")
-      ("periods", po::value<int>(&periods), "delay periods (tooth periods in milling) to simulate, instead of "
-                                            "--revolutions")
+                                                    "periods: 200 in turning, 200 / teeth in milling; with speed "
+                                                    "variation the whole principal periods that hold them, >= 20)")
+      ("periods", po::value<int>(&periods), "delay periods (tooth periods in milling; principal periods with speed "
+                                            "variation) to simulate, instead of --revolutions")
       ("feed-per-tooth-mm", po::value<double>(&feed_mm), "feed per tooth (milling) or per revolution (turning), mm "
                                                          "(default: [process] feed_per_tooth_mm / feed_per_rev_mm, "
                                                          "else 0.1)")
@@ -77,6 +78,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                            "frequency_hz, amplitude_um, harmonic)")
       ("plot", po::value<std::string>(&plot_path), "draw displacement, force and spectrum (.png, .svg or .pdf)");
   add_show_option(d);
+  add_speed_variation_options(d);
   po::variables_map vm;
   if (!parse(args,
              "Usage: chatter simulate CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -99,7 +101,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   if (!vm["out-every"].defaulted() && out_path.empty())
     throw InputError("--out-every: only with --out (it thins the time series written there)");
   if (!(std::isfinite(warn_mb) && warn_mb > 0.0)) throw InputError("--warn-size-mb = " + fmt(warn_mb) + ": must be > 0");
-  const Config cfg = load_checked(common);
+  Config cfg = load_checked(common);
+  apply_speed_variation_options(vm, common, cfg);
   if (!vm.count("feed-per-tooth-mm")) feed_mm = cfg.feed_mm.value_or(0.1);
   check_spindle_rpm(rpm, "--rpm");
   check_depth_mm(depth_mm, "--depth-mm", /*allow_zero=*/true);
@@ -109,13 +112,13 @@ int cmd_simulate(const std::vector<std::string>& args) {
     throw InputError("--revolutions and --periods: give one of them");
   if (vm.count("linear") && vm.count("linear-forced"))
     throw InputError("--linear and --linear-forced: give one of them (--linear-forced is linear with the feed)");
-  const int per_rev = simulation_periods_per_revolution(cfg.process, rpm, vm.count("linear") > 0);
+  const bool linear = vm.count("linear") > 0;
   if (vm.count("revolutions")) {
     if (revolutions < 1 || revolutions > 1000000)
       throw InputError("--revolutions = " + std::to_string(revolutions) + ": must be in [1, 1000000]");
-    periods = revolutions * per_rev;
+    periods = simulation_periods_in_revolutions(cfg.process, rpm, linear, revolutions);
   } else if (!vm.count("periods")) {
-    periods = 200;
+    periods = default_simulation_periods(cfg.process, rpm, linear);
   }
   if (periods < 4 || periods > 10000000)
     throw InputError("--periods = " + std::to_string(periods) + ": must be in [4, 10000000]");

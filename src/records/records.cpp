@@ -154,6 +154,10 @@ SimulationRequest simulation_request(const SimulationSettings& settings, const P
   q.tooth_period_s = process.delay_s(settings.spindle_rpm);
   q.depth_mm = depth_mm;
   q.feed_mm = feed_mm;
+  if (process.has_speed_variation()) {
+    q.speed_variation = process.speed_variation();
+    q.speed_variation_period = speed_variation_period(process, settings.spindle_rpm);
+  }
   return q;
 }
 
@@ -183,7 +187,9 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
   j["tooth_passing_hz"] = r.tooth_passing_hz;
   j["tooth_period_s"] = q.tooth_period_s;
   j["periods"] = r.periods;
-  j["revolutions"] = static_cast<double>(r.periods) / q.periods_per_revolution;
+  // (Speed variation: a period of several revolutions, periods_per_revolution 0.)
+  j["revolutions"] = q.periods_per_revolution > 0 ? static_cast<double>(r.periods) / q.periods_per_revolution
+                                                  : r.periods * r.floquet_period_s * st.spindle_rpm / 60.0;
   j["analysed_from_period"] = r.analysed_from_period;
   json harmonics = json::array();
   for (std::size_t k = 0; k < r.harmonics.size() && k < 10; ++k)
@@ -191,6 +197,16 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
                          {"frequency_hz", r.harmonics[k].frequency_hz},
                          {"amplitude_um", r.harmonics[k].amplitude_m * 1e6}});
   j["harmonics"] = harmonics;
+  if (q.speed_variation) {  // the modulation the run integrated and its principal period (docs/ssv.md)
+    const SpeedVariationPeriod& p = q.speed_variation_period;
+    j["speed_variation"] = {{"amplitude_ratio", q.speed_variation->amplitude_ratio},
+                            {"frequency_ratio", q.speed_variation->frequency_ratio},
+                            {"frequency_ratio_used", p.frequency_ratio_used},
+                            {"exact_period", p.exact},
+                            {"period_s", p.period_s},
+                            {"modulation_periods", p.modulation_periods},
+                            {"floquet_periods", p.floquet_periods}};
+  }
   // What the run measured of the forced vibration, the teeth out of the cut
   // and the linear limit's validity (docs/forced.md).
   if (st.linear_static_chip) j["feed_per_tooth_mm"] = q.feed_mm;

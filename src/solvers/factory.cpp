@@ -145,7 +145,8 @@ SolverDescriptor time_domain_descriptor() {
   d.kind = SolverKind::kSimulation;
   d.accepts = {SolverFeature::kModalModel,    SolverFeature::kMilling,       SolverFeature::kTurning,
                SolverFeature::kHelix,         SolverFeature::kVariablePitch, SolverFeature::kVariableHelix,
-               SolverFeature::kRunout,        SolverFeature::kProcessDamping, SolverFeature::kCutterProfile};
+               SolverFeature::kRunout,        SolverFeature::kProcessDamping, SolverFeature::kCutterProfile,
+               SolverFeature::kSpeedVariation};
   d.in_default_compare = false;  // slow: opt-in
   d.options = {
       {"periods", Kind::kInt,

@@ -7,6 +7,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/semi_discretization.hpp"
+#include "chatter/time_domain.hpp"
 
 namespace chatter {
 
@@ -64,14 +65,19 @@ PointReport report_point(const LobeSolver& solver, const Process& process, doubl
   r.stable = r.at_depth.stable.value_or(below_limit);
   r.margin = r.limit.limit.bounded() ? r.limit.limit.depth_limit_m / depth_m : std::numeric_limits<double>::infinity();
   // Speed variation: the same method at constant speed — the caller's, or
-  // for sdm (the method that solves SSV) one built here from its own model,
+  // for sdm and time-domain (the methods that solve SSV) one built here from its own model,
   // process and options, so every front end reports the same record.
-  std::unique_ptr<SemiDiscretizationSolver> own;
-  if (process.has_speed_variation() && !constant_speed)
+  std::unique_ptr<LobeSolver> own;
+  if (process.has_speed_variation() && !constant_speed) {
     if (const auto* sdm = dynamic_cast<const SemiDiscretizationSolver*>(&solver)) {
       own = std::make_unique<SemiDiscretizationSolver>(sdm->model(), sdm->process().at_constant_speed(), sdm->options());
-      constant_speed = own.get();
+    } else if (const auto* td = dynamic_cast<const TimeDomainSolver*>(&solver)) {
+      // The simulation solves SSV too (docs/ssv.md): the same options at constant speed.
+      const TimeDomainSimulator& sim = td->simulator();
+      own = std::make_unique<TimeDomainSolver>(sim.model(), sim.process().at_constant_speed(), sim.options());
     }
+    constant_speed = own.get();
+  }
   if (process.has_speed_variation() && constant_speed) {
     SpeedVariationGain g;
     g.asked = process.speed_variation();

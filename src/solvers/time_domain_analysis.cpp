@@ -129,7 +129,9 @@ void SimulationRun::measure_forced(bool converged) {
                   ? (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad(j, z)) / omega
                   : (phi_w + process_.tooth_offset_rad(j) + process_.helix_lag_rad_per_m(j) * z) / omega;
           // The last pass, <= t_end (min: round-off may put a pass at t_end a hair beyond it).
-          const double t = std::min(base + std::floor((t_now - base) / rev) * rev, t_now);
+          // (Speed variation: in the mean-speed time θ(t)/Ω₀, then back to t.)
+          const double t_mean = m_.mean_time(t_now);
+          const double t = std::min(m_.real_time(base + std::floor((t_mean - base) / rev) * rev), t_now);
           if (!(t > t_now - tau_ * (1.0 + 1e-9))) continue;                   // not in the last period
           double r[2];
           history_->displacement(t, r);

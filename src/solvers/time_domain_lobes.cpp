@@ -49,7 +49,11 @@ constexpr int kMaxBracketSteps = 30;
 /// this model and process (its constructor's rules, e.g. a model with both
 /// bodies rigid).
 std::shared_ptr<const LobeSolver> default_starting_guess(const TimeDomainSimulator& sim) {
-  if ((sim.process().has_helix() || sim.process().has_profile()) && !sim.model().has_measured() && sim.model().mode_count() > 0) {
+  // Speed variation: sdm solves the same modulated equation (the averaged
+  // methods refuse it); not with process damping, which sdm refuses there.
+  const bool ssv_guess = sim.process().has_speed_variation() && !sim.process().has_process_damping();
+  if ((sim.process().has_helix() || sim.process().has_profile() || ssv_guess) && !sim.model().has_measured() &&
+      sim.model().mode_count() > 0) {
     SemiDiscretizationOptions so;
     so.depth_max_m = sim.options().depth_max_m;
     try {
@@ -77,7 +81,7 @@ TimeDomainSolver::TimeDomainSolver(StructuralModel model, Process process, TimeD
     starting_guess_ = default_starting_guess(simulator_);
     floquet_guess_ = dynamic_cast<const SemiDiscretizationSolver*>(starting_guess_.get()) != nullptr;
   }
-  if (floquet_guess_ && simulator_.options().axial_slices == 0) {
+  if (floquet_guess_ && simulator_.process().has_helix() && simulator_.options().axial_slices == 0) {
     TimeDomainOptions o = simulator_.options();
     o.axial_slices = kSearchHelixSlices;
     search_simulator_ = std::make_shared<const TimeDomainSimulator>(simulator_.model(), simulator_.process(), o);

@@ -35,8 +35,10 @@ bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
 /// (Process::floquet_period_s), the same as sdm's: the tooth period for a
 /// uniform cutter, the shortest repeat of the pitch and helix pattern
 /// otherwise, and of the runout too in nonlinear mode (the linear equation
-/// has no static chip, which is all runout changes).
+/// has no static chip, which is all runout changes). With speed variation
+/// the principal period of the equation, sdm's (speed_variation_period).
 double simulation_period(const Process& p, const SimulationSettings& s) {
+  if (p.has_speed_variation()) return speed_variation_period(p, s.spindle_rpm).period_s;
   return p.floquet_period_s(s.spindle_rpm, p.has_runout() && !homogeneous(s));
 }
 
@@ -68,6 +70,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
     }
   }
   pd_per_depth_ = process.process_damping_per_depth(s.spindle_rpm);
+  init_speed_variation();
   general_ = general_cutter(process, options, homogeneous(s));
   if (general_) build_elements(options);
   in_arc_.assign(general_ ? elements_.size() : static_cast<std::size_t>(teeth_), milling_ ? 0 : 1);
@@ -89,6 +92,18 @@ void Model::set_segment(double t_mid) {
 }
 
 std::vector<double> Model::arc_events(double t_end) const {
+  if (!ssv_) return arc_events_mean(t_end, tau_);
+  // Speed variation: the constant-speed events of the mean-speed time up to
+  // θ(t_end)/Ω₀, each at the real time the spindle reaches its angle.
+  std::vector<double> out;
+  for (const double tm : arc_events_mean(mean_time(t_end), mean_delay_)) {
+    const double t = real_time(tm);
+    if (t <= t_end) out.push_back(t);
+  }
+  return out;
+}
+
+std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) const {
   std::vector<double> out;
   if (!milling_) return out;
   if (general_) {
@@ -114,7 +129,8 @@ std::vector<double> Model::arc_events(double t_end) const {
   const double pitch = 2.0 * kPi / teeth_;
   for (double phi : {phi_en_, phi_ex_}) {
     const double t0 = std::fmod(phi, pitch) / omega_spindle_;
-    for (long k = 0; t0 + static_cast<double>(k) * tau_ <= t_end; ++k) out.push_back(t0 + static_cast<double>(k) * tau_);
+    for (long k = 0; t0 + static_cast<double>(k) * tooth_period <= t_end; ++k)
+      out.push_back(t0 + static_cast<double>(k) * tooth_period);
   }
   return out;
 }
@@ -127,7 +143,9 @@ void Model::chips(double t, const double* q, double* h) const {
   double r[2] = {0, 0};
   relative(q, r);
   double rd[2];
-  history_->displacement(t - tau_, rd);
+  // The surface the previous tooth left: τ earlier (time-varying with speed variation).
+  const double t_delayed = ssv_ ? delayed_time(t, mean_delay_) : t - tau_;
+  history_->displacement(t_delayed, rd);
   const double dx = r[0] - rd[0], dy = r[1] - rd[1];
   const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   for (int j = 0; j < teeth_; ++j) {
@@ -146,7 +164,7 @@ void Model::chips(double t, const double* q, double* h) const {
       hj = feed * chip_per_feed_ + chip_n_[0] * dx + chip_n_[1] * dy;
     }
     if (settings_.multiple_regeneration && !settings_.linear)
-      hj -= history_->gap(t - tau_, (j + teeth_ - 1) % teeth_);
+      hj -= history_->gap(t_delayed, (j + teeth_ - 1) % teeth_);
     h[j] = hj;
   }
 }
@@ -194,7 +212,7 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
         // Process damping (turning, n = x): −C_pd (a/V) ṙ_x while cutting.
         double rv[2];
         relative(qd, rv);
-        F[0] -= pd_per_depth_ * a * rv[0];
+        F[0] -= process_damping_now(t) * a * rv[0];
       }
     } else {  // an insert: F = −b h d, process damping −C_pd (b/V) (n·ṙ) n
       F[0] += -width_m_ * d_[0] * hc;
@@ -203,8 +221,9 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
         double rv[2];
         relative(qd, rv);
         const double vn = chip_n_[0] * rv[0] + chip_n_[1] * rv[1];
-        F[0] -= pd_per_depth_ * width_m_ * vn * chip_n_[0];
-        F[1] -= pd_per_depth_ * width_m_ * vn * chip_n_[1];
+        const double pd = process_damping_now(t);
+        F[0] -= pd * width_m_ * vn * chip_n_[0];
+        F[1] -= pd * width_m_ * vn * chip_n_[1];
       }
     }
   }
@@ -305,7 +324,7 @@ int Model::delay_slot(double d) {
 }
 
 double Model::element_angle(const CutElement& e, double t) const {
-  return process_.tooth_angle_rad(e.tooth, t, e.z, settings_.spindle_rpm);
+  return process_.tooth_angle_rad(e.tooth, mean_time(t), e.z, settings_.spindle_rpm);
 }
 
 bool Model::in_window(double phi) const {
@@ -367,6 +386,7 @@ void Model::element_angles(double t) const {
   // The slices of two teeth at a time: their rotations are independent
   // chains, stepped together so that neither waits on the other's latency
   // (the same operations per tooth as one at a time: the same values).
+  const double tm = mean_time(t);  // t at constant speed
   struct Chain {
     std::size_t ei;
     double phi, sn, cs, d, cd, sd;
@@ -374,7 +394,7 @@ void Model::element_angles(double t) const {
   auto start = [&](int j) {
     const auto ju = static_cast<std::size_t>(j);
     const double d = slice_lag_[ju];
-    const double phi = wrap(process_.tooth_angle_rad(j, t, 0.0, settings_.spindle_rpm) - 0.5 * d);
+    const double phi = wrap(process_.tooth_angle_rad(j, tm, 0.0, settings_.spindle_rpm) - 0.5 * d);
     return Chain{ju * static_cast<std::size_t>(slices_), phi, std::sin(phi), std::cos(phi), d, slice_cos_[ju], slice_sin_[ju]};
   };
   auto advance = [&](Chain& c) {
@@ -399,7 +419,7 @@ void Model::element_angles(double t) const {
   for (int j = 0; j < teeth_; ++j) {
     const double span = slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) + 2.0 * kOutOfArcMargin;
     if (span < 2.0 * kPi) {
-      const double lo = wrap(process_.tooth_angle_rad(j, t, 0.0, settings_.spindle_rpm) -
+      const double lo = wrap(process_.tooth_angle_rad(j, tm, 0.0, settings_.spindle_rpm) -
                              slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) - kOutOfArcMargin);
       const double hi = lo + span;
       const bool meets = std::min(hi, phi_ex_) >= std::max(lo, phi_en_) ||
@@ -436,7 +456,8 @@ void Model::element_angles(double t) const {
 void Model::general_chips(double t, const double* q, double* h) const {
   double r[2];
   relative(q, r);
-  for (std::size_t i = 0; i < delays_.size(); ++i) history_->displacement(t - delays_[i], &delayed_[2 * i]);
+  for (std::size_t i = 0; i < delays_.size(); ++i)
+    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i]);
   const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   const bool multiple = !settings_.linear && settings_.multiple_regeneration;
   element_angles(t);
@@ -487,6 +508,7 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
   general_chips(t, q, chips_.data());
   double rv[2] = {0, 0};
   if (pd_per_depth_ > 0.0) relative(qd, rv);
+  const double pd_now = pd_per_depth_ > 0.0 ? process_damping_now(t) : 0.0;
   double F[2] = {0, 0};
   double chip_max = 0.0;
   bool any_arc = false, cutting = false, touching = false;
@@ -507,8 +529,8 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
     F[1] -= dz * v[1] * hc;
     if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
       const double vn = sn * rv[0] + cs * rv[1];
-      F[0] -= pd_per_depth_ * dz * vn * sn;
-      F[1] -= pd_per_depth_ * dz * vn * cs;
+      F[0] -= pd_now * dz * vn * sn;
+      F[1] -= pd_now * dz * vn * cs;
     }
   }
   modal_accelerations(q, qd, F, ydot);
@@ -547,6 +569,7 @@ double simulation_period_s(const Process& process, double rpm, bool linear) {
 }
 
 int simulation_periods_per_revolution(const Process& process, double rpm, bool linear) {
+  if (process.has_speed_variation()) return 0;  // a period of several revolutions
   return static_cast<int>(std::lround(60.0 / (rpm * simulation_period_s(process, rpm, linear))));
 }
 

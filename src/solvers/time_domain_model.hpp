@@ -10,7 +10,10 @@
 //   time_domain_analysis.cpp  what a run returns: growth per period,
 //                             spectrum, verdict (with the analysers of
 //                             time_domain_parts.hpp);
-//   time_domain_lobes.cpp     TimeDomainSolver: lobes by simulation.
+//   time_domain_lobes.cpp     TimeDomainSolver: lobes by simulation;
+//   time_domain_ssv.cpp       spindle speed variation: the modulated
+//                             spindle angle, delays and event times
+//                             (docs/ssv.md "In the time domain").
 // Equations: include/chatter/time_domain.hpp; design: docs/time_domain.md.
 #pragma once
 
@@ -21,6 +24,7 @@
 #include <vector>
 
 #include "chatter/process.hpp"
+#include "chatter/spindle_speed.hpp"
 #include "chatter/structural_model.hpp"
 #include "chatter/time_domain.hpp"
 #include "time_domain_parts.hpp"
@@ -82,6 +86,8 @@ bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear);
 /// uniform cutter, the shortest repeat of the pitch and helix pattern
 /// otherwise, and of the runout too in nonlinear mode (the linear equation
 /// has no static chip, which is all runout changes).
+/// With spindle speed variation: the principal period of the delay
+/// equation, speed_variation_period(p, rpm).period_s, sdm's (docs/ssv.md).
 double simulation_period(const Process& p, const SimulationSettings& s);
 
 class Model {
@@ -104,28 +110,52 @@ class Model {
     return general_ ? (slices_ == 1 && !profile_ ? static_cast<int>(elements_.size()) : 0) : teeth_;
   }
   /// Largest delay any element reads (s): the history must hold it.
+  /// With speed variation: the longest delay, at the lowest speed.
   double max_delay() const {
+    if (ssv_) return (delays_.empty() ? mean_delay_ : *std::max_element(delays_.begin(), delays_.end())) /
+                     (1.0 - speed_.variation().amplitude_ratio);
     return delays_.empty() ? tau_ : *std::max_element(delays_.begin(), delays_.end());
   }
+  /// With speed variation: the shortest delay, at the highest speed.
   double min_delay() const {
+    if (ssv_) return (delays_.empty() ? mean_delay_ : *std::min_element(delays_.begin(), delays_.end())) /
+                     (1.0 + speed_.variation().amplitude_ratio);
     return delays_.empty() ? tau_ : *std::min_element(delays_.begin(), delays_.end());
   }
   /// Distinct delays whose multiples carry the start discontinuity (stops);
   /// empty when they are many (distributed delays smear the start jump).
+  /// With speed variation these are mean-speed delays: the stops are at
+  /// real_time(k d).
   std::vector<double> start_image_delays() const {
-    if (!general_) return {tau_};
+    if (!general_) return {ssv_ ? mean_delay_ : tau_};
     if (delays_.size() > kMaxStartImageDelays) return {};
     return delays_;
   }
-  /// The delay images of a chip zero crossing of root function `i`: the
-  /// later teeth that cut the surface it leaves, k = 1 … count.
-  double root_image_offset(int i, int k) const {
-    return general_ ? elements_[static_cast<std::size_t>(i)].next_delay_sum[static_cast<std::size_t>(k - 1)]
-                    : k * tau_;
+  /// The delay images of a chip zero crossing of root function `i` at t_r:
+  /// the times the later teeth (k = 1 … count) cut the surface it leaves.
+  double root_image_time(double t_r, int i, int k) const {
+    const double offset = general_ ? elements_[static_cast<std::size_t>(i)].next_delay_sum[static_cast<std::size_t>(k - 1)]
+                                   : k * (ssv_ ? mean_delay_ : tau_);
+    if (ssv_) return image_time(t_r, offset);
+    return t_r + offset;
   }
+  // ---- spindle speed variation (time_domain_ssv.cpp) ----
+  /// True when the spindle speed is modulated (Process::has_speed_variation).
+  bool ssv() const { return ssv_; }
+  /// The modulated speed the run integrates (frequency ratio: the one the
+  /// principal period is exact for, SpeedVariationPeriod::frequency_ratio_used).
+  const SpindleSpeed& speed() const { return speed_; }
+  /// Mean-speed time t' = θ(t)/Ω₀ at which the constant-speed spindle has
+  /// turned as far as the modulated one at t (s); t at constant speed.
+  double mean_time(double t) const { return ssv_ ? speed_.angle(t) / omega_spindle_ : t; }
+  /// The inverse: the real time t with θ(t) = Ω₀ t' (s); t' at constant speed.
+  double real_time(double t_mean) const { return ssv_ ? speed_.time_at_angle(omega_spindle_ * t_mean) : t_mean; }
   /// Sets which teeth are inside the cutting arc for the segment around `t`.
   void set_segment(double t_mid);
-  double angle(double t, int j) const { return omega_spindle_ * t + 2.0 * kPi * j / teeth_; }
+  /// Tooth j's angle (rad): Ω t + 2π j / N_t, or θ(t) + 2π j / N_t with speed variation.
+  double angle(double t, int j) const {
+    return (ssv_ ? speed_.angle(t) : omega_spindle_ * t) + 2.0 * kPi * j / teeth_;
+  }
   static double wrap(double phi) {
     phi = std::fmod(phi, 2.0 * kPi);
     return phi < 0 ? phi + 2.0 * kPi : phi;
@@ -162,6 +192,23 @@ class Model {
   void tally_air(std::vector<double>& arc, std::vector<double>& air) const;
 
  private:
+  // ---- spindle speed variation (time_domain_ssv.cpp) ----
+  void init_speed_variation();
+  // The time at which the spindle has turned Ω₀ `mean_offset` beyond θ(t_r), s.
+  double image_time(double t_r, double mean_offset) const;
+  // The time t − τ(t) the tooth now at t cuts the surface left behind by
+  // the tooth `mean_delay` (s, at the mean speed) earlier: θ(t) − θ(t − τ) = Ω₀ mean_delay.
+  double delayed_time(double t, double mean_delay) const {
+    return ssv_ ? t - speed_.delay(t, omega_spindle_ * mean_delay) : t - mean_delay;
+  }
+  // C_pd / V at time t: the cutting speed follows Ω(t) (N·s/m²).
+  double process_damping_now(double t) const {
+    return ssv_ ? pd_per_depth_ * omega_spindle_ / speed_.omega(t) : pd_per_depth_;
+  }
+  // Arc events (milling) in [0, t_end] of the mean-speed time, the uniform
+  // path's repeating every `tooth_period` (s).
+  std::vector<double> arc_events_mean(double t_end, double tooth_period) const;
+
   // ---- the real cutter (general path) ----
   void build_elements(const TimeDomainOptions& o);
   int delay_slot(double d);
@@ -184,7 +231,12 @@ class Model {
   int n_ = 0, tool_modes_ = 0, teeth_ = 1;
   bool milling_ = false;
   double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
-  double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m²
+  double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m² (at the mean speed)
+  // Spindle speed variation: on, the modulated speed, and the uniform
+  // path's delay at the mean speed (tooth period; one revolution in turning), s.
+  bool ssv_ = false;
+  SpindleSpeed speed_{1.0, {}};
+  double mean_delay_ = 0.0;
   // Turning insert at this run's depth (docs/turning_inserts.md): chip
   // direction n, force vector d (the force on the tool is −b h d), chip
   // width b, static chip per unit feed sin κ_eq. Unused for the orthogonal

@@ -24,6 +24,14 @@ using detail::PeriodSnapshots;
 // Settings checks that need neither the model nor the speed's sampling.
 void validate_settings(const SimulationSettings& s);
 
+// Speed variation, nonlinear mode (time_domain_ssv.cpp): a run that settled
+// into an orbit periodic over the principal period while the tool left the
+// cut is either the forced response (then the linear equation is stable
+// too) or a chatter orbit locked to the modulation (a flip or fold of the
+// principal-period map: q tooth periods hold it). One linear run at the
+// same point tells which; `r` becomes chatter in the second case.
+void check_locked_orbit(const TimeDomainSimulator& sim, const SimulationSettings& s, SimulationResult& r);
+
 // ---------------------------------------------------------------------------
 // One run of TimeDomainSimulator::simulate.
 //   set-up (constructor): sampling, initial state and tolerance scale,
