@@ -179,6 +179,32 @@ bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, 
   return false;
 }
 
+// One straight-teeth step map from X = (A − Bt Wx) h and Y = Bt h: P =
+// e^X, R1 = ∫₀¹ e^{X(1−u)} Y u du, R0 = ∫₀¹ e^{X(1−u)} Y du − R1 (the blocks
+// of the exponential of [[X, Y, 0], [0, 0, I], [0, 0, 0]]), by blocks for
+// the fixed sizes augmented_exp has; false for the others.
+template <class XM, class YM>
+bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
+  auto run = [&](auto n_tag, auto k_tag) {
+    constexpr int N = decltype(n_tag)::value, K = decltype(k_tag)::value;
+    Eigen::Matrix<double, N, N> p;
+    Eigen::Matrix<double, N, K> g1, g2;
+    augmented_exp<N, K>(X, Y, 1.0, p, g1, g2);
+    sm.P = p;
+    sm.R1 = g2;
+    sm.R0 = g1 - g2;
+    return true;
+  };
+  using I1 = std::integral_constant<int, 1>;
+  using I2 = std::integral_constant<int, 2>;
+  using I4 = std::integral_constant<int, 4>;
+  if (X.rows() == 4 && Y.cols() == 2) return run(I4{}, I2{});
+  if (X.rows() == 4 && Y.cols() == 1) return run(I4{}, I1{});
+  if (X.rows() == 2 && Y.cols() == 2) return run(I2{}, I2{});
+  if (X.rows() == 2 && Y.cols() == 1) return run(I2{}, I1{});
+  return false;
+}
+
 }  // namespace
 
 void SdmKernel::build_map(const Grid& g, double depth, PeriodMap& pm) const {
@@ -227,10 +253,14 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
       else
         aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
     }
+    StepMap& sm = pm.steps[i];
+    // The common sizes (one or two modes, one or two delayed components):
+    // the exponential by blocks (augmented_exp: Padé on the block structure,
+    // no (2n + 2 n_r)² work on the zero blocks); else the dense one.
+    if (step_exp_by_blocks(aug.topLeftCorner(n2, n2), Bt * s.h, sm)) continue;
     aug.block(0, n2, n2, nr) = Bt * s.h;
     aug.block(n2, n2 + nr, nr, nr).setIdentity();
     const M E = aug.exp();
-    StepMap& sm = pm.steps[i];
     sm.P = E.topLeftCorner(n2, n2);
     sm.R1 = E.block(0, n2 + nr, n2, nr);
     sm.R0 = E.block(0, n2, n2, nr) - sm.R1;
