@@ -9,6 +9,8 @@
 #include <numbers>
 #include <vector>
 
+#include "chatter/error.hpp"
+#include "chatter/forced.hpp"
 #include "chatter/process.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/time_domain.hpp"
@@ -208,6 +210,18 @@ TEST(CutterProfileSolvers, BullNoseLinearGrowthMatchesSdmAtNarrowImmersion) {
   const double g = growth(m, p, rpm, a);
   EXPECT_TRUE(RelNear(g, rho, kGrowthVsRho)) << "growth per period vs sdm |mu| at " << a * 1e3 << " mm";
   EXPECT_GT(g, 1.0);
+}
+
+// The forced response does not follow the wall a curved edge leaves: refused
+// with the key named, never a flat cutter's answer for a ball.
+TEST(CutterProfileSolvers, ForcedResponseRefusesAProfileNamingTheKey) {
+  try {
+    const ForcedResponseSolver f(ball_tool(), Process::milling(ball(0.5)));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("process.cutter_geometry = \"ball\""), std::string::npos) << w;
+  }
 }
 
 }  // namespace

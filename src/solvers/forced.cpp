@@ -92,9 +92,10 @@ ForcedResponseSolver::ForcedResponseSolver(StructuralModel model, Process proces
                            "remove process.speed_variation (docs/ssv.md)");
         if (process_.has_profile())
           throw InputError(std::string("the forced response (surface location error) is not modelled for "
-                                       "cutter_geometry = ") +
+                                       "process.cutter_geometry = \"") +
                            to_string(process_.cutter_profile().geometry()) +
-                           " (the wall a curved edge leaves is not followed): use a flat cutter (docs/cutter_geometry.md)");
+                           "\" (the wall a curved edge leaves is not followed): use a flat cutter "
+                           "(docs/cutter_geometry.md)");
         return SemiDiscretizationSolver(model_, process_, options_.sdm);
       }()) {}
 
