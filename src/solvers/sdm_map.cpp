@@ -155,9 +155,10 @@ void augmented_exp(const Eigen::Matrix<double, N, N>& X, const Eigen::Matrix<dou
   G2 = R.C;
 }
 
-// The augmented step exponential for the common sizes (N = 2n of one or two
-// modes, K <= 2 input columns); false for others (then the dense
-// exponential of the whole matrix is used).
+// The augmented step exponential for the common sizes (N = 2n: one to four
+// modes with K = 2 delayed components (milling in the plane), one or two
+// with K <= 2); false for others (then the dense exponential of the whole
+// matrix is used).
 bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, MatrixXd& G1, MatrixXd& G2) {
   auto run = [&](auto n_tag, auto k_tag) {
     constexpr int N = decltype(n_tag)::value, K = decltype(k_tag)::value;
@@ -172,6 +173,10 @@ bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, 
   using I1 = std::integral_constant<int, 1>;
   using I2 = std::integral_constant<int, 2>;
   using I4 = std::integral_constant<int, 4>;
+  using I6 = std::integral_constant<int, 6>;
+  using I8 = std::integral_constant<int, 8>;
+  if (X.rows() == 8 && Y.cols() == 2) return run(I8{}, I2{});
+  if (X.rows() == 6 && Y.cols() == 2) return run(I6{}, I2{});
   if (X.rows() == 4 && Y.cols() == 2) return run(I4{}, I2{});
   if (X.rows() == 4 && Y.cols() == 1) return run(I4{}, I1{});
   if (X.rows() == 2 && Y.cols() == 2) return run(I2{}, I2{});
@@ -198,6 +203,10 @@ bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
   using I1 = std::integral_constant<int, 1>;
   using I2 = std::integral_constant<int, 2>;
   using I4 = std::integral_constant<int, 4>;
+  using I6 = std::integral_constant<int, 6>;
+  using I8 = std::integral_constant<int, 8>;
+  if (X.rows() == 8 && Y.cols() == 2) return run(I8{}, I2{});
+  if (X.rows() == 6 && Y.cols() == 2) return run(I6{}, I2{});
   if (X.rows() == 4 && Y.cols() == 2) return run(I4{}, I2{});
   if (X.rows() == 4 && Y.cols() == 1) return run(I4{}, I1{});
   if (X.rows() == 2 && Y.cols() == 2) return run(I2{}, I2{});
@@ -254,7 +263,7 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
         aug.topLeftCorner(n2, n2).noalias() = (A_ - Bt * Wx_) * s.h;
     }
     StepMap& sm = pm.steps[i];
-    // The common sizes (one or two modes, one or two delayed components):
+    // The common sizes (up to four modes in the plane, two on a line):
     // the exponential by blocks (augmented_exp: Padé on the block structure,
     // no (2n + 2 n_r)² work on the zero blocks); else the dense one.
     if (step_exp_by_blocks(aug.topLeftCorner(n2, n2), Bt * s.h, sm)) continue;
