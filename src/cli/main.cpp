@@ -84,7 +84,11 @@ Commands:
   os << R"(
 On the shop floor:
   1. Describe the tool and workpiece modes (from a tap test) and the cut in a
-     TOML config; start from one in configs/ (keys: docs/config.md).
+     TOML config; start from one in configs/ (keys: docs/config.md). Cutters:
+     helix, variable pitch and runout (docs/physics.md sec. 9), ball-end and
+     bull-nose end mills (docs/cutter_geometry.md), turning inserts with lead
+     angle and nose radius (docs/turning_inserts.md); spindle speed
+     variation (docs/ssv.md).
   2. chatter lobes CONFIG --plot lobes.png: pick a spindle speed at a peak
      between two lobes; cut below the curve there, with margin.
   3. chatter check CONFIG --operations ops.csv before running a program.
