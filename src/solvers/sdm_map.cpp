@@ -157,17 +157,17 @@ void augmented_exp(const Eigen::Matrix<double, N, N>& X, const Eigen::Matrix<dou
 
 // The augmented step exponential for the common sizes (N = 2n: one to four
 // modes with K = 2 delayed components (milling in the plane), one or two
-// with K <= 2); false for others (then the dense exponential of the whole
-// matrix is used).
-bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, MatrixXd& G1, MatrixXd& G2) {
+// with K <= 2): runs augmented_exp<N, K> and hands its fixed-size blocks
+// (P, G1, G2) to `out`; false for other sizes (then the dense exponential of
+// the whole matrix is used).
+template <class XM, class YM, class Out>
+bool augmented_exp_fixed(const XM& X, const YM& Y, double s, Out&& out) {
   auto run = [&](auto n_tag, auto k_tag) {
     constexpr int N = decltype(n_tag)::value, K = decltype(k_tag)::value;
     Eigen::Matrix<double, N, N> p;
     Eigen::Matrix<double, N, K> g1, g2;
     augmented_exp<N, K>(X, Y, s, p, g1, g2);
-    P = p;
-    G1 = g1;
-    G2 = g2;
+    out(p, g1, g2);
     return true;
   };
   using I1 = std::integral_constant<int, 1>;
@@ -184,34 +184,27 @@ bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, 
   return false;
 }
 
+// The real-cutter step: P = e^X and the blocks G1, G2 (scaled by s) into
+// dynamic matrices.
+bool augmented_exp(const MatrixXd& X, const MatrixXd& Y, double s, MatrixXd& P, MatrixXd& G1, MatrixXd& G2) {
+  return augmented_exp_fixed(X, Y, s, [&](const auto& p, const auto& g1, const auto& g2) {
+    P = p;
+    G1 = g1;
+    G2 = g2;
+  });
+}
+
 // One straight-teeth step map from X = (A − Bt Wx) h and Y = Bt h: P =
 // e^X, R1 = ∫₀¹ e^{X(1−u)} Y u du, R0 = ∫₀¹ e^{X(1−u)} Y du − R1 (the blocks
-// of the exponential of [[X, Y, 0], [0, 0, I], [0, 0, 0]]), by blocks for
-// the fixed sizes augmented_exp has; false for the others.
+// of the exponential of [[X, Y, 0], [0, 0, I], [0, 0, 0]]); false for the
+// sizes augmented_exp_fixed does not have.
 template <class XM, class YM>
 bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
-  auto run = [&](auto n_tag, auto k_tag) {
-    constexpr int N = decltype(n_tag)::value, K = decltype(k_tag)::value;
-    Eigen::Matrix<double, N, N> p;
-    Eigen::Matrix<double, N, K> g1, g2;
-    augmented_exp<N, K>(X, Y, 1.0, p, g1, g2);
+  return augmented_exp_fixed(X, Y, 1.0, [&](const auto& p, const auto& g1, const auto& g2) {
     sm.P = p;
     sm.R1 = g2;
     sm.R0 = g1 - g2;
-    return true;
-  };
-  using I1 = std::integral_constant<int, 1>;
-  using I2 = std::integral_constant<int, 2>;
-  using I4 = std::integral_constant<int, 4>;
-  using I6 = std::integral_constant<int, 6>;
-  using I8 = std::integral_constant<int, 8>;
-  if (X.rows() == 8 && Y.cols() == 2) return run(I8{}, I2{});
-  if (X.rows() == 6 && Y.cols() == 2) return run(I6{}, I2{});
-  if (X.rows() == 4 && Y.cols() == 2) return run(I4{}, I2{});
-  if (X.rows() == 4 && Y.cols() == 1) return run(I4{}, I1{});
-  if (X.rows() == 2 && Y.cols() == 2) return run(I2{}, I2{});
-  if (X.rows() == 2 && Y.cols() == 1) return run(I2{}, I1{});
-  return false;
+  });
 }
 
 }  // namespace
