@@ -393,24 +393,30 @@ TEST(TimeDomainSsv, ProcessDampingFollowsTheInstantaneousSpeed) {
 
 // ------------------------------------------------------- bad input
 
-TEST(TimeDomainSsv, RunoutWithSpeedVariationIsRefusedNamingBothKeys) {
-  Config c = config("milling_up_ae05_2dof.toml");
-  MillingParameters mp = c.process.milling_parameters();
-  mp.runout_m = {10e-6, 0.0, 0.0, 0.0};
-  c.process = Process::milling(mp);
-  c.process.set_speed_variation({0.1, 0.2});
+// A simulation of `c` at 12 000 rev/min and `depth_m` throws InputError
+// naming `key` and process.speed_variation.
+void expect_refused_naming(const Config& c, double depth_m, const std::string& key) {
   SimulationSettings st;
   st.spindle_rpm = 12000.0;
-  st.depth_m = 1e-3;
+  st.depth_m = depth_m;
   st.periods = 8;
   try {
     TimeDomainSimulator(c.model, c.process).simulate(st);
     FAIL() << "no exception";
   } catch (const InputError& e) {
     const std::string w = e.what();
-    EXPECT_NE(w.find("process.runout_um"), std::string::npos) << w;
+    EXPECT_NE(w.find(key), std::string::npos) << w;
     EXPECT_NE(w.find("process.speed_variation"), std::string::npos) << w;
   }
+}
+
+TEST(TimeDomainSsv, RunoutWithSpeedVariationIsRefusedNamingBothKeys) {
+  Config c = config("milling_up_ae05_2dof.toml");
+  MillingParameters mp = c.process.milling_parameters();
+  mp.runout_m = {10e-6, 0.0, 0.0, 0.0};
+  c.process = Process::milling(mp);
+  c.process.set_speed_variation({0.1, 0.2});
+  expect_refused_naming(c, 1e-3, "process.runout_um");
 }
 
 // A cutter profile with speed variation: refused (its slices are not mapped
@@ -419,18 +425,7 @@ TEST(TimeDomainSsv, RunoutWithSpeedVariationIsRefusedNamingBothKeys) {
 TEST(TimeDomainSsv, CutterProfileWithSpeedVariationIsRefusedNamingBothKeys) {
   Config c = config("milling_ball_end.toml");
   c.process.set_speed_variation({0.1, 0.2});
-  SimulationSettings st;
-  st.spindle_rpm = 12000.0;
-  st.depth_m = 0.5e-3;
-  st.periods = 8;
-  try {
-    TimeDomainSimulator(c.model, c.process).simulate(st);
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    const std::string w = e.what();
-    EXPECT_NE(w.find("process.cutter_geometry"), std::string::npos) << w;
-    EXPECT_NE(w.find("process.speed_variation"), std::string::npos) << w;
-  }
+  expect_refused_naming(c, 0.5e-3, "process.cutter_geometry");
 }
 
 }  // namespace
