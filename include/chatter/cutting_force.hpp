@@ -1,18 +1,13 @@
-// The static cutting load of a cut: the largest resultant force, the mean
-// torque and power at the spindle (docs/physics.md §3 force model; used by
-// `performance` and `optimize`, docs/optimization.md). A small shared
-// function: `recommend`'s mean-force model (src/ops/operations.cpp) computes
-// the same means for its caps and may call this once that file is split.
+// The static cutting load of a cut, as `optimize` and `performance` read it
+// (docs/optimization.md): the cutting law's largest resultant force and its
+// mean torque and power (chatter/cutting_law.hpp, where the formulas are).
 //
-//  turning: F_c = K_c a f (tangential), in the plane F = a f |(K_f, K_r)|
-//           (the insert's −b h d, b h = a f for any lead angle and nose
-//           radius, docs/turning_inserts.md), force = |(F_c, F)|, torque =
-//           F_c D/2, power = F_c V;
-//  milling: the teeth's forces F = Σ_j ∫₀ᵃ h_j(φ_j(t, z)) v(φ_j) dz over one
-//           revolution (v the process's force direction, h_j its static chip
-//           with runout, the helix by slices), force = the largest |F|, torque
-//           = (D/2) Σ_j ∫ K_t h_j dz averaged over the revolution, power =
-//           torque × 2πN/60.
+//  turning: F_c = K_c a f (tangential), in the plane F = a f |(K_f, K_r)|,
+//           force = |(F_c, F)|, torque = F_c D/2, power = F_c V;
+//  milling: force = the largest |F(t)| of the teeth's in-plane forces over
+//           a revolution (helix by slices, runout included), torque =
+//           (D/2) × the mean summed tangential force (a profile: each
+//           slice's own radius), power = torque × 2πN/60.
 // Units: SI. Cost: turning O(1); milling O(samples × teeth × slices) ≈ 0.1 ms.
 #pragma once
 

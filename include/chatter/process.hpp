@@ -369,9 +369,10 @@ class Process {
 
   /// Entry and exit angles φ_en, φ_ex (rad, clockwise from +Y) of a milling
   /// tooth: down-milling [arccos(2a_e/D − 1), π], up-milling [0, arccos(1 − 2a_e/D)].
-  /// @pre operation() == kMilling.
-  double entry_angle() const;
-  double exit_angle() const;
+  /// The one definition: milling_arc_rad (chatter/cutting_law.hpp), computed
+  /// once by milling(). @pre operation() == kMilling.
+  double entry_angle() const { return entry_rad_; }
+  double exit_angle() const { return exit_rad_; }
 
   /// Directional matrix of one milling tooth at angle φ (rad) while it cuts,
   /// N/m²: [[(K_t cosφ + K_r sinφ) sinφ, (K_t cosφ + K_r sinφ) cosφ],
@@ -412,6 +413,8 @@ class Process {
   // Entry and exit times (s, not wrapped) of the profile's slices (engagement_events_s).
   std::vector<double> profile_events_s(double rpm, double depth_m) const;
   SpeedVariation speed_variation_{};
+  // φ_en, φ_ex of the milling arc (set by milling()).
+  double entry_rad_ = 0.0, exit_rad_ = 0.0;
 };
 
 }  // namespace chatter

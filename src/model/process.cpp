@@ -7,8 +7,10 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 
+#include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "windowed_integral.hpp"
 
@@ -163,6 +165,7 @@ Process Process::milling(MillingParameters p) {
   p.helix_angles_rad = helix;
   if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
+  std::tie(pr.entry_rad_, pr.exit_rad_) = milling_arc_rad(p.radial_immersion, p.direction);
   return pr;
 }
 
@@ -426,17 +429,6 @@ double Process::delay_s(double rpm) const { return 60.0 / (rpm * delays_per_revo
 
 double Process::rpm_from_delay(double tau_s) const { return 60.0 / (tau_s * delays_per_revolution()); }
 
-double Process::entry_angle() const {
-  return milling_.direction == MillingDirection::kDown
-             ? std::acos(2.0 * milling_.radial_immersion - 1.0)
-             : 0.0;
-}
-
-double Process::exit_angle() const {
-  return milling_.direction == MillingDirection::kDown
-             ? std::numbers::pi
-             : std::acos(1.0 - 2.0 * milling_.radial_immersion);
-}
 
 Eigen::Matrix2d Process::tooth_matrix(double phi) const {
   const double kt = milling_.tangential_coefficient_n_per_m2;

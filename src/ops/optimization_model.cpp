@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "chatter/cutting_force.hpp"
+#include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "chatter/optimization.hpp"
 #include "chatter/solvers.hpp"
@@ -160,14 +161,9 @@ Performance OptimizationModel::evaluate(const SetPoint& p, const Corrections& co
   r.cutting_speed_m_per_min = v;
   IndexValues& m = r.model;
   m = unknown_indices();
-  const double f_mm = p.feed_m * 1e3, d_mm = p.depth_m * 1e3;
-  if (mill) {
-    const MillingParameters& mp = process_.milling_parameters();
-    const double ae_mm = mp.radial_immersion * spec_.diameter_m * 1e3;
-    m[2] = d_mm * ae_mm * f_mm * mp.teeth * p.spindle_rpm / 60.0;
-  } else {
-    m[2] = f_mm * d_mm * v * 1000.0 / 60.0;
-  }
+  // The removal rate of the cutting law (chatter/cutting_law.hpp), mm³/s.
+  m[2] = CuttingLaw::of(process_)->mean(CutPoint{p.spindle_rpm, p.depth_m, p.feed_m, spec_.diameter_m})
+             .removal_rate_m3_per_s * 1e9;
   m[0] = dimensional_error_um(p, &r.worst_error_position_m);
   if (spec_.roughness) m[1] = spec_.roughness->roughness_um(v, p.feed_m, p.depth_m);
   const double feed_per_rev_m = mill ? p.feed_m * process_.teeth() : p.feed_m;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "chatter/forced.hpp"
 #include "chatter/operations.hpp"
@@ -96,30 +97,27 @@ struct CutModel {
   double mrr_per_diam_depth_rpm = 0.0;  // m²/s per (m·rev/min)
 };
 
+// The means of the cutting law (chatter/cutting_law.hpp) per unit depth and
+// speed: the flat cutter's are linear in both (a profile's are read at a
+// depth of 1 m, where its slices are nearly all the cylinder).
 CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings) {
   CutModel c;
   const double D = o.diameter_m > 0.0 ? o.diameter_m : kNaN;
-  const double f = o.feed_per_tooth_m;
+  CuttingLawOptions law_options;
   if (p.operation() == Operation::kTurning) {
-    const double kc = o.cutting_coefficient_n_per_m2.value_or(p.turning_parameters().feed_force_coefficient_n_per_m2);
+    law_options.turning_tangential_coefficient_n_per_m2 =
+        o.cutting_coefficient_n_per_m2.value_or(p.turning_parameters().feed_force_coefficient_n_per_m2);
     if (!o.cutting_coefficient_n_per_m2)
       warnings.push_back("turning power and torque use the feed-force coefficient K_f as cutting pressure (no "
                          "tangential coefficient given); with force angle θ the true value is K_f·tanθ, larger");
-    c.force_per_depth = kc * f;                           // F_c = K_c b f
-    c.torque_per_depth = c.force_per_depth * D / 2.0;     // T = F_c D/2
-    c.power_per_depth_rpm = c.force_per_depth * kPi * D / 60.0;  // P = F_c v_c, v_c = πDN/60
-    c.mrr_per_depth_rpm = f * kPi * D / 60.0;             // b f v_c
-    c.mrr_per_diam_depth_rpm = f * kPi / 60.0;
-  } else {
-    const auto& m = p.milling_parameters();
-    const double span = std::cos(p.entry_angle()) - std::cos(p.exit_angle());  // ∫ sinφ dφ over the cut
-    // Sum of the teeth's tangential forces averaged over a revolution.
-    c.force_per_depth = m.teeth / (2.0 * kPi) * m.tangential_coefficient_n_per_m2 * f * span;
-    c.torque_per_depth = c.force_per_depth * D / 2.0;
-    c.power_per_depth_rpm = c.torque_per_depth * 2.0 * kPi / 60.0;
-    c.mrr_per_diam_depth_rpm = m.radial_immersion * f * m.teeth / 60.0;  // a·(a_e/D)·f_z·N_t·N/60 per D
-    c.mrr_per_depth_rpm = c.mrr_per_diam_depth_rpm * D;
   }
+  const MeanCut unit = CuttingLaw::of(p, law_options)->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, D});
+  c.force_per_depth = unit.tangential_force_n;  // F_c = K_c b f; milling the teeth's tangential forces
+  c.torque_per_depth = unit.torque_n_m;
+  c.power_per_depth_rpm = unit.power_w;
+  c.mrr_per_depth_rpm = unit.removal_rate_m3_per_s;
+  // Per unit diameter: turning b f π N/60; milling a (a_e/D) f_z N_t N/60.
+  c.mrr_per_diam_depth_rpm = CuttingLaw::of(p, law_options)->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, 1.0}).removal_rate_m3_per_s;
   return c;
 }
 

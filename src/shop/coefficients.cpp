@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <tuple>
 
+#include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "chatter/shop.hpp"
 
@@ -40,20 +42,12 @@ double student_t95(int dof) {
   return 1.959964 + 2.37 / dof;  // asymptotic expansion, error < 0.002 above 30
 }
 
-struct Integrals {
-  double S, Q, C, Sn, W;
-};
-
-Integrals integrals(const MillingEngagement& e) {
+// The arc integrals of the cutting law (chatter/cutting_law.hpp): the same
+// ones the law's mean force is made of, here as the fit's regressors.
+ArcIntegrals integrals(const MillingEngagement& e) {
   double a = 0, b = 0;
   engagement_angles(e, a, b);
-  Integrals I;
-  I.S = 0.5 * (std::sin(b) * std::sin(b) - std::sin(a) * std::sin(a));
-  I.Q = 0.5 * (b - a) - 0.25 * (std::sin(2 * b) - std::sin(2 * a));
-  I.C = std::sin(b) - std::sin(a);
-  I.Sn = std::cos(a) - std::cos(b);
-  I.W = b - a;
-  return I;
+  return arc_integrals(a, b);
 }
 
 void check_engagement(const MillingEngagement& e) {
@@ -124,27 +118,17 @@ void plausibility(CoefficientFit& f) {
 }  // namespace
 
 void engagement_angles(const MillingEngagement& e, double& phi_entry_rad, double& phi_exit_rad) {
-  if (e.direction == MillingDirection::kDown) {
-    phi_entry_rad = std::acos(std::clamp(2.0 * e.radial_immersion - 1.0, -1.0, 1.0));
-    phi_exit_rad = kPi;
-  } else {
-    phi_entry_rad = 0.0;
-    phi_exit_rad = std::acos(std::clamp(1.0 - 2.0 * e.radial_immersion, -1.0, 1.0));
-  }
+  std::tie(phi_entry_rad, phi_exit_rad) = milling_arc_rad(e.radial_immersion, e.direction);
 }
 
 std::array<double, 2> mean_forces(const MillingEngagement& e, double f, double a, const std::array<double, 4>& k) {
-  const Integrals I = integrals(e);
-  const double c = e.teeth * a / (2 * kPi);
-  return {c * (-f * (k[0] * I.S + k[1] * I.Q) - (k[2] * I.C + k[3] * I.Sn)),
-          c * (f * (k[0] * I.Q - k[1] * I.S) + (k[2] * I.Sn - k[3] * I.C))};
+  const Eigen::Vector2d m = milling_mean_force_n(e.teeth, integrals(e), f, a, k[0], k[1], {k[2], k[3]});
+  return {m.x(), m.y()};
 }
 
 double mean_power(const MillingEngagement& e, double f, double a, double rpm, double diameter_m, double ktc,
                   double kte) {
-  const Integrals I = integrals(e);
-  const double c = e.teeth * a / (2 * kPi);
-  return rpm * 2 * kPi / 60.0 * 0.5 * diameter_m * c * (ktc * f * I.Sn + kte * I.W);
+  return rpm * 2 * kPi / 60.0 * 0.5 * diameter_m * milling_mean_tangential_force_n(e.teeth, integrals(e), f, a, ktc, kte);
 }
 
 CoefficientFit fit_coefficients_from_forces(const std::vector<ForceTest>& tests, const MillingEngagement& e) {
@@ -152,7 +136,7 @@ CoefficientFit fit_coefficients_from_forces(const std::vector<ForceTest>& tests,
   std::vector<double> feeds;
   for (const auto& t : tests) feeds.push_back(t.feed_per_tooth_m);
   check_feeds(feeds, 3, "force tests");
-  const Integrals I = integrals(e);
+  const ArcIntegrals I = integrals(e);
   const Eigen::Index n = static_cast<Eigen::Index>(tests.size());
   // Rows scaled so each unknown's column is O(1): θ = (K_tc/1e9, K_rc/1e9, K_te/1e4, K_re/1e4).
   const double sc = 1e9, se_ = 1e4;
@@ -161,8 +145,8 @@ CoefficientFit fit_coefficients_from_forces(const std::vector<ForceTest>& tests,
   for (Eigen::Index i = 0; i < n; ++i) {
     const ForceTest& t = tests[i];
     const double c = e.teeth * t.depth_m / (2 * kPi), f = t.feed_per_tooth_m;
-    A.row(2 * i) << -c * f * I.S * sc, -c * f * I.Q * sc, -c * I.C * se_, -c * I.Sn * se_;
-    A.row(2 * i + 1) << c * f * I.Q * sc, -c * f * I.S * sc, c * I.Sn * se_, -c * I.C * se_;
+    A.row(2 * i) << -c * f * I.sin_cos * sc, -c * f * I.sin_sq * sc, -c * I.cos * se_, -c * I.sin * se_;
+    A.row(2 * i + 1) << c * f * I.sin_sq * sc, -c * f * I.sin_cos * sc, c * I.sin * se_, -c * I.cos * se_;
     b[2 * i] = t.fx_mean_n;
     b[2 * i + 1] = t.fy_mean_n;
   }
@@ -213,7 +197,7 @@ CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, 
   std::vector<double> feeds;
   for (const auto& t : tests) feeds.push_back(t.feed_per_tooth_m);
   check_feeds(feeds, 3, "power tests");
-  const Integrals I = integrals(e);
+  const ArcIntegrals I = integrals(e);
   const Eigen::Index n = static_cast<Eigen::Index>(tests.size());
   const double sc = 1e9, se_ = 1e4;
   Eigen::MatrixXd A(n, 2);
@@ -221,7 +205,7 @@ CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, 
   for (Eigen::Index i = 0; i < n; ++i) {
     const PowerTest& t = tests[i];
     const double g = t.spindle_rpm * 2 * kPi / 60.0 * 0.5 * tool_diameter_m * e.teeth * t.depth_m / (2 * kPi);
-    A.row(i) << g * t.feed_per_tooth_m * I.Sn * sc, g * I.W * se_;
+    A.row(i) << g * t.feed_per_tooth_m * I.sin * sc, g * I.width_rad * se_;
     b[i] = t.power_w;
   }
   Eigen::VectorXd se;

@@ -8,9 +8,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
+#include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 
 namespace chatter {
@@ -19,6 +21,8 @@ namespace {
 
 using Cplx = std::complex<double>;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// The in-plane force of turning does not need the workpiece diameter.
+constexpr double kNaNDiameter = std::numeric_limits<double>::quiet_NaN();
 // Automatic harmonic count: every tooth-passing harmonic up to this many
 // times the highest natural frequency (ForcedOptions::harmonics), at least
 // kMinHarmonics.
@@ -70,11 +74,8 @@ PathSource fourier_response(const StructuralModel& model, const Process& process
   PathSource out;
   const double tau = process.delay_s(rpm);  // the tooth period (one revolution in turning)
   if (process.operation() == Operation::kTurning) {
-    // h = f along x, F = −b K_f f along x: constant, so r = G(0) F.
-    // An insert: F = −b h d = −a f d (b h = a f, docs/turning_inserts.md).
-    const Eigen::Vector2d F = process.orthogonal_turning()
-                                  ? Eigen::Vector2d(-depth_m * process.turning_parameters().feed_force_coefficient_n_per_m2 * feed_m, 0.0)
-                                  : Eigen::Vector2d(-depth_m * feed_m * process.edge_force(depth_m));
+    // The cutting law's constant force (−a f d, docs/turning_inserts.md), so r = G(0) F.
+    const Eigen::Vector2d F = CuttingLaw::of(process)->mean(CutPoint{rpm, depth_m, feed_m, kNaNDiameter}).force_n;
     const Matrix2c G0 = model.receptance(0.0);
     out.mean_force_n = F;
     out.path = std::make_unique<FourierPath>(tau, G0.real() * F, std::vector<Vector2cd>{});
@@ -141,7 +142,9 @@ TurningDeflection static_deflection_turning(const StructuralModel& model, const 
                      "finished diameter is left by the nose, which this model does not follow "
                      "(docs/turning_inserts.md)");
   TurningDeflection d;
-  d.force_n = process.turning_parameters().feed_force_coefficient_n_per_m2 * depth_m * feed_per_rev_m;
+  // The cutting law's force along the chip direction x (−a K_f f on the
+  // tool); it does not depend on the speed (1 rev/min stands for any).
+  d.force_n = -CuttingLaw::of(process)->mean(CutPoint{1.0, depth_m, feed_per_rev_m, forced_detail::kNaNDiameter}).force_n.x();
   // G(0) = Σ u uᵀ / k over the tool and workpiece modes; the force on the
   // tool is −F along the chip direction n = x.
   Eigen::Matrix2d G0 = Eigen::Matrix2d::Zero();

@@ -1,0 +1,159 @@
+// The milling implementation of the cutting law (include/chatter/cutting_law.hpp):
+// the closed-form means over a revolution (flat cutter; a profile slice by
+// slice), and a sampled revolution for the peak force and for the means
+// with runout (whose chip is floored at zero).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "cutting_internal.hpp"
+
+namespace chatter::cutting_detail {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// Samples of one revolution per tooth: the force of a straight tooth jumps at
+// the entry and exit; 360 per tooth puts the largest value within 1° of tool
+// rotation of the true peak (a relative error below 1e-4 of a smooth peak).
+constexpr int kSamplesPerTooth = 360;
+// Slices of a helical tooth: the force over the depth is a sum over slices
+// (midpoint rule); 16 keep the peak within ~0.5 % of its converged value on
+// the shipped 30° helix cutter.
+constexpr int kHelixSlices = 16;
+
+// One revolution sampled: the largest |F|, and the means of F, of the summed
+// tangential force and of the torque.
+struct Sampled {
+  double peak_n = 0.0;
+  Eigen::Vector2d mean_force_n{0.0, 0.0};
+  double mean_tangential_n = 0.0;
+  double mean_torque_n_m = 0.0;
+};
+
+class MillingLaw final : public CuttingLaw {
+ public:
+  MillingLaw(const Process& process, const EdgeCoefficients& edge) : process_(process), edge_(edge) {}
+
+  MeanCut mean(const CutPoint& p) const override {
+    check_point(p);
+    const MillingParameters& mp = process_.milling_parameters();
+    const int nt = mp.teeth;
+    const double kt = mp.tangential_coefficient_n_per_m2;
+    const double omega = kTwoPi * p.spindle_rpm / 60.0;
+    MeanCut m;
+    m.cutting_speed_m_per_s = std::numbers::pi * p.diameter_m * p.spindle_rpm / 60.0;
+    // Table feed f N_t N/60 (m/s) times the cross-section cut.
+    const double table_speed = p.feed_m * nt * p.spindle_rpm / 60.0;
+    if (process_.has_runout()) {
+      const Sampled s = sample(p);
+      m.force_n = s.mean_force_n;
+      m.tangential_force_n = s.mean_tangential_n;
+      m.torque_n_m = s.mean_torque_n_m;
+    } else if (process_.has_profile()) {
+      // Slice by slice: its arc, its radius (the torque arm) and its radial
+      // coefficient; the chip f sin φ sin κ over the width dz / sin κ.
+      double torque = 0.0, section = 0.0;
+      if (p.depth_m > 0.0)
+        for (const AxialSlice& c : process_.axial_slices(p.depth_m)) {
+          if (!c.engaged) continue;
+          const ArcIntegrals I = arc_integrals(c.entry_rad, c.exit_rad);
+          m.force_n += milling_mean_force_n(nt, I, p.feed_m, c.height_m(), kt, c.radial_coefficient_n_per_m2);
+          const double ft = milling_mean_tangential_force_n(nt, I, p.feed_m, c.height_m(), kt);
+          m.tangential_force_n += ft;
+          torque += ft * c.radius_m;
+          section += c.height_m() * c.radius_m * I.sin;  // the slice's width across the feed
+        }
+      m.torque_n_m = torque;
+      m.removal_rate_m3_per_s = section * table_speed;
+    } else {
+      const ArcIntegrals I = arc_integrals(process_.entry_angle(), process_.exit_angle());
+      m.force_n = milling_mean_force_n(nt, I, p.feed_m, p.depth_m, kt, mp.radial_coefficient_n_per_m2, edge_);
+      m.tangential_force_n = milling_mean_tangential_force_n(nt, I, p.feed_m, p.depth_m, kt, edge_.tangential_n_per_m);
+      m.torque_n_m = m.tangential_force_n * p.diameter_m / 2.0;
+    }
+    if (!process_.has_profile())  // a × a_e × table feed; runout moves the chip between teeth, not the volume
+      m.removal_rate_m3_per_s = p.depth_m * (mp.radial_immersion * p.diameter_m) * table_speed;
+    m.power_w = m.torque_n_m * omega;
+    return m;
+  }
+
+  double peak_force_n(const CutPoint& p) const override {
+    check_point(p);
+    return sample(p).peak_n;
+  }
+
+ private:
+  // The teeth's forces over one revolution, kSamplesPerTooth N_t samples;
+  // straight or helical teeth by kHelixSlices slices, a profile by its own.
+  Sampled sample(const CutPoint& p) const {
+    const MillingParameters& mp = process_.milling_parameters();
+    const double kt = mp.tangential_coefficient_n_per_m2;
+    const double kte = edge_.tangential_n_per_m, kre = edge_.radial_n_per_m;
+    const bool edge = kte > 0.0 || kre > 0.0;
+    const int nt = process_.teeth();
+    const int slices = process_.has_helix() ? kHelixSlices : 1;
+    const int samples = kSamplesPerTooth * nt;
+    const double rpm = p.spindle_rpm, period = 60.0 / rpm, dz = p.depth_m / slices;
+    const std::vector<AxialSlice> cut = process_.has_profile() && p.depth_m > 0.0 ? process_.axial_slices(p.depth_m)
+                                                                                : std::vector<AxialSlice>{};
+    Sampled out;
+    double tangential_sum = 0.0, torque_sum = 0.0;
+    Eigen::Vector2d force_sum(0.0, 0.0);
+    for (int s = 0; s < samples; ++s) {
+      const double t = period * s / samples;
+      double fx = 0.0, fy = 0.0, tangential = 0.0, torque = 0.0;
+      for (int j = 0; j < nt; ++j)
+        for (const AxialSlice& c : cut) {
+          if (!c.engaged) continue;
+          double phi = std::fmod(process_.tooth_angle_rad(j, t, c.z_m, rpm), kTwoPi);
+          if (phi < 0.0) phi += kTwoPi;
+          if (phi < c.entry_rad || phi > c.exit_rad) continue;
+          const double h = process_.static_chip_m(j, phi, p.feed_m) * c.height_m();
+          const auto v = milling_force_direction(kt, c.radial_coefficient_n_per_m2, std::sin(phi), std::cos(phi));
+          fx += h * v.x();
+          fy += h * v.y();
+          tangential += kt * h;
+          torque += kt * h * c.radius_m;
+        }
+      for (int j = 0; j < nt && cut.empty(); ++j)
+        for (int k = 0; k < slices; ++k) {
+          const double phi = process_.tooth_angle_rad(j, t, (k + 0.5) * dz, rpm);
+          if (!process_.in_cut(phi)) continue;
+          const double chip = process_.static_chip_m(j, phi, p.feed_m);
+          const double h = chip * dz;
+          const auto v = process_.force_direction(phi);
+          fx += h * v.x();
+          fy += h * v.y();
+          tangential += kt * h;
+          if (edge && chip > 0.0) {  // the edge rubs only where the tooth cuts
+            const auto ve = milling_force_direction(kte, kre, std::sin(phi), std::cos(phi));
+            fx += dz * ve.x();
+            fy += dz * ve.y();
+            tangential += kte * dz;
+          }
+        }
+      if (cut.empty()) torque = tangential * p.diameter_m / 2.0;
+      out.peak_n = std::max(out.peak_n, std::hypot(fx, fy));
+      // The force on the tool is −F (Process::force_direction: F = −h v).
+      force_sum -= Eigen::Vector2d(fx, fy);
+      tangential_sum += tangential;
+      torque_sum += torque;
+    }
+    out.mean_force_n = force_sum / samples;
+    out.mean_tangential_n = tangential_sum / samples;
+    out.mean_torque_n_m = torque_sum / samples;
+    return out;
+  }
+
+  Process process_;
+  EdgeCoefficients edge_;
+};
+
+}  // namespace
+
+std::unique_ptr<const CuttingLaw> milling_law(const Process& process, const EdgeCoefficients& edge) {
+  return std::make_unique<MillingLaw>(process, edge);
+}
+
+}  // namespace chatter::cutting_detail
