@@ -10,6 +10,9 @@
 #include <atomic>
 #include <cmath>
 #include <complex>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <random>
@@ -157,6 +160,33 @@ TEST(EvenlySpacedSpeeds, MessageNamesTheField) {
 }
 
 // ------------------------------------------------------------------ write_lobe_csv
+
+// The tables print a number as printf's "%.10g" (docs/results.md): the
+// writer's faster conversion must give the same text for every double.
+TEST(TableNumber, IsPrintfsTenSignificantDigits) {
+  auto printf10 = [](double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.10g", x);
+    return std::string(buf);
+  };
+  std::mt19937_64 rng(20261126);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-320, 308);
+  std::uniform_int_distribution<std::uint64_t> bits;
+  for (int i = 0; i < 200000; ++i) {
+    const double x = mantissa(rng) * std::pow(10.0, exponent(rng));
+    ASSERT_EQ(chatter::table_number(x), printf10(x)) << std::hexfloat << x;
+    double y = 0.0;  // any bit pattern but NaN and inf
+    const std::uint64_t b = bits(rng);
+    std::memcpy(&y, &b, sizeof y);
+    if (std::isfinite(y)) ASSERT_EQ(chatter::table_number(y), printf10(y)) << std::hexfloat << y;
+  }
+  for (const double x : {0.0, -0.0, 1.0, 0.1, 1e-5, 1e-4, 123456789.0, 1234567890.0, 12345678901.0, 9.9999999995,
+                         9.99999999949, 5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 0.5e-5, 2.5, 3.5})
+    EXPECT_EQ(chatter::table_number(x), printf10(x)) << x;
+  EXPECT_EQ(chatter::table_number(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(chatter::table_number(-std::numeric_limits<double>::infinity()), "-inf");
+}
 
 TEST(WriteLobeCsv, HeaderOnlyForNoRows) {
   std::ostringstream os;
