@@ -134,7 +134,7 @@ void SimulationRun::measure_forced(bool converged) {
           const double t = std::min(m_.real_time(base + std::floor((t_mean - base) / rev) * rev), t_now);
           if (!(t > t_now - tau_ * (1.0 + 1e-9))) continue;                   // not in the last period
           double r[2];
-          history_->displacement(t, r);
+          history_->displacement(t, r, History::kAnalysisSlot);
           wall = std::min(wall, -(nx * r[0] + ny * r[1]) * ex - process_.runout_m(j) + 0.0);
         }
         if (std::isfinite(wall) && !(std::abs(wall) <= std::abs(worst))) worst = wall;

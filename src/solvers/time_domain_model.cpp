@@ -457,7 +457,7 @@ void Model::general_chips(double t, const double* q, double* h) const {
   double r[2];
   relative(q, r);
   for (std::size_t i = 0; i < delays_.size(); ++i)
-    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i]);
+    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i], i);
   const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   const bool multiple = !settings_.linear && settings_.multiple_regeneration;
   element_angles(t);

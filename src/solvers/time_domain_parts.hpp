@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstddef>
@@ -45,6 +46,11 @@ struct HistoryEntry {
 
 class History {
  public:
+  /// Lookup slots that remember their last interval (displacement's
+  /// `slot`; larger slots share them by modulo), and the one the run's
+  /// analysis reads through (away from the delays' slots 0, 1, ...).
+  static constexpr std::size_t kHintSlots = 16;
+  static constexpr std::size_t kAnalysisSlot = kHintSlots - 1;
   History(std::size_t capacity, int teeth) : teeth_(teeth) { reserve(capacity); }
 
   void push(const HistoryEntry& e, const double* gaps) {
@@ -60,7 +66,8 @@ class History {
     while (count_ > 2 && at(1).t <= t) {
       head_ = (head_ + 1) % buf_.size();
       --count_;
-      hint_ = 0;
+      // The intervals remembered move down with the oldest entry.
+      for (std::size_t& h : hints_) h = h > 0 ? h - 1 : 0;
     }
   }
   std::size_t capacity() const { return buf_.size(); }
@@ -70,9 +77,11 @@ class History {
   double* newest_gaps() { return &gap_[((head_ + count_ - 1) % buf_.size()) * teeth_]; }
 
   /// r(t) (m). Outside the stored range the nearest interval's polynomial
-  /// is used (counted in extrapolations()).
-  void displacement(double t, double out[2]) const {
-    const std::size_t k = interval(t);
+  /// is used (counted in extrapolations()). `slot`: which of the caller's
+  /// lookups this is (e.g. the delay's index): each slot remembers its last
+  /// interval, so several delays read in turn each find theirs in O(1).
+  void displacement(double t, double out[2], std::size_t slot = 0) const {
+    const std::size_t k = interval(t, slot);
     const HistoryEntry& e0 = at(k);
     const HistoryEntry& e1 = at(k + 1);
     const double h = e1.t - e0.t;
@@ -94,7 +103,7 @@ class History {
   }
   /// Gap (m) left in air by tooth `tooth` at time t, linear interpolation.
   double gap(double t, int tooth) const {
-    const std::size_t k = interval(t);
+    const std::size_t k = interval(t, 0);
     const std::size_t i0 = (head_ + k) % buf_.size(), i1 = (head_ + k + 1) % buf_.size();
     const double t0 = buf_[i0].t, t1 = buf_[i1].t;
     const double g0 = gap_[i0 * teeth_ + tooth], g1 = gap_[i1 * teeth_ + tooth];
@@ -118,8 +127,9 @@ class History {
  private:
   const HistoryEntry& at(std::size_t k) const { return buf_[(head_ + k) % buf_.size()]; }
   // Index k with at(k).t <= t <= at(k+1).t (clamped to the stored range).
-  std::size_t interval(double t) const {
+  std::size_t interval(double t, std::size_t slot) const {
     if (t < at(0).t || t > at(count_ - 1).t) ++extrapolations_;
+    std::size_t& hint_ = hints_[slot % kHintSlots];
     if (hint_ + 1 < count_ && at(hint_).t <= t && t <= at(hint_ + 1).t) return hint_;
     if (hint_ + 2 < count_ && at(hint_ + 1).t <= t && t <= at(hint_ + 2).t) return ++hint_;
     std::size_t lo = 0, hi = count_ - 1;  // invariant: answer in [lo, hi)
@@ -144,14 +154,14 @@ class History {
     buf_.swap(nb);
     gap_.swap(ng);
     head_ = 0;
-    hint_ = 0;
+    hints_.fill(0);
   }
 
   int teeth_;
   std::vector<HistoryEntry> buf_;
   std::vector<double> gap_;
   std::size_t head_ = 0, count_ = 0, max_count_ = 0;
-  mutable std::size_t hint_ = 0;
+  mutable std::array<std::size_t, kHintSlots> hints_{};
   mutable long extrapolations_ = 0;
 };
 
