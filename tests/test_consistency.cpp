@@ -18,6 +18,8 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -219,6 +221,50 @@ TEST_F(ConsistencyCli, DefaultMethodIsAutoAndNamed) {
     EXPECT_EQ(json::parse(slurp(t))["method"], method) << cfg;
     EXPECT_TRUE(contains(l.out, "(" + method + ")")) << l.out;
   }
+}
+
+// The cut's mean power, torque and removal rate are the cutting law's
+// (docs/cutting_law.md) in every command: `recommend`'s at its point equal
+// `performance`'s at the same point and the closed forms (turning: K_c a f V,
+// K_c a f D/2, a f V; milling without edge forces power = K_t × removal rate).
+TEST_F(ConsistencyCli, MeanPowerTorqueAndRemovalAreTheCuttingLaws) {
+  const std::string turning = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "turning_seed003_shaft.toml").string();
+  // K_c = the config's [optimization] cutting_coefficient_n_per_mm2 = 1400.
+  const RunResult r = run({"recommend", turning, "--feed-per-tooth-mm", "0.35", "--tangential-coefficient-n-per-m2",
+                           "1.4e9", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json rec = json::parse(r.out);
+  const double rpm = rec["spindle_rpm"].get<double>(), depth_mm = rec["depth_mm"].get<double>();
+  std::ostringstream rpm_s, depth_s;
+  rpm_s.precision(17);
+  depth_s.precision(17);
+  rpm_s << rpm;
+  depth_s << depth_mm;
+  const RunResult p = run({"performance", turning, "--rpm", rpm_s.str(), "--feed-mm-per-rev", "0.35", "--depth-mm",
+                           depth_s.str(), "--json", "-"});
+  ASSERT_TRUE(p.exit_code == 0 || p.exit_code == 3) << p.err;
+  const json perf = json::parse(p.out);
+  const double v = std::numbers::pi * 0.025 * rpm / 60.0, a = depth_mm * 1e-3, f = 0.35e-3;
+  EXPECT_NEAR(rec["power_kw"].get<double>(), 1.4e9 * a * f * v * 1e-3, 1e-12 * rec["power_kw"].get<double>());
+  EXPECT_NEAR(perf["power_kw"].get<double>(), rec["power_kw"].get<double>(), 1e-12 * rec["power_kw"].get<double>());
+  EXPECT_NEAR(rec["torque_nm"].get<double>(), 1.4e9 * a * f * 0.0125, 1e-12 * rec["torque_nm"].get<double>());
+  EXPECT_NEAR(perf["torque_nm"].get<double>(), rec["torque_nm"].get<double>(), 1e-12 * rec["torque_nm"].get<double>());
+  const double mrr_mm3_s = a * f * v * 1e9;
+  EXPECT_NEAR(rec["mrr_cm3_per_min"].get<double>(), mrr_mm3_s * 0.06, 1e-12 * mrr_mm3_s);
+  EXPECT_NEAR(perf["removal_rate_mm3_per_s"].get<double>(), mrr_mm3_s, 1e-12 * mrr_mm3_s);
+
+  // Milling, the variable-pitch helix cutter (K_t = 600 N/mm², a_e = 6 mm,
+  // 4 teeth): MRR = a a_e f N_t N, power = K_t × MRR, torque = power / Ω.
+  const std::string milling = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_variable_pitch_helix.toml").string();
+  const RunResult m = run({"recommend", milling, "--feed-per-tooth-mm", "0.05", "--max-power-kw", "5", "--json", "-"});
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const json mr = json::parse(m.out);
+  const double n = mr["spindle_rpm"].get<double>(), d = mr["depth_mm"].get<double>();
+  const double mrr = d * 6.0 * 0.05 * 4 * n / 60.0;  // mm³/s
+  EXPECT_NEAR(mr["mrr_cm3_per_min"].get<double>(), mrr * 0.06, 1e-12 * mrr);
+  EXPECT_NEAR(mr["power_kw"].get<double>(), 600.0 * mrr * 1e-6, 1e-12 * mrr);
+  EXPECT_NEAR(mr["torque_nm"].get<double>(), mr["power_kw"].get<double>() * 1e3 / (2 * std::numbers::pi * n / 60.0),
+              1e-12 * mr["torque_nm"].get<double>());
 }
 
 // The limit's frequency and lobe do not move with the asked depth; what
