@@ -79,12 +79,15 @@ std::string operations_csv(const py::list& ops) {
 
 py::dict check(const Job& job_in, const py::object& operations, const std::string& method,
                std::optional<double> rpm_min, std::optional<double> rpm_max, double speed_tolerance_pct, int threads,
-               std::optional<double> position_mm) {
+               std::optional<double> position_mm, std::optional<double> max_power_kw,
+               std::optional<double> max_torque_nm, std::optional<double> tool_diameter_mm,
+               std::optional<double> workpiece_diameter_mm, std::optional<double> tangential_coefficient_n_per_m2) {
   const Job job = at_position(job_in, position_mm);
   const chatter::Config& cfg = *job.cfg;
   // The CLI's options and checks (chatter::check_options), named as keywords.
-  chatter::CheckOptions opt = chatter::check_options(cfg, rpm_min, rpm_max, method, speed_tolerance_pct,
-                                                     thread_count(threads), chatter::ArgStyle::kKeyword);
+  chatter::CheckOptions opt = chatter::check_options(
+      cfg, rpm_min, rpm_max, method, speed_tolerance_pct, thread_count(threads), chatter::ArgStyle::kKeyword,
+      {max_power_kw, max_torque_nm, tool_diameter_mm, workpiece_diameter_mm, tangential_coefficient_n_per_m2});
   chatter::OperationsFile file;
   std::string origin;
   if (py::isinstance<py::str>(operations) || py::hasattr(operations, "__fspath__")) {
@@ -154,7 +157,11 @@ py::dict recommend(const Job& job_in, double feed_per_tooth_mm, std::optional<do
 void bind_operations(py::module_& m) {
   m.def("check", &check, "job"_a, "operations"_a, py::kw_only(), "method"_a = "auto", "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "speed_tolerance_pct"_a = kDefaultSpeedTolPct, "threads"_a = 0,
-        "position_mm"_a = py::none(), "Checks operations (list of dicts or a CSV path) as chatter check --json.");
+        "position_mm"_a = py::none(), "max_power_kw"_a = py::none(), "max_torque_nm"_a = py::none(),
+        "tool_diameter_mm"_a = py::none(), "workpiece_diameter_mm"_a = py::none(),
+        "tangential_coefficient_n_per_m2"_a = py::none(),
+        "Checks operations (list of dicts or a CSV path) as chatter check --json: stability, forced vibration and "
+        "the mean cutting load against the spindle's power and torque.");
   m.def("recommend", &recommend, "job"_a, py::kw_only(), "feed_per_tooth_mm"_a, "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "max_power_kw"_a = py::none(), "max_torque_nm"_a = py::none(), "safety"_a = 0.8,
         "depth_max_mm"_a = py::none(), "speed_tolerance_pct"_a = kDefaultSpeedTolPct,

@@ -143,6 +143,64 @@ TEST_F(OperationsCli, ExitStatusZeroWhenAllStableThreeWhenSomeUnstable) {
   EXPECT_TRUE(contains(r.out, ":3: id 'b': spindle_rpm = 900: outside the machine range [1000, 2000]")) << r.out;
 }
 
+// A row with a feed gets its mean cutting load (docs/cutting_law.md) and,
+// with --max-power-kw / --max-torque-nm, the spindle's verdict: the
+// two-mode example (4 flutes, K_t 7e8 N/m², a_e = 6 mm on a 12 mm tool):
+// MRR = a a_e f N_t N / 60, power = K_t × MRR, torque = power / Ω.
+TEST_F(OperationsCli, CheckJudgesTheCuttingLoadAgainstTheSpindle) {
+  const std::string src = CHATTER_SOURCE_DIR;
+  const std::string cfg = src + "/examples/operations/two_mode_half_up.toml";
+  const std::string ops = src + "/examples/operations/two_mode_ops.csv";
+  Run r = run({"check", cfg, "--operations", ops, "--method", "analytic", "--tool-diameter-mm", "12",
+               "--max-power-kw", "0.45", "--json", "-"});
+  ASSERT_EQ(r.code, 3) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["machine"]["max_power_kw"], 0.45);
+  EXPECT_TRUE(j["machine"]["max_torque_nm"].is_null());
+  EXPECT_EQ(j["diameter_mm"], 12.0);
+  int over = 0;
+  for (const auto& o : j["operations"]) {
+    const double n = o["spindle_rpm"], a = o["depth_mm"], f = o["feed_per_tooth_mm"];
+    const double mrr = a * 6.0 * f * 4 * n / 60.0;  // mm³/s
+    const auto& l = o["load"];
+    ASSERT_FALSE(l.is_null()) << o;
+    EXPECT_NEAR(l["mrr_cm3_per_min"].get<double>(), mrr * 0.06, 1e-12 * mrr) << o["id"];
+    EXPECT_NEAR(l["power_kw"].get<double>(), 7e8 * mrr * 1e-9 * 1e-3, 1e-12 * mrr) << o["id"];
+    EXPECT_NEAR(l["torque_nm"].get<double>(), l["power_kw"].get<double>() * 1e3 / (2 * M_PI * n / 60.0), 1e-9);
+    const bool within = l["power_kw"].get<double>() <= 0.45;
+    EXPECT_EQ(l["within_power"], within) << o["id"];
+    EXPECT_EQ(l["within_torque"], true);
+    over += within ? 0 : 1;
+  }
+  EXPECT_EQ(over, 2);  // rough (0.504 kW) and deep (0.756 kW)
+  EXPECT_EQ(j["summary"]["overloaded"], 2);
+  EXPECT_TRUE(contains(r.err, "OVER")) << r.err;
+  EXPECT_TRUE(contains(r.err, "2 over the spindle's power or torque; exit status 3")) << r.err;
+
+  // A power limit without a diameter cannot be judged: refused, naming the flag.
+  r = run({"check", cfg, "--operations", ops, "--method", "analytic", "--max-power-kw", "1"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "a power or torque limit needs the tool diameter (--tool-diameter-mm)")) << r.err;
+
+  // Turning: K_c a f V with the workpiece's diameter, and the stable rows
+  // within the spindle give exit status 0.
+  const fs::path t = write("t.csv", "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\na,1800,2.0,,0.2\n");
+  r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", t.string(),
+           "--workpiece-diameter-mm", "50", "--tangential-coefficient-n-per-m2", "2e9", "--max-power-kw", "4",
+           "--json", "-"});
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto tj = nlohmann::json::parse(r.out);
+  const double power_w = 2e9 * 2e-3 * 0.2e-3 * M_PI * 0.05 * 1800 / 60.0;  // 3 770 W
+  EXPECT_NEAR(tj["operations"][0]["load"]["power_kw"].get<double>(), power_w * 1e-3, 1e-12 * power_w);
+  EXPECT_NEAR(tj["operations"][0]["load"]["torque_nm"].get<double>(), 2e9 * 2e-3 * 0.2e-3 * 0.025, 1e-12);
+  EXPECT_EQ(tj["summary"]["overloaded"], 0);
+  // Under 3 kW the same row is over the spindle: a finding, exit 3.
+  r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", t.string(),
+           "--workpiece-diameter-mm", "50", "--tangential-coefficient-n-per-m2", "2e9", "--max-power-kw", "3"});
+  EXPECT_EQ(r.code, 3) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "OVER")) << r.out;
+}
+
 TEST_F(OperationsCli, HeaderErrorIsAnInputError) {
   const fs::path bad = write("bad.csv", "id,rpm,depth_mm\n");
   const Run r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", bad.string()});

@@ -323,7 +323,9 @@ std::optional<OperationForced> forced_check(const StructuralModel& model, const 
 // ============================================================== check
 
 struct CheckOptions {
-  MachineLimits machine;            ///< speed range for suggestions (power/torque unused)
+  /// Speed range for the row checks and suggestions; the power and torque
+  /// limits judge the rows' cutting load (OperationCheck::load).
+  MachineLimits machine;
   std::string method = "auto";      ///< "auto" or a name from lobe_methods()
   /// Depth searched for each operation: max(search_depth_factor × depth,
   /// search_depth_min_m). A limit above it is reported as +inf (margin +inf).
@@ -343,8 +345,28 @@ struct CheckOptions {
   /// the end) after every exact solve, from worker threads: keep it cheap and
   /// thread-safe. For a progress bar; may be empty.
   std::function<void(double)> progress;
+  /// The cutting load of the rows with a feed (docs/cutting_law.md): the
+  /// tool's diameter in milling, the workpiece's at the cut in turning, m;
+  /// 0 = not known (torque, power and removal rate are then NaN, and a
+  /// power or torque limit cannot be judged: validate() refuses it).
+  double diameter_m = 0.0;
+  /// Turning: the tangential coefficient K_c, N/m² (> 0), for power and
+  /// torque; empty = the feed-force coefficient K_f, with a warning (as
+  /// recommend). Milling: unused (K_t is the process's).
+  std::optional<double> cutting_coefficient_n_per_m2;
 
   std::string validate() const;
+};
+
+/// The mean cutting load of one operation (the cutting law,
+/// docs/cutting_law.md) against the machine's power and torque.
+struct OperationLoad {
+  double mean_force_n = 0.0;          ///< mean tangential (cutting) force, teeth summed, N
+  double torque_n_m = 0.0;            ///< mean spindle torque, N·m (NaN without a diameter)
+  double power_w = 0.0;               ///< mean cutting power, W (NaN without a diameter)
+  double removal_rate_m3_per_s = 0.0; ///< material removal rate, m³/s (NaN without a diameter)
+  bool within_power = true;           ///< power <= machine.max_power_w
+  bool within_torque = true;          ///< torque <= machine.max_torque_n_m
 };
 
 /// The verdict on one operation.
@@ -377,6 +399,9 @@ struct OperationCheck {
   /// diametral error, teeth leaving the cut, the part's tolerance): set when
   /// the row gives a feed (forced_check).
   std::optional<OperationForced> forced;
+  /// The mean cutting load at the row's speed, depth and feed on its
+  /// process: set when the row gives a feed.
+  std::optional<OperationLoad> load;
 };
 
 struct CheckReport {
@@ -387,6 +412,8 @@ struct CheckReport {
   std::vector<RejectedRow> not_judged;
   std::vector<std::string> warnings;     ///< e.g. kFlipLobeWarning, once each; per-row plausibility
   std::size_t unstable() const;
+  /// Rows whose mean cutting power or torque exceeds the machine's.
+  std::size_t overloaded() const;
   /// Rows with a tolerance (max_sle_um / tolerance_um) whose forced part
   /// error exceeds it, or that are unstable at their feed.
   std::size_t out_of_tolerance() const;

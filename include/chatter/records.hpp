@@ -135,7 +135,8 @@ std::vector<int> spectrum_harmonics(const SimulationResult& result);
 /// `chatter check --json`: every operation (verdict, limit, margins,
 /// suggestion and pocket), the rows that could not be read (`rejected`) or
 /// judged (`not_judged`: a solver failure, overrides that make no cutter),
-/// the summary and the exit status (0 all stable, 3 some unstable, 2 some
+/// the summary and the exit status (0 all stable, 3 some unstable, out of
+/// tolerance or over the machine's power or torque, 2 some
 /// rows not read or not judged: the others are still reported).
 struct CheckRecordInputs {
   std::string operations_origin;   ///< the file (or "<operations>")
@@ -159,8 +160,16 @@ MachineLimits machine_range(const Config& config, std::optional<double> rpm_min,
 /// the arguments: machine range, method (checked: "<method>: method ..."),
 /// speed tolerance in percent, threads, the config's flute length.
 /// @throws InputError naming the argument.
+/// `load`: the machine's power and torque and what the cutting load needs
+/// (docs/cutting_law.md), in shop units as the flags; the diameter defaults
+/// to the config's process.tool_diameter_mm / workpiece_diameter_mm.
+struct CheckLoadArgs {
+  std::optional<double> max_power_kw, max_torque_nm;
+  std::optional<double> tool_diameter_mm, workpiece_diameter_mm, tangential_coefficient_n_per_m2;
+};
 CheckOptions check_options(const Config& config, std::optional<double> rpm_min, std::optional<double> rpm_max,
-                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style);
+                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style,
+                           const CheckLoadArgs& load = {});
 
 /// The arguments of `chatter recommend` (chatter.recommend): shop units, as
 /// the flags; empty = the default (the config's, or no limit).

@@ -96,12 +96,16 @@ other rows are still checked.
 With a feed, each row also gets its forced vibration (docs/forced.md): the
 surface location error (milling) or diametral error (turning), whether the
 teeth leave the cut, and with a max_sle_um (or tolerance_um) column whether
-the part is within that tolerance.
+the part is within that tolerance; and its mean cutting load (power, torque,
+MRR: docs/cutting_law.md; torque, power and MRR need the tool's diameter in
+milling, the workpiece's in turning), judged against --max-power-kw and
+--max-torque-nm when given (spindle: ok or OVER).
 
 Exit status: 0 every row read and judged, every operation stable (and within
-               its tolerance);
+               its tolerance and the spindle's power and torque);
              3 every row read and judged, some operations unstable (chatter
-               predicted) or out of their tolerance;
+               predicted), out of their tolerance or over the spindle's
+               power or torque;
              2 some rows invalid or not judged (a row whose overrides make no
                cutter, a solver that failed on it: each listed with its line
                and reason; the others are still checked and reported), or the
@@ -123,6 +127,11 @@ int cmd_check(const std::vector<std::string>& args) {
       ("rpm-max", po::value<double>(), "machine's highest spindle speed, rev/min (default: sweep.rpm_max)")
       ("method", po::value<std::string>(&method)->default_value("auto"), method_help().c_str())
       ("speed-tolerance-pct", po::value<double>()->default_value(2.0, "2"), "speed error the suggestion must tolerate, % in [0, 50) (0 = exact speed: the lobe's cusp)")
+      ("max-power-kw", po::value<double>(), "spindle power available for cutting, kW: a row with a feed whose mean cutting power exceeds it is OVER (default: no limit)")
+      ("max-torque-nm", po::value<double>(), "spindle torque available for cutting, N*m: likewise (default: no limit)")
+      ("tool-diameter-mm", po::value<double>(), "milling: tool diameter, mm, for torque, power and MRR (default: process.tool_diameter_mm)")
+      ("workpiece-diameter-mm", po::value<double>(), "turning: workpiece diameter at the cut, mm, for torque, power and MRR (default: process.workpiece_diameter_mm)")
+      ("tangential-coefficient-n-per-m2", po::value<double>(), "turning: tangential (cutting) coefficient K_c, N/m^2, for power and torque (default: the feed-force coefficient K_f, with a warning)")
       ("threads", po::value<int>()->default_value(0), "threads for the solves (0 = every core); the result does not depend on it")
       ("quiet,q", "no progress bar")
       ("progress", "show the progress (fraction done, time left) even when standard error is not a terminal: "
@@ -132,7 +141,10 @@ int cmd_check(const std::vector<std::string>& args) {
   check_outputs({{"--json", json_path == "-" ? "" : json_path}});  // before computing
   const Config cfg = load_checked(common);
   CheckOptions opt = check_options(cfg, opt_value(vm, "rpm-min"), opt_value(vm, "rpm-max"), method,
-                                   vm["speed-tolerance-pct"].as<double>(), thread_count(vm), ArgStyle::kFlag);
+                                   vm["speed-tolerance-pct"].as<double>(), thread_count(vm), ArgStyle::kFlag,
+                                   {opt_value(vm, "max-power-kw"), opt_value(vm, "max-torque-nm"),
+                                    opt_value(vm, "tool-diameter-mm"), opt_value(vm, "workpiece-diameter-mm"),
+                                    opt_value(vm, "tangential-coefficient-n-per-m2")});
   const OperationsFile file = read_operations(ops_path, cfg.process.operation(), opt.machine);
   CheckReport report;
   {
@@ -193,6 +205,28 @@ int cmd_check(const std::vector<std::string>& args) {
       t[i + 1].push_back(!op.max_error_m ? "-" : f->within_tolerance ? "ok" : "OUT");
     }
   }
+  // The mean cutting load of the rows with a feed against the machine's
+  // power and torque (docs/cutting_law.md).
+  const bool any_load = std::any_of(report.checks.begin(), report.checks.end(),
+                                    [](const OperationCheck& c) { return c.load.has_value(); });
+  const bool limited = std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m);
+  if (any_load) {
+    t.front().insert(t.front().end(), {"power_kw", "torque_nm", "mrr_cm3_min"});
+    if (limited) t.front().push_back("spindle");
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& l = report.checks[i].load;
+      auto cell = [](double x, int digits) { return std::isfinite(x) ? fixed(x, digits) : std::string("-"); };
+      if (!l) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});
+        if (limited) t[i + 1].push_back("-");
+        continue;
+      }
+      t[i + 1].push_back(cell(l->power_w * 1e-3, 3));
+      t[i + 1].push_back(cell(l->torque_n_m, 2));
+      t[i + 1].push_back(cell(l->removal_rate_m3_per_s * 6e7, 2));
+      if (limited) t[i + 1].push_back(l->within_power && l->within_torque ? "ok" : "OVER");
+    }
+  }
   const int status = check_exit_status(report, file);
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
@@ -216,6 +250,7 @@ int cmd_check(const std::vector<std::string>& args) {
   out << "summary: " << (report.checks.size() - report.unstable()) << " stable, " << report.unstable()
       << " unstable, " << file.rejected.size() << " rejected, " << report.not_judged.size() << " not judged"
       << (any_tolerance ? ", " + std::to_string(report.out_of_tolerance()) + " out of tolerance" : "")
+      << (limited && any_load ? ", " + std::to_string(report.overloaded()) + " over the spindle's power or torque" : "")
       << "; exit status " << status << "\n";
 
   if (!json_path.empty()) {

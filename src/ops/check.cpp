@@ -34,12 +34,25 @@ std::string CheckOptions::validate() const {
     os << t;
   else if (flute_length_m && !(std::isfinite(*flute_length_m) && *flute_length_m > 0.0))
     os << "CheckOptions::flute_length_m = " << *flute_length_m << ": must be > 0 m";
+  else if (!(std::isfinite(diameter_m) && diameter_m >= 0.0))
+    os << "CheckOptions::diameter_m = " << diameter_m << ": must be >= 0 m (0 = not known)";
+  else if (cutting_coefficient_n_per_m2 && !(std::isfinite(*cutting_coefficient_n_per_m2) && *cutting_coefficient_n_per_m2 > 0.0))
+    os << "CheckOptions::cutting_coefficient_n_per_m2 = " << *cutting_coefficient_n_per_m2 << ": must be > 0";
+  else if ((std::isfinite(machine.max_power_w) || std::isfinite(machine.max_torque_n_m)) && !(diameter_m > 0.0))
+    os << "CheckOptions: a power or torque limit needs diameter_m > 0 (the tool's in milling, the workpiece's in "
+          "turning)";
   return os.str();
 }
 
 std::size_t CheckReport::out_of_tolerance() const {
   return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
     return c.forced && c.op.max_error_m && !c.forced->within_tolerance;
+  }));
+}
+
+std::size_t CheckReport::overloaded() const {
+  return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
+    return c.load && (!c.load->within_power || !c.load->within_torque);
   }));
 }
 
@@ -228,6 +241,27 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
       if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
         report.warnings.push_back(w);
     }
+  }
+  // The mean cutting load of every judged row with a feed, on its process,
+  // against the machine's power and torque (docs/cutting_law.md).
+  // (Turning's K_f-as-K_c warning only where power and torque are reported:
+  // with a diameter.)
+  std::vector<std::string> unreported;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!judged[i] || !rows[i].feed_per_tooth_m) continue;
+    const Process p = process_for(process, rows[i]);
+    const CuttingLawOptions lo = cutting_law_options(p, options.cutting_coefficient_n_per_m2,
+                                                     options.diameter_m > 0.0 ? report.warnings : unreported);
+    const double d = options.diameter_m > 0.0 ? options.diameter_m : kNaN;
+    const MeanCut m = CuttingLaw::of(p, lo)->mean({rows[i].spindle_rpm, rows[i].depth_m, *rows[i].feed_per_tooth_m, d});
+    OperationLoad load;
+    load.mean_force_n = m.tangential_force_n;
+    load.torque_n_m = m.torque_n_m;
+    load.power_w = m.power_w;
+    load.removal_rate_m3_per_s = m.removal_rate_m3_per_s;
+    load.within_power = !(m.power_w > options.machine.max_power_w);
+    load.within_torque = !(m.torque_n_m > options.machine.max_torque_n_m);
+    checks[i].load = load;
   }
   if (options.progress) options.progress(1.0);
   for (std::size_t i = 0; i < rows.size(); ++i)

@@ -103,14 +103,7 @@ struct CutModel {
 CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings) {
   CutModel c;
   const double D = o.diameter_m > 0.0 ? o.diameter_m : kNaN;
-  CuttingLawOptions law_options;
-  if (p.operation() == Operation::kTurning) {
-    law_options.turning_tangential_coefficient_n_per_m2 =
-        o.cutting_coefficient_n_per_m2.value_or(p.turning_parameters().feed_force_coefficient_n_per_m2);
-    if (!o.cutting_coefficient_n_per_m2)
-      warnings.push_back("turning power and torque use the feed-force coefficient K_f as cutting pressure (no "
-                         "tangential coefficient given); with force angle θ the true value is K_f·tanθ, larger");
-  }
+  const CuttingLawOptions law_options = cutting_law_options(p, o.cutting_coefficient_n_per_m2, warnings);
   const MeanCut unit = CuttingLaw::of(p, law_options)->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, D});
   c.force_per_depth = unit.tangential_force_n;  // F_c = K_c b f; milling the teeth's tangential forces
   c.torque_per_depth = unit.torque_n_m;

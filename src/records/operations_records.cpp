@@ -83,10 +83,49 @@ void check_method(const std::string& method, const Config& cfg, ArgStyle style) 
   }
 }
 
+// The cutting-load arguments of check and recommend, checked: the machine's
+// power and torque, the diameter (default the config's process.tool_diameter_mm
+// or process.workpiece_diameter_mm) and turning's K_c.
+struct LoadInputs {
+  double diameter_m = 0.0;
+  std::optional<double> kc;
+};
+LoadInputs load_inputs(const Config& cfg, const CheckLoadArgs& a, MachineLimits& machine, ArgStyle style) {
+  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const auto name = [&](const char* key) { return arg_name(style, key); };
+  const auto positive = [&](const char* key, double x) {
+    if (!(std::isfinite(x) && x > 0.0)) throw InputError(name(key) + " = " + fmt(x) + ": must be > 0");
+    return x;
+  };
+  const auto only = [&](const char* key, bool given, bool ok, const char* op) {
+    if (given && !ok)
+      throw InputError(name(key) + ": only for " + op + " (the config's operation is " +
+                       (milling ? "milling" : "turning") + ")");
+  };
+  only("tool_diameter_mm", a.tool_diameter_mm.has_value(), milling, "milling");
+  only("workpiece_diameter_mm", a.workpiece_diameter_mm.has_value(), !milling, "turning");
+  only("tangential_coefficient_n_per_m2", a.tangential_coefficient_n_per_m2.has_value(), !milling, "turning");
+  if (a.max_power_kw) machine.max_power_w = positive("max_power_kw", *a.max_power_kw) * 1e3;
+  if (a.max_torque_nm) machine.max_torque_n_m = positive("max_torque_nm", *a.max_torque_nm);
+  LoadInputs in;
+  in.diameter_m = milling ? cfg.process.milling_parameters().tool_diameter_m
+                          : cfg.process.turning_parameters().workpiece_diameter_m;
+  if (a.tool_diameter_mm) in.diameter_m = positive("tool_diameter_mm", *a.tool_diameter_mm) * 1e-3;
+  if (a.workpiece_diameter_mm) in.diameter_m = positive("workpiece_diameter_mm", *a.workpiece_diameter_mm) * 1e-3;
+  if (a.tangential_coefficient_n_per_m2)
+    in.kc = positive("tangential_coefficient_n_per_m2", *a.tangential_coefficient_n_per_m2);
+  if ((std::isfinite(machine.max_power_w) || std::isfinite(machine.max_torque_n_m)) && !(in.diameter_m > 0.0))
+    throw InputError(std::string("a power or torque limit needs the ") +
+                     (milling ? "tool diameter (" + name("tool_diameter_mm") + ")"
+                              : "workpiece diameter (" + name("workpiece_diameter_mm") + ")"));
+  return in;
+}
+
 }  // namespace
 
 CheckOptions check_options(const Config& cfg, std::optional<double> rpm_min, std::optional<double> rpm_max,
-                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style) {
+                           const std::string& method, double speed_tolerance_pct, unsigned threads, ArgStyle style,
+                           const CheckLoadArgs& load) {
   CheckOptions opt;
   opt.machine = machine_range(cfg, rpm_min, rpm_max, style);
   opt.method = method;
@@ -94,6 +133,9 @@ CheckOptions check_options(const Config& cfg, std::optional<double> rpm_min, std
   opt.speed_tolerance = speed_tolerance(speed_tolerance_pct, style);
   opt.flute_length_m = cfg.flute_length_m;
   check_method(method, cfg, style);
+  const LoadInputs in = load_inputs(cfg, load, opt.machine, style);
+  opt.diameter_m = in.diameter_m;
+  opt.cutting_coefficient_n_per_m2 = in.kc;
   return opt;
 }
 
@@ -111,27 +153,19 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
       throw InputError(name(key) + ": only for " + op + " (the config's operation is " +
                        (milling ? "milling" : "turning") + ")");
   };
-  only("tool_diameter_mm", a.tool_diameter_mm.has_value(), milling, "milling");
   only("radial_immersion", a.radial_immersion.has_value(), milling, "milling");
   only("teeth", a.teeth.has_value(), milling, "milling");
   only("milling_direction", a.milling_direction.has_value(), milling, "milling");
-  only("workpiece_diameter_mm", a.workpiece_diameter_mm.has_value(), !milling, "turning");
-  only("tangential_coefficient_n_per_m2", a.tangential_coefficient_n_per_m2.has_value(), !milling, "turning");
-  if (a.max_power_kw) opt.machine.max_power_w = positive("max_power_kw", *a.max_power_kw) * 1e3;
-  if (a.max_torque_nm) opt.machine.max_torque_n_m = positive("max_torque_nm", *a.max_torque_nm);
+  const LoadInputs load = load_inputs(
+      cfg, {a.max_power_kw, a.max_torque_nm, a.tool_diameter_mm, a.workpiece_diameter_mm, a.tangential_coefficient_n_per_m2},
+      opt.machine, style);
+  opt.diameter_m = load.diameter_m;
+  opt.cutting_coefficient_n_per_m2 = load.kc;
   opt.feed_per_tooth_m = positive("feed_per_tooth_mm", a.feed_per_tooth_mm) * 1e-3;
   if (!(a.safety > 0.0 && a.safety <= 1.0)) throw InputError(name("safety") + " = " + fmt(a.safety) + ": must be in (0, 1]");
   opt.safety = a.safety;
   opt.depth_max_m =
       (a.depth_max_mm ? positive("depth_max_mm", *a.depth_max_mm) : cfg.sweep.depth_max_mm.value_or(kDefaultSearchDepthMm)) * 1e-3;
-  // The diameter defaults to the config's (process.tool_diameter_mm or
-  // process.workpiece_diameter_mm); the argument overrides it.
-  opt.diameter_m = milling ? cfg.process.milling_parameters().tool_diameter_m
-                           : cfg.process.turning_parameters().workpiece_diameter_m;
-  if (a.tool_diameter_mm) opt.diameter_m = positive("tool_diameter_mm", *a.tool_diameter_mm) * 1e-3;
-  if (a.workpiece_diameter_mm) opt.diameter_m = positive("workpiece_diameter_mm", *a.workpiece_diameter_mm) * 1e-3;
-  if (a.tangential_coefficient_n_per_m2)
-    opt.cutting_coefficient_n_per_m2 = positive("tangential_coefficient_n_per_m2", *a.tangential_coefficient_n_per_m2);
   opt.method = a.method;
   check_method(a.method, cfg, style);
   opt.threads = a.threads;
@@ -160,16 +194,12 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
     }
     process = process_for(cfg.process, row);
   }
-  if ((std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m)) && !(opt.diameter_m > 0.0))
-    throw InputError(std::string("a power or torque limit needs the ") +
-                     (milling ? "tool diameter (" + name("tool_diameter_mm") + ")"
-                              : "workpiece diameter (" + name("workpiece_diameter_mm") + ")"));
   return {opt, process};
 }
 
 int check_exit_status(const CheckReport& report, const OperationsFile& file) {
   if (!file.rejected.empty() || !report.not_judged.empty()) return 2;
-  return report.unstable() > 0 || report.out_of_tolerance() > 0 ? 3 : 0;
+  return report.unstable() > 0 || report.out_of_tolerance() > 0 || report.overloaded() > 0 ? 3 : 0;
 }
 
 json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
@@ -182,7 +212,11 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
   j["config"] = source.config_path;
   if (source.position_mm) j["position_mm"] = *source.position_mm;
   j["operations_file"] = in.operations_origin;
-  j["machine"] = {{"rpm_min", opt.machine.rpm_min}, {"rpm_max", opt.machine.rpm_max}};
+  j["machine"] = {{"rpm_min", opt.machine.rpm_min},
+                  {"rpm_max", opt.machine.rpm_max},
+                  {"max_power_kw", finite_or_null(opt.machine.max_power_w * 1e-3)},
+                  {"max_torque_nm", finite_or_null(opt.machine.max_torque_n_m)}};
+  j["diameter_mm"] = opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr);
   j["method_requested"] = in.method_requested;
   j["warnings"] = source.warnings;  // the config's plausibility warnings, then the check's
   for (const auto& w : report.warnings) j["warnings"].push_back(w);
@@ -216,6 +250,17 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
     o["forced"] = c.forced ? json::parse(forced_check_json(c.forced->response, c.op.max_error_m,
                                                            c.forced->within_tolerance))
                            : json(nullptr);
+    // The mean cutting load (null without a feed; docs/cutting_law.md).
+    if (c.load) {
+      o["load"] = {{"mean_force_n", finite_or_null(c.load->mean_force_n)},
+                   {"torque_nm", finite_or_null(c.load->torque_n_m)},
+                   {"power_kw", finite_or_null(c.load->power_w * 1e-3)},
+                   {"mrr_cm3_per_min", finite_or_null(c.load->removal_rate_m3_per_s * 6e7)},
+                   {"within_power", c.load->within_power},
+                   {"within_torque", c.load->within_torque}};
+    } else {
+      o["load"] = nullptr;
+    }
     if (c.suggestion) {
       json s = limit_json(*c.suggestion);
       s["margin"] = finite_or_null(c.suggestion_margin);
@@ -238,7 +283,8 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
                   {"unstable", report.unstable()},
                   {"rejected", file.rejected.size()},
                   {"not_judged", report.not_judged.size()},
-                  {"out_of_tolerance", report.out_of_tolerance()}};
+                  {"out_of_tolerance", report.out_of_tolerance()},
+                  {"overloaded", report.overloaded()}};
   j["exit_status"] = check_exit_status(report, file);
   return j;
 }

@@ -106,6 +106,21 @@ def test_check_matches_cli_json(config, ops, tmp_path):
     assert chatter.check(job, str(path)) == want
 
 
+def test_check_with_the_spindle_limits_matches_cli_json(tmp_path):
+    """The cutting load and the spindle's verdict: the keywords are the flags."""
+    cfg = SOURCE_DIR / "examples" / "operations" / "two_mode_half_up.toml"
+    path = SOURCE_DIR / "examples" / "operations" / "two_mode_ops.csv"
+    out = tmp_path / "check.json"
+    status, _, err = run_cli("check", cfg, "--operations", path, "--method", "analytic", "--tool-diameter-mm", "12",
+                             "--max-power-kw", "0.45", "--max-torque-nm", "0.5", "--json", out, "--quiet")
+    assert status == 3, err
+    want = json.loads(out.read_text())
+    got = chatter.check(chatter.load(cfg), str(path), method="analytic", tool_diameter_mm=12, max_power_kw=0.45,
+                        max_torque_nm=0.5)
+    assert got == want
+    assert want["summary"]["overloaded"] == 2
+
+
 def test_check_list_of_dicts_is_the_file(tmp_path):
     """The same operations as dicts give the same verdicts as the file."""
     cfg = SOURCE_DIR / "configs" / "milling_benchmark_ae005_down.toml"
