@@ -413,8 +413,9 @@ class Process {
   // Entry and exit times (s, not wrapped) of the profile's slices (engagement_events_s).
   std::vector<double> profile_events_s(double rpm, double depth_m) const;
   SpeedVariation speed_variation_{};
-  // φ_en, φ_ex of the milling arc (set by milling()).
-  double entry_rad_ = 0.0, exit_rad_ = 0.0;
+  // φ_en, φ_ex of the milling arc (set by milling(); the defaults are the
+  // default MillingParameters' full-immersion down-milling arc [0, π]).
+  double entry_rad_ = 0.0, exit_rad_ = std::numbers::pi;
 };
 
 }  // namespace chatter
