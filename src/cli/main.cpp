@@ -33,7 +33,7 @@ const Command kCommands[] = {
      chatter::cli::cmd_lobes},
     {"point", "is one operating point (speed, depth) stable? the limit there and the margin", "docs/results.md",
      chatter::cli::cmd_point},
-    {"check", "check every operation of a part program; suggest a robust stable speed for each",
+    {"check", "check every operation of a part program (stability, part error, spindle power); suggest a robust stable speed for each",
      "docs/operations.md", chatter::cli::cmd_check},
     {"recommend", "the speed and depth that remove the most material, stable and within power and torque",
      "docs/operations.md", chatter::cli::cmd_recommend},
@@ -91,7 +91,8 @@ On the shop floor:
      variation (docs/ssv.md).
   2. chatter lobes CONFIG --plot lobes.png: pick a spindle speed at a peak
      between two lobes; cut below the curve there, with margin.
-  3. chatter check CONFIG --operations ops.csv before running a program.
+  3. chatter check CONFIG --operations ops.csv before running a program (with
+     --max-power-kw and the tool diameter it checks the spindle's power too).
   4. To see what a cut does in time: chatter simulate CONFIG --rpm R --depth-mm D.
   Every command picks its method with --method auto (turning: analytic;
   milling: sdm, which sees the flip lobes of low radial immersion) and names
@@ -111,7 +112,7 @@ Options: --help, --version. Every command that reads a config prints its
 plausibility warnings ("warning: FILE: KEY = VALUE: ...; did you mean ...?")
 and takes --strict to refuse a config that raises one.
 Exit status: 0 success, 2 bad input or usage, 1 internal failure
-(check: 3 when some operations are unstable; lobes --depth-mm D, point and
+(check: 3 when some operations are unstable, out of tolerance or over the spindle; lobes --depth-mm D, point and
 simulate with --fail-on-chatter: 3 on chatter; detect: 3 on chatter;
 forced: 3 when the cut is unstable; performance: 3 when a constraint fails;
 optimize: 3 when no set-point meets every constraint).
