@@ -45,14 +45,10 @@ class MillingLaw final : public CuttingLaw {
     m.cutting_speed_m_per_s = std::numbers::pi * p.diameter_m * p.spindle_rpm / 60.0;
     // Table feed f N_t N/60 (m/s) times the cross-section cut.
     const double table_speed = p.feed_m * nt * p.spindle_rpm / 60.0;
-    if (process_.has_runout()) {
-      const Sampled s = sample(p);
-      m.force_n = s.mean_force_n;
-      m.tangential_force_n = s.mean_tangential_n;
-      m.torque_n_m = s.mean_torque_n_m;
-    } else if (process_.has_profile()) {
-      // Slice by slice: its arc, its radius (the torque arm) and its radial
-      // coefficient; the chip f sin φ sin κ over the width dz / sin κ.
+    if (process_.has_profile()) {
+      // Slice by slice: its arc, its radius (the torque arm and the width
+      // across the feed R_s P_s) and its radial coefficient; the chip
+      // f sin φ sin κ over the width dz / sin κ.
       double torque = 0.0, section = 0.0;
       if (p.depth_m > 0.0)
         for (const AxialSlice& c : process_.axial_slices(p.depth_m)) {
@@ -62,7 +58,7 @@ class MillingLaw final : public CuttingLaw {
           const double ft = milling_mean_tangential_force_n(nt, I, p.feed_m, c.height_m(), kt);
           m.tangential_force_n += ft;
           torque += ft * c.radius_m;
-          section += c.height_m() * c.radius_m * I.sin;  // the slice's width across the feed
+          section += c.height_m() * c.radius_m * I.sin;
         }
       m.torque_n_m = torque;
       m.removal_rate_m3_per_s = section * table_speed;
@@ -71,9 +67,17 @@ class MillingLaw final : public CuttingLaw {
       m.force_n = milling_mean_force_n(nt, I, p.feed_m, p.depth_m, kt, mp.radial_coefficient_n_per_m2, edge_);
       m.tangential_force_n = milling_mean_tangential_force_n(nt, I, p.feed_m, p.depth_m, kt, edge_.tangential_n_per_m);
       m.torque_n_m = m.tangential_force_n * p.diameter_m / 2.0;
-    }
-    if (!process_.has_profile())  // a × a_e × table feed; runout moves the chip between teeth, not the volume
+      // a × a_e × the table feed.
       m.removal_rate_m3_per_s = p.depth_m * (mp.radial_immersion * p.diameter_m) * table_speed;
+    }
+    if (process_.has_runout()) {
+      // The chip is floored at zero and moves between the teeth: the forces
+      // from a sampled revolution (the volume removed is the same).
+      const Sampled s = sample(p);
+      m.force_n = s.mean_force_n;
+      m.tangential_force_n = s.mean_tangential_n;
+      m.torque_n_m = s.mean_torque_n_m;
+    }
     m.power_w = m.torque_n_m * omega;
     return m;
   }
