@@ -68,6 +68,51 @@ static void check_forced(void) {
   chatter_model_free(model);
 }
 
+/* chatter_cutting_load: the cutting law's closed forms (docs/cutting_law.md)
+ * on the variable-pitch helix cutter (K_t 600 N/mm^2, a_e 6 mm of a 12 mm
+ * tool, 4 teeth): MRR = a a_e f N_t N / 60, power = K_t x MRR, torque =
+ * power / Omega; turning case A with K_f as the cutting pressure (check's
+ * rule) and with K_c; bad arguments. */
+static void check_cutting_load(void) {
+  chatter_model* model = NULL;
+  chatter_cutting_load_result r;
+  const double pi = 3.14159265358979323846;
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/milling_variable_pitch_helix.toml", &model) == CHATTER_OK);
+  CHECK(chatter_cutting_load(model, 9000.0, 2.0, 0.05, NAN, NAN, &r) == CHATTER_OK);
+  const double mrr = 2.0 * 6.0 * 0.05 * 4 * 9000.0 / 60.0; /* 360 mm^3/s */
+  CHECK(fabs(r.removal_rate_mm3_per_s - mrr) <= 1e-12 * mrr);
+  CHECK(fabs(r.power_kw - 600.0 * mrr * 1e-6) <= 1e-12 * r.power_kw);
+  CHECK(fabs(r.torque_nm - r.power_kw * 1e3 / (2 * pi * 9000.0 / 60.0)) <= 1e-12 * r.torque_nm);
+  CHECK(r.peak_force_n > hypot(r.mean_force_x_n, r.mean_force_y_n));
+  /* A given diameter scales the width cut (a_e = 0.5 D): 24 mm doubles it. */
+  chatter_cutting_load_result w;
+  CHECK(chatter_cutting_load(model, 9000.0, 2.0, 0.05, 24.0, NAN, &w) == CHATTER_OK);
+  CHECK(fabs(w.removal_rate_mm3_per_s - 2.0 * mrr) <= 1e-12 * mrr);
+  CHECK(chatter_cutting_load(model, 9000.0, 2.0, 0.05, NAN, 2e9, &r) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "only for turning") != NULL);
+  CHECK(chatter_cutting_load(model, 9000.0, -2.0, 0.05, NAN, NAN, &r) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "depth_mm") != NULL);
+  CHECK(chatter_cutting_load(model, 9000.0, 2.0, 0.05, 0.0, NAN, &r) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_cutting_load(model, 9000.0, 2.0, 0.05, NAN, NAN, NULL) == CHATTER_NULL_ARGUMENT);
+  chatter_model_free(model);
+  /* Turning case A (K_f = 2.4e9 N/m^2, no workpiece diameter in the config:
+   * torque, power and removal need one). */
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
+  CHECK(chatter_cutting_load(model, 1800.0, 2.0, 0.2, NAN, NAN, &r) == CHATTER_OK);
+  CHECK(isnan(r.power_kw) && isnan(r.torque_nm) && isnan(r.removal_rate_mm3_per_s));
+  const double kf = 2.4e9;
+  CHECK(fabs(r.mean_force_x_n + 2e-3 * kf * 0.2e-3) <= 1e-12 * 2e-3 * kf * 0.2e-3); /* the in-plane -a K_f f */
+  CHECK(r.mean_force_y_n == 0.0);
+  CHECK(chatter_cutting_load(model, 1800.0, 2.0, 0.2, 50.0, NAN, &r) == CHATTER_OK);
+  const double v = pi * 0.05 * 1800.0 / 60.0;
+  CHECK(fabs(r.power_kw - kf * 2e-3 * 0.2e-3 * v * 1e-3) <= 1e-12 * r.power_kw);
+  CHECK(chatter_cutting_load(model, 1800.0, 2.0, 0.2, 50.0, 2e9, &r) == CHATTER_OK);
+  CHECK(fabs(r.power_kw - 2e9 * 2e-3 * 0.2e-3 * v * 1e-3) <= 1e-12 * r.power_kw);
+  CHECK(fabs(r.torque_nm - 2e9 * 2e-3 * 0.2e-3 * 0.025) <= 1e-12 * r.torque_nm);
+  CHECK(fabs(r.removal_rate_mm3_per_s - 2.0 * 0.2 * v * 1e3) <= 1e-12 * r.removal_rate_mm3_per_s);
+  chatter_model_free(model);
+}
+
 static void check_position(void) {
   const char* config = CHATTER_SOURCE_DIR "/configs/coupled_tool1_workpiece1.toml";
   chatter_model *model = NULL, *at = NULL, *plain = NULL;
@@ -411,6 +456,7 @@ int main(void) {
 
   check_position();
   check_forced();
+  check_cutting_load();
   check_uncertainty();
 
   printf("%d passed, %d failed\n", passed, failed);

@@ -342,6 +342,33 @@ chatter_status chatter_forced_response(const chatter_model* model, double spindl
                                        chatter_forced_result* out);
 
 
+/* --- The cutting load (docs/cutting_law.md) ------------------------------
+ * What one operation asks of the spindle: the numbers `chatter check`
+ * reports per row (and `recommend` and `performance` use), from the one
+ * cutting law of the engine. */
+
+typedef struct chatter_cutting_load_result {
+  double mean_force_n;           /* mean tangential (cutting) force, the teeth's summed, N */
+  double torque_nm;              /* mean spindle torque, N m; NaN without a diameter */
+  double power_kw;               /* mean cutting power, kW; NaN without a diameter */
+  double removal_rate_mm3_per_s; /* material removal rate, mm^3/s; NaN without a diameter */
+  double mean_force_x_n, mean_force_y_n; /* mean in-plane force on the tool (model X, Y), N */
+  double peak_force_n;           /* largest resultant force over a revolution, N */
+} chatter_cutting_load_result;
+
+/* The mean cutting load at spindle_rpm (> 0), depth_mm (> 0) and feed_mm
+ * (> 0; per tooth in milling, per revolution in turning) on the model's
+ * process. diameter_mm: the tool's (milling) or the workpiece's at the cut
+ * (turning), > 0, or NAN for the config's process.tool_diameter_mm /
+ * workpiece_diameter_mm (torque, power and removal rate NaN when neither is
+ * known). tangential_coefficient_n_per_m2: turning's K_c (> 0), or NAN for
+ * the feed-force coefficient K_f as check and recommend use it (an
+ * underestimate); must be NAN in milling. Cost: O(1), ~0.1 ms with runout
+ * (a sampled revolution) and for the peak force in milling. Thread-safe. */
+chatter_status chatter_cutting_load(const chatter_model* model, double spindle_rpm, double depth_mm, double feed_mm,
+                                    double diameter_mm, double tangential_coefficient_n_per_m2,
+                                    chatter_cutting_load_result* out);
+
 /* --- Process optimisation and adaptive control (docs/optimization.md) -----
  * A config's [optimization] table: the performance indices of a cut (removal
  * rate, diametral error or surface location error, roughness, cost,

@@ -14,6 +14,7 @@
 // immutable after construction, so any number of threads may query one table.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -23,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "chatter/cutting_law.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
 #include "chatter/results.hpp"
@@ -319,6 +321,27 @@ struct OperationForced {
 /// row gives no feed. Cost: one ForcedResponseSolver response (~1–10 ms).
 /// @throws InputError as ForcedResponseSolver (e.g. measured FRFs).
 std::optional<OperationForced> forced_check(const StructuralModel& model, const Process& base, const OperationRow& row);
+
+// ====================================================== the cutting load
+
+/// The cutting law's options of the commands that report a cut's power and
+/// torque (check, recommend, chatter_cutting_load; docs/cutting_law.md):
+/// turning takes the tangential coefficient K_c when given, else the
+/// feed-force coefficient K_f as its cutting pressure (an underestimate: with
+/// force angle θ the true value is K_f·tanθ), said once in `warnings`;
+/// milling needs nothing more (K_t is the process's).
+inline CuttingLawOptions cutting_law_options(const Process& process, std::optional<double> kc,
+                                             std::vector<std::string>& warnings) {
+  CuttingLawOptions o;
+  if (process.operation() != Operation::kTurning) return o;
+  o.turning_tangential_coefficient_n_per_m2 = kc.value_or(process.turning_parameters().feed_force_coefficient_n_per_m2);
+  if (!kc) {
+    const std::string w = "turning power and torque use the feed-force coefficient K_f as cutting pressure (no "
+                          "tangential coefficient given); with force angle θ the true value is K_f·tanθ, larger";
+    if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
+  }
+  return o;
+}
 
 // ============================================================== check
 

@@ -3,15 +3,11 @@
 // check and recommend. Not part of the public API.
 #pragma once
 
-#include <algorithm>
 #include <limits>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
-#include <vector>
 
-#include "chatter/cutting_law.hpp"
 #include "chatter/lobes.hpp"
 
 namespace chatter::detail::ops {
@@ -39,22 +35,6 @@ inline std::string num(double x) {
   os.precision(10);
   os << x;
   return os.str();
-}
-
-/// The cutting law's options of recommend and check (docs/cutting_law.md):
-/// turning takes K_c when given, else the feed-force coefficient K_f as its
-/// cutting pressure, said once in `warnings`; milling needs nothing more.
-inline CuttingLawOptions cutting_law_options(const Process& p, std::optional<double> kc,
-                                             std::vector<std::string>& warnings) {
-  CuttingLawOptions o;
-  if (p.operation() != Operation::kTurning) return o;
-  o.turning_tangential_coefficient_n_per_m2 = kc.value_or(p.turning_parameters().feed_force_coefficient_n_per_m2);
-  if (!kc) {
-    const std::string w = "turning power and torque use the feed-force coefficient K_f as cutting pressure (no "
-                          "tangential coefficient given); with force angle θ the true value is K_f·tanθ, larger";
-    if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
-  }
-  return o;
 }
 
 /// `s` in single quotes, for messages.
