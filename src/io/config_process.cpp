@@ -3,6 +3,7 @@
 #include "config_sections.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <span>
@@ -77,38 +78,18 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
 // turning, per tooth in milling), mm.
 const Range kFeedMm{"in (0, 10] (mm)", 0.0, true, kMaxFeedMm, false};
 static_assert(kMaxFeedMm == 10.0, "kFeedMm's text names the bound");
-constexpr std::string_view kProcessKeys[] = {"operation",
-                                             "feed_force_coefficient_n_per_m2",
-                                             "feed_force_coefficient_n_per_mm2",
-                                             "radial_force_coefficient_n_per_m2",
-                                             "radial_force_coefficient_n_per_mm2",
-                                             "lead_angle_deg",
-                                             "nose_radius_mm",
-                                             "feed_per_rev_mm",
-                                             "feed_per_tooth_mm",
-                                             "teeth",
-                                             "tangential_coefficient_n_per_m2",
-                                             "tangential_coefficient_n_per_mm2",
-                                             "radial_coefficient_n_per_m2",
-                                             "radial_coefficient_n_per_mm2",
-                                             "radial_immersion",
-                                             "milling_direction",
-                                             "flute_length_mm",
-                                             "tool_diameter_mm",
-                                             "radial_depth_mm",
-                                             "helix_angle_deg",
-                                             "pitch_angles_deg",
-                                             "runout_um",
-                                             "radial_coefficient_ratio",
-                                             "cutter_geometry",
-                                             "corner_radius_mm",
-                                             "profile",
-                                             "profile_slices",
-                                             "axial_force_coefficient_n_per_m2",
-                                             "axial_force_coefficient_n_per_mm2",
-                                             "process_damping_coefficient_n_per_m",
-                                             "workpiece_diameter_mm",
-                                             "speed_variation"};
+// The keys of either operation, and every key of [process]: the lists above
+// joined (what reject_unknown accepts and names, in this order).
+constexpr std::string_view kOperationKey[] = {"operation"};
+constexpr std::string_view kSharedKeys[] = {"process_damping_coefficient_n_per_m", "speed_variation"};
+template <std::size_t... N>
+constexpr auto join_keys(const std::string_view (&... lists)[N]) {
+  std::array<std::string_view, (N + ...)> out{};
+  std::size_t at = 0;
+  ((std::copy(std::begin(lists), std::end(lists), out.begin() + static_cast<std::ptrdiff_t>(at)), at += N), ...);
+  return out;
+}
+constexpr auto kProcessKeys = join_keys(kOperationKey, kTurningKeys, kMillingKeys, kSharedKeys);
 // Pitch angles as written must sum to 360° to this (deg); they are then
 // scaled to sum to exactly one revolution.
 constexpr double kPitchSumToleranceDeg = 1e-3;
