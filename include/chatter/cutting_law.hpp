@@ -3,9 +3,12 @@
 // material removal rate, cutting speed, largest resultant force — behind
 // one interface with an implementation for turning and one for milling
 // (src/model/cutting/; docs/cutting_law.md). Every command that reports one
-// of these numbers (`optimize`, `recommend`, `coefficients`, the forced
-// response's mean force, the C API and Python through them) reads it here,
-// so a new process or cutter geometry is one more implementation.
+// of these numbers (`check`, `recommend`, `optimize`/`performance`,
+// `coefficients`' prediction, the forced response's turning force,
+// chatter_cutting_load, Python through the records) reads it here, so a new
+// process or cutter geometry is one more implementation. (The forced
+// response's milling mean force is its Fourier series' zeroth term: tested
+// equal to this law's.)
 //
 // The dynamic side — the directional matrix H(t) of the regenerative force
 // and its exact integrals over a step — is Process's (chatter/process.hpp);
