@@ -181,6 +181,12 @@ TEST_F(OperationsCli, CheckJudgesTheCuttingLoadAgainstTheSpindle) {
   r = run({"check", cfg, "--operations", ops, "--method", "analytic", "--max-power-kw", "1"});
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   EXPECT_TRUE(contains(r.err, "a power or torque limit needs the tool diameter (--tool-diameter-mm)")) << r.err;
+  r = run({"check", cfg, "--operations", ops, "--method", "analytic", "--tool-diameter-mm", "12", "--max-power-kw", "-1"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "--max-power-kw = -1: must be > 0")) << r.err;
+  r = run({"check", config_path("seed_turning_1dof.toml").string(), "--operations", ops, "--tool-diameter-mm", "12"});
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(contains(r.err, "--tool-diameter-mm: only for milling (the config's operation is turning)")) << r.err;
 
   // Turning: K_c a f V with the workpiece's diameter, and the stable rows
   // within the spindle give exit status 0.
