@@ -2,6 +2,7 @@
 // (include/chatter/io/shop_io.hpp). Audio through libsndfile.
 #include "chatter/io/shop_io.hpp"
 
+#include <dlfcn.h>
 #include <sndfile.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <type_traits>
 
 #include "chatter/error.hpp"
 
@@ -137,6 +139,42 @@ double force_cell(const fs::path& file, int line, const std::vector<std::string>
   rule(std::abs(v) <= kMaxForceN, file, line, column, v,
        "must be within +-1e6 N (a cutting force in N; is the column in another unit?)");
   return v;
+}
+
+// libsndfile, loaded on first use: only the audio reader of `detect` needs
+// it, and linking it (with the seven codec libraries it pulls in) cost every
+// command ~0.6 ms of start-up (docs/performance.md). Thread-safe (a static
+// initialised once); the library stays loaded.
+struct Sndfile {
+  decltype(&sf_open) open = nullptr;
+  decltype(&sf_close) close = nullptr;
+  decltype(&sf_readf_double) readf_double = nullptr;
+  decltype(&sf_strerror) strerror = nullptr;
+  decltype(&sf_command) command = nullptr;
+  std::string error;  ///< why it could not be loaded; empty when loaded
+};
+
+const Sndfile& sndfile() {
+  static const Sndfile lib = [] {
+    Sndfile s;
+    void* handle = dlopen("libsndfile.so.1", RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      const char* e = dlerror();
+      s.error = e ? e : "dlopen(libsndfile.so.1) failed";
+      return s;
+    }
+    auto resolve = [&](auto& fn, const char* name) {
+      fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(handle, name));
+      if (!fn && s.error.empty()) s.error = std::string("libsndfile.so.1 has no ") + name;
+    };
+    resolve(s.open, "sf_open");
+    resolve(s.close, "sf_close");
+    resolve(s.readf_double, "sf_readf_double");
+    resolve(s.strerror, "sf_strerror");
+    resolve(s.command, "sf_command");
+    return s;
+  }();
+  return lib;
 }
 
 }  // namespace
@@ -284,32 +322,37 @@ Recording read_recording(const fs::path& file, int channel) {
     r.format = "CSV";
     return r;
   }
+  const Sndfile& lib = sndfile();
+  if (!lib.error.empty())
+    throw InputError(file.string() + ": cannot read audio: libsndfile could not be loaded (" + lib.error +
+                     "); install it (Debian: libsndfile1) or give a CSV time_s,value");
   SF_INFO info{};
-  SNDFILE* sf = sf_open(file.c_str(), SFM_READ, &info);
+  SNDFILE* sf = lib.open(file.c_str(), SFM_READ, &info);
   if (!sf)
-    throw InputError(file.string() + ": cannot be read as audio (" + std::string(sf_strerror(nullptr)) +
+    throw InputError(file.string() + ": cannot be read as audio (" + std::string(lib.strerror(nullptr)) +
                      "); give a WAV, FLAC or AIFF file, or a CSV time_s,value");
   struct Closer {
+    const Sndfile& lib;
     SNDFILE* f;
-    ~Closer() { sf_close(f); }
-  } closer{sf};
+    ~Closer() { lib.close(f); }
+  } closer{lib, sf};
   if (info.frames <= 0 || info.channels < 1) throw InputError(file.string() + ": the audio file holds no samples");
   if (channel > info.channels)
     throw InputError("--channel = " + std::to_string(channel) + ": " + file.string() + " has " +
                      std::to_string(info.channels) + " channel(s)");
   std::vector<double> inter(static_cast<std::size_t>(info.frames) * info.channels);
-  const sf_count_t got = sf_readf_double(sf, inter.data(), info.frames);
-  if (got <= 0) throw InputError(file.string() + ": no audio samples could be read (" + sf_strerror(sf) + ")");
+  const sf_count_t got = lib.readf_double(sf, inter.data(), info.frames);
+  if (got <= 0) throw InputError(file.string() + ": no audio samples could be read (" + lib.strerror(sf) + ")");
   r.samples.resize(static_cast<std::size_t>(got));
   for (sf_count_t i = 0; i < got; ++i) r.samples[i] = inter[i * info.channels + (channel - 1)];
   r.sample_rate_hz = info.samplerate;
   r.channels = info.channels;
   SF_FORMAT_INFO fi{};
   fi.format = info.format & SF_FORMAT_TYPEMASK;
-  std::string major = sf_command(sf, SFC_GET_FORMAT_INFO, &fi, sizeof fi) == 0 && fi.name ? fi.name : "audio";
+  std::string major = lib.command(sf, SFC_GET_FORMAT_INFO, &fi, sizeof fi) == 0 && fi.name ? fi.name : "audio";
   fi = SF_FORMAT_INFO{};
   fi.format = info.format & SF_FORMAT_SUBMASK;
-  std::string sub = sf_command(sf, SFC_GET_FORMAT_INFO, &fi, sizeof fi) == 0 && fi.name ? fi.name : "";
+  std::string sub = lib.command(sf, SFC_GET_FORMAT_INFO, &fi, sizeof fi) == 0 && fi.name ? fi.name : "";
   r.format = major + (sub.empty() ? "" : " (" + sub + ")");
   return r;
 }
