@@ -44,7 +44,7 @@ layer_sources() {
   awk -v L="CHATTER_$1_SOURCES" '
     ($0 ~ "^set\\(" L "( |$)") || ($0 ~ "^list\\(APPEND " L "( |$)") { on = 1 }
     on { for (i = 1; i <= NF; i++) { s = $i; gsub(/[()]/, "", s); if (s ~ /^src\/.*\.cpp$/) print s } }
-    on && /\)/ { on = 0 }' CMakeLists.txt
+    on && !/^[[:space:]]*#/ && /\)/ { on = 0 }' CMakeLists.txt
 }
 case "$target" in
   config)
@@ -57,7 +57,7 @@ case "$target" in
     srcs="$(layer_sources CORE) $(layer_sources OPS)"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
-    srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp src/model/spindle_speed.cpp"
+    srcs="src/io/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp src/model/process_profile.cpp src/model/cutter_profile.cpp src/model/spindle_speed.cpp src/model/cutting/cutting_law.cpp src/model/cutting/turning_law.cpp src/model/cutting/milling_law.cpp"
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
   fit)
     srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
@@ -91,10 +91,10 @@ cc=clang++
 command -v ccache >/dev/null && cc="ccache clang++"
 objs=()
 for src in $srcs "fuzz/fuzz_$target.cpp"; do
-  objs+=("build-fuzz/obj-$target-$tag/$(basename "$src" .cpp).o")
+  objs+=("build-fuzz/obj-$target-$tag/$(echo "$src" | tr / _).o")  # by path: model/ and grinding/ both hold a process.cpp
 done
 printf '%s\n' $srcs "fuzz/fuzz_$target.cpp" |
-  xargs -P "${FUZZ_JOBS:-2}" -I{} sh -c "$cc"' "$@" -c {} -o "build-fuzz/obj-'"$target-$tag"'/$(basename {} .cpp).o"' _ "${flags[@]}"
+  xargs -P "${FUZZ_JOBS:-2}" -I{} sh -c "$cc"' "$@" -c {} -o "build-fuzz/obj-'"$target-$tag"'/$(echo {} | tr / _).o"' _ "${flags[@]}"
 # shellcheck disable=SC2086
 clang++ "-fsanitize=fuzzer,$sanitize" "${objs[@]}" -ltomlplusplus $libs -o "build-fuzz/fuzz_${target}_$tag"
 cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true

@@ -144,9 +144,11 @@ Optimum optimize(const OptimizationModel& model, const Corrections& correction, 
       if (m < best_merit) best_merit = m, best = std::move(r);
       return m;
     };
-    const auto [f_lo, f_hi] = bracket(F, j);
-    const auto [d_lo, d_hi] = bracket(D, k);
-    const auto [s_lo, s_hi] = bracket(S, i);
+    // Plain variables, not structured bindings: the lambdas below capture
+    // them (clang before 16, which the fuzz build uses, cannot).
+    const auto fb = bracket(F, j), db = bracket(D, k), sb = bracket(S, i);
+    const double f_lo = fb.first, f_hi = fb.second, d_lo = db.first, d_hi = db.second, s_lo = sb.first,
+                 s_hi = sb.second;
     auto over_feed = [&](double rpm, double d) {
       double low = kInf;
       minimise([&](double f) { const double v = at(rpm, d, f); low = std::min(low, v); return v; }, f_lo, f_hi);
