@@ -103,14 +103,14 @@ struct CutModel {
 CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings) {
   CutModel c;
   const double D = o.diameter_m > 0.0 ? o.diameter_m : kNaN;
-  const CuttingLawOptions law_options = cutting_law_options(p, o.cutting_coefficient_n_per_m2, warnings);
-  const MeanCut unit = CuttingLaw::of(p, law_options)->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, D});
+  const auto law = CuttingLaw::of(p, cutting_law_options(p, o.cutting_coefficient_n_per_m2, warnings));
+  const MeanCut unit = law->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, D});
   c.force_per_depth = unit.tangential_force_n;  // F_c = K_c b f; milling the teeth's tangential forces
   c.torque_per_depth = unit.torque_n_m;
   c.power_per_depth_rpm = unit.power_w;
   c.mrr_per_depth_rpm = unit.removal_rate_m3_per_s;
   // Per unit diameter: turning b f π N/60; milling a (a_e/D) f_z N_t N/60.
-  c.mrr_per_diam_depth_rpm = CuttingLaw::of(p, law_options)->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, 1.0}).removal_rate_m3_per_s;
+  c.mrr_per_diam_depth_rpm = law->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, 1.0}).removal_rate_m3_per_s;
   return c;
 }
 

@@ -83,6 +83,20 @@ void check_method(const std::string& method, const Config& cfg, ArgStyle style) 
   }
 }
 
+// x itself when finite and > 0. @throws InputError "<arg> = x: must be > 0".
+double positive_arg(ArgStyle style, const char* key, double x) {
+  if (!(std::isfinite(x) && x > 0.0)) throw InputError(arg_name(style, key) + " = " + fmt(x) + ": must be > 0");
+  return x;
+}
+
+// @throws InputError "<arg>: only for <op> (the config's operation is ...)"
+// when the argument is given and `ok` is false.
+void only_for_operation(ArgStyle style, const char* key, bool given, bool ok, const char* op, bool milling) {
+  if (given && !ok)
+    throw InputError(arg_name(style, key) + ": only for " + op + " (the config's operation is " +
+                     (milling ? "milling" : "turning") + ")");
+}
+
 // The cutting-load arguments of check and recommend, checked: the machine's
 // power and torque, the diameter (default the config's process.tool_diameter_mm
 // or process.workpiece_diameter_mm) and turning's K_c.
@@ -93,14 +107,9 @@ struct LoadInputs {
 LoadInputs load_inputs(const Config& cfg, const CheckLoadArgs& a, MachineLimits& machine, ArgStyle style) {
   const bool milling = cfg.process.operation() == Operation::kMilling;
   const auto name = [&](const char* key) { return arg_name(style, key); };
-  const auto positive = [&](const char* key, double x) {
-    if (!(std::isfinite(x) && x > 0.0)) throw InputError(name(key) + " = " + fmt(x) + ": must be > 0");
-    return x;
-  };
+  const auto positive = [&](const char* key, double x) { return positive_arg(style, key, x); };
   const auto only = [&](const char* key, bool given, bool ok, const char* op) {
-    if (given && !ok)
-      throw InputError(name(key) + ": only for " + op + " (the config's operation is " +
-                       (milling ? "milling" : "turning") + ")");
+    only_for_operation(style, key, given, ok, op, milling);
   };
   only("tool_diameter_mm", a.tool_diameter_mm.has_value(), milling, "milling");
   only("workpiece_diameter_mm", a.workpiece_diameter_mm.has_value(), !milling, "turning");
@@ -144,14 +153,9 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
   const auto name = [&](const char* key) { return arg_name(style, key); };
   RecommendOptions opt;
   opt.machine = machine_range(cfg, a.rpm_min, a.rpm_max, style);
-  const auto positive = [&](const char* key, double x) {
-    if (!(std::isfinite(x) && x > 0.0)) throw InputError(name(key) + " = " + fmt(x) + ": must be > 0");
-    return x;
-  };
+  const auto positive = [&](const char* key, double x) { return positive_arg(style, key, x); };
   const auto only = [&](const char* key, bool given, bool ok, const char* op) {
-    if (given && !ok)
-      throw InputError(name(key) + ": only for " + op + " (the config's operation is " +
-                       (milling ? "milling" : "turning") + ")");
+    only_for_operation(style, key, given, ok, op, milling);
   };
   only("radial_immersion", a.radial_immersion.has_value(), milling, "milling");
   only("teeth", a.teeth.has_value(), milling, "milling");
