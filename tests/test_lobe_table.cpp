@@ -179,7 +179,9 @@ TEST(TableNumber, IsPrintfsTenSignificantDigits) {
     double y = 0.0;  // any bit pattern but NaN and inf
     const std::uint64_t b = bits(rng);
     std::memcpy(&y, &b, sizeof y);
-    if (std::isfinite(y)) ASSERT_EQ(chatter::table_number(y), printf10(y)) << std::hexfloat << y;
+    if (std::isfinite(y)) {
+      ASSERT_EQ(chatter::table_number(y), printf10(y)) << std::hexfloat << y;
+    }
   }
   for (const double x : {0.0, -0.0, 1.0, 0.1, 1e-5, 1e-4, 123456789.0, 1234567890.0, 12345678901.0, 9.9999999995,
                          9.99999999949, 5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 0.5e-5, 2.5, 3.5})

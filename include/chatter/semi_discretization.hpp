@@ -107,9 +107,12 @@ struct SemiDiscretizationOptions {
   /// delay per tooth and the exact integral over the height). Default from
   /// the convergence study in docs/sdm.md.
   int axial_slices = 8;
-  /// Cross-checks: send even the straight, equally spaced milling cutter
-  /// through the real-cutter path (one revolution, one delay per tooth).
-  /// false: that cutter keeps the tooth-period path (byte-identical tables).
+  /// Cross-checks: send every cut through the general path, the step grid
+  /// built from the cutting law's regenerative side alone
+  /// (chatter/regenerative_cut.hpp): the straight, equally spaced milling
+  /// cutter over one revolution with one delay per tooth, turning as one
+  /// edge one revolution back. false: those keep their fast paths (the
+  /// tooth-period grid, the constant turning step; byte-identical tables).
   bool general_cutter_path = false;
 
   /// Empty string when valid, else the violated rule (Ceres-style).

@@ -13,6 +13,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "chatter/error.hpp"
+#include "chatter/regenerative_cut.hpp"
 
 namespace chatter::sdm_detail {
 namespace {
@@ -31,7 +32,7 @@ std::string bad_speed(double rpm) {
   return os.str();
 }
 
-SdmStateSpace state_space(const StructuralModel& model, const Process& process) {
+SdmStateSpace state_space(const StructuralModel& model, const Process& process, bool general_path) {
   SdmStateSpace ss;
   const ModalMatrices mm = modal_matrices(model);
   const Index n = mm.omega.size();
@@ -61,10 +62,10 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process) 
   for (const Cplx& l : ss.free_poles) ss.slowest_decay_per_s = std::min(ss.slowest_decay_per_s, -l.real());
   ss.f_max_hz = model.max_omega() / kTwoPi;
   // H(t) = Ĥ(t) L: L = nᵀ for turning (e_xᵀ for the orthogonal cut), I for
-  // milling and for turning with a nose radius (n varies with the depth).
-  // L S = U W by SVD.
+  // milling, for turning with a nose radius (n varies with the depth) and on
+  // the general path (any cut). L S = U W by SVD.
   MatrixXd LS;
-  if (process.operation() == Operation::kMilling || process.has_nose_radius())
+  if (general_path || process.operation() == Operation::kMilling || process.has_nose_radius())
     LS = mm.S;
   else if (process.orthogonal_turning())
     LS = mm.S.topRows(1);
@@ -94,13 +95,15 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   CutterGrid cg;
   cg.depth = a;
   const double T = g.tau, rpm = g.rpm;
-  const int nt = p.teeth();
-  const double ph = p.period_s(rpm);
+  // The cut through the cutting law's regenerative side only: its edges,
+  // their delays and exact integrals, its events (any operation).
+  const std::unique_ptr<const RegenerativeCut> cut = RegenerativeCut::of(p, rpm, a, axial_slices);
+  const double ph = cut->pattern_period_s();
   // Whole repeats of the events (T is a whole number of periods; with speed
   // variation a whole number of Floquet periods, which may be half a revolution).
   const int reps = std::max(1, static_cast<int>(std::ceil(T / ph - 1e-9)));
   std::vector<double> bnd{0.0, T};
-  const std::vector<double> ev = p.engagement_events_s(rpm, a);
+  const std::vector<double> ev = cut->engagement_events_s();
   for (int r = 0; r < reps; ++r)
     for (const double e : ev)
       if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
@@ -109,35 +112,24 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   for (const double t : bnd)
     if (b.empty() || t - b.back() > kEventMerge * T) b.push_back(t);
   b.back() = T;
-  // A cutter profile: its own slices (each with its radius, lead angle and
-  // arc), which also carry the delays of a variable helix.
-  const std::vector<AxialSlice> cut = (p.has_profile() && a > 0.0) ? p.axial_slices(a) : std::vector<AxialSlice>{};
-  const int slices = !cut.empty() ? static_cast<int>(cut.size()) : (p.has_variable_helix() && a > 0.0) ? axial_slices : 1;
-  std::vector<int> group(static_cast<std::size_t>(nt * slices));
-  for (int j = 0; j < nt; ++j)
-    for (int s = 0; s < slices; ++s) {
-      const double tau = p.tooth_delay_s(j, !cut.empty() ? cut[static_cast<std::size_t>(s)].z_m : a * (s + 0.5) / slices, rpm);
-      std::size_t k = 0;
-      while (k < cg.gtau.size() && std::abs(cg.gtau[k] - tau) > kEventMerge * T) ++k;
-      if (k == cg.gtau.size()) cg.gtau.push_back(tau);
-      group[static_cast<std::size_t>(j * slices + s)] = static_cast<int>(k);
-    }
+  // Edges with equal delays (within kEventMerge T) form one delay group.
+  const std::vector<double>& delays = cut->edge_delays_s();
+  std::vector<int> group(delays.size());
+  for (std::size_t e = 0; e < delays.size(); ++e) {
+    std::size_t k = 0;
+    while (k < cg.gtau.size() && std::abs(cg.gtau[k] - delays[e]) > kEventMerge * T) ++k;
+    if (k == cg.gtau.size()) cg.gtau.push_back(delays[e]);
+    group[e] = static_cast<int>(k);
+  }
   const std::size_t ng = cg.gtau.size();
   const double h_target = std::min(g.h_target, *std::min_element(cg.gtau.begin(), cg.gtau.end()));
-  const MillingParameters& mp = p.milling_parameters();
-  const bool damping = p.has_process_damping();
-  const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+  const double kscale = cut->force_scale_n_per_m2();
+  cg.force_scale_n_per_m2 = kscale;
+  std::vector<Eigen::Matrix2d> per_edge;
   cg.t.assign(1, 0.0);
   for (std::size_t s = 0; s + 1 < b.size(); ++s) {
     const double ta = b[s], tb = b[s + 1], d = tb - ta;
-    Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
-    if (!cut.empty()) {
-      for (int j = 0; j < nt; ++j)
-        for (const AxialSlice& c : cut) tot += p.slice_force_integral(j, c, ta, tb, rpm);
-    } else {
-      for (int j = 0; j < nt; ++j) tot += p.tooth_force_integral(j, ta, tb, a, rpm);
-    }
-    if (tot.norm() <= kFreeForce * kscale * a * d) {  // free flight: one step with any free neighbour
+    if (cut->total_force_integral(ta, tb).norm() <= kFreeForce * kscale * a * d) {  // free flight: one step with any free neighbour
       if (!cg.free.empty() && cg.free.back()) {
         cg.h.back() += d;
         cg.t.back() = tb;
@@ -155,23 +147,9 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
       const double sa = ta + d * i / ns, sb = (i + 1 == ns) ? tb : ta + d * (i + 1) / ns;
       const std::size_t first = cg.F.size();
       cg.F.resize(first + ng, Eigen::Matrix2d::Zero());
-      Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
-      for (int j = 0; j < nt; ++j) {
-        if (!cut.empty()) {
-          for (int sl = 0; sl < slices; ++sl)
-            cg.F[first + static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] +=
-                p.slice_force_integral(j, cut[static_cast<std::size_t>(sl)], sa, sb, rpm);
-          continue;  // no process damping with a profile (Process::milling)
-        }
-        Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
-        for (int sl = 0; sl < slices; ++sl) {
-          const Eigen::Matrix2d upto = p.tooth_force_integral(j, sa, sb, a * (sl + 1) / slices, rpm);
-          cg.F[first + static_cast<std::size_t>(group[static_cast<std::size_t>(j * slices + sl)])] += upto - below;
-          below = upto;
-        }
-        if (damping) D += p.tooth_damping_integral(j, sa, sb, a, rpm);
-      }
-      cg.D.push_back(D);
+      cut->force_integrals(sa, sb, per_edge);
+      for (std::size_t e = 0; e < per_edge.size(); ++e) cg.F[first + static_cast<std::size_t>(group[e])] += per_edge[e];
+      cg.D.push_back(cut->damping_integral(sa, sb));
       cg.h.push_back(sb - sa);
       cg.free.push_back(0);
       cg.t.push_back(sb);
@@ -193,10 +171,13 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     return make_ssv_grid(p, o, f_max_hz, rpm);
   }
   Grid g;
-  if (p.operation() == Operation::kMilling &&
-      (o.general_cutter_path || p.has_helix() || !p.uniform_cutter() || p.has_process_damping() ||
-       p.has_profile())) {
-    // Real cutter: the steps depend on the depth (SdmKernel::build_cutter).
+  if (o.general_cutter_path ||
+      (p.operation() == Operation::kMilling &&
+       (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile()))) {
+    // Real cutter, or any cut on the general path: the steps from the
+    // cutting law's regenerative side (cutter_grid; SdmKernel::build_cutter).
+    // The straight uniform milling cutter and turning below are its fast
+    // paths (tested equal to it: tests/test_regenerative_cut.cpp).
     g.cutter = true;
     g.rpm = rpm;
     // Period: the shortest shift of teeth after which the pitch and helix
@@ -214,7 +195,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
          << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
       throw InputError(os.str());
     }
-    if (!p.has_helix() && !p.has_profile())  // linear in a: once per speed at 1 m
+    if (!p.has_helix() && !p.has_profile() && !p.has_nose_radius())  // linear in a: once per speed at 1 m
       g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
     return g;
   }

@@ -78,7 +78,7 @@ struct SdmStateSpace {
   std::vector<Cplx> free_poles;      // λ_i = −ζω + jω√(1−ζ²) (1/s), or real pairs
 };
 /// @pre model has modes only (no measured FRF), at least one.
-SdmStateSpace state_space(const StructuralModel& model, const Process& process);
+SdmStateSpace state_space(const StructuralModel& model, const Process& process, bool general_path = false);
 
 // One step of the delay period, independent of the depth.
 struct Step {
@@ -96,6 +96,7 @@ struct CutterGrid {
   std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
   std::vector<Eigen::Matrix2d> D;  // M
   std::vector<double> gtau;        // delay of each group, s (at the mean speed with SSV)
+  double force_scale_n_per_m2 = 0.0;  // RegenerativeCut::force_scale_n_per_m2 (the free-flight test)
   // Spindle speed variation: the delay of group k at boundary t_i is
   // tau_at[i · groups + k] (M + 1 rows); empty: the constant gtau.
   std::vector<double> tau_at;

@@ -376,9 +376,8 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
     cache.located.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(ng), 0);
     cache.where.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(ng), Located{});
   }
-  const MillingParameters& mp = p.milling_parameters();
   const double cbar = p.process_damping_per_depth(g.rpm);
-  const double kscale = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+  const double kscale = cg.force_scale_n_per_m2;
   int gmin = 0;
   auto locate = [&](double s, int& gi, double& w) {  // z(s) ≈ (1 − w) z_gi + w z_{gi+1}
     const double per = std::floor(s / T);

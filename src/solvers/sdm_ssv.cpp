@@ -103,6 +103,7 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
     cg.free.assign(m, 0);
     cg.F.assign(m, F);
     cg.D.assign(m, Eigen::Matrix2d::Zero());
+    cg.force_scale_n_per_m2 = kf + p.turning_parameters().radial_force_coefficient_n_per_m2;
   } else {
     // The constant-speed grid in t' = θ(t)/Ω₀ over the same length (θ(T) =
     // Ω₀ T: a whole number of modulation periods), with steps short enough

@@ -62,7 +62,7 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
   if (model_.has_measured())
     throw InputError("sdm needs modes, not measured FRFs: fit modes to the measurement first (chatter fit) "
                      "or use the analytic method");
-  SdmStateSpace ss = state_space(model_, process_);
+  SdmStateSpace ss = state_space(model_, process_, options_.general_cutter_path);
   A_ = std::move(ss.A);
   B_ = std::move(ss.B);
   Wx_ = std::move(ss.Wx);

@@ -1,6 +1,7 @@
 // The cutting law's shared part (include/chatter/cutting_law.hpp): the arc
 // of a milling tooth, the integrals over it, the closed-form mean milling
-// force, and the choice of implementation (turning_law.cpp, milling_law.cpp).
+// force, and the choice of implementation (turning_law.cpp, milling_law.cpp)
+// for the static side (CuttingLaw) and the regenerative side (RegenerativeCut).
 #include "chatter/cutting_law.hpp"
 
 #include <algorithm>
@@ -72,6 +73,16 @@ std::unique_ptr<const CuttingLaw> CuttingLaw::of(const Process& process, const C
     throw InputError(where + "edge coefficients with a ball-end, bull-nose or general cutter are not modelled "
                              "(docs/cutter_geometry.md)");
   return cutting_detail::milling_law(process, o.edge);
+}
+
+std::unique_ptr<const RegenerativeCut> RegenerativeCut::of(const Process& process, double rpm, double depth_m,
+                                                           int helix_slices) {
+  const std::string where = "regenerative cut: ";
+  if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(where + "spindle_rpm must be > 0");
+  if (!(std::isfinite(depth_m) && depth_m >= 0.0)) throw InputError(where + "depth must be >= 0");
+  if (helix_slices < 1) throw InputError(where + "helix_slices must be >= 1");
+  if (process.operation() == Operation::kTurning) return cutting_detail::turning_cut(process, rpm, depth_m);
+  return cutting_detail::milling_cut(process, rpm, depth_m, helix_slices);
 }
 
 }  // namespace chatter

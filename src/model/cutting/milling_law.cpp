@@ -1,7 +1,8 @@
 // The milling implementation of the cutting law (include/chatter/cutting_law.hpp):
 // the closed-form means over a revolution (flat cutter; a profile slice by
 // slice), and a sampled revolution for the peak force and for the means
-// with runout (whose chip is floored at zero).
+// with runout (whose chip is floored at zero); and the regenerative side
+// (chatter/regenerative_cut.hpp): the cut as teeth and slices.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -154,10 +155,89 @@ class MillingLaw final : public CuttingLaw {
   EdgeCoefficients edge_;
 };
 
+// The regenerative side (chatter/regenerative_cut.hpp): an edge is a tooth,
+// or a slice of it when its delay varies along it (variable helix: equal
+// slices of the depth) or the cutter has a profile (its own slices). Edges
+// in tooth-major order, e = j · slices + s.
+class MillingCut final : public RegenerativeCut {
+ public:
+  MillingCut(const Process& process, double rpm, double depth_m, int helix_slices)
+      : process_(process), rpm_(rpm), depth_m_(depth_m), teeth_(process.teeth()) {
+    if (process_.has_profile() && depth_m_ > 0.0) cut_ = process_.axial_slices(depth_m_);
+    slices_ = !cut_.empty() ? static_cast<int>(cut_.size())
+              : (process_.has_variable_helix() && depth_m_ > 0.0) ? helix_slices
+                                                                  : 1;
+    delays_.reserve(static_cast<std::size_t>(teeth_ * slices_));
+    for (int j = 0; j < teeth_; ++j)
+      for (int s = 0; s < slices_; ++s)
+        delays_.push_back(process_.tooth_delay_s(
+            j, !cut_.empty() ? cut_[static_cast<std::size_t>(s)].z_m : depth_m_ * (s + 0.5) / slices_, rpm_));
+    const MillingParameters& mp = process_.milling_parameters();
+    scale_ = mp.tangential_coefficient_n_per_m2 + mp.radial_coefficient_n_per_m2;
+  }
+
+  double pattern_period_s() const override { return process_.period_s(rpm_); }
+  std::vector<double> engagement_events_s() const override { return process_.engagement_events_s(rpm_, depth_m_); }
+  const std::vector<double>& edge_delays_s() const override { return delays_; }
+
+  void force_integrals(double t_a, double t_b, std::vector<Eigen::Matrix2d>& per_edge) const override {
+    per_edge.assign(delays_.size(), Eigen::Matrix2d::Zero());
+    for (int j = 0; j < teeth_; ++j) {
+      const auto first = static_cast<std::size_t>(j * slices_);
+      if (!cut_.empty()) {
+        for (std::size_t s = 0; s < cut_.size(); ++s)
+          per_edge[first + s] = process_.slice_force_integral(j, cut_[s], t_a, t_b, rpm_);
+        continue;
+      }
+      // Slices as differences of the integral up to their tops (exact for
+      // any helix: the closed form integrates over the height).
+      Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
+      for (int s = 0; s < slices_; ++s) {
+        const Eigen::Matrix2d upto = process_.tooth_force_integral(j, t_a, t_b, depth_m_ * (s + 1) / slices_, rpm_);
+        per_edge[first + static_cast<std::size_t>(s)] = upto - below;
+        below = upto;
+      }
+    }
+  }
+
+  Eigen::Matrix2d total_force_integral(double t_a, double t_b) const override {
+    Eigen::Matrix2d tot = Eigen::Matrix2d::Zero();
+    if (!cut_.empty()) {
+      for (int j = 0; j < teeth_; ++j)
+        for (const AxialSlice& c : cut_) tot += process_.slice_force_integral(j, c, t_a, t_b, rpm_);
+    } else {
+      for (int j = 0; j < teeth_; ++j) tot += process_.tooth_force_integral(j, t_a, t_b, depth_m_, rpm_);
+    }
+    return tot;
+  }
+
+  Eigen::Matrix2d damping_integral(double t_a, double t_b) const override {
+    Eigen::Matrix2d d = Eigen::Matrix2d::Zero();
+    if (!process_.has_process_damping()) return d;  // (a profile refuses process damping: Process::milling)
+    for (int j = 0; j < teeth_; ++j) d += process_.tooth_damping_integral(j, t_a, t_b, depth_m_, rpm_);
+    return d;
+  }
+
+  double force_scale_n_per_m2() const override { return scale_; }
+
+ private:
+  Process process_;
+  double rpm_, depth_m_;
+  int teeth_, slices_ = 1;
+  std::vector<AxialSlice> cut_;
+  std::vector<double> delays_;
+  double scale_ = 0.0;
+};
+
 }  // namespace
 
 std::unique_ptr<const CuttingLaw> milling_law(const Process& process, const EdgeCoefficients& edge) {
   return std::make_unique<MillingLaw>(process, edge);
+}
+
+std::unique_ptr<const RegenerativeCut> milling_cut(const Process& process, double rpm, double depth_m,
+                                                   int helix_slices) {
+  return std::make_unique<MillingCut>(process, rpm, depth_m, helix_slices);
 }
 
 }  // namespace chatter::cutting_detail

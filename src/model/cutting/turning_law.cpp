@@ -1,5 +1,6 @@
 // The turning implementation of the cutting law (include/chatter/cutting_law.hpp;
-// the insert's chord, docs/turning_inserts.md).
+// the insert's chord, docs/turning_inserts.md): the static side and the
+// regenerative side (chatter/regenerative_cut.hpp).
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -51,10 +52,42 @@ class TurningLaw final : public CuttingLaw {
   double kc_;
 };
 
+// The regenerative side (chatter/regenerative_cut.hpp): one edge, the insert,
+// one revolution back; a H(a) = b d nᵀ and b n nᵀ constant in time.
+class TurningCut final : public RegenerativeCut {
+ public:
+  TurningCut(const Process& process, double rpm, double depth_m)
+      : force_(process.turning_force_matrix(depth_m)),
+        damping_(process.has_process_damping() ? process.turning_damping_matrix(depth_m)
+                                               : Eigen::Matrix2d::Zero()),
+        delays_{process.delay_s(rpm)},
+        scale_(process.turning_parameters().feed_force_coefficient_n_per_m2 +
+               process.turning_parameters().radial_force_coefficient_n_per_m2) {}
+
+  double pattern_period_s() const override { return delays_.front(); }
+  std::vector<double> engagement_events_s() const override { return {}; }
+  const std::vector<double>& edge_delays_s() const override { return delays_; }
+  void force_integrals(double t_a, double t_b, std::vector<Eigen::Matrix2d>& per_edge) const override {
+    per_edge.assign(1, force_ * (t_b - t_a));
+  }
+  Eigen::Matrix2d total_force_integral(double t_a, double t_b) const override { return force_ * (t_b - t_a); }
+  Eigen::Matrix2d damping_integral(double t_a, double t_b) const override { return damping_ * (t_b - t_a); }
+  double force_scale_n_per_m2() const override { return scale_; }
+
+ private:
+  Eigen::Matrix2d force_, damping_;
+  std::vector<double> delays_;
+  double scale_;
+};
+
 }  // namespace
 
 std::unique_ptr<const CuttingLaw> turning_law(const Process& process, double kc) {
   return std::make_unique<TurningLaw>(process, kc);
+}
+
+std::unique_ptr<const RegenerativeCut> turning_cut(const Process& process, double rpm, double depth_m) {
+  return std::make_unique<TurningCut>(process, rpm, depth_m);
 }
 
 }  // namespace chatter::cutting_detail
