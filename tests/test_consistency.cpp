@@ -15,6 +15,7 @@
 // tooth passing, and lobe numbers per different periods.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -265,6 +266,51 @@ TEST_F(ConsistencyCli, MeanPowerTorqueAndRemovalAreTheCuttingLaws) {
   EXPECT_NEAR(mr["power_kw"].get<double>(), 600.0 * mrr * 1e-6, 1e-12 * mrr);
   EXPECT_NEAR(mr["torque_nm"].get<double>(), mr["power_kw"].get<double>() * 1e3 / (2 * std::numbers::pi * n / 60.0),
               1e-12 * mr["torque_nm"].get<double>());
+}
+
+// A ball end's power, torque and removal rate are the cutting law's at the
+// depth itself (its section, not the cylinder's a·a_e): `recommend` at its
+// point equals `check` on that point and the closed form of the section —
+// half immersion on a ball of radius R cut to depth a < R removes
+// ½ [R² acos((R − a)/R) − (R − a) √(2Ra − a²)] per unit feed, and power =
+// K_t × removal rate for any shape without edge forces; and a binding power
+// cap is met at the recommended depth, not undercut by the cylinder's power.
+TEST_F(ConsistencyCli, BallEndPowerAndRemovalAreTheSectionsNotTheCylinders) {
+  const std::string ball = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_ball_end.toml").string();
+  const RunResult r = run({"recommend", ball, "--feed-per-tooth-mm", "0.08", "--tool-diameter-mm", "10", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json rec = json::parse(r.out);
+  const double n = rec["spindle_rpm"].get<double>(), a_mm = rec["depth_mm"].get<double>();
+  ASSERT_LT(a_mm, 5.0);  // inside the ball
+  const double R = 5.0;  // mm
+  const double section = 0.5 * (R * R * std::acos((R - a_mm) / R) - (R - a_mm) * std::sqrt(2 * R * a_mm - a_mm * a_mm));
+  const double mrr = section * 0.08 * 2 * n / 60.0;  // mm³/s
+  // 32 slices (the default), each at its mid-height radius: measured 5.0e-4
+  // above the closed form (the ball's tip, where R(z) ~ √z, converges slowest).
+  EXPECT_NEAR(rec["mrr_cm3_per_min"].get<double>() / (mrr * 0.06), 1.0, 1e-3);
+  // The cylinder's a·a_e, what recommend reported before, is 2× off here.
+  EXPECT_LT(rec["mrr_cm3_per_min"].get<double>(), 0.6 * a_mm * 5.0 * 0.08 * 2 * n / 60.0 * 0.06);
+  EXPECT_NEAR(rec["power_kw"].get<double>(), 1800.0 * rec["mrr_cm3_per_min"].get<double>() / 0.06 * 1e-6,
+              1e-12 * rec["power_kw"].get<double>());
+  // `check` on the recommended point: the same law, the same numbers.
+  std::ostringstream row;
+  row.precision(17);
+  row << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nrec," << n << "," << a_mm << ",,0.08\n";
+  const fs::path ops = path("ball_ops.csv");
+  std::ofstream(ops) << row.str();
+  const RunResult c = run({"check", ball, "--operations", ops.string(), "--tool-diameter-mm", "10", "--json", "-"});
+  ASSERT_TRUE(c.exit_code == 0 || c.exit_code == 3) << c.err;
+  const json load = json::parse(c.out)["operations"][0]["load"];
+  for (const char* key : {"power_kw", "torque_nm", "mrr_cm3_per_min"})
+    EXPECT_NEAR(load[key].get<double>(), rec[key].get<double>(), 1e-9 * rec[key].get<double>()) << key;
+  // A power cap below that power binds and is met (within the root's 1e-10
+  // of the searched depth), where the cylinder's power per depth stopped short.
+  const RunResult capped = run({"recommend", ball, "--feed-per-tooth-mm", "0.08", "--tool-diameter-mm", "10",
+                                "--max-power-kw", "0.2", "--json", "-"});
+  ASSERT_EQ(capped.exit_code, 0) << capped.err;
+  const json cj = json::parse(capped.out);
+  EXPECT_NE(std::find(cj["binding"].begin(), cj["binding"].end(), "power"), cj["binding"].end()) << cj["binding"];
+  EXPECT_NEAR(cj["power_kw"].get<double>(), 0.2, 1e-6);
 }
 
 // The limit's frequency and lobe do not move with the asked depth; what

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <map>
+#include <memory>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -88,31 +89,72 @@ std::string to_string(Binding b) {
 
 namespace {
 
-// Mean-force model per unit depth (see recommend()).
-struct CutModel {
-  double force_per_depth = 0.0;         // N/m
-  double torque_per_depth = 0.0;        // N·m/m (NaN without diameter)
-  double power_per_depth_rpm = 0.0;     // W/(m·rev/min)
-  double mrr_per_depth_rpm = 0.0;       // m³/s per (m·rev/min) (NaN without diameter)
-  double mrr_per_diam_depth_rpm = 0.0;  // m²/s per (m·rev/min)
-};
+// The cutting law (chatter/cutting_law.hpp) as recommend reads it: its means
+// at a speed and depth, and the deepest depth within a power or torque cap.
+// A flat cutter's (and an insert's) means are linear in the depth, so a cap
+// is a quotient; a ball-end, bull-nose or general cutter's are not (its
+// section grows faster than the depth near the tip), so its cap is the root
+// of the law's own power (torque) against the cap.
+class CutModel {
+ public:
+  CutModel(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings)
+      : law_(CuttingLaw::of(p, cutting_law_options(p, o.cutting_coefficient_n_per_m2, warnings))),
+        feed_m_(o.feed_per_tooth_m),
+        diameter_m_(o.diameter_m > 0.0 ? o.diameter_m : kNaN),
+        linear_(!p.has_profile()) {
+    const MeanCut unit = at(1.0, 1.0);
+    power_per_depth_rpm_ = unit.power_w;
+    torque_per_depth_ = unit.torque_n_m;
+    mrr_per_depth_rpm_ = unit.removal_rate_m3_per_s;
+  }
 
-// The means of the cutting law (chatter/cutting_law.hpp) per unit depth and
-// speed: the flat cutter's are linear in both (a profile's are read at a
-// depth of 1 m, where its slices are nearly all the cylinder).
-CutModel cut_model(const Process& p, const RecommendOptions& o, std::vector<std::string>& warnings) {
-  CutModel c;
-  const double D = o.diameter_m > 0.0 ? o.diameter_m : kNaN;
-  const auto law = CuttingLaw::of(p, cutting_law_options(p, o.cutting_coefficient_n_per_m2, warnings));
-  const MeanCut unit = law->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, D});
-  c.force_per_depth = unit.tangential_force_n;  // F_c = K_c b f; milling the teeth's tangential forces
-  c.torque_per_depth = unit.torque_n_m;
-  c.power_per_depth_rpm = unit.power_w;
-  c.mrr_per_depth_rpm = unit.removal_rate_m3_per_s;
-  // Per unit diameter: turning b f π N/60; milling a (a_e/D) f_z N_t N/60.
-  c.mrr_per_diam_depth_rpm = law->mean(CutPoint{1.0, 1.0, o.feed_per_tooth_m, 1.0}).removal_rate_m3_per_s;
-  return c;
-}
+  /// The law's means at `rpm` and depth a (m), with the options' diameter.
+  MeanCut at(double rpm, double depth_m) const { return law_->mean(CutPoint{rpm, depth_m, feed_m_, diameter_m_}); }
+  /// The same per unit tool (workpiece) diameter: the removal rate per mm of D.
+  MeanCut per_unit_diameter(double rpm, double depth_m) const {
+    return law_->mean(CutPoint{rpm, depth_m, feed_m_, 1.0});
+  }
+  /// The deepest depth (m) whose mean power stays within `max_w` at `rpm`;
+  /// +inf when none is given. At most `d_hi` is searched for a profile
+  /// (+inf when the cap holds there).
+  double depth_within_power(double rpm, double max_w, double d_hi) const {
+    if (!std::isfinite(max_w)) return kInf;
+    if (linear_) return max_w / (power_per_depth_rpm_ * rpm);
+    return root(max_w, d_hi, [&](double a) { return at(rpm, a).power_w; });
+  }
+  double depth_within_torque(double max_n_m, double d_hi) const {
+    if (!std::isfinite(max_n_m)) return kInf;
+    if (linear_) return max_n_m / torque_per_depth_;
+    return root(max_n_m, d_hi, [&](double a) { return at(1.0, a).torque_n_m; });
+  }
+  /// What the search maximises, in m·rev/min: N a for a law linear in the
+  /// depth (the removal rate over its value at 1 m and 1 rev/min), the
+  /// removal rate over that same value for a profile.
+  double objective(double rpm, double depth_m) const {
+    if (linear_ || !std::isfinite(depth_m)) return rpm * depth_m;
+    return at(rpm, depth_m).removal_rate_m3_per_s / mrr_per_depth_rpm_;
+  }
+
+ private:
+  // The depth where the increasing g(a) meets `cap` in [0, d_hi], by
+  // bisection to kCapDepthRelative of d_hi; +inf when g(d_hi) <= cap.
+  template <class G>
+  static double root(double cap, double d_hi, G g) {
+    if (!(std::isfinite(d_hi) && d_hi > 0.0) || g(d_hi) <= cap) return kInf;
+    double lo = 0.0, hi = d_hi;
+    while (hi - lo > kCapDepthRelative * d_hi) {
+      const double mid = 0.5 * (lo + hi);
+      (g(mid) <= cap ? lo : hi) = mid;
+    }
+    return lo;
+  }
+  static constexpr double kCapDepthRelative = 1e-10;
+
+  std::shared_ptr<const CuttingLaw> law_;
+  double feed_m_, diameter_m_;
+  bool linear_;
+  double power_per_depth_rpm_ = 0.0, torque_per_depth_ = 0.0, mrr_per_depth_rpm_ = 0.0;
+};
 
 // The deepest depth in (0, d_hi] whose part error (forced_check's: |SLE| in
 // milling, the diametral error in turning) stays within `tol`; +inf when it
@@ -185,7 +227,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   if (!warning.empty()) rec.warnings.push_back(warning);
   for (const std::string& n : ignored_feature_notes(find_lobe_method(rec.method), process)) rec.warnings.push_back(n);
   std::vector<std::string> model_warnings;
-  const CutModel cm = cut_model(process, options, model_warnings);
+  const CutModel cm(process, options, model_warnings);
   if (options.diameter_m > 0.0)
     rec.warnings.insert(rec.warnings.end(), model_warnings.begin(), model_warnings.end());
 
@@ -214,14 +256,14 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     const double w = exact ? s.band_min(n) : s.band_min_scan(n, kInf);
     c.worst = w > rec.search_depth_m || w >= solver->depth_max_m() ? kInf : w;
     c.stab = options.safety * c.worst;
-    c.power = std::isfinite(mc.max_power_w) ? mc.max_power_w / (cm.power_per_depth_rpm * n) : kInf;
-    c.torque = std::isfinite(mc.max_torque_n_m) ? mc.max_torque_n_m / cm.torque_per_depth : kInf;
+    c.power = cm.depth_within_power(n, mc.max_power_w, rec.search_depth_m);
+    c.torque = cm.depth_within_torque(mc.max_torque_n_m, rec.search_depth_m);
     c.cap = options.depth_max_m;
     c.flute = flute;
     const double others = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
     c.part = part_error ? part_error->cap(n, others) : kInf;
     c.depth = std::min(others, c.part);
-    c.objective = n * c.depth;  // MRR / (mrr per depth·rpm)
+    c.objective = cm.objective(n, c.depth);  // MRR / (MRR at 1 m and 1 rev/min)
     c.margin = c.worst / c.depth;
     return c;
   };
@@ -285,11 +327,15 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   rec.pocket.limit = rec.limit;
   rec.pocket.worst_limit_m = best.worst;
   rec.pocket.worst_margin = best.margin;
-  rec.force_n = cm.force_per_depth * rec.depth_m;
-  rec.torque_n_m = cm.torque_per_depth * rec.depth_m;
-  rec.power_w = cm.power_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
-  rec.mrr_m3_per_s = cm.mrr_per_depth_rpm * rec.depth_m * rec.spindle_rpm;
-  rec.mrr_per_diameter_m2_per_s = cm.mrr_per_diam_depth_rpm * rec.depth_m * rec.spindle_rpm;
+  // The law at the recommended point itself (the numbers `check` and
+  // `performance` give there).
+  const MeanCut at = cm.at(rec.spindle_rpm, rec.depth_m);
+  rec.force_n = at.tangential_force_n;  // F_c = K_c b f; milling the teeth's tangential forces
+  rec.torque_n_m = at.torque_n_m;
+  rec.power_w = at.power_w;
+  rec.mrr_m3_per_s = at.removal_rate_m3_per_s;
+  // Per unit diameter: turning b f π N/60; milling the section per unit D.
+  rec.mrr_per_diameter_m2_per_s = cm.per_unit_diameter(rec.spindle_rpm, rec.depth_m).removal_rate_m3_per_s;
   const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
   auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
   if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
