@@ -97,7 +97,7 @@ void quality(FitStatistics& f, const std::vector<double>& measured) {
     f.warnings.push_back("R^2 = " + detail::num(f.r_squared) + " < " + detail::num(kPoorRSquared) +
                          ": the model explains little of the tests (check them, or try another form)");
   if (f.degrees_of_freedom == 0)
-    f.warnings.push_back("no degree of freedom left (as many tests as coefficients): no standard errors");
+    f.warnings.emplace_back("no degree of freedom left (as many tests as coefficients): no standard errors");
 }
 
 void intervals(FitStatistics& f) {
