@@ -6,6 +6,7 @@
 #include <sndfile.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -421,6 +422,37 @@ TEST_F(ShopCli, DetectBadInputExits2AndWritesNothing) {
   for (std::size_t i = 0; i < shortrec.size(); ++i) shortrec[i] = std::sin(0.3 * static_cast<double>(i));
   write_wav("short.wav", shortrec, 1, 48000);
   check("short.wav", "at least 5 revolutions");
+}
+
+// libsndfile is loaded on first use (src/io/shop_io.cpp, dlopen): a machine
+// without it gets a clear refusal naming the file, the reason and the way out,
+// not a crash at start-up. Shadowed here by a broken libsndfile.so.1 first on
+// LD_LIBRARY_PATH (searched before the system's), so dlopen fails for real.
+TEST_F(ShopCli, DetectWithoutLibsndfileSaysHowToGoOn) {
+  std::vector<double> v(48000);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = 0.3 * std::sin(0.2 * static_cast<double>(i));
+  write_wav("rec.wav", v, 1, 48000);
+  const chatter::test::fs::path libdir = path("lib");
+  chatter::test::fs::create_directories(libdir);
+  write("lib/libsndfile.so.1", "not a shared object\n");
+  const char* old = std::getenv("LD_LIBRARY_PATH");
+  const std::string saved = old ? old : "";
+  ::setenv("LD_LIBRARY_PATH", (libdir.string() + (old ? ":" + saved : std::string())).c_str(), 1);
+  const auto r = run({"detect", path("rec.wav").string(), "--rpm", "6000", "--teeth", "2"});
+  const auto csv = run({"detect", path("rec.csv").string(), "--rpm", "6000", "--teeth", "2"});
+  if (old) {
+    ::setenv("LD_LIBRARY_PATH", saved.c_str(), 1);
+  } else {
+    ::unsetenv("LD_LIBRARY_PATH");
+  }
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "rec.wav: cannot read audio: libsndfile could not be loaded (")) << r.err;
+  EXPECT_TRUE(contains(r.err, "install it (Debian: libsndfile1) or give a CSV time_s,value")) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  // Everything else still runs without it (a missing CSV is the CSV's message).
+  EXPECT_EQ(csv.exit_code, 2) << csv.err;
+  EXPECT_TRUE(contains(csv.err, "no such file")) << csv.err;
+  EXPECT_FALSE(contains(csv.err, "libsndfile")) << csv.err;
 }
 
 TEST_F(ShopCli, PlotsAreDrawn) {
