@@ -6,6 +6,7 @@
 // turning against the exact boundary of its delay equation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -43,6 +44,16 @@ constexpr double kOrderRatioMin = 2.5, kOrderRatioMax = 6.5;
 // equation up to the helix lag (1e-7 rad over the cut) and the integration
 // tolerance (rtol 1e-7): measured 1.2e-6.
 constexpr double kStraightLimit = 1e-5;
+// Exact edge vs slices (ExactEdge* tests): growth of the edge vs 40 slices
+// (relative; measured 4.4e-6); the ratio of successive slice errors
+// (second order: 4; measured 3.6 and 3.9); the nonlinear series vs 640
+// slices (relative to its peak; measured 4.7e-6) and the share of the arc
+// in air (absolute; measured 9e-5); with process damping, the edge vs 40
+// slices (relative; the slices' own error at 40).
+constexpr double kEdgeLimit = 1e-5;
+constexpr double kEdgeOrderMin = 3.0, kEdgeOrderMax = 5.5;
+constexpr double kEdgeSeries = 2e-5;
+constexpr double kEdgeAir = 5e-4;
 // Mean force over whole revolutions vs the closed form −a H₀ (f_z, 0) and
 // between helix and straight: the sample mean of a force that jumps at the
 // tooth entry has an O(1/M) quadrature error (M = 512 samples per period).
@@ -239,6 +250,79 @@ TEST(TimeDomainCutters, HelixSliceConvergence) {
   // The helix changes the answer (else this test could not fail).
   const double straight = case_c_growth(case_c_cutter(), 0, kDepth);
   EXPECT_GT(std::abs(g80 - straight), 10 * kSliceConvergence * g80) << "helix " << g80 << ", straight " << straight;
+}
+
+// The exact edge (automatic slices, one helix angle) is the limit of the
+// slices: the midpoint slices' error falls as 1/N_z², so the change from N
+// to 2N slices is 3/4 of the N-slice error. Measured at rtol 1e-9 on the
+// 30° helix near the limit (growth ~1.05): the edge and 80 slices within
+// kEdgeLimit, and the slices' error N = 20 -> 40 down by 4 (second order
+// towards the edge, not towards another value).
+TEST(TimeDomainCutters, ExactEdgeIsTheLimitOfTheSlices) {
+  MillingParameters mp = case_c_cutter();
+  mp.helix_angles_rad = {30 * kDeg};
+  constexpr double kDepth = 6e-3, kRtol = 1e-9;
+  const double edge = case_c_growth(mp, 0, kDepth, 60, kRtol);
+  const double g10 = case_c_growth(mp, 10, kDepth, 60, kRtol), g20 = case_c_growth(mp, 20, kDepth, 60, kRtol),
+               g40 = case_c_growth(mp, 40, kDepth, 60, kRtol);
+  EXPECT_NEAR(g40, edge, kEdgeLimit * edge) << "40 slices " << g40 << ", exact edge " << edge;
+  const double r1 = (g10 - edge) / (g20 - edge), r2 = (g20 - edge) / (g40 - edge);
+  EXPECT_GT(r1, kEdgeOrderMin) << "10: " << g10 << ", 20: " << g20 << ", edge: " << edge;
+  EXPECT_LT(r1, kEdgeOrderMax) << "10: " << g10 << ", 20: " << g20 << ", edge: " << edge;
+  EXPECT_GT(r2, kEdgeOrderMin) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
+  EXPECT_LT(r2, kEdgeOrderMax) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
+}
+
+// The nonlinear cut on the exact edge against many slices: a chattering
+// run on the 30° helix (teeth leave the cut), 20 tooth periods from rest
+// with the feed: the relative displacement at every sample and the share
+// of the arc in air.
+TEST(TimeDomainCutters, ExactEdgeNonlinearMatchesFineSlices) {
+  MillingParameters mp = case_c_cutter();
+  mp.helix_angles_rad = {30 * kDeg};
+  auto run = [&](int slices) {
+    TimeDomainOptions o;
+    o.axial_slices = slices;
+    o.relative_tolerance = 1e-9;
+    TimeDomainSimulator sim(case_c(), Process::milling(mp), o);
+    SimulationSettings s;
+    s.spindle_rpm = 10000.0;
+    s.depth_m = 8e-3;
+    s.periods = 20;
+    s.feed_m = 5e-5;
+    return sim.simulate(s);
+  };
+  const SimulationResult edge = run(0), fine = run(640);
+  EXPECT_EQ(edge.axial_slices, 0);
+  EXPECT_EQ(fine.axial_slices, 640);
+  ASSERT_EQ(edge.series.size(), fine.series.size());
+  double worst = 0.0, peak = 0.0;
+  for (std::size_t i = 0; i < edge.series.size(); ++i) {
+    worst = std::max(worst, std::hypot(edge.series[i].rel_x_m - fine.series[i].rel_x_m,
+                                       edge.series[i].rel_y_m - fine.series[i].rel_y_m));
+    peak = std::max(peak, std::hypot(fine.series[i].rel_x_m, fine.series[i].rel_y_m));
+  }
+  EXPECT_LT(worst, kEdgeSeries * peak) << "edge vs 640 slices, peak " << peak;
+  ASSERT_TRUE(fine.teeth_leave_cut);  // the clipped chip is exercised
+  EXPECT_NEAR(edge.out_of_cut_fraction, fine.out_of_cut_fraction, kEdgeAir);
+}
+
+// Process damping on the exact edge: −(C_pd/V) ∫ (n·ṙ) n dz in closed form,
+// against the slices' sum at 20 and 40 slices (second order towards it).
+TEST(TimeDomainCutters, ExactEdgeProcessDampingIsTheLimitOfTheSlices) {
+  MillingParameters mp = case_c_cutter();
+  mp.helix_angles_rad = {30 * kDeg};
+  mp.process_damping_coefficient_n_per_m = 2e4;
+  constexpr double kDepth = 6e-3, kRtol = 1e-9;
+  const double edge = case_c_growth(mp, 0, kDepth, 60, kRtol), g20 = case_c_growth(mp, 20, kDepth, 60, kRtol),
+               g40 = case_c_growth(mp, 40, kDepth, 60, kRtol);
+  MillingParameters no_damping = mp;
+  no_damping.process_damping_coefficient_n_per_m = 0.0;
+  const double undamped = case_c_growth(no_damping, 0, kDepth, 60, kRtol);
+  ASSERT_GT(std::abs(edge - undamped), 100 * kEdgeLimit);  // the damping matters here
+  const double ratio = (g20 - edge) / (g40 - edge);
+  EXPECT_GT(ratio, kEdgeOrderMin) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
+  EXPECT_LT(ratio, kEdgeOrderMax) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
 }
 
 TEST(TimeDomainCutters, VanishingHelixIsTheStraightCutter) {

@@ -154,6 +154,11 @@ struct SimulationResult {
   /// History ring buffer: capacity and the most entries held at once.
   std::size_t history_capacity = 0, history_max_entries = 0;
   int samples_per_period = 0;
+  /// How the cut was resolved along the tool axis (milling): 0 = the exact
+  /// integral along each tooth's helical edge (one helix angle, automatic
+  /// slices), N >= 1 = N axial slices per tooth (1: straight teeth, the
+  /// uniform path). 1 in turning.
+  int axial_slices = 1;
 };
 
 /// The static deflection of turning (docs/physics.md §11): the force F =

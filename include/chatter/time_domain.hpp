@@ -14,7 +14,8 @@
 // Linear mode drops the static chip and the max(0, ·): F = −a H(t)(r − r(t − τ)),
 // the equation whose Floquet multipliers `sdm` computes.
 // Real cutters (docs/physics.md §8, docs/time_domain.md "Real cutters"):
-// each tooth is N_z axial slices (TimeDomainOptions::axial_slices), each a
+// each tooth is N_z axial slices (TimeDomainOptions::axial_slices; with one
+// helix angle, automatically, the closed-form integral along the edge), each a
 // straight tooth at φ_j(t, z) with its own delay τ_j(z) and the static chip
 // of Process::static_chip_m (pitch, runout), ramping in and out of the arc;
 // plus the process damping −(C_pd/V) dz (n·ṙ) n of each cutting slice
@@ -107,7 +108,10 @@ struct TimeDomainOptions {
   /// Axial slices N_z of the cut (real cutters, docs/time_domain.md "Real
   /// cutters"): each tooth is N_z straight slices of height a/N_z at the
   /// midpoints z = (s + ½) a/N_z, each at its own angle φ_j(t, z) and delay
-  /// τ_j(z). 0 = automatic: 20 with a helix, 1 otherwise. An explicit value
+  /// τ_j(z). 0 = automatic: with one helix angle (no profile, runout or
+  /// multiple regeneration) the exact, closed-form integral along each
+  /// tooth's edge (docs/time_domain.md "The exact edge"; the slices' limit),
+  /// 20 slices for the other helical cutters, 1 otherwise. An explicit value
   /// (1 … 1000) also sends a straight, equally spaced cutter through the
   /// per-tooth path (its tables then differ from the uniform path's by the
   /// integration tolerance only). Cost: the right-hand side grows as N_t N_z.

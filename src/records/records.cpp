@@ -225,7 +225,11 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
                      {"restarts", r.restarts},
                      {"root_stops", r.root_stops},
                      {"samples_per_period", r.samples_per_period},
-                     {"history_capacity", r.history_capacity}};
+                     {"history_capacity", r.history_capacity},
+                     {"axial_slices", r.axial_slices},
+                     {"axial_model", r.axial_slices == 0   ? "exact integral along the helical edge"
+                                     : r.axial_slices == 1 ? "one element per tooth"
+                                                           : "axial slices"}};
   return j;
 }
 

@@ -47,6 +47,7 @@ SimulationResult SimulationRun::finish() {
   res_.root_stops = root_stops_;
   res_.history_capacity = history_->capacity();
   res_.history_max_entries = history_->max_count();
+  res_.axial_slices = m_.exact_edge() ? 0 : m_.slices();
   res_.max_amplitude_m = max_amp_;
 
   const double rtol = options_.relative_tolerance;

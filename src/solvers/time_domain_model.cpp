@@ -314,6 +314,16 @@ void Model::build_elements(const TimeDomainOptions& o) {
   }
   cos_.assign(elements_.size(), 0.0);
   runout_ = process_.has_runout() && !settings_.linear;
+  init_edge(o);
+}
+
+bool Model::continuous_arc_events() const {
+  if (!general_ || slices_ < 2 || profile_) return false;
+  const double f_max = mm_.omega.maxCoeff() / (2.0 * kPi);
+  double ramp = std::numeric_limits<double>::infinity();  // s
+  for (int j = 0; j < teeth_; ++j)
+    ramp = std::min(ramp, std::abs(process_.helix_lag_rad_per_m(j)) * settings_.depth_m / omega_spindle_);
+  return ramp * f_max >= kMinRampCycles;
 }
 
 int Model::delay_slot(double d) {
@@ -505,6 +515,7 @@ void Model::general_chips(double t, const double* q, double* h) const {
 // K_r sin φ, −(K_t sin φ − K_r cos φ)), plus the process damping
 // −(C_pd/V) dz (n·ṙ) n while it cuts (h > 0; always in linear mode).
 void Model::general_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const {
+  if (edge_) return edge_rhs(t, q, qd, ydot, diag);
   general_chips(t, q, chips_.data());
   double rv[2] = {0, 0};
   if (pd_per_depth_ > 0.0) relative(qd, rv);
@@ -538,6 +549,13 @@ void Model::general_rhs(double t, const double* q, const double* qd, double* ydo
 }
 
 void Model::tally_air(std::vector<double>& arc, std::vector<double>& air) const {
+  if (edge_) {
+    for (std::size_t j = 0; j < edge_arc_.size(); ++j) {
+      arc[j] += edge_arc_[j];
+      air[j] += edge_air_[j];
+    }
+    return;
+  }
   if (general_) {
     for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
       const double frac = engaged_[ei];

@@ -4,6 +4,8 @@
 // one concept per file:
 //   time_domain_model.cpp     Model: the right-hand side, the chips, the
 //                             arc events (this header);
+//   time_domain_edge.cpp      the exact edge of a uniform helix: each
+//                             tooth's force in closed form along its edge;
 //   time_domain_run.cpp       SimulationRun: one run on CVODE (set-up,
 //                             stepping, stop points, roots, restarts;
 //                             time_domain_run.hpp);
@@ -41,6 +43,11 @@ inline constexpr double kPi = std::numbers::pi;
 // chip jumps in slope at t_r + τ, then in the 3rd and 5th derivatives.
 inline constexpr int kRootImagesSingle = 2;
 inline constexpr int kRootImagesMultiple = 3;
+// An edge that takes at least this fraction of the shortest natural period
+// to pass an end of the arc makes its arc events soft stops (no restart):
+// the integrator (about 90 steps per cycle at rtol 1e-7) steps through the
+// ramp.
+inline constexpr double kMinRampCycles = 0.125;
 // Up to this many distinct delays, the multiples of each are start stops.
 inline constexpr std::size_t kMaxStartImageDelays = 8;
 
@@ -103,6 +110,18 @@ class Model {
 
   void attach(History* h) { history_ = h; }
   bool general() const { return general_; }
+  /// True when each tooth's force is the closed-form integral along its
+  /// helical edge (time_domain_edge.cpp) rather than a sum over slices.
+  bool exact_edge() const { return edge_; }
+  /// Axial slices per tooth (1: straight teeth or turning).
+  int slices() const { return slices_; }
+  /// True when the force is continuous at every arc event and changes
+  /// slowly enough there for the integrator to follow without a restart:
+  /// several slices ramping in and out of the arc, or the exact edge (only
+  /// the slope of the force changes at an event), with each edge taking at
+  /// least kMinRampCycles of the shortest natural period to pass an arc end
+  /// (a near-straight helix ramps in a few ns: a jump for the integrator).
+  bool continuous_arc_events() const;
   /// Root functions: one per tooth (uniform path) or per element when every
   /// element's entry and exit is a stop (one slice); none with several
   /// slices (their chips are clipped, see docs/time_domain.md).
@@ -223,6 +242,13 @@ class Model {
   void general_chips(double t, const double* q, double* h) const;
   // The sliced force and the modal accelerations.
   void general_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const;
+  // ---- the exact edge of a uniform helix (time_domain_edge.cpp) ----
+  // Takes the edge path when the slices are automatic and every height of a
+  // tooth reads the same delay (one helix angle), without a profile, runout
+  // or multiple regeneration: sets edge_ and the per-tooth data.
+  void init_edge(const TimeDomainOptions& o);
+  // The force as the closed-form integral along each tooth's edge.
+  void edge_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const;
 
   ModalMatrices mm_;
   const Process& process_;
@@ -254,6 +280,15 @@ class Model {
   // At the last chips() call, per element: engaged fraction, sin φ, cos φ.
   mutable std::vector<double> engaged_, phi_, sin_, cos_;
   std::vector<double> slice_lag_, slice_cos_, slice_sin_;  // per tooth: δ_j = κ_j dz, cos δ_j, sin δ_j
+  // The exact edge (init_edge): per tooth κ_j (rad/m, signed), the index of
+  // its delay in delays_, θ_j/2π, the runout difference (m) and its angular
+  // offset (Process::tooth_offset_rad); at the last
+  // right-hand side with diagnostics, the share of the edge in the arc and
+  // in air (tally_air).
+  bool edge_ = false;
+  std::vector<double> edge_kappa_, edge_advance_, edge_runout_, edge_offset_;
+  std::vector<int> edge_delay_;
+  mutable std::vector<double> edge_arc_, edge_air_;
   std::vector<char> in_arc_;
   // At the last element_angles() call (several slices), per tooth: 1 when
   // every slice of the tooth lies outside the arc by more than

@@ -157,24 +157,40 @@ void SimulationRun::init_history() {
 
 void SimulationRun::init_stops() {
   t_end_ = s_.periods * tau_;
-  std::vector<double> stops = m_.arc_events(t_end_);
+  std::vector<std::pair<double, char>> stops;
+  const char soft = m_.continuous_arc_events() ? 1 : 0;
+  for (const double t : m_.arc_events(t_end_)) stops.emplace_back(t, soft);
   if (!m_.general() && !m_.ssv()) {
-    for (int k = 1; k <= kStartImages && k <= s_.periods; ++k) stops.push_back(k * tau_);
+    for (int k = 1; k <= kStartImages && k <= s_.periods; ++k) stops.emplace_back(k * tau_, 0);
   } else {
     // Speed variation: the images of the start at the mean-speed delays'
     // multiples, at the real times the spindle turns that far.
     for (const double d : m_.start_image_delays())
-      for (int k = 1; k <= kStartImages && m_.real_time(k * d) < t_end_; ++k) stops.push_back(m_.real_time(k * d));
+      for (int k = 1; k <= kStartImages && m_.real_time(k * d) < t_end_; ++k)
+        stops.emplace_back(m_.real_time(k * d), 0);
   }
-  stops.push_back(t_end_);
   std::sort(stops.begin(), stops.end());
   std::vector<double> merged;
-  for (double t : stops) {
+  std::vector<char> merged_soft;
+  for (const auto& [t, sf] : stops) {
     if (t <= 1e-9 * tau_ || t >= t_end_ - 1e-9 * tau_) continue;
-    if (merged.empty() || t - merged.back() > 1e-9 * tau_) merged.push_back(t);
+    if (merged.empty() || t - merged.back() > 1e-9 * tau_) {
+      merged.push_back(t);
+      merged_soft.push_back(sf);
+    } else {
+      merged_soft.back() = static_cast<char>(merged_soft.back() && sf);  // one hard stop makes it hard
+    }
   }
   merged.push_back(t_end_);  // always the last stop, exactly
+  merged_soft.push_back(0);
   stops_.swap(merged);
+  soft_.swap(merged_soft);
+}
+
+bool SimulationRun::soft_event(double tt) const {
+  if (!(next_stop_ < stops_.size() && std::abs(stops_[next_stop_] - tt) <= 1e-9 * tau_ && soft_[next_stop_]))
+    return false;
+  return images_.empty() || images_.front() - tt > 1e-9 * tau_;
 }
 
 void SimulationRun::init_integrator() {
@@ -417,10 +433,14 @@ void SimulationRun::step_to_grid_point(long i) {
       // An event before the grid point (reached as a stop, or a root that
       // fell on it): step onto it and change segment.
       const double t_next = next_event(1);
+      const bool soft = flag != CV_ROOT_RETURN && soft_event(t_);
       store(t_, true, segment_mid(t_, t_next));
       pass_event(t_);
       if (flag == CV_ROOT_RETURN) on_root(t_);
-      restart(t_);
+      if (soft)  // the force is continuous here: keep the integrator's history
+        cv_->check(CVodeSetStopTime(mem_, next_event(0)), "CVodeSetStopTime");
+      else
+        restart(t_);
       continue;
     }
     if (flag == CV_ROOT_RETURN) {
@@ -438,6 +458,7 @@ void SimulationRun::step_to_grid_point(long i) {
   }
   t_ = target;
   const bool at_stop = std::abs(next_event(0) - target) <= 1e-9 * tau_;
+  const bool soft = at_stop && !root_at_grid && soft_event(target);
   const double t_next = at_stop ? next_event(1) : t_end_;
   const Diagnostics left = store(target, at_stop, segment_mid(target, t_next));
   if (at_stop) pass_event(target);
@@ -456,10 +477,13 @@ void SimulationRun::step_to_grid_point(long i) {
   }
   if ((i % M_) == 0) {
     res_.once_per_period.push_back(smp);
-    end_of_period(at_stop, root_at_grid);
+    end_of_period(at_stop && !soft, root_at_grid);
     if (s_.on_period) s_.on_period(res_);
   }
-  if (at_stop || root_at_grid) restart(target);
+  if ((at_stop && !soft) || root_at_grid)
+    restart(target);
+  else if (at_stop)  // a soft stop: on to the next one with the integrator's history
+    cv_->check(CVodeSetStopTime(mem_, next_event(0)), "CVodeSetStopTime");
 }
 
 // At t = kτ: the DMD snapshot, roots back on, and (linear mode) the exact

@@ -99,6 +99,10 @@ class SimulationRun {
   std::optional<History> history_;
   double t_end_ = 0.0;
   std::vector<double> stops_;  // fixed stop points, sorted, t_end last
+  // Per stop: 1 when the force is continuous there (an end of a helical
+  // edge entering or leaving the arc): the integrator stops on it but keeps
+  // its history instead of restarting (Model::continuous_arc_events).
+  std::vector<char> soft_;
 
   sundials::Context ctx_;
   std::optional<sundials::SerialVector> y_, atol_;
@@ -129,6 +133,9 @@ class SimulationRun {
   // are held, whatever the simulated time.
   std::deque<double> images_;
   std::size_t next_stop_ = 0;
+  // True when the next event, at tt, is a soft stop and no image (root or
+  // start) coincides with it.
+  bool soft_event(double tt) const;
   long restarts_ = 0, root_stops_ = 0;
   double t_ = 0.0;
   int roots_this_period_ = 0;
