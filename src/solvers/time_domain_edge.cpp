@@ -75,16 +75,22 @@ void chip_range(double A, double B, double C, double a, double b, double ha, dou
 
 }  // namespace
 
-void Model::init_edge(const TimeDomainOptions& o) {
-  edge_ = false;
+bool exact_edge_applies(const Process& p, const TimeDomainOptions& o, bool linear, bool multiple_regeneration) {
   // The exact edge replaces the automatic slices only: an explicit
   // axial_slices keeps the slices (cross-checks), and a profile, a variable
   // helix (delays that vary along the edge), runout (a floored, piecewise
   // static chip) and multiple regeneration (the nearest of several
   // surfaces) keep them too.
-  if (o.axial_slices != 0 || profile_ || !process_.has_helix() || runout_ || slices_ < 2) return;
-  if (settings_.multiple_regeneration && !settings_.linear) return;
-  if (!(phi_en_ >= 0.0 && phi_ex_ <= kPi)) return;  // the arc inside [0, π]: sin φ >= 0 there
+  if (p.operation() != Operation::kMilling || o.axial_slices != 0 || !p.has_helix() || p.has_variable_helix() ||
+      p.has_profile())
+    return false;
+  if (!linear && (p.has_runout() || multiple_regeneration)) return false;
+  return p.entry_angle() >= 0.0 && p.exit_angle() <= kPi;  // the arc inside [0, π]: sin φ >= 0 there
+}
+
+void Model::init_edge(const TimeDomainOptions& o) {
+  edge_ = false;
+  if (!exact_edge_applies(process_, o, settings_.linear, settings_.multiple_regeneration) || slices_ < 2) return;
   const auto per_tooth = static_cast<std::size_t>(slices_);
   for (int j = 0; j < teeth_; ++j) {
     const CutElement& first = elements_[static_cast<std::size_t>(j) * per_tooth];

@@ -88,6 +88,13 @@ inline bool homogeneous(const SimulationSettings& s) { return s.linear && !s.lin
 /// (nonlinear mode only: linear mode ignores it), or an explicit axial_slices.
 bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear);
 
+/// True when a run's force is the exact, closed-form integral along each
+/// tooth's edge (time_domain_edge.cpp): milling with automatic slices and
+/// one helix angle (a variable pitch allowed: every height then reads the
+/// same delay), no profile and, in nonlinear mode, no runout and no
+/// multiple regeneration.
+bool exact_edge_applies(const Process& p, const TimeDomainOptions& o, bool linear, bool multiple_regeneration);
+
 /// The period of a run (s): the Floquet period of the process
 /// (Process::floquet_period_s), the same as sdm's: the tooth period for a
 /// uniform cutter, the shortest repeat of the pitch and helix pattern
