@@ -325,6 +325,24 @@ TEST(TimeDomainCutters, ExactEdgeProcessDampingIsTheLimitOfTheSlices) {
   EXPECT_LT(ratio, kEdgeOrderMax) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
 }
 
+// At zero depth the edge has no length: no force, no air time (0, not 0/0).
+TEST(TimeDomainCutters, ExactEdgeAtZeroDepthCutsNothing) {
+  MillingParameters mp = case_c_cutter();
+  mp.helix_angles_rad = {30 * kDeg};
+  TimeDomainSimulator sim(case_c(), Process::milling(mp));
+  SimulationSettings s;
+  s.spindle_rpm = 10000.0;
+  s.depth_m = 0.0;
+  s.periods = 20;
+  s.feed_m = 5e-5;
+  const SimulationResult r = sim.simulate(s);
+  EXPECT_EQ(r.axial_slices, 0);
+  EXPECT_EQ(r.out_of_cut_fraction, 0.0);
+  for (const double f : r.out_of_cut_fraction_per_tooth) EXPECT_EQ(f, 0.0);
+  EXPECT_TRUE(std::isfinite(r.max_amplitude_m));
+  EXPECT_EQ(r.verdict, SimulationVerdict::kStable);
+}
+
 TEST(TimeDomainCutters, VanishingHelixIsTheStraightCutter) {
   MillingParameters mp = case_c_cutter();
   mp.helix_angles_rad = {1e-6};

@@ -164,8 +164,9 @@ SolverDescriptor time_domain_descriptor() {
        "per period",
        0.0, 0.0, "", true},
       {"axial_slices", Kind::kInt,
-       "axial slices of each tooth for a helical or variable cutter (default 0 = automatic: 20 with a helix, 1 "
-       "otherwise); more: closer to the continuous flute, slower",
+       "axial slices of each tooth for a helical or variable cutter (default 0 = automatic: with one helix "
+       "angle the exact integral along the edge, 20 slices for other helical cutters, 1 otherwise); more: closer "
+       "to the continuous flute, slower",
        0.0, 1000.0, "", true}};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
     TimeDomainOptions t;

@@ -58,13 +58,13 @@ struct TrigIntegrals {
 };
 
 // Largest and smallest value of h(φ) = A sin φ + B cos φ + C on [a, b],
-// given its values at the ends: the interior extremes are C ± |(A, B)| at
-// φ = atan2(A, B) + mπ.
-void chip_range(double A, double B, double C, double a, double b, double ha, double hb, double& hi, double& lo) {
+// given its values at the ends and R = |(A, B)|, ψ = atan2(B, A): the
+// interior extremes are C ± R at φ = π/2 − ψ + mπ (+R for even m).
+void chip_range(double R, double psi, double C, double a, double b, double ha, double hb, double& hi, double& lo) {
   hi = std::max(ha, hb);
   lo = std::min(ha, hb);
-  if (A == 0.0 && B == 0.0) return;
-  const double R = std::hypot(A, B), p0 = std::atan2(A, B);
+  if (!(R > 0.0)) return;
+  const double p0 = 0.5 * kPi - psi;
   const double m0 = std::ceil((a - p0) / kPi), m1 = std::floor((b - p0) / kPi);
   for (double m = m0; m <= m1; m += 1.0) {
     const double v = (static_cast<long>(m) % 2 == 0 ? R : -R) + C;
@@ -163,14 +163,24 @@ void Model::edge_rhs(double t, const double* q, const double* qd, double* ydot, 
         F[1] -= pd_now * inv * (I.sc * rv[0] + I.cc * rv[1]);
       }
     };
+    // h = R sin(φ + ψ) + C, R = |(A, B)|, ψ = atan2(B, A): computed once per
+    // tooth, when needed (diagnostics, or a zero of h on the edge).
+    double R = -1.0, psi = 0.0;
+    auto polar = [&] {
+      if (R < 0.0) {
+        R = std::hypot(A, B);
+        psi = std::atan2(B, A);
+      }
+    };
     periodic_pieces(lo, lo + len, phi_en_, phi_ex_, [&](double u, double v) {
       any_arc = true;
       arc_len += v - u;
       const double su = std::sin(u), cu = std::cos(u), sv = std::sin(v), cv = std::cos(v);
       const double hu = A * su + B * cu + C, hv = A * sv + B * cv + C;
       if (diag) {
+        polar();
         double hi = 0.0, hlo = 0.0;
-        chip_range(A, B, C, u, v, hu, hv, hi, hlo);
+        chip_range(R, psi, C, u, v, hu, hv, hi, hlo);
         if (linear) {
           chip_max = std::max({chip_max, std::abs(hi), std::abs(hlo)});
         } else {
@@ -183,27 +193,25 @@ void Model::edge_rhs(double t, const double* q, const double* qd, double* ydot, 
         cut(u, v, su, cu, sv, cv);
         return;
       }
-      // Nonlinear (C = 0): h = R sin(φ + ψ), R = |(A, B)|, ψ = atan2(B, A),
-      // its zeros π apart. The arc is at most π long, so a piece shorter
-      // than π whose ends have one sign has no zero inside.
+      // Nonlinear (C = 0): the zeros of h are π apart. The arc is at most π
+      // long, so a piece shorter than π whose ends have one sign has no
+      // zero inside.
       if (v - u < kPi && hu >= 0.0 && hv >= 0.0) {
         cut(u, v, su, cu, sv, cv);
       } else if (!(v - u < kPi && hu <= 0.0 && hv <= 0.0)) {
-        const double psi = std::atan2(B, A);
+        polar();
         periodic_pieces(u, v, -psi, kPi - psi, [&](double x, double y) {  // where h > 0
           cut(x, y, std::sin(x), std::cos(x), std::sin(y), std::cos(y));
         });
       }
-      if (!diag) return;
-      const double R = std::hypot(A, B);
-      if (R > air_margin_) {  // where h < −margin: in air
-        const double al = std::asin(air_margin_ / R), psi = std::atan2(B, A);
+      if (diag && R > air_margin_) {  // where h < −margin: in air
+        const double al = std::asin(air_margin_ / R);
         periodic_pieces(u, v, kPi + al - psi, kTwoPiEdge - al - psi, [&](double x, double y) { air_len += y - x; });
       }
     });
-    if (diag) {
-      edge_arc_[ju] = arc_len / len;
-      edge_air_[ju] = air_len / len;
+    if (diag) {  // shares of the edge (none at zero depth)
+      edge_arc_[ju] = len > 0.0 ? arc_len / len : 0.0;
+      edge_air_[ju] = len > 0.0 ? air_len / len : 0.0;
     }
   }
   modal_accelerations(q, qd, F, ydot);
