@@ -54,6 +54,11 @@ constexpr double kEdgeLimit = 1e-5;
 constexpr double kEdgeOrderMin = 3.0, kEdgeOrderMax = 5.5;
 constexpr double kEdgeSeries = 2e-5;
 constexpr double kEdgeAir = 5e-4;
+// Linear series on the edge vs 640 slices: the largest |chip| relative to
+// its peak. The slices read the chip at their midpoints, half a slice
+// (1/1280 of the edge) inside the edge's ends, where the largest |h| often
+// sits: a first-order difference, measured 1.2e-3.
+constexpr double kEdgeChip = 3e-3;
 // Mean force over whole revolutions vs the closed form −a H₀ (f_z, 0) and
 // between helix and straight: the sample mean of a force that jumps at the
 // tooth entry has an O(1/M) quadrature error (M = 512 samples per period).
@@ -323,6 +328,46 @@ TEST(TimeDomainCutters, ExactEdgeProcessDampingIsTheLimitOfTheSlices) {
   const double ratio = (g20 - edge) / (g40 - edge);
   EXPECT_GT(ratio, kEdgeOrderMin) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
   EXPECT_LT(ratio, kEdgeOrderMax) << "20: " << g20 << ", 40: " << g40 << ", edge: " << edge;
+}
+
+// Linear mode on the exact edge reports the same series as fine slices:
+// displacement and the unclipped chip at every sample, and the in-cut flag
+// (some of an edge inside the arc with h > 0) wherever the edge sets it.
+// The slices' flag may also be set where the edge's chip is <= 0 all
+// through the arc but 0 at its end (sin π = 0 at a down-milling exit): a
+// slice half out of the arc sees its chip at a midpoint beyond the end.
+TEST(TimeDomainCutters, ExactEdgeLinearSeriesMatchesFineSlices) {
+  MillingParameters mp = case_c_cutter();
+  mp.helix_angles_rad = {30 * kDeg};
+  auto run = [&](int slices) {
+    TimeDomainOptions o;
+    o.axial_slices = slices;
+    o.relative_tolerance = 1e-9;
+    TimeDomainSimulator sim(case_c(), Process::milling(mp), o);
+    SimulationSettings s;
+    s.spindle_rpm = 10000.0;
+    s.depth_m = 6e-3;
+    s.periods = 10;
+    s.linear = true;
+    return sim.simulate(s);
+  };
+  const SimulationResult edge = run(0), fine = run(640);
+  ASSERT_EQ(edge.series.size(), fine.series.size());
+  double peak = 0.0, chip_peak = 0.0, worst = 0.0, chip_worst = 0.0;
+  std::size_t edge_cut = 0, both_cut = 0;
+  for (std::size_t i = 0; i < edge.series.size(); ++i) {
+    const SeriesSample &e = edge.series[i], &f = fine.series[i];
+    peak = std::max(peak, std::hypot(f.rel_x_m, f.rel_y_m));
+    worst = std::max(worst, std::hypot(e.rel_x_m - f.rel_x_m, e.rel_y_m - f.rel_y_m));
+    chip_peak = std::max(chip_peak, f.chip_m);
+    chip_worst = std::max(chip_worst, std::abs(e.chip_m - f.chip_m));
+    edge_cut += e.in_cut ? 1 : 0;
+    both_cut += e.in_cut && f.in_cut ? 1 : 0;
+  }
+  EXPECT_LT(worst, kEdgeSeries * peak);
+  EXPECT_LT(chip_worst, kEdgeChip * chip_peak);
+  ASSERT_GT(edge_cut, edge.series.size() / 10);  // the flag is exercised
+  EXPECT_EQ(both_cut, edge_cut);
 }
 
 // At zero depth the edge has no length: no force, no air time (0, not 0/0).

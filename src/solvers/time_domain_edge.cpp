@@ -181,13 +181,9 @@ void Model::edge_rhs(double t, const double* q, const double* qd, double* ydot, 
         polar();
         double hi = 0.0, hlo = 0.0;
         chip_range(R, psi, C, u, v, hu, hv, hi, hlo);
-        if (linear) {
-          chip_max = std::max({chip_max, std::abs(hi), std::abs(hlo)});
-        } else {
-          if (hi > 0.0) cutting = true;
-          if (hi > -air_margin_) touching = true;
-          chip_max = std::max(chip_max, hi);
-        }
+        if (hi > 0.0) cutting = true;  // as the slices: some of the edge has h > 0
+        if (hi > -air_margin_) touching = true;
+        chip_max = linear ? std::max({chip_max, std::abs(hi), std::abs(hlo)}) : std::max(chip_max, hi);
       }
       if (linear) {
         cut(u, v, su, cu, sv, cv);
