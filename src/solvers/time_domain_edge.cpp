@@ -122,8 +122,7 @@ void Model::init_edge(const TimeDomainOptions& o) {
 void Model::edge_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const {
   double r[2];
   relative(q, r);
-  for (std::size_t i = 0; i < delays_.size(); ++i)
-    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i], i);
+  read_delayed(t);
   double rv[2] = {0, 0};
   if (pd_per_depth_ > 0.0) relative(qd, rv);
   const double pd_now = pd_per_depth_ > 0.0 ? process_damping_now(t) : 0.0;

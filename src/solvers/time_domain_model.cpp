@@ -455,6 +455,11 @@ void Model::element_angles(double t) const {
   }
 }
 
+void Model::read_delayed(double t) const {
+  for (std::size_t i = 0; i < delays_.size(); ++i)
+    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i], i);
+}
+
 // Chips of every element (unclipped; +1 out of the arc); engaged_, sin_,
 // cos_ set for the right-hand side.
 // Nonlinear: the static chip of Process::static_chip_m (pitch, runout)
@@ -466,8 +471,7 @@ void Model::element_angles(double t) const {
 void Model::general_chips(double t, const double* q, double* h) const {
   double r[2];
   relative(q, r);
-  for (std::size_t i = 0; i < delays_.size(); ++i)
-    history_->displacement(ssv_ ? delayed_time(t, delays_[i]) : t - delays_[i], &delayed_[2 * i], i);
+  read_delayed(t);
   const double feed = homogeneous(settings_) ? 0.0 : settings_.feed_m;
   const bool multiple = !settings_.linear && settings_.multiple_regeneration;
   element_angles(t);

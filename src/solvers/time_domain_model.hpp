@@ -247,6 +247,8 @@ class Model {
   void element_angles(double t) const;
   // Chips of every element (unclipped; +1 out of the arc).
   void general_chips(double t, const double* q, double* h) const;
+  // delayed_ = r(t − d) for every distinct delay d of the general path.
+  void read_delayed(double t) const;
   // The sliced force and the modal accelerations.
   void general_rhs(double t, const double* q, const double* qd, double* ydot, Diagnostics* diag) const;
   // ---- the exact edge of a uniform helix (time_domain_edge.cpp) ----
