@@ -212,9 +212,11 @@ TEST(TimeDomainCutters, RunoutShowsTheSpindleLine) {
       << "no runout: spindle line " << spindle_0 << " N, tooth-passing line " << tooth_0 << " N";
 }
 
-// Case C (2 teeth, a_e/D = 0.05 down, 922 Hz) with a 10 mm cutter, linear
-// mode at 10000 rev/min: growth per tooth period.
-double case_c_growth(const MillingParameters& mp, int slices, double depth_m, int periods = 60, double rtol = 1e-7) {
+// A run on case C (2 teeth, a_e/D = 0.05 down, 922 Hz, 10 mm cutter) at
+// 10 000 rev/min: `slices` axial slices (0: automatic), nonlinear with
+// `feed_m` or linear, its series recorded or not.
+SimulationResult case_c_run(const MillingParameters& mp, int slices, double depth_m, int periods, bool linear,
+                            double feed_m, double rtol, bool record_series) {
   TimeDomainOptions o;
   o.axial_slices = slices;
   o.relative_tolerance = rtol;
@@ -223,26 +225,21 @@ double case_c_growth(const MillingParameters& mp, int slices, double depth_m, in
   s.spindle_rpm = 10000.0;
   s.depth_m = depth_m;
   s.periods = periods;
-  s.linear = true;
-  s.record_series = false;
-  return sim.simulate(s).growth_per_period;
-}
-
-// A recorded run on case C at 10 000 rev/min (rtol 1e-9): `slices` axial
-// slices (0: automatic), nonlinear with `feed_m` or linear.
-SimulationResult case_c_series(const MillingParameters& mp, int slices, double depth_m, int periods, bool linear,
-                               double feed_m) {
-  TimeDomainOptions o;
-  o.axial_slices = slices;
-  o.relative_tolerance = 1e-9;
-  TimeDomainSimulator sim(case_c(), Process::milling(mp), o);
-  SimulationSettings s;
-  s.spindle_rpm = 10000.0;
-  s.depth_m = depth_m;
-  s.periods = periods;
   s.linear = linear;
   s.feed_m = feed_m;
+  s.record_series = record_series;
   return sim.simulate(s);
+}
+
+// Linear mode: growth per tooth period.
+double case_c_growth(const MillingParameters& mp, int slices, double depth_m, int periods = 60, double rtol = 1e-7) {
+  return case_c_run(mp, slices, depth_m, periods, true, 0.0, rtol, false).growth_per_period;
+}
+
+// The recorded series at rtol 1e-9 (edge-vs-slices comparisons).
+SimulationResult case_c_series(const MillingParameters& mp, int slices, double depth_m, int periods, bool linear,
+                               double feed_m) {
+  return case_c_run(mp, slices, depth_m, periods, linear, feed_m, 1e-9, true);
 }
 
 MillingParameters case_c_cutter() {
