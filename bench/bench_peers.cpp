@@ -19,7 +19,8 @@
 //    between its ends (our reading of the method; the step is implicit in
 //    y_{i+1}).
 // Against them, `sdm` (SemiDiscretizationSolver): 101 exact limits (the
-// depth search of docs/sdm.md) at its default steps and at 2× and 4× them.
+// depth search of docs/sdm.md) at its default steps and at 2× and 4× them,
+// and with Gauss collocation (3 nodes at 8 and 6 steps, 2 nodes at 16).
 // Counters: each method's median and worst relative error of the limit
 // against the converged one (converged_limits: sdm at 4× and 8× its default
 // steps, extrapolated), over the speeds where the converged limit is below
@@ -274,6 +275,31 @@ void BM_Peers_ChatterSdm_101Limits(benchmark::State& state) {
   error_counters(state, limits);
 }
 BENCHMARK(BM_Peers_ChatterSdm_101Limits)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond);
+
+// Ours with Gauss collocation (SemiDiscretizationOptions::collocation_nodes,
+// the CLI's --collocation): arguments nodes and steps per period and per
+// vibration cycle; (3, 8) is what --collocation 3 runs.
+void BM_Peers_ChatterSdmCollocation_101Limits(benchmark::State& state) {
+  SemiDiscretizationOptions o;
+  o.depth_max_m = kDepthMax;
+  o.collocation_nodes = static_cast<int>(state.range(0));
+  o.steps_per_period = o.steps_per_vibration_cycle = static_cast<int>(state.range(1));
+  const auto speeds = evenly_spaced_speeds(kRpmMin, kRpmMax, kSpeeds);
+  std::vector<StabilityLimit> rows;
+  for (auto _ : state) {
+    const SemiDiscretizationSolver s(peers_model(), peers_process(), o);
+    rows = lobe_envelope(s, speeds, 1);
+    benchmark::DoNotOptimize(rows.data());
+  }
+  std::vector<double> limits;
+  for (const StabilityLimit& l : rows) limits.push_back(l.depth_limit_m);
+  error_counters(state, limits);
+}
+BENCHMARK(BM_Peers_ChatterSdmCollocation_101Limits)
+    ->Args({3, kCollocationSteps})
+    ->Args({3, 6})
+    ->Args({2, 16})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@
 
 #include "chatter/chatter.h"
 #include "chatter/io/config.hpp"
+#include "chatter/semi_discretization.hpp"
 #include "chatter/solvers.hpp"
 #include "cli_harness.hpp"
 
@@ -335,6 +337,40 @@ TEST_F(ConsistencyCli, PointLimitDoesNotDependOnTheAskedDepth) {
   }
   // The dominant vibration at the depth does move (that is why it has its own key).
   EXPECT_NE(dominant.front(), dominant.back());
+}
+
+// sdm with Gauss collocation (--collocation): a table row is `point`'s limit
+// bitwise, the table and point say which scheme and steps ran, and a cut
+// it does not model is refused naming the option, with no table written.
+TEST_F(ConsistencyCli, CollocationRowEqualsPointAndNamesItsScheme) {
+  const std::string file = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "milling_benchmark_ae005_down.toml").string();
+  const fs::path table = path("c.json");
+  const RunResult lr = run({"lobes", file, "--method", "sdm", "--collocation", "3", "--rpm-min", "5000", "--rpm-max",
+                            "16000", "--rpm-points", "3", "--json", table.string(), "--quiet"});
+  ASSERT_EQ(lr.exit_code, 0) << lr.err;
+  const json t = json::parse(slurp(table));
+  EXPECT_EQ(t["options"]["collocation_nodes"], 3) << t["options"];
+  EXPECT_EQ(t["options"]["steps_per_period"], kCollocationSteps);
+  std::set<std::string> types;
+  for (const json& row : t["rows"]) {
+    ASSERT_FALSE(row["depth_limit_mm"].is_null());
+    const double rpm = row["spindle_rpm"].get<double>();
+    const json p = json::parse(run({"point", file, "--method", "sdm", "--collocation", "3", "--rpm", number(rpm),
+                                    "--depth-mm", "1"}).out);
+    EXPECT_EQ(printed(p["depth_limit_mm"]), row["depth_limit_mm"]) << rpm;
+    EXPECT_EQ(printed(p["chatter_frequency_hz"]), row["chatter_frequency_hz"]) << rpm;
+    EXPECT_EQ(p["lobe"], row["lobe"]) << rpm;
+    EXPECT_EQ(p["multiplier_type"], row["multiplier_type"]) << rpm;
+    types.insert(row["multiplier_type"].get<std::string>());
+  }
+  EXPECT_EQ(types, (std::set<std::string>{"hopf", "flip"}));  // 5 000: hopf; 10 500, 16 000: flip
+  const std::string turning = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml").string();
+  const fs::path none = path("none.csv");
+  const RunResult bad = run({"lobes", turning, "--method", "sdm", "--collocation", "3", "--table", none.string(),
+                             "--quiet"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.err, "--collocation") && contains(bad.err, "is turning")) << bad.err;
+  EXPECT_FALSE(fs::exists(none));
 }
 
 // simulate: tooth passing N N_t / 60 and the Floquet period of sdm.

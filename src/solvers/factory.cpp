@@ -110,12 +110,20 @@ SolverDescriptor sdm_descriptor() {
                SolverFeature::kVariableHelix, SolverFeature::kSpeedVariation, SolverFeature::kCutterProfile};
   d.in_default_compare = true;
   d.options = {{"steps", Kind::kInt,
-                "steps per delay period (default 64; the step is also at most 1/64 of the shortest natural "
-                "period); more steps: more accurate, slower",
-                1.0, std::numeric_limits<double>::infinity(), "", true}};
+                "steps per delay period (default 64, 8 with --collocation; the step is also at most that "
+                "fraction of the shortest natural period); more steps: more accurate, slower",
+                1.0, std::numeric_limits<double>::infinity(), "", true},
+               {"collocation", Kind::kInt,
+                "Gauss collocation nodes per step, 0-3 (default 0: first order). 3 with its default 8 steps: "
+                "limits within ~0.02 % where the default is within ~1 %, and faster; straight milling teeth only",
+                0.0, static_cast<double>(kMaxCollocationNodes), "", true}};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
     SemiDiscretizationOptions s;
     s.depth_max_m = depth_max_m;
+    if (o.count("collocation")) {
+      s.collocation_nodes = std::get<int>(o.at("collocation"));
+      if (s.collocation_nodes > 0) s.steps_per_period = s.steps_per_vibration_cycle = kCollocationSteps;
+    }
     if (o.count("steps")) {
       s.steps_per_period = std::get<int>(o.at("steps"));
       s.steps_per_vibration_cycle = s.steps_per_period;
@@ -127,6 +135,7 @@ SolverDescriptor sdm_descriptor() {
     return SolverValues{{"depth_max_m", o.depth_max_m},
                         {"steps_per_period", o.steps_per_period},
                         {"steps_per_vibration_cycle", o.steps_per_vibration_cycle},
+                        {"collocation_nodes", o.collocation_nodes},
                         {"depth_tolerance", o.depth_tolerance}};
   };
   d.plot = {"#d95f02", 3.0, "", 0};

@@ -99,6 +99,18 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     const StepMap& s = pm.constant ? pm.steps[0] : pm.steps[si];
     const double h = g.constant ? g.steps[0].h : g.steps[si].h;
     push(now, h);
+    now += h;
+    if (pm.nodes > 0) {  // collocation: x_{i+1} = P x_i + Rc ζ_i
+      const int snr = pm.nodes * nr;
+      const Eigen::VectorXcd zeta = vec.segment(n2 + i * snr, snr);
+      xr_next.noalias() = s.P * xr;
+      xr_next.noalias() += s.Rc * zeta.real();
+      xi_next.noalias() = s.P * xi;
+      xi_next.noalias() += s.Rc * zeta.imag();
+      xr.swap(xr_next);
+      xi.swap(xi_next);
+      continue;
+    }
     const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
     const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
     xr_next.noalias() = s.P * xr;
@@ -107,7 +119,6 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     xi_next.noalias() += s.R0 * z0.imag() + s.R1 * z1.imag();
     xr.swap(xr_next);
     xi.swap(xi_next);
-    now += h;
   }
   if (pm.free_flight) {
     const int pieces = std::max(1, static_cast<int>(std::ceil(g.free_time * f_top_hz * kFreeFlightSamplesPerCycle)));
@@ -253,8 +264,8 @@ MultiplierType classify(const Cplx& mu) {
 // The Floquet analysis of the map `pm`, built at `depth_m` on grid `g`
 // (SemiDiscretizationSolver::analyse after its checks).
 FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap& pm, double rpm, double depth_m,
-                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz) {
-  const Dominant d = kernel.dominant(pm, true);
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz, const Dominant* known) {
+  const Dominant d = known ? *known : kernel.dominant(pm, true);
   FloquetResult r;
   r.spindle_rpm = rpm;
   r.depth_m = depth_m;

@@ -24,6 +24,14 @@ constexpr double kRankTol = 1e-10;
 // (Process merges at 1e-12 too); delays equal to it are one delay group.
 constexpr double kEventMerge = 1e-12;
 
+Step step_of(double h, MatrixXd BHU, double t0 = 0.0) {
+  Step s;
+  s.h = h;
+  s.BHU = std::move(BHU);
+  s.t0 = t0;
+  return s;
+}
+
 }  // namespace
 
 std::string bad_speed(double rpm) {
@@ -158,6 +166,26 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   return cg;
 }
 
+bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o) {
+  return o.general_cutter_path ||
+         (p.operation() == Operation::kMilling &&
+          (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile()));
+}
+
+std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
+  if (o.collocation_nodes == 0) return "";
+  const char* what = p.operation() != Operation::kMilling ? "is turning"
+                     : p.has_speed_variation()            ? "has spindle speed variation"
+                     : real_cutter_grid(p, o)             ? "takes the real-cutter path (a helix, variable pitch, "
+                                                            "process damping or a profile)"
+                                                          : nullptr;
+  if (!what) return "";
+  std::ostringstream os;
+  os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for straight, "
+     << "equally spaced milling teeth; this cut " << what << ": use collocation 0 (the first-order steps)";
+  return os.str();
+}
+
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 // A, B, U: the solver's free dynamics, force input and delayed-quantity basis.
 // Sv: ṙ = Sv x (process damping).
@@ -171,9 +199,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     return make_ssv_grid(p, o, f_max_hz, rpm);
   }
   Grid g;
-  if (o.general_cutter_path ||
-      (p.operation() == Operation::kMilling &&
-       (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile()))) {
+  if (real_cutter_grid(p, o)) {
     // Real cutter, or any cut on the general path: the steps from the
     // cutting law's regenerative side (cutter_grid; SdmKernel::build_cutter).
     // The straight uniform milling cutter and turning below are its fast
@@ -216,13 +242,13 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     g.constant = true;
     g.m = count(g.tau);
     if (p.has_nose_radius()) {  // B H(a) U per depth (SdmKernel::build_steps)
-      g.steps.push_back({g.tau / g.m, MatrixXd()});
+      g.steps.push_back(step_of(g.tau / g.m, MatrixXd()));
       g.nose = &p;
       g.nose_cbar = p.process_damping_per_depth(rpm);
       if (p.has_process_damping()) g.nose_Sv = Sv;
       return g;
     }
-    g.steps.push_back({g.tau / g.m, B * turning_hhat * U});
+    g.steps.push_back(step_of(g.tau / g.m, B * turning_hhat * U));
     if (p.has_process_damping()) {  // − a (C_pd/V) B (b/a) n nᵀ ṙ
       MatrixXd D = MatrixXd::Zero(2, 2);
       if (p.orthogonal_turning())
@@ -234,6 +260,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     return g;
   }
   const MillingParameters& mp = p.milling_parameters();
+  g.rpm = rpm;
   const double omega = kTwoPi * rpm / 60.0;          // rad/s
   const double theta_p = kTwoPi / mp.teeth;           // tooth pitch, rad
   const double en = p.entry_angle();
@@ -263,11 +290,20 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
       for (int j = 0; j < s.teeth; ++j)
         integral += p.tooth_matrix_antiderivative(en + tb + j * theta_p) -
                     p.tooth_matrix_antiderivative(en + ta + j * theta_p);
-      g.steps.push_back({duration / ns, B * (integral / (tb - ta)) * U});
+      g.steps.push_back(step_of(duration / ns, B * (integral / (tb - ta)) * U, ta / omega));
     }
   }
   g.m = static_cast<int>(g.steps.size());
   if (g.free_time > 0.0) g.E_free = (A * g.free_time).exp();
+  return g;
+}
+
+Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double slowest_decay,
+                 double rpm, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
+                 const MatrixXd& Sv) {
+  Grid g = with_branch_choice(make_grid(p, o, f_max_hz, rpm, turning_hhat_of(p), A, B, U, Sv), slowest_decay, o,
+                              A.rows(), Wx.rows());
+  if (o.collocation_nodes > 0) add_collocation(g, p, o.collocation_nodes, A, B, Wx, U);
   return g;
 }
 

@@ -84,6 +84,13 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process, 
 struct Step {
   double h = 0.0;     // s
   MatrixXd BHU;       // B Ĥ U with Ĥ the step average of Ĥ(t): 2n × n_r (per unit depth)
+  double t0 = 0.0;    // start, s after the tooth entry (milling)
+  // Gauss collocation with s nodes c_j (sdm_collocation.cpp; empty at s = 0),
+  // per unit depth: WxEc = [Wx e^{A c_j h}]_j (s n_r × 2n), WxK = [Wx W_jk B
+  // H(c_k) U]_jk (s n_r × s n_r), VB = [V_k B H(c_k) U]_k (2n × s n_r), Eh =
+  // e^{A h}; W_jk, V_k: the weights of the cutting term's Lagrange basis in
+  // the variation-of-constants integral up to c_j h and up to h.
+  MatrixXd WxEc, WxK, VB, Eh;
 };
 
 // Real-cutter grid of one period (cutter_grid): boundaries, and per step the
@@ -132,6 +139,8 @@ struct Grid {
   // principal period (tau), with the time-varying delays of CutterGrid::tau_at.
   bool ssv = false;
   SpeedVariationPeriod ssv_period;
+  // Gauss collocation nodes per cutting step (0: first-order steps).
+  int nodes = 0;
 };
 
 // Real-cutter step: x_{i+1} = P x_i + Σ C z_g over stored samples z_g.
@@ -187,8 +196,12 @@ struct CutterMap {
 };
 
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
+// Collocation (PeriodMap::nodes = s > 0): x_{i+1} = P x_i + Rc ζ_i and the
+// step's node samples ζ_i⁺ = Qc [x_i; ζ_i], ζ_i the same nodes one period
+// back (s n_r values).
 struct StepMap {
   MatrixXd P, R0, R1;
+  MatrixXd Rc, Qc;
 };
 
 struct PeriodMap {
@@ -202,6 +215,7 @@ struct PeriodMap {
   bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
   bool cutter = false;          // the real-cutter map `cm` (general path)
   CutterMap cm;
+  int nodes = 0;                // Gauss collocation nodes per step (0: first-order steps)
 };
 
 // Dominant eigenpair of the one-period map.
@@ -224,6 +238,14 @@ std::string bad_speed(double rpm);
 // ---------------------------------------------------------------- grid
 // (sdm_grid.cpp)
 
+// The real-cutter path (a helix, variable pitch, process damping or a
+// profile in milling, or general_cutter_path) rather than the tooth-period
+// grid of straight teeth or the constant turning step.
+bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o);
+// Why collocation_nodes > 0 cannot run on this cut (turning, speed
+// variation, the real-cutter path), as an InputError message; "" when it can.
+std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o);
+
 // First pass of the real-cutter map at depth a: step boundaries 0, T and
 // every engagement event in [0, T); the exact integrals per step.
 CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
@@ -240,6 +262,19 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
 // milling on the constant-speed grid in the mean-speed time θ(t)/Ω₀, mapped
 // to real time, its integrals scaled by dt/dt'. tau_at: the delays τ(t_i).
 CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+
+// The grid of one period at `rpm` as the solver uses it: make_grid, the
+// branch-root choice of turning and, with collocation_nodes > 0, the
+// collocation weights (add_collocation). Every caller of the stability
+// solver takes its grid from here.
+Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double slowest_decay,
+                 double rpm, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
+                 const MatrixXd& Sv);
+// Gauss collocation (sdm_collocation.cpp): the depth-independent weights of
+// every cutting step of a straight-teeth milling grid (Step::WxEc … Eh).
+// @pre collocation_refusal(p, o) is empty (the solver checks it at construction).
+void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
+                     const MatrixXd& Wx, const MatrixXd& U);
 
 // ĥ of turning, H = ĥ nᵀ: (b/a) d ([K_f; 0] for the orthogonal cut); empty
 // for milling and for a nose radius (H per depth).
@@ -276,6 +311,9 @@ class SdmKernel {
   void build_steps(const Grid& g, double depth, PeriodMap& pm) const;
   template <int N2, int NR>
   static void apply_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work);
+  // Collocation (sdm_collocation.cpp): the step maps at one depth, and Φ y.
+  void build_collocation(const Grid& g, double depth, PeriodMap& pm) const;
+  static void apply_collocation(const PeriodMap& pm, const double* y, double* out, double* work);
   void build_cutter(const Grid& g, double a, PeriodMap& pm) const;
   void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm,
                   const std::shared_ptr<const CutterGrid>* shared) const;
@@ -308,7 +346,8 @@ MultiplierType classify(const Cplx& mu);
 double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
                          const MatrixXd& A, const MatrixXd& Wx, double f_max_hz);
 // The Floquet analysis of the map `pm`, built at `depth_m` on grid `g`.
+// `known`: kernel.dominant(pm, true) when the caller has it already.
 FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap& pm, double rpm, double depth_m,
-                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz);
+                         const MatrixXd& A, const MatrixXd& Wx, double f_max_hz, const Dominant* known = nullptr);
 
 }  // namespace chatter::sdm_detail

@@ -211,6 +211,8 @@ bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
 
 void SdmKernel::build_map(const Grid& g, double depth, PeriodMap& pm) const {
   if (g.cutter) return build_cutter(g, depth, pm);
+  if (g.nodes > 0) return build_collocation(g, depth, pm);
+  pm.nodes = 0;
   const int n2 = static_cast<int>(A_.rows());
   const int nr = static_cast<int>(Wx_.rows());
   pm.n2 = n2;
@@ -273,6 +275,7 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
 // Dispatches to fixed-size loops for the common small models.
 void SdmKernel::apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work) {
   if (pm.cutter) return apply_cutter(pm, Wx, y, out, nullptr);
+  if (pm.nodes > 0) return apply_collocation(pm, y, out, work);
   if (pm.n2 == 2 && pm.nr == 1) return apply_n<2, 1>(pm, Wx, y, out, work);
   if (pm.n2 == 4 && pm.nr == 1) return apply_n<4, 1>(pm, Wx, y, out, work);
   if (pm.n2 == 4 && pm.nr == 2) return apply_n<4, 2>(pm, Wx, y, out, work);

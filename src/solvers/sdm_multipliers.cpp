@@ -194,32 +194,85 @@ void SdmKernel::half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out) {
   }
 }
 
+namespace {
+
+// The eigenvalues of an upper Hessenberg matrix from its real Schur form,
+// computed from the matrix as it is (no Hessenberg reduction): 1 × 1 blocks,
+// and 2 × 2 blocks of complex pairs read as Eigen::EigenSolver reads them.
+void schur_eigenvalues(const MatrixXd& Hk, Eigen::VectorXcd& ev) {
+  const Index kk = Hk.rows();
+  Eigen::RealSchur<MatrixXd> rs(kk);
+  rs.computeFromHessenberg(Hk, MatrixXd(), false);
+  if (rs.info() != Eigen::Success) throw NumericalError("sdm: Arnoldi Hessenberg eigen-decomposition failed");
+  const MatrixXd& T = rs.matrixT();
+  for (Index i = 0; i < kk;) {
+    if (i == kk - 1 || T(i + 1, i) == 0.0) {
+      ev(i) = T(i, i);
+      ++i;
+      continue;
+    }
+    const double p = 0.5 * (T(i, i) - T(i + 1, i + 1));
+    const double mx = std::max({std::abs(p), std::abs(T(i + 1, i)), std::abs(T(i, i + 1))});
+    const double t0 = p / mx, t1 = T(i, i + 1) / mx, t2 = T(i + 1, i) / mx;
+    const double z = mx * std::sqrt(std::abs(t0 * t0 + t1 * t2));
+    ev(i) = Cplx(T(i + 1, i + 1) + p, z);
+    ev(i + 1) = Cplx(T(i + 1, i + 1) + p, -z);
+    i += 2;
+  }
+}
+
+}  // namespace
+
 // Dominant eigenvalue of a small Hessenberg matrix and its unit eigenvector.
+// The eigenvalues from the real Schur form of Hk taken as it is (already
+// Hessenberg: no reduction), the eigenvector by inverse iteration with
+// Gaussian elimination that pivots between neighbouring rows only (the
+// partial pivoting of a Hessenberg matrix): O(k²) per solve.
 void SdmKernel::hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
                                     std::vector<std::pair<double, Index>>* order, Eigen::VectorXcd* eigs) {
   if (!Hk.allFinite()) throw MapOverflow{};
-  Eigen::EigenSolver<MatrixXd> es(Hk, false);
-  if (es.info() != Eigen::Success) throw NumericalError("sdm: Arnoldi Hessenberg eigen-decomposition failed");
   const Index kk = Hk.rows();
+  Eigen::VectorXcd ev(kk);
+  schur_eigenvalues(Hk, ev);
   Index best = 0;
   for (Index i = 1; i < kk; ++i)
-    if (better(es.eigenvalues()(i), es.eigenvalues()(best))) best = i;
-  theta = es.eigenvalues()(best);
+    if (better(ev(i), ev(best))) best = i;
+  theta = ev(best);
   // Eigenvector by inverse iteration with a slightly perturbed shift.
   const Cplx shift = theta * (1.0 + 1e-12) + Cplx(0.0, 1e-14 * std::abs(theta));
-  const Eigen::MatrixXcd T = Hk.cast<Cplx>() - shift * Eigen::MatrixXcd::Identity(kk, kk);
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(T);
+  Eigen::MatrixXcd L = Hk.cast<Cplx>();
+  L.diagonal().array() -= shift;
+  std::vector<char> swapped(static_cast<std::size_t>(kk), 0);
+  std::vector<Cplx> mult(static_cast<std::size_t>(kk), Cplx(0.0, 0.0));
+  for (Index j = 0; j + 1 < kk; ++j) {  // eliminate L(j + 1, j)
+    const auto ju = static_cast<std::size_t>(j);
+    if (std::norm(L(j + 1, j)) > std::norm(L(j, j))) {  // |·|² (no hypot): only the pivot's choice
+      L.row(j).tail(kk - j).swap(L.row(j + 1).tail(kk - j));
+      swapped[ju] = 1;
+    }
+    if (L(j, j) == Cplx(0.0, 0.0)) continue;  // L(j + 1, j) is 0 too
+    mult[ju] = L(j + 1, j) / L(j, j);
+    L.row(j + 1).tail(kk - j - 1) -= mult[ju] * L.row(j).tail(kk - j - 1);
+  }
+  const double tiny = 1e-300 + 1e-16 * (Hk.cwiseAbs().maxCoeff() + std::abs(shift));
+  for (Index j = 0; j < kk; ++j)
+    if (std::abs(L(j, j)) < tiny) L(j, j) = tiny;  // an exact eigenvalue: any large multiple of the vector
   y = Eigen::VectorXcd::Ones(kk);
   for (int it = 0; it < 3; ++it) {
-    y = lu.solve(y);
+    for (Index j = 0; j + 1 < kk; ++j) {
+      const auto ju = static_cast<std::size_t>(j);
+      if (swapped[ju]) std::swap(y(j), y(j + 1));
+      y(j + 1) -= mult[ju] * y(j);
+    }
+    y = L.triangularView<Eigen::Upper>().solve(y);
     y /= y.norm();
   }
   if (order) {
     order->clear();
-    for (Index i = 0; i < kk; ++i) order->emplace_back(-std::abs(es.eigenvalues()(i)), i);
+    for (Index i = 0; i < kk; ++i) order->emplace_back(-std::abs(ev(i)), i);
     std::sort(order->begin(), order->end());
   }
-  if (eigs) *eigs = es.eigenvalues();
+  if (eigs) *eigs = ev;
 }
 
 // Restarted Arnoldi on Φ applied as the sequence of step maps. In `decide`

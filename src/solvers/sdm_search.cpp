@@ -70,24 +70,39 @@ bool find_band(F&& f, double a, double b, double c, double fb, double& at, doubl
 
 // The last two period maps of a depth search, by depth: a depth met again
 // (the band search re-reads its lower end, Brent returns a point it has
-// evaluated, which the final analysis then reads) reuses its map.
+// evaluated, which the final analysis then reads) reuses its map, and its
+// converged dominant multiplier with the eigenvector (the final analysis
+// asks for exactly that: dominant(map, true)).
 class MapCache {
  public:
   MapCache(const SdmKernel& kernel, const Grid& g) : kernel_(kernel), g_(g) {}
-  const PeriodMap& at(double depth) {
-    for (int i = 0; i < 2; ++i)
-      if (depth_[i] == depth) return maps_[i];
-    last_ = 1 - last_;
-    depth_[last_] = std::numeric_limits<double>::quiet_NaN();  // not valid if the build throws
-    kernel_.build_map(g_, depth, maps_[last_]);
-    depth_[last_] = depth;
-    return maps_[last_];
+  const PeriodMap& at(double depth) { return maps_[slot(depth)]; }
+  const Dominant& dominant_at(double depth) {
+    const int i = slot(depth);
+    if (!has_dominant_[i]) {
+      dominant_[i] = kernel_.dominant(maps_[i], true);
+      has_dominant_[i] = true;
+    }
+    return dominant_[i];
   }
 
  private:
+  int slot(double depth) {
+    for (int i = 0; i < 2; ++i)
+      if (depth_[i] == depth) return i;
+    last_ = 1 - last_;
+    depth_[last_] = std::numeric_limits<double>::quiet_NaN();  // not valid if the build throws
+    has_dominant_[last_] = false;
+    kernel_.build_map(g_, depth, maps_[last_]);
+    depth_[last_] = depth;
+    return last_;
+  }
+
   const SdmKernel& kernel_;
   const Grid& g_;
   PeriodMap maps_[2];
+  Dominant dominant_[2];
+  bool has_dominant_[2] = {false, false};
   double depth_[2] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   int last_ = 1;
 };
@@ -124,11 +139,10 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
     if (deciding) *above = true;
     return lim;
   }
-  const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const Grid g = period_grid(process_, options_, f_max_hz_, slowest_decay_per_s_, rpm, A_, B_, Wx_, U_, Sv_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   MapCache maps(kernel, g);
-  auto log_rho = [&](double a) { return std::log(std::abs(kernel.dominant(maps.at(a), false).mu)); };
+  auto log_rho = [&](double a) { return std::log(std::abs(maps.dominant_at(a).mu)); };
   // The largest multipliers at depth a: overall (ln ρ), and in the left
   // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
   struct Radii {
@@ -248,7 +262,7 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
     return lim;
   }
   lim.depth_limit_m = root;
-  const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_);
+  const FloquetResult fr = floquet_of(kernel, g, maps.at(root), rpm, root, A_, Wx_, f_max_hz_, &maps.dominant_at(root));
   lim.chatter_frequency_hz = fr.chatter_frequency_hz;
   lim.lobe = lobe_number(fr.chatter_frequency_hz, process_.tooth_passing_hz(rpm));
   if (floquet) *floquet = fr;

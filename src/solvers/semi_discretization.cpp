@@ -50,6 +50,8 @@ std::string SemiDiscretizationOptions::validate() const {
     os << "krylov_dimension = " << krylov_dimension << ": must be in [4, 400]";
   else if (axial_slices < 1)
     os << "axial_slices = " << axial_slices << ": must be >= 1";
+  else if (collocation_nodes < 0 || collocation_nodes > kMaxCollocationNodes)
+    os << "collocation_nodes = " << collocation_nodes << ": must be in [0, " << kMaxCollocationNodes << "]";
   return os.str();
 }
 
@@ -57,6 +59,7 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
                                                    SemiDiscretizationOptions options)
     : model_(std::move(model)), process_(std::move(process)), options_(options) {
   if (const std::string e = options_.validate(); !e.empty()) throw InputError("sdm options: " + e);
+  if (const std::string e = collocation_refusal(process_, options_); !e.empty()) throw InputError(e);
   if (model_.mode_count() == 0)
     throw InputError("structural model: both bodies are rigid: give at least one mode");
   if (model_.has_measured())
@@ -80,8 +83,7 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
     os << "depth " << depth_m << " m: must be >= 0 and finite";
     throw InputError(os.str());
   }
-  const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const Grid g = period_grid(process_, options_, f_max_hz_, slowest_decay_per_s_, rpm, A_, B_, Wx_, U_, Sv_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
@@ -96,8 +98,7 @@ std::optional<bool> SemiDiscretizationSolver::stable_at(double rpm, double depth
     throw InputError(os.str());
   }
   if (Wx_.rows() == 0) return true;  // the process cannot see any mode
-  const MatrixXd turning_hhat = turning_hhat_of(process_);
-  const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+  const Grid g = period_grid(process_, options_, f_max_hz_, slowest_decay_per_s_, rpm, A_, B_, Wx_, U_, Sv_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   kernel.build_map(g, depth_m, pm);
@@ -114,12 +115,11 @@ std::vector<double> SemiDiscretizationSolver::spectral_radius_map(const std::vec
     if (!(std::isfinite(d) && d >= 0.0)) throw InputError("stability map: depths must be >= 0 and finite");
   std::vector<double> out;
   out.reserve(rpms.size() * depths_m.size());
-  const MatrixXd turning_hhat = turning_hhat_of(process_);
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   PeriodMap pm;
   for (double rpm : rpms) {
     if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
-    const Grid g = with_branch_choice(make_grid(process_, options_, f_max_hz_, rpm, turning_hhat, A_, B_, U_, Sv_), slowest_decay_per_s_, options_, A_.rows(), Wx_.rows());
+    const Grid g = period_grid(process_, options_, f_max_hz_, slowest_decay_per_s_, rpm, A_, B_, Wx_, U_, Sv_);
     for (double d : depths_m) {
       kernel.build_map(g, d, pm);
       out.push_back(std::abs(kernel.dominant(pm, false).mu));

@@ -337,7 +337,10 @@ def test_design_pitch_is_the_record_and_checks_name_the_keywords():
     designed = [row["depth_limit_designed_mm"] for row in d["band"]]
     equal = [row["depth_limit_equal_mm"] for row in d["band"]]
     assert d["designed"]["worst_limit_mm"] == min(designed) and d["equal"]["worst_limit_mm"] == min(equal)
-    assert d["gain"] == d["designed"]["worst_limit_mm"] / d["equal"]["worst_limit_mm"] > 1.0
+    # The gain is the ratio of the limits in m; the record's limits are in mm
+    # (×1e3 each), so the quotient agrees to round-off, not bit for bit.
+    assert d["gain"] == pytest.approx(d["designed"]["worst_limit_mm"] / d["equal"]["worst_limit_mm"], rel=1e-12)
+    assert d["gain"] > 1.0
     assert d["designed"]["worst_limit_mm"] >= d["start"]["worst_limit_mm"]
     with pytest.raises(chatter.InputError, match=r"^rpm_max = 6600: must be > rpm_min = 8000"):
         chatter.design_pitch(job, rpm_min=8000, rpm_max=6600)
