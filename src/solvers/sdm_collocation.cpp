@@ -96,13 +96,26 @@ void integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<Matr
   if (!modal) return augmented_integrals<MatrixXd>(A, T, s, E, G);
   E = MatrixXd::Zero(n2, n2);
   G.assign(static_cast<std::size_t>(s), MatrixXd::Zero(n2, n2));
-  MatrixXd a(2, 2), e;
-  std::vector<MatrixXd> g;
+  // One exponential per distinct mode block (a tool's X and Y modes are
+  // often the same): the block, its e^{a T} and its G_q.
+  struct ModeIntegrals {
+    MatrixXd a, e;
+    std::vector<MatrixXd> g;
+  };
+  std::vector<ModeIntegrals> done;
+  MatrixXd a(2, 2);
   for (Index i = 0; i < n; ++i) {
     const Index at[2] = {i, n + i};
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c) a(r, c) = A(at[r], at[c]);
-    augmented_integrals<ModeMatrix>(a, T, s, e, g);
+    auto it = std::find_if(done.begin(), done.end(), [&](const ModeIntegrals& m) { return m.a == a; });
+    if (it == done.end()) {
+      done.push_back({a, MatrixXd(), {}});
+      augmented_integrals<ModeMatrix>(a, T, s, done.back().e, done.back().g);
+      it = done.end() - 1;
+    }
+    const MatrixXd& e = it->e;
+    const std::vector<MatrixXd>& g = it->g;
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c) {
         E(at[r], at[c]) = e(r, c);
@@ -170,6 +183,41 @@ void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, co
   }
 }
 
+namespace {
+
+// The step maps of one period at depth a (SdmKernel::build_collocation).
+// N2, SNR: compile-time sizes of the common models (two modes in the plane,
+// 2 or 3 nodes), or Eigen::Dynamic; the same operations either way.
+template <int N2, int SNR>
+void collocation_steps(const Grid& g, double a, int n2, int snr, PeriodMap& pm) {
+  using NodeSystem = Eigen::Matrix<double, SNR, SNR>;
+  using NodeRhs = Eigen::Matrix<double, SNR, (N2 == Eigen::Dynamic || SNR == Eigen::Dynamic) ? Eigen::Dynamic : N2 + SNR>;
+  NodeSystem M(snr, snr);
+  NodeRhs rhs(snr, n2 + snr), Q(snr, n2 + snr);
+  Eigen::PartialPivLU<NodeSystem> lu(snr);
+  for (std::size_t i = 0; i < g.steps.size(); ++i) {
+    const Step& st = g.steps[i];
+    StepMap& sm = pm.steps[i];
+    const Eigen::Map<const Eigen::Matrix<double, SNR, SNR>> WxK(st.WxK.data(), snr, snr);
+    const Eigen::Map<const Eigen::Matrix<double, SNR, N2>> WxEc(st.WxEc.data(), snr, n2);
+    const Eigen::Map<const Eigen::Matrix<double, N2, SNR>> VB(st.VB.data(), n2, snr);
+    const Eigen::Map<const Eigen::Matrix<double, N2, N2>> Eh(st.Eh.data(), n2, n2);
+    M.setIdentity();
+    M.noalias() += a * WxK;
+    rhs.leftCols(n2) = WxEc;
+    rhs.rightCols(snr) = a * WxK;
+    lu.compute(M);
+    Q.noalias() = lu.solve(rhs);  // [Z_j] = Q [x_i; ζ_i]
+    sm.Qc = Q;
+    const Eigen::Matrix<double, N2, N2> P = Eh - a * (VB * Q.leftCols(n2));
+    const Eigen::Matrix<double, N2, SNR> R = a * (VB - VB * Q.rightCols(snr));
+    sm.P = P;
+    sm.Rc = R;
+  }
+}
+
+}  // namespace
+
 void SdmKernel::build_collocation(const Grid& g, double depth, PeriodMap& pm) const {
   const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows()), s = g.nodes, snr = s * nr;
   pm.n2 = n2;
@@ -185,27 +233,9 @@ void SdmKernel::build_collocation(const Grid& g, double depth, PeriodMap& pm) co
   pm.E = pm.free_flight ? &g.E_free : nullptr;
   pm.tau = g.tau;
   pm.steps.resize(g.steps.size());
-  // s n_r <= 3 · 2: the node system is stack-allocated (no heap traffic).
-  using NodeMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxCollocationNodes,
-                                   2 * kMaxCollocationNodes>;
-  NodeMatrix M(snr, snr);
-  Eigen::PartialPivLU<NodeMatrix> lu(snr);
-  MatrixXd rhs(snr, n2 + snr);
-  for (std::size_t i = 0; i < g.steps.size(); ++i) {
-    const Step& st = g.steps[i];
-    StepMap& sm = pm.steps[i];
-    M.setIdentity();
-    M.noalias() += depth * st.WxK;
-    rhs.leftCols(n2) = st.WxEc;
-    rhs.rightCols(snr) = depth * st.WxK;
-    lu.compute(M);
-    sm.Qc.resize(snr, n2 + snr);
-    sm.Qc.noalias() = lu.solve(rhs);  // [Z_j] = Qc [x_i; ζ_i]
-    sm.P = st.Eh;
-    sm.P.noalias() -= depth * st.VB * sm.Qc.leftCols(n2);
-    sm.Rc = depth * st.VB;
-    sm.Rc.noalias() -= depth * st.VB * sm.Qc.rightCols(snr);
-  }
+  if (n2 == 4 && snr == 6) return collocation_steps<4, 6>(g, depth, n2, snr, pm);
+  if (n2 == 4 && snr == 4) return collocation_steps<4, 4>(g, depth, n2, snr, pm);
+  collocation_steps<Eigen::Dynamic, Eigen::Dynamic>(g, depth, n2, snr, pm);
 }
 
 namespace {

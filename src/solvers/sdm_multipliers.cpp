@@ -13,6 +13,7 @@
 #include <Eigen/LU>
 
 #include "chatter/error.hpp"
+#include "hessenberg_eigen.hpp"
 
 namespace chatter::sdm_detail {
 namespace {
@@ -194,38 +195,9 @@ void SdmKernel::half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out) {
   }
 }
 
-namespace {
-
-// The eigenvalues of an upper Hessenberg matrix from its real Schur form,
-// computed from the matrix as it is (no Hessenberg reduction): 1 × 1 blocks,
-// and 2 × 2 blocks of complex pairs read as Eigen::EigenSolver reads them.
-void schur_eigenvalues(const MatrixXd& Hk, Eigen::VectorXcd& ev) {
-  const Index kk = Hk.rows();
-  Eigen::RealSchur<MatrixXd> rs(kk);
-  rs.computeFromHessenberg(Hk, MatrixXd(), false);
-  if (rs.info() != Eigen::Success) throw NumericalError("sdm: Arnoldi Hessenberg eigen-decomposition failed");
-  const MatrixXd& T = rs.matrixT();
-  for (Index i = 0; i < kk;) {
-    if (i == kk - 1 || T(i + 1, i) == 0.0) {
-      ev(i) = T(i, i);
-      ++i;
-      continue;
-    }
-    const double p = 0.5 * (T(i, i) - T(i + 1, i + 1));
-    const double mx = std::max({std::abs(p), std::abs(T(i + 1, i)), std::abs(T(i, i + 1))});
-    const double t0 = p / mx, t1 = T(i, i + 1) / mx, t2 = T(i + 1, i) / mx;
-    const double z = mx * std::sqrt(std::abs(t0 * t0 + t1 * t2));
-    ev(i) = Cplx(T(i + 1, i + 1) + p, z);
-    ev(i + 1) = Cplx(T(i + 1, i + 1) + p, -z);
-    i += 2;
-  }
-}
-
-}  // namespace
-
 // Dominant eigenvalue of a small Hessenberg matrix and its unit eigenvector.
-// The eigenvalues from the real Schur form of Hk taken as it is (already
-// Hessenberg: no reduction), the eigenvector by inverse iteration with
+// The eigenvalues by the Francis QR iteration on Hk as it is (already
+// Hessenberg: no reduction; hessenberg_eigen.hpp), the eigenvector by inverse iteration with
 // Gaussian elimination that pivots between neighbouring rows only (the
 // partial pivoting of a Hessenberg matrix): O(k²) per solve.
 void SdmKernel::hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
@@ -233,7 +205,7 @@ void SdmKernel::hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::Vect
   if (!Hk.allFinite()) throw MapOverflow{};
   const Index kk = Hk.rows();
   Eigen::VectorXcd ev(kk);
-  schur_eigenvalues(Hk, ev);
+  detail::hessenberg_eigenvalues(Hk, ev);
   Index best = 0;
   for (Index i = 1; i < kk; ++i)
     if (better(ev(i), ev(best))) best = i;

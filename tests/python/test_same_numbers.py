@@ -183,3 +183,28 @@ def test_default_method_is_the_clis(config):
     status, out, err = run_cli("lobes", config, "--rpm-points", "3")
     assert status == 0, err
     assert out.splitlines()[0].split(",") == list(t.keys())
+
+
+def test_collocation_matches_cli(tmp_path):
+    """sdm with Gauss collocation (options={"collocation": 3} = --collocation 3):
+    the same table and point as the CLI, and the same refusal on turning."""
+    config = SOURCE_DIR / "configs" / "milling_benchmark_ae005_down.toml"
+    job = chatter.load(config)
+    status, _, err = run_cli("lobes", config, "--method", "sdm", "--collocation", "3", "--rpm-points", "6",
+                             "--quiet", "--table", tmp_path / "t.csv")
+    assert status == 0, err
+    t = chatter.lobes(job, "sdm", rpm_points=6, options={"collocation": 3})
+    rows = [l.split(",") for l in (tmp_path / "t.csv").read_text().splitlines()[1:]]
+    assert [cell(x) for x in t["depth_limit_mm"]] == [r[1] for r in rows]
+    assert [cell(x) for x in t["chatter_frequency_hz"]] == [r[2] for r in rows]
+    status, out, err = run_cli("point", config, "--method", "sdm", "--collocation", "3", "--rpm", "16000",
+                               "--depth-mm", "1")
+    assert status == 0, err
+    assert chatter.point(job, rpm=16000.0, depth_mm=1.0, method="sdm", options={"collocation": 3}) == json.loads(out)
+    turning = chatter.load(SOURCE_DIR / "configs" / "seed_turning_1dof.toml")
+    status, _, err = run_cli("lobes", SOURCE_DIR / "configs" / "seed_turning_1dof.toml", "--method", "sdm",
+                             "--collocation", "3", "--quiet", "--table", tmp_path / "u.csv")
+    assert status == 2
+    with pytest.raises(chatter.InputError) as e:
+        chatter.lobes(turning, "sdm", options={"collocation": 3})
+    assert str(e.value).splitlines() == cli_error_lines(err)
