@@ -255,14 +255,9 @@ void BM_Peers_SecondOrderFdm_m40_101x21(benchmark::State& state) { BM_PeerGrid<f
 BENCHMARK(BM_Peers_FirstOrderSdm_m40_101x21)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Peers_SecondOrderFdm_m40_101x21)->Unit(benchmark::kMillisecond)->Iterations(1);
 
-// Ours: 101 exact limits on one thread, the solver built in the loop (what a
-// run spends after start-up), at the default steps (argument 1) and at 2× and
-// 4× them (steps per period and per vibration cycle): the error falls as h².
-void BM_Peers_ChatterSdm_101Limits(benchmark::State& state) {
-  SemiDiscretizationOptions o;
-  o.depth_max_m = kDepthMax;
-  o.steps_per_period *= static_cast<int>(state.range(0));
-  o.steps_per_vibration_cycle *= static_cast<int>(state.range(0));
+// Ours: 101 exact limits on one thread with options `o`, the solver built in
+// the loop (what a run spends after start-up).
+void run_ours(benchmark::State& state, const SemiDiscretizationOptions& o) {
   const auto speeds = evenly_spaced_speeds(kRpmMin, kRpmMax, kSpeeds);
   std::vector<StabilityLimit> rows;
   for (auto _ : state) {
@@ -274,26 +269,27 @@ void BM_Peers_ChatterSdm_101Limits(benchmark::State& state) {
   for (const StabilityLimit& l : rows) limits.push_back(l.depth_limit_m);
   error_counters(state, limits);
 }
+
+// The first order at the default steps (argument 1) and at 2× and 4× them
+// (steps per period and per vibration cycle): the error falls as h².
+void BM_Peers_ChatterSdm_101Limits(benchmark::State& state) {
+  SemiDiscretizationOptions o;
+  o.depth_max_m = kDepthMax;
+  o.steps_per_period *= static_cast<int>(state.range(0));
+  o.steps_per_vibration_cycle *= static_cast<int>(state.range(0));
+  run_ours(state, o);
+}
 BENCHMARK(BM_Peers_ChatterSdm_101Limits)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond);
 
-// Ours with Gauss collocation (SemiDiscretizationOptions::collocation_nodes,
-// the CLI's --collocation): arguments nodes and steps per period and per
-// vibration cycle; (3, 8) is what --collocation 3 runs.
+// Gauss collocation (SemiDiscretizationOptions::collocation_nodes, the CLI's
+// --collocation): arguments nodes and steps per period and per vibration
+// cycle; (3, 8) is what --collocation 3 runs.
 void BM_Peers_ChatterSdmCollocation_101Limits(benchmark::State& state) {
   SemiDiscretizationOptions o;
   o.depth_max_m = kDepthMax;
   o.collocation_nodes = static_cast<int>(state.range(0));
   o.steps_per_period = o.steps_per_vibration_cycle = static_cast<int>(state.range(1));
-  const auto speeds = evenly_spaced_speeds(kRpmMin, kRpmMax, kSpeeds);
-  std::vector<StabilityLimit> rows;
-  for (auto _ : state) {
-    const SemiDiscretizationSolver s(peers_model(), peers_process(), o);
-    rows = lobe_envelope(s, speeds, 1);
-    benchmark::DoNotOptimize(rows.data());
-  }
-  std::vector<double> limits;
-  for (const StabilityLimit& l : rows) limits.push_back(l.depth_limit_m);
-  error_counters(state, limits);
+  run_ours(state, o);
 }
 BENCHMARK(BM_Peers_ChatterSdmCollocation_101Limits)
     ->Args({3, kCollocationSteps})

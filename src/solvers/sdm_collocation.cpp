@@ -272,12 +272,7 @@ void apply_collocation_n(const PeriodMap& pm, const double* y, double* out, doub
     std::swap(x, xn);
   }
   if (pm.free_flight) {
-    const double* E = pm.E->data();
-    for (int r = 0; r < n2; ++r) {
-      double acc = 0.0;
-      for (int c = 0; c < n2; ++c) acc += E[r + c * n2] * x[c];
-      xn[r] = acc;
-    }
+    free_flight_step(*pm.E, n2, x, xn);
     std::swap(x, xn);
   }
   std::copy(x, x + n2, out);

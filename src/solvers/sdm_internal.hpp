@@ -232,6 +232,17 @@ struct Dominant {
   Eigen::VectorXcd vec;  // empty unless requested
 };
 
+// xn = E x, E the n2 × n2 free-flight exponential (column-major): the last
+// step of Φ y on the tooth-period grid (first-order and collocation maps).
+inline void free_flight_step(const MatrixXd& E, int n2, const double* x, double* xn) {
+  const double* e = E.data();
+  for (int r = 0; r < n2; ++r) {
+    double acc = 0.0;
+    for (int c = 0; c < n2; ++c) acc += e[r + c * n2] * x[c];
+    xn[r] = acc;
+  }
+}
+
 // "spindle speed N rev/min: must be > 0 and finite".
 std::string bad_speed(double rpm);
 

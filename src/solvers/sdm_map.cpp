@@ -318,12 +318,7 @@ void SdmKernel::apply_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y
   }
   if (pm.free_flight) {
     project(x, out + n2 + pm.m * nr);
-    const double* E = pm.E->data();
-    for (int row = 0; row < n2; ++row) {
-      double acc = 0.0;
-      for (int c = 0; c < n2; ++c) acc += E[row + c * n2] * x[c];
-      xn[row] = acc;
-    }
+    free_flight_step(*pm.E, n2, x, xn);
     std::swap(x, xn);
   }
   std::copy(x, x + n2, out);
