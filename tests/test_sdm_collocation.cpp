@@ -78,6 +78,45 @@ TEST(SdmCollocation, ThreeNodesAtEightStepsMatchTheZeroStepFirstOrderLimit) {
   }
 }
 
+TEST(SdmCollocation, SeveralTeethInTheCutSlottingAndOneToothAgree) {
+  // Grids with segments of one and two teeth cutting (4 teeth, a_e/D = 0.5
+  // up), no free flight at all (slotting: the map holds the whole period),
+  // 3 teeth at 0.3 down and one tooth (a long free flight), on two modes of
+  // different frequencies in X and Y; against the zero-step first order.
+  // Measured over 21 speeds 3 000–25 000 rev/min: worst 2.0e-5, 2.2e-5,
+  // 2.4e-5, 3.5e-5, and the same multiplier type everywhere.
+  StructuralModel m;
+  m.tool.modes.push_back(Mode::from_mass(922.0, 0.011, 0.03993, {1.0, 0.0}));
+  m.tool.modes.push_back(Mode::from_mass(1150.0, 0.02, 0.05, {0.0, 1.0}));
+  struct Cut {
+    int teeth;
+    double immersion;
+    MillingDirection direction;
+  };
+  for (const Cut c : {Cut{4, 0.5, MillingDirection::kUp}, Cut{4, 1.0, MillingDirection::kDown},
+                      Cut{3, 0.3, MillingDirection::kDown}, Cut{1, 0.2, MillingDirection::kUp}}) {
+    const Process p = Process::milling({c.teeth, 6e8, 2e8, c.immersion, c.direction});
+    for (double rpm : {4100.0, 9600.0, 15100.0, 20600.0}) {
+      SCOPED_TRACE(std::to_string(c.teeth) + " teeth, a_e/D " + std::to_string(c.immersion) + ", " +
+                   std::to_string(rpm) + " rev/min");
+      SemiDiscretizationOptions fine = options(0, kReferenceSteps, kTightDepth), finer = fine;
+      finer.steps_per_period = finer.steps_per_vibration_cycle = 2 * kReferenceSteps;
+      fine.depth_max_m = finer.depth_max_m = 0.02;
+      SemiDiscretizationOptions coll = options(3, kCollocationSteps);
+      coll.depth_max_m = 0.02;
+      FloquetResult ff, fc;
+      const StabilityLimit a = SemiDiscretizationSolver(m, p, fine).limit_at(rpm, &ff);
+      const StabilityLimit b = SemiDiscretizationSolver(m, p, finer).limit_at(rpm);
+      const StabilityLimit k = SemiDiscretizationSolver(m, p, coll).limit_at(rpm, &fc);
+      ASSERT_TRUE(a.bounded() && b.bounded() && k.bounded());
+      const double ref = b.depth_limit_m + (b.depth_limit_m - a.depth_limit_m) / 3.0;
+      EXPECT_NEAR(k.depth_limit_m / ref, 1.0, kDefaultStepsAgree);
+      EXPECT_EQ(fc.type, ff.type);
+      EXPECT_NEAR(k.chatter_frequency_hz, a.chatter_frequency_hz, 0.5);  // Hz
+    }
+  }
+}
+
 TEST(SdmCollocation, HalvingTheStepDividesTheErrorByTwoToTheTwoS) {
   const double rpm = 5000.0;
   const double ref = limit(options(3, 64, kTightDepth), rpm);  // error ~1e-11 by the order below
