@@ -354,6 +354,51 @@ static void check_time_domain_feed(void) {
   chatter_model_free(model);
 }
 
+/* chatter_solver_create_with_options: sdm's collocation gives the CLI's
+ * `point --collocation 3` limit bitwise, no options is chatter_solver_create,
+ * and every bad option fails naming it. */
+static void check_options(void) {
+  const char* config = CHATTER_SOURCE_DIR "/configs/milling_benchmark_ae005_down.toml";
+  chatter_model* model = NULL;
+  chatter_model* turning = NULL;
+  chatter_solver* solver = NULL;
+  chatter_limit coll, plain, none;
+  char args[1024];
+  char* out;
+  CHECK(chatter_model_load(config, &model) == CHATTER_OK);
+  CHECK(chatter_solver_create_with_options(model, "sdm", 10.0, " collocation = 3 ", &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 16000.0, &coll) == CHATTER_OK);
+  chatter_solver_free(solver);
+  snprintf(args, sizeof args, "point '%s' --method sdm --collocation 3 --rpm 16000 --depth-mm 1 --depth-max-mm 10",
+           config);
+  out = run_cli(args);
+  CHECK(out != NULL && json_number(out, "depth_limit_mm") == coll.depth_limit_mm);
+  CHECK(out != NULL && json_number(out, "chatter_frequency_hz") == coll.chatter_frequency_hz);
+  free(out);
+  CHECK(chatter_solver_create(model, "sdm", 10.0, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 16000.0, &plain) == CHATTER_OK);
+  chatter_solver_free(solver);
+  CHECK(chatter_solver_create_with_options(model, "sdm", 10.0, NULL, &solver) == CHATTER_OK);
+  CHECK(chatter_limit_at(solver, 16000.0, &none) == CHATTER_OK);
+  chatter_solver_free(solver);
+  CHECK(none.depth_limit_mm == plain.depth_limit_mm);
+  CHECK(coll.depth_limit_mm != plain.depth_limit_mm && fabs(coll.depth_limit_mm / plain.depth_limit_mm - 1.0) < 2e-3);
+  solver = NULL;
+  CHECK(chatter_solver_create_with_options(model, "sdm", 10.0, "collocation=9", &solver) == CHATTER_INPUT_ERROR);
+  CHECK(solver == NULL && strstr(chatter_last_error(), "collocation") && strstr(chatter_last_error(), "[0, 3]"));
+  CHECK(chatter_solver_create_with_options(model, "sdm", 10.0, "colocation=3", &solver) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "unknown option \"colocation\"") != NULL);
+  CHECK(chatter_solver_create_with_options(model, "sdm", 10.0, "collocation=three", &solver) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "must be an integer") != NULL);
+  CHECK(chatter_solver_create_with_options(model, "sdm", 0.0, "collocation=3", &solver) == CHATTER_INPUT_ERROR);
+  CHECK(chatter_solver_create_with_options(NULL, "sdm", 10.0, "collocation=3", &solver) == CHATTER_NULL_ARGUMENT);
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &turning) == CHATTER_OK);
+  CHECK(chatter_solver_create_with_options(turning, "sdm", 10.0, "collocation=3", &solver) == CHATTER_INPUT_ERROR);
+  CHECK(strstr(chatter_last_error(), "is turning") != NULL);
+  chatter_model_free(turning);
+  chatter_model_free(model);
+}
+
 int main(void) {
   chatter_model* model = NULL;
   chatter_solver* solver = NULL;
@@ -363,6 +408,7 @@ int main(void) {
 
   CHECK(strlen(chatter_version()) > 0);
   check_time_domain_feed();
+  check_options();
   CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
   CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
   CHECK(chatter_limit_at(solver, 1800.0, &lim) == CHATTER_OK);

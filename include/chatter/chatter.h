@@ -77,6 +77,14 @@ const char* chatter_method_name(size_t i);
  * unbounded. */
 chatter_status chatter_solver_create(const chatter_model* model, const char* method, double depth_max_mm,
                                      chatter_solver** out);
+/* As chatter_solver_create, with the method's tuning options (the CLI's
+ * --NAME flags, Python's options=) as "name=value" items separated by commas,
+ * e.g. "collocation=3" (sdm: Gauss collocation, docs/sdm.md) or "steps=128";
+ * a flag as its name alone; NULL or "" for none. An option the method does
+ * not have, a value of the wrong kind or out of its range fails with
+ * CHATTER_INPUT_ERROR naming the option and the rule. */
+chatter_status chatter_solver_create_with_options(const chatter_model* model, const char* method,
+                                                  double depth_max_mm, const char* options, chatter_solver** out);
 void chatter_solver_free(chatter_solver* solver);
 /* The method the solver uses ("auto" resolved), valid while the solver
  * lives; NULL when solver is NULL. */

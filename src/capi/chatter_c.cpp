@@ -4,6 +4,8 @@
 #include "chatter/solvers.hpp"
 
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <variant>
 #include <exception>
 #include <memory>
@@ -43,6 +45,61 @@ chatter_limit to_c(const chatter::StabilityLimit& l) {
   c.chatter_frequency_hz = l.bounded() ? l.chatter_frequency_hz : 0.0;
   c.lobe = l.bounded() ? l.lobe : -1;
   return c;
+}
+
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+// "name=value,name=value" (a flag: its name alone) as the method's values,
+// typed by its options. A name the method does not have goes through as a
+// flag, so that make_lobe_solver refuses it with the message every front end
+// gives ("unknown option ... (it takes: ...)").
+chatter::SolverValues parse_options(const char* text, const chatter::SolverDescriptor& d) {
+  chatter::SolverValues values;
+  const std::string s = text ? text : "";
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    std::size_t end = s.find(',', pos);
+    if (end == std::string::npos) end = s.size();
+    const std::string item = trimmed(s.substr(pos, end - pos));
+    pos = end + 1;
+    if (item.empty()) continue;
+    const std::size_t eq = item.find('=');
+    const std::string name = trimmed(item.substr(0, eq));
+    const std::string value = eq == std::string::npos ? "" : trimmed(item.substr(eq + 1));
+    const chatter::SolverOption* opt = nullptr;
+    for (const auto& o : d.options)
+      if (o.name == name) opt = &o;
+    const std::string where = "chatter_solver_create_with_options: option \"" + name + "\" = \"" + value + "\": ";
+    if (!opt) {
+      values[name] = true;
+      continue;
+    }
+    char* stop = nullptr;
+    switch (opt->kind) {
+      case chatter::SolverOption::Kind::kInt: {
+        const long v = std::strtol(value.c_str(), &stop, 10);
+        if (value.empty() || *stop != '\0' || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+          throw chatter::InputError(where + "must be an integer");
+        values[name] = static_cast<int>(v);
+        break;
+      }
+      case chatter::SolverOption::Kind::kReal: {
+        const double v = std::strtod(value.c_str(), &stop);
+        if (value.empty() || *stop != '\0') throw chatter::InputError(where + "must be a number");
+        values[name] = v;
+        break;
+      }
+      case chatter::SolverOption::Kind::kFlag:
+        if (!value.empty()) throw chatter::InputError(where + "a flag takes no value: give its name alone");
+        values[name] = true;
+        break;
+    }
+  }
+  return values;
 }
 
 }  // namespace
@@ -99,6 +156,26 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
     // time-domain chip's feed, and the notes).
     chatter::ConfiguredSolver c = chatter::configure_solver(method ? method : chatter::kAutoMethod, cfg,
                                                             depth_max_mm * 1e-3, {}, chatter::ArgStyle::kKeyword);
+    chatter::RecordSource source = chatter::record_source(cfg);
+    source.notes = std::move(c.notes);
+    *out = new chatter_solver{std::move(c.solver), c.method, cfg.process, std::move(source)};
+  });
+}
+
+chatter_status chatter_solver_create_with_options(const chatter_model* model, const char* method,
+                                                  double depth_max_mm, const char* options, chatter_solver** out) {
+  if (!model || !out)
+    return fail(CHATTER_NULL_ARGUMENT, "chatter_solver_create_with_options: model and out must not be NULL");
+  return guarded([&] {
+    if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
+      throw chatter::InputError("chatter_solver_create_with_options: depth_max_mm = " + std::to_string(depth_max_mm) +
+                                ": must be > 0");
+    const chatter::Config& cfg = model->config;
+    const std::string requested = method ? method : chatter::kAutoMethod;
+    const std::string resolved = chatter::resolve_lobe_method(requested, cfg.model, cfg.process);
+    chatter::SolverValues given = parse_options(options, chatter::find_lobe_method(resolved));
+    chatter::ConfiguredSolver c =
+        chatter::configure_solver(requested, cfg, depth_max_mm * 1e-3, std::move(given), chatter::ArgStyle::kKeyword);
     chatter::RecordSource source = chatter::record_source(cfg);
     source.notes = std::move(c.notes);
     *out = new chatter_solver{std::move(c.solver), c.method, cfg.process, std::move(source)};
