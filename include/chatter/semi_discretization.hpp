@@ -136,11 +136,11 @@ struct SemiDiscretizationOptions {
   /// Gauss–Legendre nodes of each step — the free dynamics still exact, H
   /// sampled at the nodes, the cutting term (present and delayed, read at the
   /// same nodes one period back: no interpolation) a polynomial of degree
-  /// s − 1 — so the error falls much faster than h² (about h⁴ at s = 2, h⁵
-  /// at s = 3, measured in docs/sdm.md) and a few steps per vibration cycle
-  /// suffice: with s = 3 and 8 steps (steps_per_period = 
-  /// steps_per_vibration_cycle = 8) the peers' 2-DOF case is within 0.02 %
-  /// of its converged limits, the default first-order steps within 1.2 %.
+  /// s − 1 — so the error falls as h^{2s} (h⁴ at s = 2, h⁶ at s = 3,
+  /// measured in docs/sdm.md) and a few steps per vibration cycle suffice:
+  /// with s = 3 and 8 steps (steps_per_period = steps_per_vibration_cycle =
+  /// kCollocationSteps) the peers' 2-DOF case is within 0.014 % of its
+  /// converged limits, the default first-order steps within 1.2 %.
   /// The map holds s samples per cutting step (none for free flight).
   /// The solver's constructor throws InputError for turning, a real cutter
   /// (helix, variable pitch, process damping, profile) or speed variation.
