@@ -60,7 +60,7 @@ struct StepWeights {
 // e^{A T} and G_q(T) = ∫₀^T e^{A(T−σ)} (σ/T)^q dσ, q < s, from one
 // exponential of the augmented matrix [[A T, I T, 0, …], [0, 0, I, …], …,
 // [0, …, 0]] (size N (s + 1) for A of size N): its block (0, q + 1) is
-// G_q(T) / q!.
+// G_q(T) / q!. M: the (stack-allocated) matrix type of the augmented matrix.
 template <class M>
 void augmented_integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<MatrixXd>& G) {
   const Index n = A.rows(), na = n * (s + 1);
@@ -83,16 +83,11 @@ constexpr int kModeAugmented = 2 * (kMaxCollocationNodes + 1);
 using ModeMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kModeAugmented, kModeAugmented>;
 
 // The same for the solver's A, which couples only q_i and q̇_i/ω_i of each
-// mode (rows and columns i and n + i, sdm_grid.cpp state_space): one small
-// exponential per mode, its blocks placed at those rows and columns; any
-// other A takes the whole augmented matrix.
+// mode (rows and columns i and n + i: state_space builds it so, sdm_grid.cpp):
+// one small exponential per distinct mode block, its blocks placed at those
+// rows and columns.
 void integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<MatrixXd>& G) {
   const Index n2 = A.rows(), n = n2 / 2;
-  bool modal = n2 % 2 == 0;
-  for (Index r = 0; r < n2 && modal; ++r)
-    for (Index c = 0; c < n2 && modal; ++c)
-      if (r % n != c % n && A(r, c) != 0.0) modal = false;
-  if (!modal) return augmented_integrals<MatrixXd>(A, T, s, E, G);
   E = MatrixXd::Zero(n2, n2);
   G.assign(static_cast<std::size_t>(s), MatrixXd::Zero(n2, n2));
   // One exponential per distinct mode block (a tool's X and Y modes are
@@ -217,21 +212,10 @@ void collocation_steps(const Grid& g, double a, int n2, int snr, PeriodMap& pm) 
 
 }  // namespace
 
+// pm's sizes and fields are set by build_map, which calls this for a grid
+// with nodes > 0.
 void SdmKernel::build_collocation(const Grid& g, double depth, PeriodMap& pm) const {
-  const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows()), s = g.nodes, snr = s * nr;
-  pm.n2 = n2;
-  pm.nr = nr;
-  pm.m = g.m;
-  pm.nodes = s;
-  pm.constant = false;
-  pm.cutter = false;
-  pm.branch_roots = false;
-  pm.free_flight = g.free_time > 0.0;
-  pm.nz = g.m * s;
-  pm.dim = n2 + pm.nz * nr;
-  pm.E = pm.free_flight ? &g.E_free : nullptr;
-  pm.tau = g.tau;
-  pm.steps.resize(g.steps.size());
+  const int n2 = pm.n2, snr = g.nodes * pm.nr;
   if (n2 == 4 && snr == 6) return collocation_steps<4, 6>(g, depth, n2, snr, pm);
   if (n2 == 4 && snr == 4) return collocation_steps<4, 4>(g, depth, n2, snr, pm);
   collocation_steps<Eigen::Dynamic, Eigen::Dynamic>(g, depth, n2, snr, pm);

@@ -211,21 +211,24 @@ bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
 
 void SdmKernel::build_map(const Grid& g, double depth, PeriodMap& pm) const {
   if (g.cutter) return build_cutter(g, depth, pm);
-  if (g.nodes > 0) return build_collocation(g, depth, pm);
-  pm.nodes = 0;
   const int n2 = static_cast<int>(A_.rows());
   const int nr = static_cast<int>(Wx_.rows());
   pm.n2 = n2;
   pm.nr = nr;
   pm.m = g.m;
+  pm.nodes = g.nodes;
+  pm.cutter = false;
   pm.constant = g.constant;
   pm.free_flight = g.free_time > 0.0;
-  pm.nz = pm.free_flight ? g.m + 1 : g.m;
+  // Stored samples: s per cutting step with collocation (none for free
+  // flight); else one per step start, and one at the free flight's start.
+  pm.nz = g.nodes > 0 ? g.m * g.nodes : pm.free_flight ? g.m + 1 : g.m;
   pm.dim = n2 + pm.nz * nr;
   pm.E = pm.free_flight ? &g.E_free : nullptr;
   pm.tau = g.tau;
   pm.branch_roots = g.branch_roots && nr == 1;
   pm.steps.resize(g.steps.size());
+  if (g.nodes > 0) return build_collocation(g, depth, pm);
   if (n2 + 2 * nr <= kSmallAugmented)
     build_steps<SmallMatrix>(g, depth, pm);  // no heap traffic: most models
   else
