@@ -21,6 +21,10 @@ packages=(
   # into a fresh venv (docs/python.md): Matplotlib, nbconvert with its
   # kernel, setuptools (pyproject.toml's build backend) and venv.
   python3-matplotlib jupyter-nbconvert python3-ipykernel python3-setuptools python3-venv
+  # `chatter program` reads G-code with LinuxCNC's RS274/NGC interpreter
+  # (/usr/bin/rs274; docs/program.md). --no-install-recommends (below) keeps
+  # out the real-time kernel image and GUI stacks it would recommend.
+  linuxcnc-uspace
   openmpi-bin libopenmpi-dev  # chatter-mpi, the sweeps across processes (docs/scaling.md); ctest runs it under mpirun
 )
 

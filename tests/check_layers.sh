@@ -33,8 +33,8 @@ check() {
 }
 core_headers=$(ls include/chatter/*.hpp | grep -v -E '/(operations|optimization|pitch_design|records)\.hpp$')
 check "core includes io, ops, a file-format library or Boost (but header-only Boost.Math)" \
-  'chatter/io/|chatter/operations\.hpp|chatter/pitch_design\.hpp|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
-  src/model/* src/solvers/* src/grinding/* src/shop/* $core_headers
+  'chatter/io/|chatter/operations\.hpp|chatter/optimization\.hpp|chatter/pitch_design\.hpp|chatter/records|chatter/chatter\.h|toml\+\+|nlohmann|boost/[^m]|boost/m[^a]|gnuplot' \
+  $(find src/model src/solvers src/grinding src/shop src/toolpath -type f) $core_headers
 check "io includes a solver class header, ops, records or Boost" \
   'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/pitch_design\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
   src/io/* include/chatter/io/*

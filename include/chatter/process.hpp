@@ -30,6 +30,8 @@
 #pragma once
 
 #include <numbers>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -145,6 +147,15 @@ struct MillingParameters {
   /// a slice with lead angle κ < 90° (ball, bull nose, profile) turns part
   /// of it into the x-y plane: K_a cos κ adds to the radial coefficient.
   double axial_coefficient_n_per_m2 = 0.0;
+  /// The engaged arc [φ_en, φ_ex] (rad, clockwise from +Y, §3) when the
+  /// material is not one straight wall beside the cutter: what a simulated
+  /// stock gives (chatter/stock.hpp: a pocket's corner, a pass across an
+  /// earlier slot). Empty = the arc of radial_immersion and direction
+  /// (milling_arc_rad). When given: 0 <= φ_en < φ_ex <= π, a flat cutter
+  /// only (a profile's slices take their arcs from a straight wall), and
+  /// milling() sets radial_immersion to (cos φ_en − cos φ_ex)/2, the arc's
+  /// width across the feed over D (what the removal rate reads).
+  std::optional<std::pair<double, double>> engaged_arc_rad{};
 };
 
 /// One axial slice z_lo <= z <= z_hi of the cut of a cutter with a profile

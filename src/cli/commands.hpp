@@ -7,6 +7,7 @@
 
 namespace chatter::cli {
 
+int cmd_program(const std::vector<std::string>& args);    // src/cli/cmd_program.cpp
 int cmd_check(const std::vector<std::string>& args);      // src/cli/cmd_operations.cpp
 int cmd_recommend(const std::vector<std::string>& args);  // src/cli/cmd_operations.cpp
 int cmd_fit(const std::vector<std::string>& args);        // src/cli/cmd_fit.cpp

@@ -35,6 +35,8 @@ const Command kCommands[] = {
      chatter::cli::cmd_point},
     {"check", "check every operation of a part program (stability, part error, spindle power); suggest a robust stable speed for each",
      "docs/operations.md", chatter::cli::cmd_check},
+    {"program", "check a whole NC program (G-code) block by block: engagement from the simulated stock, stability, power, part error; fix speeds and feeds",
+     "docs/program.md", chatter::cli::cmd_program},
     {"recommend", "the speed and depth that remove the most material, stable and within power and torque",
      "docs/operations.md", chatter::cli::cmd_recommend},
     {"map", "Floquet spectral radius over speed x depth (sdm), Hopf and flip boundaries", "docs/sdm.md",

@@ -21,6 +21,7 @@
 // wrap them with the same parsing.
 #include "chatter/io/config.hpp"
 #include "chatter/io/grinding_config.hpp"
+#include "chatter/io/job.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -313,6 +314,47 @@ Config load_config(const std::filesystem::path& file) {
   Config config = parse_config(read_text(file), file.string());
   config.source = file;
   return config;
+}
+
+const JobTool* Job::tool(int number) const {
+  for (const JobTool& t : tools)
+    if (t.number == number) return &t;
+  return nullptr;
+}
+
+Job load_job(const std::filesystem::path& file) {
+  const config_detail::JobText text = parse_with(read_text(file), file.string(), config_detail::read_job);
+  Job job;
+  job.source = file;
+  job.stock = text.stock;
+  job.machine = text.machine;
+  job.speed_tolerance = text.speed_tolerance;
+  job.cache = text.cache;
+  job.default_spindle_rpm = text.default_spindle_rpm;
+  const bool bar = job.stock.shape == JobStock::Shape::kBar;
+  for (const config_detail::JobText::Tool& t : text.tools) {
+    JobTool tool;
+    tool.number = t.number;
+    const std::filesystem::path p(t.config);
+    tool.config_path = p.is_absolute() ? p : file.parent_path() / p;
+    const std::string where = file.string() + ": " + t.path + " = \"" + t.config + "\"";
+    if (!std::filesystem::exists(tool.config_path))
+      throw InputError(where + ": no such file (" + tool.config_path.string() + ")");
+    tool.config = load_config(tool.config_path);  // its own messages name its file
+    const bool turning = tool.config.process.operation() == Operation::kTurning;
+    if (turning != bar)
+      throw InputError(where + ": a " + (turning ? "turning" : "milling") + " tool on a stock of shape = \"" +
+                       (bar ? "bar" : "box") + "\" (a bar is turned, a box is milled)");
+    if (text.has_workpiece) {
+      if (!tool.config.position.stations.empty())
+        throw InputError(where + ": its [[positions]] and the job's [workpiece] both give the workpiece: keep one");
+      tool.config.model.workpiece = text.workpiece;
+      tool.config.position.cantilever = text.cantilever;
+    }
+    for (const std::string& w : tool.config.warnings) job.warnings.push_back(w);
+    job.tools.push_back(std::move(tool));
+  }
+  return job;
 }
 
 }  // namespace chatter

@@ -64,6 +64,7 @@ constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "flute_length_mm",
                                              "tool_diameter_mm",
                                              "radial_depth_mm",
+                                             "engaged_arc_deg",
                                              "helix_angle_deg",
                                              "pitch_angles_deg",
                                              "runout_um",
@@ -229,7 +230,23 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
     std::optional<double> immersion;
     const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
-    if (has_ae && has_ratio) {
+    // An engaged arc instead of a wall (what `chatter program` reads off a
+    // stock): [entry, exit] in degrees, 0 <= entry < exit <= 180.
+    std::optional<std::pair<double, double>> arc_deg;
+    if (process->has("engaged_arc_deg")) {
+      static constexpr Range kArcDeg{"in [0, 180] (degrees, clockwise from the normal left of the feed)", 0.0, false,
+                                     180.0, false};
+      const auto arc = process->number_list("engaged_arc_deg", kArcDeg);
+      const auto* node = process->find("engaged_arc_deg");
+      if (has_ae || has_ratio || process->has("milling_direction"))
+        doc.error(process->path_of("engaged_arc_deg"), *node,
+                  "not with radial_immersion, radial_depth_mm or milling_direction (the arc says both)");
+      else if (arc && (arc->size() != 2 || !((*arc)[0] < (*arc)[1])))
+        doc.error(process->path_of("engaged_arc_deg"), *node, "must be [entry, exit] with entry < exit (degrees)");
+      else if (arc)
+        arc_deg = std::pair{(*arc)[0], (*arc)[1]};
+      if (arc_deg) immersion = 0.5 * (std::cos(arc_deg->first * kPi / 180.0) - std::cos(arc_deg->second * kPi / 180.0));
+    } else if (has_ae && has_ratio) {
       doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
                 "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
                 "radial_depth_mm with tool_diameter_mm)");
@@ -330,6 +347,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     p.tangential_coefficient_n_per_m2 = *kt.si;
     p.radial_coefficient_n_per_m2 = *kr.si;
     p.radial_immersion = *immersion;
+    if (arc_deg) p.engaged_arc_rad = std::pair{arc_deg->first * kPi / 180.0, arc_deg->second * kPi / 180.0};
     p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
     constexpr double kDegToRad = kPi / 180.0;
     if (helix) {

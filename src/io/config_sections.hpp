@@ -19,6 +19,7 @@
 
 #include "chatter/grinding.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/io/job.hpp"
 #include "config_read.hpp"
 
 namespace chatter::config_detail {
@@ -41,6 +42,27 @@ using ParseFile = std::function<toml::table(const std::filesystem::path& file, s
 /// @throws InputError: a bad `include` value, an unreadable file, a cycle,
 ///         a key given in two files (both named).
 std::vector<IncludedFile> merge_includes(toml::table& root, const std::string& origin, const ParseFile& parse);
+
+// config_job.cpp
+/// JOB.toml as read, before the tool configs are loaded (load_job in
+/// config.cpp does that, naming each tool's key path).
+struct JobText {
+  struct Tool {
+    int number = 0;
+    std::string config;  ///< as written
+    Path path;           ///< tools[i].config, for messages
+  };
+  JobStock stock;
+  JobMachine machine;
+  std::vector<Tool> tools;
+  bool has_workpiece = false;
+  Body workpiece;
+  std::vector<CantileverModeRef> cantilever;
+  double speed_tolerance = 0.02;
+  bool cache = true;
+  std::optional<double> default_spindle_rpm;
+};
+JobText read_job(const toml::table& root_table, const Document& doc);
 
 // config_process.cpp
 /// `[process]`: turning or milling (with the real-cutter keys). Also sets the

@@ -94,6 +94,15 @@ Process Process::milling(MillingParameters p) {
           "tangential coefficient K_t must be > 0 N/m^2");
   require(std::isfinite(p.radial_coefficient_n_per_m2) && p.radial_coefficient_n_per_m2 >= 0.0,
           "radial coefficient K_r must be >= 0 N/m^2");
+  if (p.engaged_arc_rad) {
+    const auto [en, ex] = *p.engaged_arc_rad;
+    require(std::isfinite(en) && std::isfinite(ex) && en >= 0.0 && en < ex && ex <= std::numbers::pi,
+            "engaged arc: must be 0 <= entry < exit <= 180 deg");
+    require(p.cutter.geometry == CutterGeometry::kFlat,
+            "engaged arc: only for a flat cutter (a profile's slices take their arcs from a straight wall: give "
+            "radial_immersion and direction)");
+    p.radial_immersion = 0.5 * (std::cos(en) - std::cos(ex));
+  }
   require(std::isfinite(p.radial_immersion) && p.radial_immersion > 0.0 && p.radial_immersion <= 1.0,
           "radial immersion a_e/D must be in (0, 1]");
   require(std::isfinite(p.tool_diameter_m) && p.tool_diameter_m >= 0.0, "tool diameter must be >= 0 m (0 = not given)");
@@ -165,7 +174,10 @@ Process Process::milling(MillingParameters p) {
   p.helix_angles_rad = helix;
   if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
-  std::tie(pr.entry_rad_, pr.exit_rad_) = milling_arc_rad(p.radial_immersion, p.direction);
+  if (p.engaged_arc_rad)
+    std::tie(pr.entry_rad_, pr.exit_rad_) = *p.engaged_arc_rad;
+  else
+    std::tie(pr.entry_rad_, pr.exit_rad_) = milling_arc_rad(p.radial_immersion, p.direction);
   return pr;
 }
 

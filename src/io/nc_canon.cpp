@@ -1,0 +1,154 @@
+// The interpreter's canonical machining calls to feed moves
+// (chatter/io/nc_program.hpp parse_canon_log). Each log line reads
+//   "   18 N6     STRAIGHT_FEED(-10.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)"
+// (call number, the block's N word or "N.....", the call). The state the
+// calls set (units, plane, tool, spindle, feed) is carried to every move.
+#include <cctype>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "chatter/error.hpp"
+#include "chatter/io/nc_program.hpp"
+
+namespace chatter {
+namespace {
+
+struct CanonCall {
+  int block_line = 0;          // the N word (our line number), 0 = none
+  std::string name;
+  std::string raw_args;        // as printed, for the CANON_* words
+  std::vector<double> args;    // the numeric arguments
+};
+
+// One log line; false when it is not a call (the interpreter's banner).
+bool parse_call(const std::string& l, CanonCall& c) {
+  std::istringstream is(l);
+  std::string count, nword;
+  if (!(is >> count >> nword)) return false;
+  if (count.empty() || !std::isdigit(static_cast<unsigned char>(count[0])) || nword.empty() || nword[0] != 'N')
+    return false;
+  c.block_line = std::isdigit(static_cast<unsigned char>(nword.size() > 1 ? nword[1] : '.')) ? std::atoi(nword.c_str() + 1) : 0;
+  std::string rest;
+  std::getline(is, rest);
+  const auto b = rest.find_first_not_of(' ');
+  const auto open = rest.find('(');
+  if (b == std::string::npos || open == std::string::npos) return false;
+  c.name = rest.substr(b, open - b);
+  const auto close = rest.rfind(')');
+  c.raw_args = rest.substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1);
+  c.args.clear();
+  std::string tok;
+  for (char& ch : c.raw_args)
+    if (ch == ',') ch = ' ';
+  std::istringstream as(c.raw_args);
+  while (as >> tok) {
+    char* end = nullptr;
+    const double v = std::strtod(tok.c_str(), &end);
+    if (end && *end == '\0') c.args.push_back(v);
+  }
+  return true;
+}
+
+}  // namespace
+
+Toolpath parse_canon_log(const std::string& log, const std::string& source) {
+  Toolpath path;
+  path.source = source;
+  double scale = 1.0;  // program units -> mm
+  ArcPlane plane = ArcPlane::kXY;
+  ToolpathMove state;  // the modal state every move copies
+  int selected_tool = 0;
+  bool css = false;
+  Eigen::Vector3d pos(0, 0, 0);
+  std::istringstream in(log);
+  std::string l;
+  int log_line = 0;
+  auto need = [&](const CanonCall& c, std::size_t n) {
+    if (c.args.size() < n)
+      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name + " with " +
+                       std::to_string(c.args.size()) + " numbers, expected " + std::to_string(n));
+  };
+  CanonCall c;
+  while (std::getline(in, l)) {
+    ++log_line;
+    if (!parse_call(l, c)) continue;
+    const std::string& n = c.name;
+    if (n == "USE_LENGTH_UNITS") {
+      scale = c.raw_args.find("INCHES") != std::string::npos ? 25.4 : c.raw_args.find("CM") != std::string::npos ? 10.0 : 1.0;
+      state.unit_mm = scale;
+    } else if (n == "SELECT_PLANE") {
+      plane = c.raw_args.find("XZ") != std::string::npos   ? ArcPlane::kXZ
+              : c.raw_args.find("YZ") != std::string::npos ? ArcPlane::kYZ
+                                                           : ArcPlane::kXY;
+      if (path.moves.empty()) path.lathe_plane = plane == ArcPlane::kXZ;
+    } else if (n == "SELECT_TOOL") {
+      need(c, 1);
+      selected_tool = static_cast<int>(c.args[0]);
+    } else if (n == "CHANGE_TOOL") {
+      state.tool = selected_tool;  // CHANGE_TOOL's argument is the table's index, not the number
+    } else if (n == "SET_SPINDLE_MODE") {
+      need(c, 2);
+      // G96 D (the cap) arrives as the mode's number: > 0 is constant
+      // surface speed, and the next speed is a surface speed.
+      css = c.args[1] > 0.0;
+      // Without D the interpreter sends 1e30: no cap of the program's own
+      // (the machine's rpm_max caps it, docs/program.md).
+      state.css_max_rpm = css && c.args[1] < 1e20 ? c.args[1] : 0.0;
+      if (!css) state.surface_speed_m_per_min = 0.0;
+    } else if (n == "SET_SPINDLE_SPEED") {
+      need(c, 2);
+      if (css) {
+        // G96 S: m/min with G21, ft/min with G20.
+        state.surface_speed_m_per_min = c.args[1] * (scale == 25.4 ? 0.3048 : 1.0);
+        state.spindle_rpm = 0.0;
+      } else {
+        state.spindle_rpm = c.args[1];
+        state.surface_speed_m_per_min = 0.0;
+      }
+    } else if (n == "START_SPINDLE_CLOCKWISE" || n == "START_SPINDLE_COUNTERCLOCKWISE") {
+      state.spindle_on = true;
+      state.spindle_clockwise = n == "START_SPINDLE_CLOCKWISE";
+    } else if (n == "STOP_SPINDLE_TURNING") {
+      state.spindle_on = false;
+    } else if (n == "SET_FEED_MODE") {
+      need(c, 2);
+      state.feed_per_rev = c.args[1] != 0.0;
+    } else if (n == "SET_FEED_RATE") {
+      need(c, 1);
+      state.feed = c.args[0] * scale;
+    } else if (n == "STRAIGHT_TRAVERSE" || n == "STRAIGHT_PROBE") {
+      need(c, 3);
+      pos = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale;
+    } else if (n == "STRAIGHT_FEED" || n == "ARC_FEED") {
+      ToolpathMove m = state;
+      m.line = c.block_line;
+      m.start = pos;
+      if (n == "STRAIGHT_FEED") {
+        need(c, 3);
+        m.end = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale;
+      } else {
+        // ARC_FEED(first_end, second_end, first_centre, second_centre, rotation, axis_end, ...)
+        need(c, 6);
+        m.arc = true;
+        m.plane = plane;
+        m.turns = static_cast<int>(c.args[4]);
+        const int first = plane == ArcPlane::kXY ? 0 : plane == ArcPlane::kXZ ? 2 : 1;
+        const int second = plane == ArcPlane::kXY ? 1 : plane == ArcPlane::kXZ ? 0 : 2;
+        const int axis = 3 - first - second;
+        m.end[first] = c.args[0] * scale;
+        m.end[second] = c.args[1] * scale;
+        m.end[axis] = c.args[5] * scale;
+        m.centre = m.end;
+        m.centre[first] = c.args[2] * scale;
+        m.centre[second] = c.args[3] * scale;
+      }
+      pos = m.end;
+      if (move_length_mm(m) > 0.0) path.moves.push_back(m);
+    }
+  }
+  return path;
+}
+
+}  // namespace chatter
