@@ -996,7 +996,7 @@ rpm_max = 100
             "lead_angle_deg, nose_radius_mm, feed_per_rev_mm, workpiece_diameter_mm, teeth, "
             "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
             "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, feed_per_tooth_mm, flute_length_mm, "
-            "tool_diameter_mm, radial_depth_mm, helix_angle_deg, pitch_angles_deg, runout_um, radial_coefficient_ratio, "
+            "tool_diameter_mm, radial_depth_mm, engaged_arc_deg, helix_angle_deg, pitch_angles_deg, runout_um, radial_coefficient_ratio, "
             "cutter_geometry, corner_radius_mm, profile, profile_slices, axial_force_coefficient_n_per_m2, "
             "axial_force_coefficient_n_per_mm2, process_damping_coefficient_n_per_m, speed_variation)\n"
             "mem/case.toml: process.feed_force_coefficient_n_per_m2 = -1: must be > 0\n"

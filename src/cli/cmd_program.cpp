@@ -90,6 +90,7 @@ int cmd_program(const std::vector<std::string>& args) {
   std::string program_path, job_path, json_path, table_path, plot_path, out_path;
   po::options_description d("Options");
   d.add_options()
+      ("help,h", "print this help")
       ("config", po::value<std::string>(&job_path)->required(), "the job: JOB.toml with [stock], [[tools]], [machine] (required; docs/program.md)")
       ("json", po::value<std::string>(&json_path), "write the record as JSON to this file ('-': standard output, the table then goes to standard error)")
       ("table", po::value<std::string>(&table_path), "write one CSV row per feed move to this file")
