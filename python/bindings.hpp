@@ -20,6 +20,7 @@ void bind_tables(pybind11::module_& m);      // compare, map, frf (bind_tables.c
 void bind_shop(pybind11::module_& m);        // coefficients, detect, fit (bind_shop.cpp)
 void bind_optimization(pybind11::module_& m);  // performance, optimize, adapt, adapt_step (bind_optimization.cpp)
 void bind_pitch(pybind11::module_& m);         // design_pitch (bind_pitch.cpp)
+void bind_program(pybind11::module_& m);       // program (bind_program.cpp)
 
 }  // namespace chatter_py
 

@@ -56,6 +56,7 @@ PYBIND11_MODULE(_chatter, m) {
   chatter_py::bind_shop(m);
   chatter_py::bind_optimization(m);
   chatter_py::bind_pitch(m);
+  chatter_py::bind_program(m);
   bind_grinding(m);
   bind_forced(m);
 }

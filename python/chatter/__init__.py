@@ -77,7 +77,7 @@ __all__ = [
     "lobes", "uncertain_lobes", "point", "check", "recommend", "map", "compare", "simulate", "surface",
     "fit", "frf", "coefficients", "detect", "grind_predict", "grind_fit", "grind_sweep", "grind_plan",
     "grind_impacts", "grind_simulate", "forced", "sle", "performance", "optimize", "adapt", "adapt_step",
-    "design_pitch",
+    "design_pitch", "program",
     "Lobes", "UncertainLobes", "Surface", "Simulation", "StabilityMap", "Comparison", "Frf", "ModalFit",
     "Detection",
 ]

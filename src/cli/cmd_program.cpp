@@ -17,7 +17,6 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/job.hpp"
-#include "chatter/io/nc_program.hpp"
 #include "chatter/io/plot_program.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/program.hpp"
@@ -125,14 +124,6 @@ int cmd_program(const std::vector<std::string>& args) {
   const ShowRequest show = show_request(vm);
   const Job job = load_job(job_path);
   for (const std::string& w : job.warnings) std::cerr << "warning: " << w << "\n";
-  NcReadOptions nc;
-  for (const JobTool& t : job.tools) {
-    const Process& p = t.config.process;
-    nc.tool_diameters_mm[t.number] = p.operation() == Operation::kMilling
-                                         ? p.milling_parameters().tool_diameter_m * 1e3
-                                         : 2.0 * p.turning_parameters().nose_radius_m * 1e3;
-  }
-  const Toolpath path = read_nc_program(program_path, nc);
   ProgramOptions opt;
   opt.threads = thread_count(vm);
   opt.fix_speed = vm.count("fix-speed") > 0;
@@ -142,7 +133,7 @@ int cmd_program(const std::vector<std::string>& args) {
   {
     Progress bar(vm, 1000, "program", 1.0);
     opt.progress = [&](double x) { bar.tick(static_cast<std::size_t>(x * 1000)); };
-    report = check_program(job, path, opt);
+    report = run_program(program_path, job, opt);
   }
   for (const std::string& w : report.warnings) std::cerr << "warning: " << w << "\n";
   const nlohmann::json record = program_record(report);

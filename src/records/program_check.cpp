@@ -18,6 +18,7 @@
 #include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "chatter/forced.hpp"
+#include "chatter/io/nc_program.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
@@ -267,6 +268,16 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
   }
   report.rows = std::move(rows);
   return report;
+}
+
+ProgramReport run_program(const std::filesystem::path& program, const Job& job, const ProgramOptions& options) {
+  NcReadOptions nc;
+  for (const JobTool& t : job.tools) {
+    const Process& p = t.config.process;
+    nc.tool_diameters_mm[t.number] = p.operation() == Operation::kMilling ? p.milling_parameters().tool_diameter_m * 1e3
+                                                                          : 2.0 * p.turning_parameters().nose_radius_m * 1e3;
+  }
+  return check_program(job, read_nc_program(program, nc), options);
 }
 
 }  // namespace chatter

@@ -348,3 +348,20 @@ def test_design_pitch_is_the_record_and_checks_name_the_keywords():
         chatter.design_pitch(job, rpm_min=6600, rpm_max=8000, teeth=3)
     with pytest.raises(chatter.InputError, match=r"^rpm_min: required"):
         chatter.design_pitch(job, rpm_max=8000)
+
+
+# ---------------------------------------------------------------- program
+
+
+@pytest.mark.skipif(not __import__("os").path.exists("/usr/bin/rs274"), reason="LinuxCNC's rs274 is not installed")
+def test_program_is_the_cli_record():
+    import json
+    ex = SOURCE_DIR / "examples" / "program"
+    r = chatter.program(str(ex / "shaft.ngc"), str(ex / "shaft_job.toml"), threads=1)
+    status, out, err = run_cli("program", ex / "shaft.ngc", "--config", ex / "shaft_job.toml", "--json", "-",
+                               "--threads", "1")
+    assert status == 3, err  # the shaft's first pass chatters at the free end
+    assert r == json.loads(out)
+    assert r["summary"]["unstable_blocks"] == 1 and r["status"] == 3
+    with pytest.raises(chatter.InputError, match="stock"):
+        chatter.program(str(ex / "shaft.ngc"), str(ex / "insert.toml"))

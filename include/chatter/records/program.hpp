@@ -19,6 +19,7 @@
 // do, and returns the record every front end hands on).
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -96,6 +97,12 @@ struct ProgramReport {
 /// with no tool or the spindle stopped, a speed outside the machine's range;
 /// a program that never cuts the stock.
 ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramOptions& options);
+
+/// The whole command: reads `program` with LinuxCNC's interpreter, the
+/// job's tools as its tool table (milling: the diameter; turning: twice the
+/// nose radius, for G41/G42), then check_program. What the CLI and Python run.
+/// @throws InputError as read_nc_program and check_program.
+ProgramReport run_program(const std::filesystem::path& program, const Job& job, const ProgramOptions& options);
 
 /// The record (docs/program.md "The record"): rows, summary, warnings.
 nlohmann::json program_record(const ProgramReport& report);
