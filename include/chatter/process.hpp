@@ -211,6 +211,10 @@ class Process {
   /// N/60): the one definition every report uses (docs/results.md), whatever
   /// the pitch. = 1 / delay_s(rpm). @pre rpm > 0.
   double tooth_passing_hz(double rpm) const;
+  /// The diameter a control's cutter compensation (G41/G42) offsets by, m:
+  /// the tool's diameter in milling (0 when not given), twice the insert's
+  /// nose radius in turning.
+  double compensation_diameter_m() const;
   /// Number of (mean) tooth periods per spindle revolution: 1 (turning) or N_t.
   int delays_per_revolution() const;
 

@@ -181,6 +181,10 @@ Process Process::milling(MillingParameters p) {
   return pr;
 }
 
+double Process::compensation_diameter_m() const {
+  return operation_ == Operation::kMilling ? milling_.tool_diameter_m : 2.0 * turning_.nose_radius_m;
+}
+
 bool Process::orthogonal_turning() const {
   return operation_ == Operation::kTurning && turning_.lead_angle_rad == kHalfPi && turning_.nose_radius_m == 0.0 &&
          turning_.radial_force_coefficient_n_per_m2 == 0.0;

@@ -73,7 +73,7 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
   report.turning = job.turning();
   report.warnings = job.warnings;
   std::map<int, ToolSetup> tools;
-  for (const JobTool& t : job.tools) tools[t.number] = tool_setup(t);
+  for (const JobTool& t : job.tools) tools[t.number] = tool_setup(t, job.turning());
   Engaged eng = simulate_stock(job, path, tools);
   if (tools.size() == 1 && std::any_of(path.moves.begin(), path.moves.end(), [](const ToolpathMove& m) { return m.tool == 0; }))
     report.warnings.push_back(path.source + ": moves with no tool selected (no T and M6) are checked with the job's only tool, " +
@@ -146,11 +146,8 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
       worst[s.row] = i;
       worst_margin[s.row] = margin;
     }
-    std::vector<std::string> unused;
-    const CuttingLawOptions lo = cutting_law_options(sv.config.process,
-        t.tool->config.optimization && t.tool->config.optimization->cutting_coefficient_n_per_m2 > 0.0
-            ? std::optional<double>(t.tool->config.optimization->cutting_coefficient_n_per_m2) : std::nullopt,
-        report.warnings);
+    const CuttingLawOptions lo =
+        cutting_law_options(sv.config.process, cutting_coefficient(t.tool->config), report.warnings);
     double diameter_m = t.turning ? s.diameter_mm * 1e-3 : 2.0 * t.shape.radius_mm * 1e-3;
     if (!(diameter_m > 0.0)) diameter_m = std::numeric_limits<double>::quiet_NaN();  // the centre: no cutting speed
     const MeanCut mc = CuttingLaw::of(sv.config.process, lo)->mean({s.rpm, s.depth_mm * 1e-3, feed_mm * 1e-3, diameter_m});
@@ -272,11 +269,7 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
 
 ProgramReport run_program(const std::filesystem::path& program, const Job& job, const ProgramOptions& options) {
   NcReadOptions nc;
-  for (const JobTool& t : job.tools) {
-    const Process& p = t.config.process;
-    nc.tool_diameters_mm[t.number] = p.operation() == Operation::kMilling ? p.milling_parameters().tool_diameter_m * 1e3
-                                                                          : 2.0 * p.turning_parameters().nose_radius_m * 1e3;
-  }
+  for (const JobTool& t : job.tools) nc.tool_diameters_mm[t.number] = t.config.process.compensation_diameter_m() * 1e3;
   return check_program(job, read_nc_program(program, nc), options);
 }
 

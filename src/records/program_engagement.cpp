@@ -53,11 +53,17 @@ double block_rpm(const ToolpathMove& m, double s, const Job& job) {
   return n;
 }
 
-ToolSetup tool_setup(const JobTool& tool) {
+std::optional<double> cutting_coefficient(const Config& config) {
+  if (config.optimization && config.optimization->cutting_coefficient_n_per_m2 > 0.0)
+    return config.optimization->cutting_coefficient_n_per_m2;
+  return std::nullopt;
+}
+
+ToolSetup tool_setup(const JobTool& tool, bool turning) {
   ToolSetup t;
   t.tool = &tool;
   const Process& p = tool.config.process;
-  t.turning = p.operation() == Operation::kTurning;
+  t.turning = turning;
   if (t.turning) {
     t.teeth = 1;
   } else {

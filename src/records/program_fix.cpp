@@ -54,11 +54,8 @@ void fix_speed(ProgramRow& row, const ToolpathMove& m, const Solved& cut, const 
 void fix_feed(ProgramRow& row, const ToolpathMove& m, const Solved& cut, const Job& job, int teeth, double diameter_mm,
               std::vector<std::string>& warnings) {
   const double n = row.fixed_rpm.value_or(row.spindle_rpm);
-  const std::optional<double> kc =
-      cut.config.optimization && cut.config.optimization->cutting_coefficient_n_per_m2 > 0.0
-          ? std::optional<double>(cut.config.optimization->cutting_coefficient_n_per_m2)
-          : std::nullopt;
-  const auto law = CuttingLaw::of(cut.config.process, cutting_law_options(cut.config.process, kc, warnings));
+  const auto law =
+      CuttingLaw::of(cut.config.process, cutting_law_options(cut.config.process, cutting_coefficient(cut.config), warnings));
   auto load = [&](double f_word_mm) {
     const double per_tooth_mm = m.feed_per_rev ? f_word_mm / teeth : f_word_mm / (n * teeth);
     return law->mean({n, row.depth_mm * 1e-3, per_tooth_mm * 1e-3, diameter_mm * 1e-3});

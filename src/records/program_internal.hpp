@@ -26,8 +26,12 @@ struct ToolSetup {
   int teeth = 1;
   MillShape shape;       ///< milling
 };
+/// `turning`: the job's stock is a bar (load_job matched every tool to it).
 /// @throws InputError for a milling tool without a diameter or with a general profile.
-ToolSetup tool_setup(const JobTool& tool);
+ToolSetup tool_setup(const JobTool& tool, bool turning);
+
+/// The tool config's turning K_c ([optimization] cutting_coefficient), when given.
+std::optional<double> cutting_coefficient(const Config& config);
 
 /// One point of a feed move that cuts.
 struct Sample {
