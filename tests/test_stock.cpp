@@ -119,6 +119,67 @@ TEST(ZMapStock, SlotCornerArcMatchesTheRimAgainstTheRemainingMaterial) {
   }
 }
 
+// The inside corner of a pocket: a region cleared by four raster passes
+// (y = 10 … 34, x up to 60), then a side pass along its wall at y = 40
+// (a_e = 6 mm on the left) that runs into the wall ahead (the end caps of
+// the earlier passes). The remaining material is built here from the passes
+// as capsules (a point is cut when it lies within R of a pass's segment);
+// the arc is the rim's span over that material. Far from the corner it is
+// the side pass's arc, and it rises as the tool meets the wall ahead.
+TEST(ZMapStock, PocketInsideCornerArcRisesAsThePolygonGives) {
+  const double h = 0.05, R = 5.0, z = 7.0;
+  ZMapStock s({0, 0, 0}, {100, 100, 10}, h);
+  const MillShape tool{R, 0.0, 0.0};
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> passes;
+  for (const double y : {10.0, 18.0, 26.0, 34.0}) {
+    run_line(s, {-10, y, z}, {60, y, z}, tool, 1.0);
+    passes.push_back({{-10, y}, {60, y}});
+  }
+  auto within = [&](const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Eigen::Vector2d ab = b - a;
+    const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    return (q - (a + t * ab)).norm() <= R;
+  };
+  const Eigen::Vector2d f(1, 0), n(-f.y(), f.x());
+  double first_width = 0.0;
+  for (const double x : {40.0, 58.0, 60.0, 62.0}) {
+    ZMapStock copy = s;
+    run_line(copy, {-10, 40, z}, {x - h, 40, z}, tool, 1.0);
+    auto material = [&](const Eigen::Vector2d& q) {
+      if (q.x() < 0 || q.x() > 100 || q.y() < 0 || q.y() > 100) return false;
+      // The pass's own trail lies behind the tool (x' ≤ x): the leading half
+      // meets only what the earlier passes left.
+      for (const auto& [a, b] : passes)
+        if (within(q, a, b)) return false;
+      return true;
+    };
+    const Eigen::Vector2d c(x, 40);
+    double lo = kPi, hi = 0.0;
+    for (int k = 1; k < 18000; ++k) {
+      const double phi = k * 0.01 * kDeg;
+      const Eigen::Vector2d q = c + (R - 0.5 * h) * (std::cos(phi) * n + std::sin(phi) * f);
+      if (material(q)) {
+        lo = std::min(lo, phi);
+        hi = std::max(hi, phi);
+      }
+    }
+    const MillingEngagement e = copy.cut({c.x(), c.y(), z}, f, tool);
+    const double tol = 3.0 * h / R + 0.5 * kDeg;
+    EXPECT_NEAR(e.entry_rad, lo, tol) << "x " << x;
+    EXPECT_NEAR(e.exit_rad, hi, tol) << "x " << x;
+    if (x == 40.0) {
+      // Away from the corner: the side pass at a_e = 6 on the left: 0 … acos(1 − a_e/R) from n̂.
+      EXPECT_NEAR(e.entry_rad, 0.0, tol);
+      EXPECT_NEAR(e.exit_rad, std::acos(1.0 - 6.0 / R), tol);
+      first_width = e.exit_rad - e.entry_rad;
+    } else {
+      // Nearer the wall ahead, a wider arc than the last position's.
+      EXPECT_GT(e.exit_rad - e.entry_rad, first_width + 5 * kDeg) << "x " << x;
+      first_width = e.exit_rad - e.entry_rad;
+    }
+  }
+}
+
 TEST(ZMapStock, BallEnvelopeAndFlatCap) {
   MillShape ball{5.0, 5.0, 0.0};
   EXPECT_DOUBLE_EQ(ball.envelope_mm(0.0), 0.0);

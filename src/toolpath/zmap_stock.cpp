@@ -93,10 +93,19 @@ MillingEngagement ZMapStock::cut(const Eigen::Vector3d& tip, const Eigen::Vector
   double rim_lo = kPi, rim_hi = 0.0;  // the rim band's material on the leading half
   std::array<unsigned char, kArcBins> bins{};
   const double r2 = R * R;
+  // Every envelope and the rim lie at or above z_low: a cell at or below it
+  // (most of the disk once the first pass has been) is skipped on one compare.
+  const double z_low = std::max(floor_z, tip.z()) + kContactEpsMm;
   for (int j = j0; j <= j1; ++j) {
     const double dy = min_.y() + (j + 0.5) * h_ - tip.y();
+    if (dy * dy > band2) continue;
+    // The band's chord on this row, one cell wider each side for rounding.
+    const double half = std::sqrt(band2 - dy * dy);
+    const int a = std::max(i0, static_cast<int>(std::floor((tip.x() - half - min_.x()) / h_)) - 1);
+    const int b = std::min(i1, static_cast<int>(std::floor((tip.x() + half - min_.x()) / h_)) + 1);
     float* row = top_.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(nx_);
-    for (int i = i0; i <= i1; ++i) {
+    for (int i = a; i <= b; ++i) {
+      if (!(row[i] > z_low)) continue;
       const double dx = min_.x() + (i + 0.5) * h_ - tip.x();
       const double rho2 = dx * dx + dy * dy;
       if (rho2 > band2) continue;
