@@ -103,6 +103,47 @@ def operations_file(tmp, n):
     return write(os.path.join(tmp, "ops%d.csv" % n), "\n".join(rows) + "\n")
 
 
+def pocket_program(tmp, n):
+    """A zig-zag pocket of n 1 mm feed moves (rows of 90 along X, 6 mm apart,
+    1.5 mm levels) on a 100 x 100 x 30 mm box at 0.25 mm, and its job."""
+    lines, moves, level = ["G17 G21 G90 G94", "T1 M6", "S9000 M3", "G0 X5 Y5 Z5"], 0, 0
+    while moves < n:
+        level += 1
+        lines += ["G0 X5 Y5", "G1 Z%g F300" % (-1.5 * level)]
+        moves += 1
+        for row in range(16):
+            if moves >= n:
+                break
+            if row:
+                lines.append("G1 Y%g F900" % (5 + 6 * row))
+                moves += 1
+            for k in range(1, 91):
+                if moves >= n:
+                    break
+                lines.append("G1 X%g F900" % (5 + k if row % 2 == 0 else 95 - k))
+                moves += 1
+        lines.append("G0 Z5")
+    program = write(os.path.join(tmp, "pocket%d.ngc" % n), "\n".join(lines + ["M5", "M2"]) + "\n")
+    job = write(os.path.join(tmp, "pocket_job.toml"),
+                '[stock]\nshape = "box"\nmin_mm = [0, 0, -30]\nmax_mm = [100, 100, 0]\nresolution_mm = 0.25\n'
+                '[[tools]]\nnumber = 1\nconfig = "%s"\n' % os.path.join(ROOT, "examples", "program", "end_mill.toml"))
+    return program, job
+
+
+def turning_program(tmp, n):
+    """n feed moves along the examples/program shaft: passes of 0.5 mm on the
+    radius, 20 segments of 3.5 mm each, and the shaft's job."""
+    lines = ["G18 G21 G7 G90", "T1 M6", "G97 S1800 M3", "G95 F0.15"]
+    for m in range(n):
+        if m % 20 == 0:
+            lines += ["G0 X27 Z2", "G0 Z0.5", "G1 X%g" % (25.0 - (m // 20 + 1) * 1.0)]
+        lines.append("G1 Z%g" % (-3.5 * (m % 20 + 1)))
+    program = write(os.path.join(tmp, "shaft%d.ngc" % n), "\n".join(lines + ["G0 X30", "M5", "M2"]) + "\n")
+    job = open(os.path.join(ROOT, "examples", "program", "shaft_job.toml")).read().replace(
+        'config = "insert.toml"', 'config = "%s"' % os.path.join(ROOT, "examples", "program", "insert.toml"))
+    return program, write(os.path.join(tmp, "shaft_job.toml"), job)
+
+
 def cases(chatter, tmp):
     """(name, parameter, sizes, command(size)) for each path a user waits on."""
     cfg = lambda name: os.path.join(ROOT, "configs", name)
@@ -139,6 +180,12 @@ def cases(chatter, tmp):
                     "0.05", "--rpm-points", str(n), "--table", os.path.join(tmp, "s.csv")]),
         ("check, case C", "operations", [10, 40, 160, 640],
          lambda n: [chatter, "check", case_c, "--threads", "1", "--operations", operations_file(tmp, n)]),
+        ("program, zig-zag pocket at 0.25 mm", "blocks", [500, 1000, 2000, 4000],
+         lambda n: [chatter, "program", *pocket_program(tmp, n)[:1], "--config", pocket_program(tmp, n)[1],
+                    "--threads", "1"]),
+        ("program, turned shaft", "blocks", [25, 50, 100, 200],
+         lambda n: [chatter, "program", turning_program(tmp, n)[0], "--config", turning_program(tmp, n)[1],
+                    "--threads", "1"]),
     ]
 
 

@@ -110,3 +110,13 @@ echo "plots/*_forced.png plots/*_sle.png plots/coupled_tool1_workpiece1_diametra
 ./build/chatter design-pitch configs/milling_pitch_design_4flute.toml --rpm-min 6600 --rpm-max 8000 --teeth 4 --quiet \
   --table plots/milling_pitch_design_4flute_pitch.csv --plot plots/milling_pitch_design_4flute_pitch.png > /dev/null
 echo "plots/milling_pitch_design_4flute_pitch.png"
+# A whole NC program (docs/program.md, "Worked examples"): the shaft whose
+# free end chatters, the pocket whose corners overload the spindle. Exit 3
+# is their verdict (a block unstable or overloaded), not a failure.
+for job in shaft pocket; do
+  rc=0
+  ./build/chatter program "examples/program/${job}.ngc" --config "examples/program/${job}_job.toml" \
+    --plot "plots/program_${job}.png" > /dev/null || rc=$?
+  [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || exit "$rc"
+done
+echo "plots/program_shaft.png plots/program_pocket.png"

@@ -7,10 +7,15 @@
 // programs, G41 with a G81 cycle and arcs, and every bad input named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -164,6 +169,44 @@ cantilever = { youngs_modulus_pa = 205e9, density_kg_per_m3 = 7870, length_m = 0
     ++checked;
   }
   EXPECT_EQ(checked, 2);
+  // The plot's margin along the bar (every sample): its smallest on each pass
+  // is the row's margin at the row's position, and mid-bar it is `point`'s
+  // limit at that position over the depth.
+  const RunResult plotted = run({"program", (dir() / "part.ngc").string(), "--config", (dir() / "job.toml").string(),
+                                 "--plot", (dir() / "along.png").string()});
+  ASSERT_EQ(plotted.exit_code, 0) << plotted.err;
+  std::istringstream dat(slurp(dir() / "along.dat"));
+  std::string text;
+  while (std::getline(dat, text) && text.rfind("# index 1", 0) != 0) {
+  }
+  std::map<int, std::vector<std::array<double, 3>>> along;  // line -> (position, margin, error)
+  while (std::getline(dat, text)) {
+    if (text.empty() || text[0] == '#') continue;
+    std::istringstream in(text);
+    double pos = 0, margin = 0;
+    std::string err;
+    int line = 0;
+    in >> pos >> margin >> err >> line;
+    along[line].push_back({pos, margin, err == "?" ? NAN : std::stod(err)});
+  }
+  ASSERT_EQ(along.size(), 2u);
+  for (const json& row : rec["rows"]) {
+    if (row["air"]) continue;
+    const auto& pts = along.at(row["line"].get<int>());
+    EXPECT_GT(pts.size(), 100u);  // the 70 mm pass at 0.5 mm cells
+    const auto low = std::min_element(pts.begin(), pts.end(), [](auto& a, auto& b) { return a[1] < b[1]; });
+    EXPECT_NEAR((*low)[1], row["margin"].get<double>(), 1e-6 * row["margin"].get<double>());
+    EXPECT_DOUBLE_EQ((*low)[0], row["position_mm"].get<double>());
+    EXPECT_NEAR((*low)[2], row["diametral_error_um"].get<double>(), 1e-6 * std::abs(row["diametral_error_um"].get<double>()));
+    const auto mid = std::find_if(pts.begin(), pts.end(), [](auto& p) { return p[0] == 40.25; });
+    ASSERT_NE(mid, pts.end());
+    const json p = point(dir() / "tool_here.toml", row,
+                         {"--position-mm", "40.25", "--depth-max-mm", json(depth_max).dump()});
+    // (the plot shows margins above 4 at 4)
+    EXPECT_NEAR((*mid)[1], std::min(4.0, p["depth_limit_mm"].get<double>() / row["depth_mm"].get<double>()),
+                1e-6 * (*mid)[1]);
+    if (row["line"] == 11) EXPECT_LT((*mid)[1], 4.0);  // one pass checked below the clip
+  }
   // The bar is turned from its face (z = 0) to z = −70.
   const double exact = M_PI / 4 * (25.0 * 25.0 - 21.0 * 21.0) * 70.0;
   EXPECT_NEAR(rec["summary"]["removed_volume_mm3"].get<double>(), exact, 1e-9 * exact);
@@ -218,6 +261,40 @@ TEST_F(ProgramCli, FixedSpeedProgramChecksClean) {
   EXPECT_TRUE(contains(fixed, "(chatter: unstable")) << fixed;
   const RunResult again = run({"program", (dir() / "fixed.ngc").string(), "--config", (dir() / "job.toml").string()});
   EXPECT_EQ(again.exit_code, 0) << again.out << again.err << fixed;
+}
+
+// The docs' pocket (examples/program): its corners overload the 1 kW
+// spindle on lines that run ten times in a loop and carry their own F word.
+// --fix-feed replaces that word (two F words on a line is an interpreter
+// error) with the smallest feed any run needs, and the fixed program checks
+// clean. The scale is the power's: P ∝ F at a fixed engagement, so the new
+// F over the old is at most max_power / the line's worst power.
+TEST_F(ProgramCli, FixedFeedInALoopReplacesTheLinesFWordAndChecksClean) {
+  const std::string ex = kSource + "/examples/program/";
+  const RunResult first = run({"program", ex + "pocket.ngc", "--config", ex + "pocket_job.toml", "--json",
+                               (dir() / "first.json").string(), "--out", (dir() / "fixed.ngc").string(), "--fix-feed"});
+  ASSERT_EQ(first.exit_code, 3) << first.err;
+  const json rec = json::parse(slurp(dir() / "first.json"));
+  EXPECT_EQ(rec["summary"]["unstable_blocks"].get<int>(), 0);
+  EXPECT_GT(rec["summary"]["overloaded_blocks"].get<int>(), 10);
+  double worst_kw_line20 = 0.0;
+  for (const json& r : rec["rows"])
+    if (r["line"].get<int>() == 20) worst_kw_line20 = std::max(worst_kw_line20, r["power_kw"].get<double>());
+  ASSERT_GT(worst_kw_line20, 1.0);
+  std::istringstream lines(slurp(dir() / "fixed.ngc"));
+  std::string line;
+  for (int n = 1; n <= 20 && std::getline(lines, line); ++n) {
+  }
+  // Line 20 kept its place: one F word, and the comment.
+  const auto f = line.find(" F");
+  ASSERT_NE(f, std::string::npos) << line;
+  EXPECT_EQ(line.find(" F", f + 1), line.find(" F4", f + 1)) << line;  // only the comment's "feed set to F…" after it
+  const double feed = std::stod(line.substr(f + 2));
+  EXPECT_LE(feed, 5200.0 * 1.0 / worst_kw_line20 * (1.0 + 1e-6)) << line;
+  EXPECT_GT(feed, 5200.0 * 0.9 / worst_kw_line20) << line;
+  EXPECT_TRUE(contains(line, "in 10 of the line's 10 runs")) << line;
+  const RunResult again = run({"program", (dir() / "fixed.ngc").string(), "--config", ex + "pocket_job.toml"});
+  EXPECT_EQ(again.exit_code, 0) << again.out << again.err;
 }
 
 TEST_F(ProgramCli, LinuxCncExamplesRunEndToEnd) {

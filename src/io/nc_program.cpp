@@ -53,19 +53,30 @@ struct TempDir {
   TempDir& operator=(const TempDir&) = delete;
 };
 
-// Runs argv with stdin /dev/null and stdout, stderr to files; returns the
-// exit status (-1 when killed by the timeout).
-int run_process(const std::vector<std::string>& args, const fs::path& out, const fs::path& err, double timeout_s) {
+// Runs argv with stdin /dev/null and stdout, stderr to files, our
+// environment but HOME = `home`; returns the exit status (-1 when killed by
+// the timeout). LinuxCNC's tool data lives in a memory-mapped $HOME/.tool.mmap:
+// two interpreters sharing one HOME (threads, parallel tests, a post-processor
+// checking programs side by side) truncate each other's map and die of
+// SIGBUS, and the user's HOME would keep the file. A private HOME each.
+int run_process(const std::vector<std::string>& args, const fs::path& out, const fs::path& err, double timeout_s,
+                const fs::path& home) {
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  const std::string home_entry = "HOME=" + home.string();
+  std::vector<char*> env;
+  for (char** e = environ; e && *e; ++e)
+    if (std::strncmp(*e, "HOME=", 5) != 0) env.push_back(*e);
+  env.push_back(const_cast<char*>(home_entry.c_str()));
+  env.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   pid_t pid = 0;
-  const int rc = ::posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int rc = ::posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) throw InputError(args[0] + ": cannot run the G-code interpreter (" + std::strerror(rc) + ")");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
@@ -165,7 +176,7 @@ Toolpath read_nc_program(const fs::path& file, const NcReadOptions& options) {
   }
   const fs::path out = dir.path / "canon.txt", err = dir.path / "errors.txt";
   const int status =
-      run_process({rs274.string(), "-t", table.string(), "-g", program.string()}, out, err, options.timeout_s);
+      run_process({rs274.string(), "-t", table.string(), "-g", program.string()}, out, err, options.timeout_s, dir.path);
   if (status < 0)
     throw InputError(file.string() + ": the interpreter ran longer than " + std::to_string(int(options.timeout_s)) +
                      " s (an endless loop?)");
@@ -188,7 +199,10 @@ Toolpath read_nc_program(const fs::path& file, const NcReadOptions& options) {
       }
       message += (message.empty() ? "" : "; ") + m;
     }
-    if (message.empty()) message = "the interpreter stopped with status " + std::to_string(status);
+    if (message.empty())
+      message = status > 128 ? "the interpreter was killed by signal " + std::to_string(status - 128) + " (" +
+                                   strsignal(status - 128) + ")"
+                             : "the interpreter stopped with status " + std::to_string(status);
     throw InputError(file.string() + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message);
   }
   Toolpath path = parse_canon_log(read_all(out), file.string());

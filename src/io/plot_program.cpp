@@ -41,17 +41,30 @@ PlotFiles draw_program(PlotWindow* window, const fs::path& image, const ProgramP
           << g(b.depth_mm) << ' ' << b.line << '\n';
     dat << '\n';
   }
-  dat << "\n\n# index 1: " << (d.turning ? "along the bar: position_mm margin_shown diametral_error_um line"
+  dat << "\n\n# index 1: " << (d.turning ? "along the bar: position_mm margin_shown diametral_error_um line (every sample, one run per block)"
                                          : "toolpath from above: x_mm y_mm margin_shown line (one segment per block)")
       << "\n";
   for (const auto& b : d.blocks) {
     if (d.turning) {
-      if (!b.air) dat << g(b.position_mm) << ' ' << g(shown_margin(b.margin)) << ' ' << g(b.part_error_um) << ' ' << b.line << '\n';
+      if (b.air) continue;
+      for (const auto& [pos, margin, err] : b.along_bar)
+        dat << g(pos) << ' ' << g(shown_margin(margin)) << ' ' << (std::isfinite(err) ? g(err) : "?") << ' ' << b.line << '\n';
+      dat << '\n';
     } else {
       const double m = b.air ? kMarginTop : shown_margin(b.margin);
       dat << g(b.x0) << ' ' << g(b.y0) << ' ' << g(m) << ' ' << b.line << '\n'
           << g(b.x1) << ' ' << g(b.y1) << ' ' << g(m) << ' ' << b.line << "\n\n";
     }
+  }
+  bool overloaded = false;
+  if (!d.turning) {
+    dat << "\n\n# index 2: overloaded blocks from above: x_mm y_mm line\n";
+    for (const auto& b : d.blocks)
+      if (b.overloaded && !b.air) {
+        overloaded = true;
+        dat << g(b.x0) << ' ' << g(b.y0) << ' ' << b.line << '\n' << g(b.x1) << ' ' << g(b.y1) << ' ' << b.line << "\n\n";
+      }
+    if (!overloaded) dat << "? ? 0\n";  // an empty index would stop gnuplot
   }
   std::ostringstream gp;
   if (window)
@@ -73,14 +86,17 @@ PlotFiles draw_program(PlotWindow* window, const fs::path& image, const ProgramP
   if (d.turning) {
     gp << "set xlabel 'position along the bar from the chuck (mm)'\nset ylabel 'margin'\nset y2label 'diametral error (um)'\n"
        << "set y2tics\nset ytics nomirror\n"
-       << "plot data index 1 using 1:2 with points pt 7 ps 0.8 lc rgb '#1a4d80' title 'margin per block', \\\n"
-       << "  data index 1 using 1:3 axes x1y2 with points pt 6 ps 0.8 lc rgb '#e07b00' title 'diametral error (um)', \\\n"
+       << "set autoscale y\nset yrange [0:" << g(kMarginTop + 0.2) << "]\nset autoscale y2\n"
+       << "plot data index 1 using 1:2 with linespoints pt 7 ps 0.4 lw 2 lc rgb '#1a4d80' title 'margin (each pass)', \\\n"
+       << "  data index 1 using 1:3 axes x1y2 with linespoints pt 6 ps 0.4 lw 1.5 dt 2 lc rgb '#e07b00' title 'diametral error (um)', \\\n"
        << "  1 with lines dt 2 lw 2 lc rgb '#c0392b' title 'chatter'\n";
   } else {
-    gp << "set xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset size ratio -1\nset cblabel 'margin'\nset cbrange [0:"
+    gp << "set autoscale xy\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset size ratio -1\nset cblabel 'margin'\nset cbrange [0:"
        << g(kMarginTop) << "]\n"
        << "set palette defined (0 '#7a0c0c', 0.9 '#d7301f', 1.0 '#fc8d59', 1.5 '#fee090', 2.5 '#91bfdb', 4 '#2c5aa0')\n"
-       << "plot data index 1 using 1:2:3 with lines lw 2 lc palette title 'toolpath by margin (air = top colour)'\n";
+       << "set key below\nplot "
+       << (overloaded ? "data index 2 using 1:2 with lines lw 7 lc rgb '#90000000' title 'overloaded (power, torque or speed)', " : "")
+       << "data index 1 using 1:2:3 with lines lw 2 lc palette title 'toolpath by margin (air = top colour)'\n";
   }
   gp << "unset multiplot\n";
   if (window) {

@@ -1,5 +1,6 @@
 // `chatter program`'s record, CSV and annotated program
 // (chatter/records/program.hpp; every key: docs/program.md "The record").
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -118,6 +120,7 @@ ProgramPlotData program_plot_data(const ProgramReport& rep, double max_power_kw)
     ProgramPlotData::Block b;
     b.line = r.line;
     b.air = r.air;
+    b.overloaded = r.overloaded;
     b.t0_s = t;
     if (!r.air) t += r.time_s;
     b.t1_s = t;
@@ -127,6 +130,7 @@ ProgramPlotData program_plot_data(const ProgramReport& rep, double max_power_kw)
     b.depth_mm = r.depth_mm;
     b.part_error_um = r.part_error_um;
     b.position_mm = r.position_mm;
+    for (const ProgramRow::AlongBar& a : r.along_bar) b.along_bar.push_back({a.position_mm, a.margin, a.part_error_um});
     b.x0 = r.start.x();
     b.y0 = r.start.y();
     b.z0 = r.start.z();
@@ -153,35 +157,134 @@ std::string program_csv(const ProgramReport& rep) {
   return os.str();
 }
 
+namespace {
+
+// The start and end of the first `letter` word on a G-code line outside its
+// comments: the letter, then a number, a parameter (#5, #<name>) or a
+// bracketed expression. A lexical scan of one line for --out, so that a
+// changed S or F replaces the line's own word (two F words on one line is an
+// interpreter error); the program itself is read only by LinuxCNC's.
+std::optional<std::pair<std::size_t, std::size_t>> find_word(const std::string& line, char letter) {
+  const char lower = static_cast<char>(letter - 'A' + 'a');
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == ';') return std::nullopt;
+    if (c == '(') {
+      const std::size_t close = line.find(')', i);
+      if (close == std::string::npos) return std::nullopt;
+      i = close;
+      continue;
+    }
+    if (c == '[') {  // an expression (o-word conditions, axis words): skip it whole
+      int depth = 0;
+      for (; i < line.size(); ++i) {
+        depth += line[i] == '[' ? 1 : line[i] == ']' ? -1 : 0;
+        if (depth == 0) break;
+      }
+      continue;
+    }
+    if (c != letter && c != lower) continue;
+    std::size_t j = i + 1;
+    while (j < line.size() && line[j] == ' ') ++j;
+    if (j < line.size() && line[j] == '[') {
+      int depth = 0;
+      for (; j < line.size(); ++j) {
+        depth += line[j] == '[' ? 1 : line[j] == ']' ? -1 : 0;
+        if (depth == 0) break;
+      }
+      return std::make_pair(i, std::min(j + 1, line.size()));
+    }
+    if (j < line.size() && line[j] == '#') {
+      ++j;
+      if (j < line.size() && line[j] == '<') {
+        const std::size_t close = line.find('>', j);
+        j = close == std::string::npos ? line.size() : close + 1;
+      } else {
+        while (j < line.size() && std::isdigit(static_cast<unsigned char>(line[j]))) ++j;
+      }
+      return std::make_pair(i, j);
+    }
+    while (j < line.size() && (std::isdigit(static_cast<unsigned char>(line[j])) || line[j] == '.' || line[j] == '+' ||
+                               line[j] == '-' || line[j] == ' '))
+      ++j;
+    return std::make_pair(i, j);
+  }
+  return std::nullopt;
+}
+
+// `line` with its own `letter` word (if any) given `value`, else the word appended.
+std::string set_word(const std::string& line, char letter, const std::string& value) {
+  const auto w = find_word(line, letter);
+  std::ostringstream out;  // (not operator+ on strings: g++ 12 warns of a false overflow there)
+  if (!w)
+    out << line << ' ' << letter << value;
+  else
+    out << std::string_view(line).substr(0, w->first) << letter << value << ' ' << std::string_view(line).substr(w->second);
+  return out.str();
+}
+
+// The comment for one source line from every execution of it (a line in a
+// loop or a subroutine runs several times, each with its own cut).
+std::string line_comment(const std::vector<const ProgramRow*>& rows, std::size_t runs) {
+  const ProgramRow* worst = nullptr;    // the smallest margin among the unstable
+  const ProgramRow* heaviest = nullptr; // the largest power among the overloaded
+  for (const ProgramRow* r : rows) {
+    if (!r->stable && (!worst || r->margin < worst->margin)) worst = r;
+    if (r->overloaded && (!heaviest || r->power_kw > heaviest->power_kw)) heaviest = r;
+  }
+  std::string c = "chatter:";
+  if (worst)
+    c += " unstable, margin " + g(worst->margin, "%.2f") + ", limit " + g(worst->depth_limit_mm, "%.3g") + " mm at S" +
+         g(worst->spindle_rpm, "%.0f") +
+         (std::isfinite(worst->chatter_frequency_hz) ? ", " + g(worst->chatter_frequency_hz, "%.0f") + " Hz" : "");
+  if (heaviest)
+    c += std::string(worst ? ";" : "") + " overloaded, " + g(heaviest->power_kw, "%.3g") + " kW " +
+         g(heaviest->torque_nm, "%.3g") + " Nm";
+  if (runs > 1) c += ", at worst, in " + std::to_string(rows.size()) + " of the line's " + std::to_string(runs) + " runs";
+  const ProgramRow* fixed = worst ? worst : heaviest;
+  if (fixed->fixed_rpm) c += "; speed set to S" + g(*fixed->fixed_rpm, "%.0f");
+  double feed = NAN;
+  for (const ProgramRow* r : rows)
+    if (r->fixed_feed) feed = std::isnan(feed) ? *r->fixed_feed : std::min(feed, *r->fixed_feed);
+  if (!std::isnan(feed)) c += "; feed set to F" + g(feed, "%.6g");
+  for (const ProgramRow* r : rows)
+    if (!r->fix_note.empty() && c.find(r->fix_note) == std::string::npos) c += "; " + r->fix_note;
+  for (char& ch : c)
+    if (ch == '(' || ch == ')') ch = ' ';  // a comment cannot hold parentheses
+  return c;
+}
+
+}  // namespace
+
 std::string annotate_program(const std::string& text, const ProgramReport& rep) {
-  // What to say and change per source line (several moves may share one).
+  // What to say and change per source line (several moves may share one: a
+  // loop's body runs once per pass). One speed per line: the unstable run
+  // with the smallest margin's; one feed: the smallest any run needs.
   struct LineEdit {
-    std::vector<std::string> comments;
+    std::vector<const ProgramRow*> flagged;
+    std::size_t runs = 0;
     std::optional<double> rpm, feed;
     double old_rpm = 0.0, old_feed = 0.0;
   };
   std::map<int, LineEdit> edits;
+  for (const ProgramRow& r : rep.rows)
+    if (r.line > 0) ++edits[r.line].runs;
   for (const ProgramRow& r : rep.rows) {
     if (r.air || r.line <= 0 || (r.stable && !r.overloaded)) continue;
-    LineEdit& e = edits[r.line];
-    std::string c = "chatter:";
-    if (!r.stable)
-      c += " unstable, margin " + g(r.margin, "%.2f") + ", limit " + g(r.depth_limit_mm, "%.3g") + " mm at S" +
-           g(r.spindle_rpm, "%.0f") + (std::isfinite(r.chatter_frequency_hz) ? ", " + g(r.chatter_frequency_hz, "%.0f") + " Hz" : "");
-    if (r.overloaded) c += std::string(r.stable ? "" : ";") + " overloaded, " + g(r.power_kw, "%.3g") + " kW " + g(r.torque_nm, "%.3g") + " Nm";
-    if (r.fixed_rpm) c += "; speed set to S" + g(*r.fixed_rpm, "%.0f");
-    if (r.fixed_feed) c += "; feed set to F" + g(*r.fixed_feed, "%.6g");
-    if (!r.fix_note.empty()) c += "; " + r.fix_note;
-    for (char& ch : c)
-      if (ch == '(' || ch == ')') ch = ' ';  // a comment cannot hold parentheses
-    if (std::find(e.comments.begin(), e.comments.end(), c) == e.comments.end()) e.comments.push_back(c);
-    if (r.fixed_rpm && !e.rpm) {
-      e.rpm = r.fixed_rpm;
-      e.old_rpm = r.spindle_rpm;
+    edits[r.line].flagged.push_back(&r);
+  }
+  for (auto& [line, e] : edits) {
+    const ProgramRow* worst = nullptr;
+    for (const ProgramRow* r : e.flagged) {
+      if (r->fixed_rpm && (!worst || r->margin < worst->margin)) worst = r;
+      if (r->fixed_feed && (!e.feed || *r->fixed_feed < *e.feed)) {
+        e.feed = r->fixed_feed;
+        e.old_feed = r->original_feed;
+      }
     }
-    if (r.fixed_feed && !e.feed) {
-      e.feed = r.fixed_feed;
-      e.old_feed = r.original_feed;
+    if (worst) {
+      e.rpm = worst->fixed_rpm;
+      e.old_rpm = worst->spindle_rpm;
     }
   }
   std::ostringstream out;
@@ -192,16 +295,14 @@ std::string annotate_program(const std::string& text, const ProgramReport& rep) 
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const auto it = edits.find(number);
-    if (it == edits.end()) {
+    if (it == edits.end() || it->second.flagged.empty()) {
       out << line << "\n";
       continue;
     }
     const LineEdit& e = it->second;
-    out << line;
-    if (e.rpm) out << " S" << g(*e.rpm, "%.0f");
-    if (e.feed) out << " F" << g(*e.feed, "%.6g");
-    for (const std::string& c : e.comments) out << " (" << c << ")";
-    out << "\n";
+    if (e.rpm) line = set_word(line, 'S', g(*e.rpm, "%.0f"));
+    if (e.feed) line = set_word(line, 'F', g(*e.feed, "%.6g"));
+    out << line << " (" << line_comment(e.flagged, e.runs) << ")\n";
     // S and F are modal: the next blocks get the program's own values back.
     if (e.rpm || e.feed) {
       if (e.rpm) out << "S" << g(e.old_rpm, "%.10g");

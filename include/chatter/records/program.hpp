@@ -71,6 +71,13 @@ struct ProgramRow {
   double original_feed = 0.0;          ///< the block's own F word (program units), restored after a fixed one
   std::string fix_note;                ///< why a block could not be fixed
   Eigen::Vector3d start{0, 0, 0}, end{0, 0, 0};  ///< mm, for the plots
+  /// Turning, for the plot (not in the record): every sample of the block
+  /// along the bar — position from the clamp (mm), margin, diametral error
+  /// (µm; NaN where unstable).
+  struct AlongBar {
+    double position_mm = 0.0, margin = 0.0, part_error_um = 0.0;
+  };
+  std::vector<AlongBar> along_bar;
 };
 
 struct ProgramSummary {
