@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -1142,6 +1143,33 @@ TEST(ConfigWarning, CutterAndSweepPlausibility) {
                          "1/10 of the lowest natural frequency (100 Hz)",
                          "rev/s"}));
   EXPECT_TRUE(WarningsOf(Milling(kMillingKeys) + "[sweep]\nrpm_min = 500\nrpm_max = 20000\n").empty());
+}
+
+}  // namespace
+}  // namespace chatter
+
+namespace chatter {
+namespace {
+
+// engaged_arc_deg: one arc or a list of arcs; each is checked, named by its
+// index, and the arcs must be sorted and apart.
+TEST(ConfigEngagedArcs, OneArcOrAListOfArcs) {
+  const std::string head = "teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_n_per_m2 = 2e8\n";
+  const Config one = parse_config(Milling(head + "engaged_arc_deg = [0, 180]\n"), kOrigin);
+  ASSERT_EQ(one.process.engaged_arcs().size(), 1u);
+  EXPECT_DOUBLE_EQ(one.process.milling_parameters().radial_immersion, 1.0);
+  const Config two = parse_config(Milling(head + "engaged_arc_deg = [[0, 60], [120, 180]]\n"), kOrigin);
+  ASSERT_EQ(two.process.engaged_arcs().size(), 2u);
+  EXPECT_NEAR(two.process.engaged_arcs()[1].first, 120.0 * std::numbers::pi / 180.0, 1e-15);
+  // Σ (cos en − cos ex)/2 = (1 − 0.5)/2 + (−0.5 + 1)/2 = 0.5
+  EXPECT_NEAR(two.process.milling_parameters().radial_immersion, 0.5, 1e-12);
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "engaged_arc_deg = [[0, 60], [50, 180]]\n"),
+                               {"process.engaged_arc_deg[1]", "must not touch or overlap"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "engaged_arc_deg = [[0, 60], [90, 200]]\n"),
+                               {"process.engaged_arc_deg[1]", "0 <= entry < exit <= 180"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "engaged_arc_deg = 90\n"), {"process.engaged_arc_deg", "[entry, exit]"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "engaged_arc_deg = [0, 90]\nradial_immersion = 0.5\n"),
+                               {"process.engaged_arc_deg", "not with radial_immersion"}));
 }
 
 }  // namespace

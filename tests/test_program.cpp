@@ -205,7 +205,9 @@ cantilever = { youngs_modulus_pa = 205e9, density_kg_per_m3 = 7870, length_m = 0
     // (the plot shows margins above 4 at 4)
     EXPECT_NEAR((*mid)[1], std::min(4.0, p["depth_limit_mm"].get<double>() / row["depth_mm"].get<double>()),
                 1e-6 * (*mid)[1]);
-    if (row["line"] == 11) EXPECT_LT((*mid)[1], 4.0);  // one pass checked below the clip
+    if (row["line"] == 11) {
+      EXPECT_LT((*mid)[1], 4.0);  // one pass checked below the clip
+    }
   }
   // The bar is turned from its face (z = 0) to z = −70.
   const double exact = M_PI / 4 * (25.0 * 25.0 - 21.0 * 21.0) * 70.0;
@@ -244,6 +246,47 @@ TEST_F(ProgramCli, SlotIsHalfACircleAndEqualsPoint) {
   ASSERT_TRUE(off.is_object());
   EXPECT_EQ(off["rows"], rec["rows"]);
   EXPECT_GT(off["summary"]["solves"].get<int>(), rec["summary"]["solves"].get<int>());
+}
+
+// A 16 mm cutter down the middle of the 10 mm slot it widens: two arcs
+// (the material on both sides of the slot), each given to the solver as an
+// arc of the cut; the row's limit is `point`'s on the tool config with
+// engaged_arc_deg = the row's arcs, and the arcs are the rim's construction
+// [0, acos(5/8)], [180° − acos(5/8), 180°] on the 0.5° grid, widened outward.
+TEST_F(ProgramCli, WideningASlotSolvesBothArcsAsPointDoes) {
+  milling_job();
+  write(dir() / "mill16.toml", [&] {
+    std::string t = slurp(dir() / "mill.toml");
+    return t.replace(t.find("tool_diameter_mm = 10"), std::string("tool_diameter_mm = 10").size(), "tool_diameter_mm = 16");
+  }());
+  write(dir() / "job.toml", slurp(dir() / "job.toml") + "\n[[tools]]\nnumber = 2\nconfig = \"mill16.toml\"\n");
+  write(dir() / "part.ngc", "G17 G21 G90 G94\nT1 M6\nS6000 M3\nG0 X-10 Y20 Z5\nG1 Z-0.5 F300\nG1 X70 F600\nG0 Z5\n"
+                            "T2 M6\nS6000 M3\nG0 X-10 Y20\nG1 Z-0.5 F300\nG1 X70 F600\nG0 Z5\nM2\n");
+  const json rec = run_json({}, 0);
+  ASSERT_TRUE(rec.is_object());
+  const json* wide = nullptr;
+  for (const json& row : rec["rows"])
+    if (row["line"] == 12) wide = &row;
+  ASSERT_NE(wide, nullptr);
+  const json& arcs = (*wide)["engaged_arcs_deg"];
+  ASSERT_EQ(arcs.size(), 2u) << wide->dump();
+  const double inner = std::acos(5.0 / 8.0) * 180.0 / M_PI;  // 51.3°
+  EXPECT_EQ(arcs[0][0].get<double>(), 0.0);
+  EXPECT_NEAR(arcs[0][1].get<double>(), inner, 1.5);
+  EXPECT_NEAR(arcs[1][0].get<double>(), 180.0 - inner, 1.5);
+  EXPECT_EQ(arcs[1][1].get<double>(), 180.0);
+  EXPECT_EQ((*wide)["entry_angle_deg"], arcs[0][0]);
+  EXPECT_EQ((*wide)["exit_angle_deg"], arcs[1][1]);
+  EXPECT_NEAR((*wide)["radial_depth_mm"].get<double>(), 6.0, 0.25);  // 3 mm each side, to the grid
+  EXPECT_TRUE((*wide)["diametral_error_um"].is_null() || !wide->contains("diametral_error_um"));
+  write(dir() / "two_arcs.toml", [&] {
+    std::string t = slurp(dir() / "mill16.toml");
+    return t.replace(t.find("radial_immersion = 1"), std::string("radial_immersion = 1").size(),
+                     "engaged_arc_deg = " + arcs.dump());
+  }());
+  const json p = point(dir() / "two_arcs.toml", *wide, {"--depth-max-mm", rec["tools"][1]["depth_max_mm"].dump()});
+  EXPECT_EQ(p["depth_limit_mm"], (*wide)["depth_limit_mm"]);
+  EXPECT_EQ(p["chatter_frequency_hz"], (*wide)["chatter_frequency_hz"]);
 }
 
 // An unstable turning block fixed by --fix-speed: the fixed program checked

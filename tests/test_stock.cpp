@@ -180,6 +180,29 @@ TEST(ZMapStock, PocketInsideCornerArcRisesAsThePolygonGives) {
   }
 }
 
+// A pass that widens an earlier slot: a 10 mm slot along X, then a 16 mm
+// cutter down its middle. The material is on both sides of the slot, so the
+// leading half meets two arcs with the slot between them: on the rim
+// y = 40 + R cos φ, material where |R cos φ| > 5, i.e. [0, acos(5/R)] and
+// [π − acos(5/R), π]; their width across the feed R Σ (cos en − cos ex) is
+// the 2 × 3 mm the pass adds.
+TEST(ZMapStock, WideningASlotGivesTwoArcs) {
+  const double h = 0.05, z = 7.0, R = 8.0;
+  ZMapStock s({0, 0, 0}, {100, 100, 10}, h);
+  run_line(s, {-10, 40, z}, {110, 40, z}, MillShape{5.0, 0.0, 0.0}, 1.0);
+  const MillingEngagement e = run_line(s, {-10, 40, z}, {60, 40, z}, MillShape{R, 0.0, 0.0}, 1.0);
+  ASSERT_TRUE(e.split);
+  ASSERT_EQ(e.arcs_rad.size(), 2u);
+  const double inner = std::acos(5.0 / R), tol = 3.0 * h / R + 0.5 * kDeg;
+  EXPECT_NEAR(e.arcs_rad[0].first, 0.0, tol);
+  EXPECT_NEAR(e.arcs_rad[0].second, inner, tol);
+  EXPECT_NEAR(e.arcs_rad[1].first, kPi - inner, tol);
+  EXPECT_NEAR(e.arcs_rad[1].second, kPi, tol);
+  EXPECT_DOUBLE_EQ(e.entry_rad, e.arcs_rad[0].first);  // the hull
+  EXPECT_DOUBLE_EQ(e.exit_rad, e.arcs_rad[1].second);
+  EXPECT_NEAR(e.radial_depth_mm, 6.0, 2.0 * h);
+}
+
 TEST(ZMapStock, BallEnvelopeAndFlatCap) {
   MillShape ball{5.0, 5.0, 0.0};
   EXPECT_DOUBLE_EQ(ball.envelope_mm(0.0), 0.0);

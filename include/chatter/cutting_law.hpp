@@ -44,6 +44,7 @@
 
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -68,6 +69,9 @@ struct ArcIntegrals {
   double width_rad = 0.0; ///< W = φ_ex − φ_en
 };
 ArcIntegrals arc_integrals(double entry_rad, double exit_rad);
+/// The same summed over several arcs (Process::engaged_arcs): the integrals
+/// are additive. One arc: exactly arc_integrals(entry, exit). @pre non-empty.
+ArcIntegrals arc_integrals(const std::vector<std::pair<double, double>>& arcs);
 
 /// Edge (ploughing) coefficients of the milling law, N/m (force per unit
 /// edge length, independent of the chip); 0 = none. Only the flat cutter

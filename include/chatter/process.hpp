@@ -147,15 +147,18 @@ struct MillingParameters {
   /// a slice with lead angle κ < 90° (ball, bull nose, profile) turns part
   /// of it into the x-y plane: K_a cos κ adds to the radial coefficient.
   double axial_coefficient_n_per_m2 = 0.0;
-  /// The engaged arc [φ_en, φ_ex] (rad, clockwise from +Y, §3) when the
+  /// The engaged arcs [φ_en, φ_ex] (rad, clockwise from +Y, §3) when the
   /// material is not one straight wall beside the cutter: what a simulated
-  /// stock gives (chatter/stock.hpp: a pocket's corner, a pass across an
-  /// earlier slot). Empty = the arc of radial_immersion and direction
-  /// (milling_arc_rad). When given: 0 <= φ_en < φ_ex <= π, a flat cutter
-  /// only (a profile's slices take their arcs from a straight wall), and
-  /// milling() sets radial_immersion to (cos φ_en − cos φ_ex)/2, the arc's
-  /// width across the feed over D (what the removal rate reads).
-  std::optional<std::pair<double, double>> engaged_arc_rad{};
+  /// stock gives (chatter/stock.hpp: a pocket's corner; two arcs where a pass
+  /// crosses an earlier slot, the material on both sides of it). Empty = the
+  /// one arc of radial_immersion and direction (milling_arc_rad). When
+  /// given: sorted, disjoint, each 0 <= φ_en < φ_ex <= π; a flat cutter only
+  /// (a profile's slices take their arcs from a straight wall); milling()
+  /// sets radial_immersion to Σ (cos φ_en − cos φ_ex)/2, the arcs' width
+  /// across the feed over D (what the removal rate reads). A tooth cuts
+  /// while it is in any arc: every solver reads that through this Process
+  /// (in_cut, the directional integrals, engagement_events_s) and the cut.
+  std::vector<std::pair<double, double>> engaged_arcs_rad{};
 };
 
 /// One axial slice z_lo <= z <= z_hi of the cut of a cutter with a profile
@@ -385,9 +388,18 @@ class Process {
   /// Entry and exit angles φ_en, φ_ex (rad, clockwise from +Y) of a milling
   /// tooth: down-milling [arccos(2a_e/D − 1), π], up-milling [0, arccos(1 − 2a_e/D)].
   /// The one definition: milling_arc_rad (chatter/cutting_law.hpp), computed
-  /// once by milling(). @pre operation() == kMilling.
-  double entry_angle() const { return entry_rad_; }
-  double exit_angle() const { return exit_rad_; }
+  /// once by milling(). With several engaged arcs: the first arc's entry and
+  /// the last arc's exit (their hull; engaged_arcs gives each).
+  /// @pre operation() == kMilling.
+  double entry_angle() const { return arcs_.front().first; }
+  double exit_angle() const { return arcs_.back().second; }
+  /// The engaged arcs [φ_en, φ_ex] (rad), sorted and disjoint: one from a
+  /// radial immersion, or MillingParameters::engaged_arcs_rad. @pre milling.
+  const std::vector<std::pair<double, double>>& engaged_arcs() const { return arcs_; }
+  /// More than one engaged arc: a path that assumes one window (sdm's
+  /// straight-teeth grid, collocation, the exact-edge time domain, the forced
+  /// response) gives way to the general one or refuses.
+  bool split_engagement() const { return arcs_.size() > 1; }
 
   /// Directional matrix of one milling tooth at angle φ (rad) while it cuts,
   /// N/m²: [[(K_t cosφ + K_r sinφ) sinφ, (K_t cosφ + K_r sinφ) cosφ],
@@ -428,9 +440,9 @@ class Process {
   // Entry and exit times (s, not wrapped) of the profile's slices (engagement_events_s).
   std::vector<double> profile_events_s(double rpm, double depth_m) const;
   SpeedVariation speed_variation_{};
-  // φ_en, φ_ex of the milling arc (set by milling(); the defaults are the
-  // default MillingParameters' full-immersion down-milling arc [0, π]).
-  double entry_rad_ = 0.0, exit_rad_ = std::numbers::pi;
+  // The milling arcs (set by milling(); the default is the default
+  // MillingParameters' full-immersion down-milling arc [0, π]).
+  std::vector<std::pair<double, double>> arcs_{{0.0, std::numbers::pi}};
 };
 
 }  // namespace chatter

@@ -86,11 +86,16 @@ struct MillingEngagement {
   /// left of the feed: [entry, exit] ⊂ [0, π]; the ends snap to 0 and π
   /// within one cell of the cutter's rim. Valid when contact and not plunge.
   double entry_rad = 0.0, exit_rad = 0.0;
-  /// The arc's width across the feed: R (cos entry − cos exit), mm.
+  /// The arcs' width across the feed: R Σ (cos entry − cos exit), mm.
   double radial_depth_mm = 0.0;
-  /// Contact cells on both sides of the path with a gap between them on
-  /// the leading half: the arc reported is their hull (two arcs merged).
-  bool split = false;
+  /// The engaged arcs themselves, sorted, [entry, exit] ⊂ [0, π]: one
+  /// (= [entry_rad, exit_rad]) unless material lies on both sides of a gap
+  /// on the leading half (a pass across an earlier slot), then one per run
+  /// of material, the first starting at entry_rad and the last ending at
+  /// exit_rad. The inner ends are on the contact cells' angles, to about a
+  /// cell over R (the gap test's resolution, 1°).
+  std::vector<std::pair<double, double>> arcs_rad;
+  bool split = false;            ///< more than one arc
   bool plunge = false;           ///< moving along Z (no XY direction): reported as a slot
   double removed_mm3 = 0.0;      ///< the volume the envelope took at this position
 };

@@ -133,6 +133,44 @@ Given read_coefficient(const Table& process, const Quantity& q, const Range& ran
   return g;
 }
 
+// engaged_arc_deg: one arc [entry, exit] or a list of them [[en, ex], ...]
+// (degrees, clockwise from the normal left of the feed): each 0 <= en < ex
+// <= 180, sorted and not touching. Empty when bad (every error recorded).
+std::vector<std::pair<double, double>> read_engaged_arcs(const Document& doc, const Table& process) {
+  const std::string_view key = "engaged_arc_deg";
+  const toml::node* node = process.find(key);
+  const toml::array* list = node->as_array();
+  if (!list || list->empty()) {
+    doc.error(process.path_of(key), *node, "must be [entry, exit] or a list of them [[entry, exit], ...] (degrees)");
+    return {};
+  }
+  std::vector<std::pair<const toml::node*, Path>> arcs;  // each [entry, exit] node and its path
+  if (list->front().is_array()) {
+    for (std::size_t i = 0; i < list->size(); ++i) arcs.emplace_back(list->get(i), element(process.path_of(key), i));
+  } else {
+    arcs.emplace_back(node, process.path_of(key));
+  }
+  std::vector<std::pair<double, double>> out;
+  for (const auto& [arc, path] : arcs) {
+    const toml::array* a = arc->as_array();
+    std::optional<double> en, ex;
+    if (a && a->size() == 2) {
+      en = (*a)[0].value<double>();
+      ex = (*a)[1].value<double>();
+    }
+    if (!(en && ex && std::isfinite(*en) && std::isfinite(*ex) && *en >= 0.0 && *en < *ex && *ex <= 180.0)) {
+      doc.error(path, *arc, "must be [entry, exit] with 0 <= entry < exit <= 180 (degrees)");
+      return {};
+    }
+    if (!out.empty() && !(*en > out.back().second)) {
+      doc.error(path, *arc, "arcs must be sorted and must not touch or overlap (merge them into one)");
+      return {};
+    }
+    out.emplace_back(*en, *ex);
+  }
+  return out;
+}
+
 }  // namespace
 
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
@@ -230,22 +268,19 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
     std::optional<double> immersion;
     const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
-    // An engaged arc instead of a wall (what `chatter program` reads off a
-    // stock): [entry, exit] in degrees, 0 <= entry < exit <= 180.
-    std::optional<std::pair<double, double>> arc_deg;
+    // Engaged arcs instead of a wall (what `chatter program` reads off a stock).
+    std::vector<std::pair<double, double>> arcs_deg;
     if (process->has("engaged_arc_deg")) {
-      static constexpr Range kArcDeg{"in [0, 180] (degrees, clockwise from the normal left of the feed)", 0.0, false,
-                                     180.0, false};
-      const auto arc = process->number_list("engaged_arc_deg", kArcDeg);
       const auto* node = process->find("engaged_arc_deg");
       if (has_ae || has_ratio || process->has("milling_direction"))
         doc.error(process->path_of("engaged_arc_deg"), *node,
                   "not with radial_immersion, radial_depth_mm or milling_direction (the arc says both)");
-      else if (arc && (arc->size() != 2 || !((*arc)[0] < (*arc)[1])))
-        doc.error(process->path_of("engaged_arc_deg"), *node, "must be [entry, exit] with entry < exit (degrees)");
-      else if (arc)
-        arc_deg = std::pair{(*arc)[0], (*arc)[1]};
-      if (arc_deg) immersion = 0.5 * (std::cos(arc_deg->first * kPi / 180.0) - std::cos(arc_deg->second * kPi / 180.0));
+      else
+        arcs_deg = read_engaged_arcs(doc, *process);
+      if (!arcs_deg.empty()) {
+        immersion = 0.0;
+        for (const auto& [en, ex] : arcs_deg) *immersion += 0.5 * (std::cos(en * kPi / 180.0) - std::cos(ex * kPi / 180.0));
+      }
     } else if (has_ae && has_ratio) {
       doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
                 "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
@@ -347,7 +382,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     p.tangential_coefficient_n_per_m2 = *kt.si;
     p.radial_coefficient_n_per_m2 = *kr.si;
     p.radial_immersion = *immersion;
-    if (arc_deg) p.engaged_arc_rad = std::pair{arc_deg->first * kPi / 180.0, arc_deg->second * kPi / 180.0};
+    for (const auto& [en, ex] : arcs_deg) p.engaged_arcs_rad.emplace_back(en * kPi / 180.0, ex * kPi / 180.0);
     p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
     constexpr double kDegToRad = kPi / 180.0;
     if (helix) {

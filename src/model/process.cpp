@@ -94,14 +94,19 @@ Process Process::milling(MillingParameters p) {
           "tangential coefficient K_t must be > 0 N/m^2");
   require(std::isfinite(p.radial_coefficient_n_per_m2) && p.radial_coefficient_n_per_m2 >= 0.0,
           "radial coefficient K_r must be >= 0 N/m^2");
-  if (p.engaged_arc_rad) {
-    const auto [en, ex] = *p.engaged_arc_rad;
-    require(std::isfinite(en) && std::isfinite(ex) && en >= 0.0 && en < ex && ex <= std::numbers::pi,
-            "engaged arc: must be 0 <= entry < exit <= 180 deg");
+  if (!p.engaged_arcs_rad.empty()) {
+    double width = 0.0, last_exit = -1.0;
+    for (const auto& [en, ex] : p.engaged_arcs_rad) {
+      require(std::isfinite(en) && std::isfinite(ex) && en >= 0.0 && en < ex && ex <= std::numbers::pi,
+              "engaged arc: must be 0 <= entry < exit <= 180 deg");
+      require(en > last_exit, "engaged arcs: must be sorted and must not touch or overlap (merge them into one)");
+      last_exit = ex;
+      width += 0.5 * (std::cos(en) - std::cos(ex));
+    }
     require(p.cutter.geometry == CutterGeometry::kFlat,
             "engaged arc: only for a flat cutter (a profile's slices take their arcs from a straight wall: give "
             "radial_immersion and direction)");
-    p.radial_immersion = 0.5 * (std::cos(en) - std::cos(ex));
+    p.radial_immersion = width;
   }
   require(std::isfinite(p.radial_immersion) && p.radial_immersion > 0.0 && p.radial_immersion <= 1.0,
           "radial immersion a_e/D must be in (0, 1]");
@@ -174,10 +179,10 @@ Process Process::milling(MillingParameters p) {
   p.helix_angles_rad = helix;
   if (!any_helix) p.helix_angles_rad.clear();
   pr.milling_ = p;
-  if (p.engaged_arc_rad)
-    std::tie(pr.entry_rad_, pr.exit_rad_) = *p.engaged_arc_rad;
+  if (!p.engaged_arcs_rad.empty())
+    pr.arcs_ = p.engaged_arcs_rad;
   else
-    std::tie(pr.entry_rad_, pr.exit_rad_) = milling_arc_rad(p.radial_immersion, p.direction);
+    pr.arcs_ = {milling_arc_rad(p.radial_immersion, p.direction)};
   return pr;
 }
 
@@ -316,7 +321,9 @@ double Process::tooth_delay_s(int j, double z_m, double rpm) const {
 bool Process::in_cut(double phi) const {
   phi = std::fmod(phi, kTwoPi);
   if (phi < 0.0) phi += kTwoPi;
-  return phi >= entry_angle() && phi <= exit_angle();
+  for (const auto& [en, ex] : arcs_)
+    if (phi >= en && phi <= ex) return true;
+  return false;
 }
 
 Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
@@ -326,9 +333,14 @@ Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, dou
       for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_integral(j, s, t_a, t_b, rpm);
     return sum;
   }
-  const Windowed w(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
-                   entry_angle(), exit_angle());
-  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  const auto trig = force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2);
+  const double omega = kTwoPi * rpm / 60.0;
+  Eigen::Matrix2d sum = time_height_integral(Windowed(trig, arcs_[0].first, arcs_[0].second), omega,
+                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  for (std::size_t k = 1; k < arcs_.size(); ++k)
+    sum += time_height_integral(Windowed(trig, arcs_[k].first, arcs_[k].second), omega, tooth_offset_rad(j),
+                                helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  return sum;
 }
 
 Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
@@ -339,15 +351,24 @@ Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, doubl
       for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_direction_integral(j, s, t_a, t_b, rpm);
     return sum;
   }
-  const Windowed w(force_direction_trig(milling_.tangential_coefficient_n_per_m2,
-                                        milling_.radial_coefficient_n_per_m2),
-                   entry_angle(), exit_angle());
-  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  const auto trig = force_direction_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2);
+  const double omega = kTwoPi * rpm / 60.0;
+  Eigen::Vector2d sum = time_height_integral(Windowed(trig, arcs_[0].first, arcs_[0].second), omega,
+                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  for (std::size_t k = 1; k < arcs_.size(); ++k)
+    sum += time_height_integral(Windowed(trig, arcs_[k].first, arcs_[k].second), omega, tooth_offset_rad(j),
+                                helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  return sum;
 }
 
 Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
-  const Windowed w(damping_trig(), entry_angle(), exit_angle());
-  return time_height_integral(w, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  const double omega = kTwoPi * rpm / 60.0;
+  Eigen::Matrix2d sum = time_height_integral(Windowed(damping_trig(), arcs_[0].first, arcs_[0].second), omega,
+                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  for (std::size_t k = 1; k < arcs_.size(); ++k)
+    sum += time_height_integral(Windowed(damping_trig(), arcs_[k].first, arcs_[k].second), omega,
+                                tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+  return sum;
 }
 
 Eigen::Matrix2d Process::damping_direction(double phi) {
@@ -377,7 +398,9 @@ Eigen::Matrix2d Process::average_damping_direction() const {
     return turning_damping_matrix(1.0);  // b n nᵀ at a = 1 m: (b/a) n nᵀ
   }
   const Trig2 t = damping_trig();
-  return milling_.teeth / kTwoPi * (t.f1(exit_angle()) - t.f1(entry_angle()));
+  Eigen::Matrix2d integral = t.f1(arcs_[0].second) - t.f1(arcs_[0].first);
+  for (std::size_t k = 1; k < arcs_.size(); ++k) integral += t.f1(arcs_[k].second) - t.f1(arcs_[k].first);
+  return milling_.teeth / kTwoPi * integral;
 }
 
 std::vector<double> Process::engagement_events_s(double rpm, double depth_m) const {
@@ -393,7 +416,9 @@ std::vector<double> Process::engagement_events_s(double rpm, double depth_m) con
     }
   }
   for (int j = 0; j < milling_.teeth && !has_profile(); ++j) {
-    for (const double edge : {entry_angle(), exit_angle()}) {
+    std::vector<double> edges;
+    for (const auto& [en, ex] : arcs_) edges.insert(edges.end(), {en, ex});
+    for (const double edge : edges) {
       for (const double z : {0.0, depth_m}) {
         // φ_j(t, z) = edge (mod 2π) → t = (edge + Θ_j + κ z) / Ω (mod period)
         double t = std::fmod((edge + tooth_offset_rad(j) + z * helix_lag_rad_per_m(j)) / omega, period);
@@ -464,12 +489,12 @@ Eigen::Matrix2d Process::directional_matrix(double t_s, double rpm) const {
     return turning_matrix(1.0);
   }
   const double omega = kTwoPi * rpm / 60.0;
-  const double en = entry_angle(), ex = exit_angle();
   Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
   for (int j = 0; j < milling_.teeth; ++j) {
     double phi = std::fmod(omega * t_s + kTwoPi * j / milling_.teeth, kTwoPi);
     if (phi < 0.0) phi += kTwoPi;
-    if (phi >= en && phi <= ex) h += tooth_matrix(phi);
+    for (const auto& [en, ex] : arcs_)
+      if (phi >= en && phi <= ex) h += tooth_matrix(phi);
   }
   return h;
 }
@@ -495,8 +520,9 @@ Eigen::Matrix2d Process::average_directional_matrix() const {
                              "(average_directional_matrix_at, or at_depth)");
     return average_directional_matrix_at(frozen_depth_m_);
   }
-  const Eigen::Matrix2d integral = tooth_matrix_antiderivative(exit_angle()) -
-                                   tooth_matrix_antiderivative(entry_angle());
+  Eigen::Matrix2d integral = tooth_matrix_antiderivative(arcs_[0].second) - tooth_matrix_antiderivative(arcs_[0].first);
+  for (std::size_t k = 1; k < arcs_.size(); ++k)
+    integral += tooth_matrix_antiderivative(arcs_[k].second) - tooth_matrix_antiderivative(arcs_[k].first);
   return milling_.teeth / kTwoPi * integral;
 }
 

@@ -43,12 +43,14 @@ Config cut_config(const ToolSetup& t, const Sample& s) {
   Config c = base;
   MillingParameters mp = base.process.milling_parameters();
   const double step = kArcStepDeg * kPi / 180.0;
-  const double en = s.arc_en * step, ex = s.arc_ex * step;
+  const double en = s.arc_en() * step, ex = s.arc_ex() * step;
   if (t.flat) {
-    mp.engaged_arc_rad = std::pair{en, ex};
-  } else if (s.arc_en == 0 && s.arc_ex == static_cast<int>(std::lround(180.0 / kArcStepDeg))) {
+    // Every arc as data: the solvers read them through the Process.
+    mp.engaged_arcs_rad.clear();
+    for (const auto& [a, b] : s.arcs) mp.engaged_arcs_rad.emplace_back(a * step, b * step);
+  } else if (s.arc_en() == 0 && s.arc_ex() == static_cast<int>(std::lround(180.0 / kArcStepDeg))) {
     mp.radial_immersion = 1.0;
-  } else if (s.arc_en == 0) {
+  } else if (s.arc_en() == 0) {
     mp.direction = MillingDirection::kUp;
     mp.radial_immersion = 0.5 * (1.0 - std::cos(ex));
   } else {
@@ -90,7 +92,7 @@ Solves key_samples(const Engaged& eng, bool cache) {
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < eng.samples.size(); ++i) {
     const Sample& s = eng.samples[i];
-    const std::string k = cut_key(eng.rows[s.row].tool, s.rpm, s.arc_en, s.arc_ex, s.position_mm);
+    const std::string k = cut_key(eng.rows[s.row].tool, s.rpm, s.arcs, s.position_mm);
     const auto [it, fresh] = cache ? index.try_emplace(k, out.first_sample.size()) : std::pair{index.end(), true};
     out.key_of[i] = fresh ? out.first_sample.size() : it->second;
     if (fresh) out.first_sample.push_back(i);
@@ -173,7 +175,7 @@ std::vector<std::size_t> load_rows(Engaged& eng, const Solves& sv, const std::ma
     }
     note(s.facing, "facing: the depth of cut is axial, checked in the tool config's frame");
     note(s.plunge, "plunge: moving along Z, checked as a slot");
-    note(s.split, "two engaged arcs: checked as their hull");
+    note(s.split, "two engaged arcs: each solved as an arc of the cut (no part error: the wall is not defined)");
     note(s.widened, "arc widened to a wall for the cutter's profile");
   }
   return worst;
@@ -244,9 +246,14 @@ void fill_row(ProgramRow& row, const Sample& s, const RowVerdict& v, const Toolp
   } else {
     const double step = kArcStepDeg * kPi / 180.0;
     row.axial_depth_mm = s.depth_mm;
-    row.entry_angle_deg = s.arc_en * kArcStepDeg;
-    row.exit_angle_deg = s.arc_ex * kArcStepDeg;
-    row.radial_depth_mm = radius_mm * (std::cos(s.arc_en * step) - std::cos(s.arc_ex * step));
+    row.entry_angle_deg = s.arc_en() * kArcStepDeg;
+    row.exit_angle_deg = s.arc_ex() * kArcStepDeg;
+    row.radial_depth_mm = 0.0;
+    row.arcs_deg.clear();
+    for (const auto& [en, ex] : s.arcs) {
+      row.radial_depth_mm += radius_mm * (std::cos(en * step) - std::cos(ex * step));
+      row.arcs_deg.emplace_back(en * kArcStepDeg, ex * kArcStepDeg);
+    }
   }
   row.depth_limit_mm = p.limit.limit.depth_limit_m * 1e3;
   row.margin = p.margin;

@@ -41,6 +41,19 @@ std::pair<int, int> quantised_arc(double entry_rad, double exit_rad) {
   return {en, ex};
 }
 
+// Every arc on the grid, widened outward; arcs that then touch are merged.
+std::vector<std::pair<int, int>> quantised_arcs(const std::vector<std::pair<double, double>>& arcs_rad) {
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [en, ex] : arcs_rad) {
+    const std::pair<int, int> q = quantised_arc(en, ex);
+    if (!out.empty() && q.first <= out.back().second)
+      out.back().second = std::max(out.back().second, q.second);
+    else
+      out.push_back(q);
+  }
+  return out;
+}
+
 }  // namespace
 
 double block_rpm(const ToolpathMove& m, double s, const Job& job) {
@@ -84,9 +97,10 @@ ToolSetup tool_setup(const JobTool& tool, bool turning) {
   return t;
 }
 
-std::string cut_key(int tool, double rpm, int en, int ex, double position_mm) {
-  return std::to_string(tool) + "|" + exact(rpm) + "|" + std::to_string(en) + "|" + std::to_string(ex) + "|" +
-         exact(position_mm);
+std::string cut_key(int tool, double rpm, const std::vector<std::pair<int, int>>& arcs, double position_mm) {
+  std::string k = std::to_string(tool) + "|" + exact(rpm) + "|";
+  for (const auto& [en, ex] : arcs) k += std::to_string(en) + "-" + std::to_string(ex) + ",";
+  return k + "|" + exact(position_mm);
 }
 
 Engaged simulate_stock(const Job& job, const Toolpath& path, const std::map<int, ToolSetup>& tools) {
@@ -139,18 +153,22 @@ Engaged simulate_stock(const Job& job, const Toolpath& path, const std::map<int,
         const MillingEngagement e = box->cut(p, f, shape, m.spindle_clockwise);
         if (e.contact) {
           smp.depth_mm = e.axial_depth_mm;
-          double en = e.entry_rad, ex = e.exit_rad;
-          if (it != tools.end() && !it->second.flat && en > 0.0 && ex < kPi) {
+          if (it != tools.end() && !it->second.flat && (e.split || (e.entry_rad > 0.0 && e.exit_rad < kPi))) {
             // A profile's slices take their arcs from a straight wall: the
-            // arc widened to the nearer end (conservative), said in a note.
-            if (en < kPi - ex)
-              en = 0.0;
-            else
-              ex = kPi;
+            // hull widened to the nearer end (conservative), said in a note.
+            double en = e.entry_rad, ex = e.exit_rad;
+            if (en > 0.0 && ex < kPi) {
+              if (en < kPi - ex)
+                en = 0.0;
+              else
+                ex = kPi;
+            }
+            smp.arcs = {quantised_arc(en, ex)};
             smp.widened = true;
+          } else {
+            smp.arcs = quantised_arcs(e.arcs_rad);
+            smp.split = smp.arcs.size() > 1;
           }
-          std::tie(smp.arc_en, smp.arc_ex) = quantised_arc(en, ex);
-          smp.split = e.split;
           smp.plunge = e.plunge;
         }
       }

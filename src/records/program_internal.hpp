@@ -38,7 +38,11 @@ struct Sample {
   std::size_t row = 0;        ///< index of its move
   double rpm = 0.0;           ///< rev/min, as solved and reported
   double depth_mm = 0.0;      ///< depth of cut (turning) or axial depth (milling)
-  int arc_en = 0, arc_ex = 0; ///< milling: the arc on the kArcStepDeg grid
+  /// Milling: the engaged arcs on the kArcStepDeg grid (sorted, disjoint;
+  /// one unless the stock gave material on both sides of a gap).
+  std::vector<std::pair<int, int>> arcs;
+  int arc_en() const { return arcs.front().first; }  ///< the hull's entry (grid index)
+  int arc_ex() const { return arcs.back().second; }  ///< the hull's exit (grid index)
   bool split = false, plunge = false, widened = false;  ///< milling notes
   double position_mm = 0.0;   ///< turning: on the bar's cells
   double diameter_mm = 0.0;   ///< turning: the bar where it cuts
@@ -76,6 +80,6 @@ void fix_feed(ProgramRow& row, const ToolpathMove& m, const Solved& cut, const J
               std::vector<std::string>& warnings);
 
 /// The solve cache's key: tool, speed, arc grid indices (milling), position (turning).
-std::string cut_key(int tool, double rpm, int en, int ex, double position_mm);
+std::string cut_key(int tool, double rpm, const std::vector<std::pair<int, int>>& arcs, double position_mm);
 
 }  // namespace chatter::program_detail

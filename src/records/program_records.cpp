@@ -74,6 +74,11 @@ json program_record(const ProgramReport& rep) {
     j["air"] = r.air;
     for (const Column& c : kColumns)
       if (shown(c, rep.turning)) j[c.name] = finite_or_null(c.get(r));
+    if (!rep.turning) {  // every engaged arc (one unless the stock gave two): [[entry, exit], ...], degrees
+      json arcs = json::array();
+      for (const auto& [en, ex] : r.arcs_deg) arcs.push_back({en, ex});
+      j["engaged_arcs_deg"] = r.air ? json(nullptr) : arcs;
+    }
     j["stable"] = r.air ? json(nullptr) : json(r.stable);
     j["overloaded"] = r.overloaded;
     j["notes"] = r.notes;
@@ -147,11 +152,17 @@ std::string program_csv(const ProgramReport& rep) {
   os << "line,tool,air";
   for (const Column& c : kColumns)
     if (shown(c, rep.turning)) os << "," << c.name;
+  if (!rep.turning) os << ",engaged_arcs_deg";
   os << ",stable,overloaded\n";
   for (const ProgramRow& r : rep.rows) {
     os << r.line << "," << r.tool << "," << (r.air ? "true" : "false");
     for (const Column& c : kColumns)
       if (shown(c, rep.turning)) os << "," << cell(c.get(r));
+    if (!rep.turning) {  // "entry-exit" per arc, ';' between arcs
+      os << ",";
+      for (std::size_t k = 0; !r.air && k < r.arcs_deg.size(); ++k)
+        os << (k ? ";" : "") << cell(r.arcs_deg[k].first) << "-" << cell(r.arcs_deg[k].second);
+    }
     os << "," << (r.air ? "" : r.stable ? "true" : "false") << "," << (r.overloaded ? "true" : "false") << "\n";
   }
   return os.str();

@@ -169,7 +169,8 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
 bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o) {
   return o.general_cutter_path ||
          (p.operation() == Operation::kMilling &&
-          (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile()));
+          (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile() ||
+           p.split_engagement()));
 }
 
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
@@ -177,7 +178,7 @@ std::string collocation_refusal(const Process& p, const SemiDiscretizationOption
   const char* what = p.operation() != Operation::kMilling ? "is turning"
                      : p.has_speed_variation()            ? "has spindle speed variation"
                      : real_cutter_grid(p, o)             ? "takes the real-cutter path (a helix, variable pitch, "
-                                                            "process damping or a profile)"
+                                                            "process damping, a profile or two engaged arcs)"
                                                           : nullptr;
   if (!what) return "";
   std::ostringstream os;

@@ -85,7 +85,8 @@ bool exact_edge_applies(const Process& p, const TimeDomainOptions& o, bool linea
       p.has_profile())
     return false;
   if (!linear && (p.has_runout() || multiple_regeneration)) return false;
-  return p.entry_angle() >= 0.0 && p.exit_angle() <= kPi;  // the arc inside [0, π]: sin φ >= 0 there
+  // One arc, inside [0, π] (sin φ >= 0 there); several arcs take the slices.
+  return !p.split_engagement() && p.entry_angle() >= 0.0 && p.exit_angle() <= kPi;
 }
 
 void Model::init_edge(const TimeDomainOptions& o) {

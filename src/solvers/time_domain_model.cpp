@@ -53,8 +53,9 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
   if (milling_) {
     kt_ = process.milling_parameters().tangential_coefficient_n_per_m2;
     kr_ = process.milling_parameters().radial_coefficient_n_per_m2;
-    phi_en_ = process.entry_angle();
-    phi_ex_ = process.exit_angle();
+    arcs_ = process.engaged_arcs();
+    phi_en_ = arcs_.front().first;  // the one arc's ends (the exact edge's window)
+    phi_ex_ = arcs_.back().second;
   } else {
     kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
     orthogonal_ = process.orthogonal_turning();
@@ -87,7 +88,7 @@ void Model::set_segment(double t_mid) {
   }
   for (int j = 0; j < teeth_; ++j) {
     const double phi = wrap(angle(t_mid, j));
-    in_arc_[j] = (phi >= phi_en_ && phi <= phi_ex_) ? 1 : 0;
+    in_arc_[j] = in_arcs(phi) ? 1 : 0;
   }
 }
 
@@ -114,7 +115,7 @@ std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) co
     };
     if (slices_ == 1 && !profile_) {
       for (const CutElement& e : elements_)
-        for (const double edge : {phi_en_, phi_ex_}) {
+        for (const double edge : arc_edges()) {
           const double lag = process_.tooth_offset_rad(e.tooth) + e.z * process_.helix_lag_rad_per_m(e.tooth);
           double t0 = std::fmod((edge + lag) / omega_spindle_, rev);
           if (t0 < 0.0) t0 += rev;
@@ -127,7 +128,7 @@ std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) co
     return out;
   }
   const double pitch = 2.0 * kPi / teeth_;
-  for (double phi : {phi_en_, phi_ex_}) {
+  for (double phi : arc_edges()) {
     const double t0 = std::fmod(phi, pitch) / omega_spindle_;
     for (long k = 0; t0 + static_cast<double>(k) * tooth_period <= t_end; ++k)
       out.push_back(t0 + static_cast<double>(k) * tooth_period);
@@ -337,9 +338,18 @@ double Model::element_angle(const CutElement& e, double t) const {
   return process_.tooth_angle_rad(e.tooth, mean_time(t), e.z, settings_.spindle_rpm);
 }
 
-bool Model::in_window(double phi) const {
-  phi = wrap(phi);
-  return phi >= phi_en_ && phi <= phi_ex_;
+bool Model::in_window(double phi) const { return in_arcs(wrap(phi)); }
+
+bool Model::in_arcs(double phi) const {
+  for (const auto& [en, ex] : arcs_)
+    if (phi >= en && phi <= ex) return true;
+  return false;
+}
+
+std::vector<double> Model::arc_edges() const {
+  std::vector<double> edges;
+  for (const auto& [en, ex] : arcs_) edges.insert(edges.end(), {en, ex});
+  return edges;
 }
 
 // How far (rad) a tooth's edge must miss the arc for element_angles to skip
@@ -353,7 +363,12 @@ constexpr double kOutOfArcMargin = 1e-9;
 // (the exact windowed integral over the slice height, with the chip and
 // direction taken at the midpoint). w = 0: the arc test.
 // φ is wrapped to [0, 2π).
-double Model::engaged_fraction(double phi, double w) const { return engaged_fraction(phi, w, phi_en_, phi_ex_); }
+// With several arcs (Process::engaged_arcs) the fractions add: the arcs are disjoint.
+double Model::engaged_fraction(double phi, double w) const {
+  double f = engaged_fraction(phi, w, arcs_[0].first, arcs_[0].second);
+  for (std::size_t k = 1; k < arcs_.size(); ++k) f += engaged_fraction(phi, w, arcs_[k].first, arcs_[k].second);
+  return f;
+}
 
 // The same for an arc [en, ex] of its own (a slice of a cutter profile).
 double Model::engaged_fraction(double phi, double w, double en, double ex) const {
@@ -432,8 +447,9 @@ void Model::element_angles(double t) const {
       const double lo = wrap(process_.tooth_angle_rad(j, tm, 0.0, settings_.spindle_rpm) -
                              slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) - kOutOfArcMargin);
       const double hi = lo + span;
-      const bool meets = std::min(hi, phi_ex_) >= std::max(lo, phi_en_) ||
-                         std::min(hi, phi_ex_ + 2.0 * kPi) >= std::max(lo, phi_en_ + 2.0 * kPi);
+      bool meets = false;
+      for (const auto& [en, ex] : arcs_)
+        meets = meets || std::min(hi, ex) >= std::max(lo, en) || std::min(hi, ex + 2.0 * kPi) >= std::max(lo, en + 2.0 * kPi);
       if (!meets) {
         tooth_out_[static_cast<std::size_t>(j)] = 1;
         continue;

@@ -22,6 +22,47 @@ constexpr double kContactEpsMm = 1e-6;
 // arcs (ZMapStock::cut's `split`).
 constexpr int kArcBins = 180;
 
+// Per 1° bin of the leading half: the smallest and largest angle of
+// material met there (contact cells and the rim band), NaN = none.
+struct ArcBins {
+  std::array<float, kArcBins> lo, hi;
+  ArcBins() {
+    lo.fill(std::numeric_limits<float>::quiet_NaN());
+    hi.fill(std::numeric_limits<float>::quiet_NaN());
+  }
+  void mark(double phi) {
+    const auto b = static_cast<std::size_t>(std::clamp(static_cast<int>(phi / kPi * kArcBins), 0, kArcBins - 1));
+    const auto f = static_cast<float>(phi);
+    if (std::isnan(lo[b]) || f < lo[b]) lo[b] = f;
+    if (std::isnan(hi[b]) || f > hi[b]) hi[b] = f;
+  }
+  // The arcs from `entry` to `exit` (rad): a gap of more than `allowed`
+  // empty bins (the cells' angular spacing at the rim) splits them, one arc
+  // per run of material.
+  std::vector<std::pair<double, double>> arcs(double entry, double exit, int allowed) const {
+    std::vector<std::pair<double, double>> out;
+    const int first = std::max(static_cast<int>(entry / kPi * kArcBins), 0);
+    const int last = std::min(static_cast<int>(exit / kPi * kArcBins), kArcBins - 1);
+    int run = 0;
+    double start = entry, end = entry;  // the current arc's start, its last material
+    for (int b = first; b <= last; ++b) {
+      const auto k = static_cast<std::size_t>(b);
+      if (std::isnan(lo[k])) {
+        ++run;
+        continue;
+      }
+      if (run > allowed) {  // a gap behind: close the arc before it
+        out.emplace_back(start, end);
+        start = lo[k];
+      }
+      run = 0;
+      end = hi[k];
+    }
+    out.emplace_back(start, exit);
+    return out;
+  }
+};
+
 std::string num(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%.6g", x);
@@ -91,7 +132,7 @@ MillingEngagement ZMapStock::cut(const Eigen::Vector3d& tip, const Eigen::Vector
   double phi_min = kPi, phi_max = 0.0;
   bool leading = false;
   double rim_lo = kPi, rim_hi = 0.0;  // the rim band's material on the leading half
-  std::array<unsigned char, kArcBins> bins{};
+  ArcBins bins;
   const double r2 = R * R;
   // Every envelope and the rim lie at or above z_low: a cell at or below it
   // (most of the disk once the first pass has been) is skipped on one compare.
@@ -115,6 +156,7 @@ MillingEngagement ZMapStock::cut(const Eigen::Vector3d& tip, const Eigen::Vector
           const double phi = std::atan2(along, side * (dx * n.x() + dy * n.y()));
           rim_lo = std::min(rim_lo, phi);
           rim_hi = std::max(rim_hi, phi);
+          bins.mark(phi);
         }
         continue;
       }
@@ -130,7 +172,7 @@ MillingEngagement ZMapStock::cut(const Eigen::Vector3d& tip, const Eigen::Vector
         leading = true;
         phi_min = std::min(phi_min, phi);
         phi_max = std::max(phi_max, phi);
-        bins[static_cast<std::size_t>(std::clamp(static_cast<int>(phi / kPi * kArcBins), 0, kArcBins - 1))] = 1;
+        bins.mark(phi);
       }
       e.removed_mm3 += (top - env) * area;
       row[i] = static_cast<float>(env);
@@ -153,16 +195,13 @@ MillingEngagement ZMapStock::cut(const Eigen::Vector3d& tip, const Eigen::Vector
     const double snap = 1.5 * h_ / std::max(R, h_);
     e.entry_rad = phi_min <= snap ? 0.0 : phi_min;
     e.exit_rad = phi_max >= kPi - snap ? kPi : phi_max;
-    int lo = static_cast<int>(phi_min / kPi * kArcBins), hi = static_cast<int>(phi_max / kPi * kArcBins);
-    // A gap of more bins than the cells' angular spacing at the rim.
+    // A gap of more bins than the cells' angular spacing at the rim splits the arc.
     const int allowed = 2 + static_cast<int>(std::ceil(h_ / std::max(R, h_) / kPi * kArcBins));
-    int run = 0;
-    for (int b = std::max(lo, 0); b <= std::min(hi, kArcBins - 1); ++b) {
-      run = bins[static_cast<std::size_t>(b)] ? 0 : run + 1;
-      if (run > allowed) e.split = true;
-    }
+    e.arcs_rad = bins.arcs(e.entry_rad, e.exit_rad, allowed);
+    e.split = e.arcs_rad.size() > 1;
   }
-  e.radial_depth_mm = R * (std::cos(e.entry_rad) - std::cos(e.exit_rad));
+  if (e.arcs_rad.empty()) e.arcs_rad.emplace_back(e.entry_rad, e.exit_rad);
+  for (const auto& [en, ex] : e.arcs_rad) e.radial_depth_mm += R * (std::cos(en) - std::cos(ex));
   return e;
 }
 

@@ -53,7 +53,8 @@ struct ProgramRow {
   double feed = 0.0;                   ///< per tooth (milling) or per revolution (turning), mm
   double axial_depth_mm = 0.0;         ///< milling
   double radial_depth_mm = 0.0;        ///< milling: R (cos entry − cos exit)
-  double entry_angle_deg = 0.0, exit_angle_deg = 0.0;  ///< milling
+  double entry_angle_deg = 0.0, exit_angle_deg = 0.0;  ///< milling: the first arc's entry, the last arc's exit
+  std::vector<std::pair<double, double>> arcs_deg;     ///< milling: every engaged arc (one unless split)
   double depth_mm = 0.0;               ///< depth of cut (turning); the axial depth (milling)
   double position_mm = 0.0;            ///< turning: from the clamp
   double diameter_mm = 0.0;            ///< turning: the bar's diameter where it cuts

@@ -30,6 +30,19 @@ ArcIntegrals arc_integrals(double a, double b) {
   return I;
 }
 
+ArcIntegrals arc_integrals(const std::vector<std::pair<double, double>>& arcs) {
+  ArcIntegrals sum = arc_integrals(arcs.front().first, arcs.front().second);
+  for (std::size_t k = 1; k < arcs.size(); ++k) {
+    const ArcIntegrals I = arc_integrals(arcs[k].first, arcs[k].second);
+    sum.sin_cos += I.sin_cos;
+    sum.sin_sq += I.sin_sq;
+    sum.cos += I.cos;
+    sum.sin += I.sin;
+    sum.width_rad += I.width_rad;
+  }
+  return sum;
+}
+
 Eigen::Vector2d milling_mean_force_n(int teeth, const ArcIntegrals& I, double f, double a, double kt, double kr,
                                      const EdgeCoefficients& edge) {
   const double c = teeth * a / (2 * std::numbers::pi);

@@ -64,7 +64,7 @@ class MillingLaw final : public CuttingLaw {
       m.torque_n_m = torque;
       m.removal_rate_m3_per_s = section * table_speed;
     } else {
-      const ArcIntegrals I = arc_integrals(process_.entry_angle(), process_.exit_angle());
+      const ArcIntegrals I = arc_integrals(process_.engaged_arcs());
       m.force_n = milling_mean_force_n(nt, I, p.feed_m, p.depth_m, kt, mp.radial_coefficient_n_per_m2, edge_);
       m.tangential_force_n = milling_mean_tangential_force_n(nt, I, p.feed_m, p.depth_m, kt, edge_.tangential_n_per_m);
       m.torque_n_m = m.tangential_force_n * p.diameter_m / 2.0;
