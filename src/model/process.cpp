@@ -35,6 +35,19 @@ constexpr double kPitchSumTolerance = 1e-6;
 // Helix angles below 90° by at least this (rad): tan β stays finite.
 constexpr double kHelixMax = 0.5 * std::numbers::pi - 1e-6;
 
+// A straight tooth's windowed integral over every engaged arc (they are
+// disjoint: the integrals add). One arc: exactly time_height_integral's.
+template <class T>
+typename Windowed<T>::Value arcs_integral(const T& trig, const std::vector<std::pair<double, double>>& arcs,
+                                          double omega, double theta, double kappa, double t_a, double t_b,
+                                          double a_m) {
+  typename Windowed<T>::Value sum =
+      time_height_integral(Windowed(trig, arcs[0].first, arcs[0].second), omega, theta, kappa, t_a, t_b, a_m);
+  for (std::size_t k = 1; k < arcs.size(); ++k)
+    sum += time_height_integral(Windowed(trig, arcs[k].first, arcs[k].second), omega, theta, kappa, t_a, t_b, a_m);
+  return sum;
+}
+
 }  // namespace
 
 InsertChord insert_chord(double kappa_r, double r, double a) {
@@ -333,14 +346,8 @@ Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, dou
       for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_integral(j, s, t_a, t_b, rpm);
     return sum;
   }
-  const auto trig = force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2);
-  const double omega = kTwoPi * rpm / 60.0;
-  Eigen::Matrix2d sum = time_height_integral(Windowed(trig, arcs_[0].first, arcs_[0].second), omega,
-                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  for (std::size_t k = 1; k < arcs_.size(); ++k)
-    sum += time_height_integral(Windowed(trig, arcs_[k].first, arcs_[k].second), omega, tooth_offset_rad(j),
-                                helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  return sum;
+  return arcs_integral(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
+                       arcs_, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
 }
 
 Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
@@ -351,24 +358,14 @@ Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, doubl
       for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_direction_integral(j, s, t_a, t_b, rpm);
     return sum;
   }
-  const auto trig = force_direction_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2);
-  const double omega = kTwoPi * rpm / 60.0;
-  Eigen::Vector2d sum = time_height_integral(Windowed(trig, arcs_[0].first, arcs_[0].second), omega,
-                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  for (std::size_t k = 1; k < arcs_.size(); ++k)
-    sum += time_height_integral(Windowed(trig, arcs_[k].first, arcs_[k].second), omega, tooth_offset_rad(j),
-                                helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  return sum;
+  return arcs_integral(
+      force_direction_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2), arcs_,
+      kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
 }
 
 Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
-  const double omega = kTwoPi * rpm / 60.0;
-  Eigen::Matrix2d sum = time_height_integral(Windowed(damping_trig(), arcs_[0].first, arcs_[0].second), omega,
-                                             tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  for (std::size_t k = 1; k < arcs_.size(); ++k)
-    sum += time_height_integral(Windowed(damping_trig(), arcs_[k].first, arcs_[k].second), omega,
-                                tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-  return sum;
+  return arcs_integral(damping_trig(), arcs_, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a,
+                       t_b, a_m);
 }
 
 Eigen::Matrix2d Process::damping_direction(double phi) {
