@@ -87,7 +87,7 @@ ForcedResponseSolver::ForcedResponseSolver(StructuralModel model, Process proces
         if (model_.has_measured())
           throw InputError("forced response needs modes, not measured FRFs: fit modes to the measurement first "
                            "(chatter fit)");
-        if (process_.operation() == Operation::kMilling && process_.split_engagement())
+        if (process_.split_engagement())  // (turning has one window: never split)
           throw InputError("the forced response (surface location error) with two engaged arcs is not modelled (which "
                            "wall the SLE is at is not defined): give one arc");
         if (process_.has_speed_variation())
