@@ -87,8 +87,7 @@ void Model::set_segment(double t_mid) {
     return;
   }
   for (int j = 0; j < teeth_; ++j) {
-    const double phi = wrap(angle(t_mid, j));
-    in_arc_[j] = in_arcs(phi) ? 1 : 0;
+    in_arc_[j] = process_.in_cut(angle(t_mid, j)) ? 1 : 0;  // (in_cut wraps as wrap() does)
   }
 }
 
@@ -338,13 +337,7 @@ double Model::element_angle(const CutElement& e, double t) const {
   return process_.tooth_angle_rad(e.tooth, mean_time(t), e.z, settings_.spindle_rpm);
 }
 
-bool Model::in_window(double phi) const { return in_arcs(wrap(phi)); }
-
-bool Model::in_arcs(double phi) const {
-  for (const auto& [en, ex] : arcs_)
-    if (phi >= en && phi <= ex) return true;
-  return false;
-}
+bool Model::in_window(double phi) const { return process_.in_cut(phi); }  // (in_cut wraps as wrap() does)
 
 std::vector<double> Model::arc_edges() const {
   std::vector<double> edges;

@@ -267,7 +267,6 @@ class Model {
   bool milling_ = false;
   double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
   std::vector<std::pair<double, double>> arcs_;  // the process's engaged arcs (milling)
-  bool in_arcs(double phi) const;                // φ in [0, 2π) in any arc
   std::vector<double> arc_edges() const;         // every arc's entry and exit
   double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m² (at the mean speed)
   // Spindle speed variation: on, the modulated speed, and the uniform
