@@ -19,6 +19,7 @@
 #include "chatter/io/grinding_io.hpp"
 #include "chatter/io/plot_grinding.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/kinematics.hpp"
 #include "cli_common.hpp"
 #include "cmd_grind.hpp"
 #include "commands.hpp"
@@ -153,7 +154,7 @@ int cmd_predict(const std::vector<std::string>& args) {
   if (!json_path.empty() && json_path != "-") write_text_file(json_path, json);
 
   std::ostream& os = json_path == "-" ? std::cerr : std::cout;
-  os << config << " (" << c.name << "): " << f6(p.power_w) << " W at " << f6(c.process.wheel.speed_rev_per_s * 60)
+  os << config << " (" << c.name << "): " << f6(p.power_w) << " W at " << f6(rpm_from_revolutions_per_s(c.process.wheel.speed_rev_per_s))
      << " rev/min, " << f6(c.process.feed_m_per_s * 1e3) << " mm/s (" << p.removal_source << " removal model)\n"
      << "  removal rate       " << f6(p.removal_rate_m3_per_s * 1e9) << " mm^3/s";
   if (p.removal_rate_kg_per_h) os << " (" << f6(*p.removal_rate_kg_per_h) << " kg/h)";

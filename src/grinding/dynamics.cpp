@@ -12,6 +12,7 @@
 #include "../solvers/sundials_raii.hpp"
 #include "chatter/error.hpp"
 #include "chatter/grinding_dynamics.hpp"
+#include "chatter/kinematics.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -105,7 +106,7 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
   res.quasi_static = predict_at_power(p, power_w);  // checks the power
   const Prediction& qs = res.quasi_static;
   res.power_w = power_w;
-  res.wheel_rpm = p.wheel.speed_rev_per_s * 60.0;
+  res.wheel_rpm = rpm_from_revolutions_per_s(p.wheel.speed_rev_per_s);
 
   // ---- the model ----
   Model m;

@@ -9,6 +9,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/grinding.hpp"
+#include "chatter/kinematics.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -96,7 +97,7 @@ EmpiricalPrediction predict_empirical(const Process& p, double power_w, std::vec
   EmpiricalInputs in;
   in.cutting_speed_m_per_s = p.wheel.cutting_speed_m_per_s();
   in.useful_power_w = power_w;
-  in.wheel_rpm = p.wheel.speed_rev_per_s * 60.0;
+  in.wheel_rpm = rpm_from_revolutions_per_s(p.wheel.speed_rev_per_s);
   in.wheel_diameter_mm = p.wheel.diameter_m * 1e3;
   in.normal_force_n = power_w / (in.cutting_speed_m_per_s * p.force_ratio);
   // A model's value, or nothing (with a warning) where it overflows: the

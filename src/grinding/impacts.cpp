@@ -7,6 +7,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/grinding_data.hpp"
+#include "chatter/kinematics.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -37,7 +38,7 @@ ImpactCount count_impacts(const std::vector<double>& time_s, const std::vector<d
     throw InputError("release_fraction = " + detail::num(o.release_fraction) + ": must be in [0, 1)");
   const std::size_t n = time_s.size();
   if (n < 3 || signal.size() != n) throw InputError("the record needs at least 3 samples");
-  const double turn = 60.0 / o.wheel_rpm;
+  const double turn = revolution_s(o.wheel_rpm);
   const double t0 = time_s.front();
   ImpactCount c;
   c.turns = static_cast<int>(std::floor((time_s.back() - t0) / turn + 1e-9));

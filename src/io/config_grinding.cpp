@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 #include <vector>
+#include "chatter/kinematics.hpp"
 
 namespace chatter::config_detail {
 namespace {
@@ -33,6 +34,8 @@ constexpr Plausible kImpactsBound{0.0, 1000.0, "must be <= 1000 impacts per turn
 
 const Range kForceRatio{"in (0, 10]", 0.0, true, 10.0, false};
 const Range kFraction{"in [0, 1]", 0.0, false, 1.0, false};
+// A speed written in rev/s where rev/min was meant reads this much too low.
+constexpr double kRevPerSToRpm = rpm_from_revolutions_per_s(1.0);
 
 /// A usual band in the key's own unit, and the mix-up it most likely is.
 struct Usual {
@@ -273,14 +276,14 @@ grinding::Process read_grinding(const Table& root) {
   } else if (by_motor) {
     const auto motor = bounded(*g, "motor_rpm", g->required_number("motor_rpm", kPositive, "rev/min"), kRpmBound);
     const auto ratio = g->required_number("transmission_ratio", kPositive, "wheel rev / motor rev");
-    warn_usual(*g, "motor_rpm", motor, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinder motors", 60.0, "rev/s"});
+    warn_usual(*g, "motor_rpm", motor, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinder motors", kRevPerSToRpm, "rev/s"});
     warn_usual(*g, "transmission_ratio", ratio, {0.1, 10.0, "the 0.1 to 10 of grinder transmissions"});
     if (motor && ratio) rpm = *motor * *ratio;
   } else if (!g->meant("wheel_rpm") && !by_wheel) {
     doc.error_key(g->path_of("wheel_rpm"), "missing (required, rev/min; or motor_rpm and transmission_ratio)");
   } else {
     rpm = bounded(*g, "wheel_rpm", g->number("wheel_rpm", kPositive), kRpmBound);
-    warn_usual(*g, "wheel_rpm", rpm, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinding wheels", 60.0, "rev/s"});
+    warn_usual(*g, "wheel_rpm", rpm, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinding wheels", kRevPerSToRpm, "rev/s"});
   }
   const auto feed = bounded(*g, "feed_mm_per_s", g->required_number("feed_mm_per_s", kPositive, "mm/s"), kFeedBound);
   const auto mu = g->required_number("force_ratio", kForceRatio, "F_T/F_N");
@@ -323,7 +326,7 @@ grinding::Process read_grinding(const Table& root) {
 
   p.wheel.diameter_m = *d * 1e-3;
   p.wheel.width_m = *e * 1e-3;
-  p.wheel.speed_rev_per_s = *rpm / 60.0;
+  p.wheel.speed_rev_per_s = revolutions_per_s(*rpm);
   p.feed_m_per_s = *feed * 1e-3;
   p.force_ratio = *mu;
   if (rho) p.density_kg_per_m3 = *rho;

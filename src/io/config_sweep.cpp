@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <string>
+#include "chatter/kinematics.hpp"
 
 namespace chatter::config_detail {
 namespace {
@@ -40,8 +41,8 @@ SweepDefaults read_sweep(const Table& root) {
 /// [sweep] speeds: a mode the sweep cannot excite in a usual lobe.
 void warn_frequency_vs_speeds(const toml::table& root_table, const Document& doc, const Config& config) {
   if (!config.sweep.rpm_min || !config.sweep.rpm_max) return;
-  const double z = config.process.delays_per_revolution();
-  const double ftp_min = *config.sweep.rpm_min * z / 60.0, ftp_max = *config.sweep.rpm_max * z / 60.0;
+  const int z = config.process.delays_per_revolution();
+  const double ftp_min = tooth_passing_hz(*config.sweep.rpm_min, z), ftp_max = tooth_passing_hz(*config.sweep.rpm_max, z);
   bool mode_warned = false;
   for (const std::string_view name : {"tool", "workpiece"}) {
     const Body& body = name == "tool" ? config.model.tool : config.model.workpiece;

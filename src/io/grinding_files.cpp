@@ -16,6 +16,7 @@
 #include "chatter/error.hpp"
 #include "chatter/grinding_data.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/kinematics.hpp"
 #include "text.hpp"
 
 namespace chatter {
@@ -129,7 +130,7 @@ std::vector<GrindingTest> read_grinding_tests(const fs::path& path, const Grindi
     if (!t.feed_mm_per_s) t.feed_mm_per_s = d.feed_mm_per_s;
     t.cutting_speed_m_per_s = cell(c, row, "cutting_speed_m_per_s");
     if (!t.cutting_speed_m_per_s && t.wheel_diameter_mm && t.wheel_rpm)
-      t.cutting_speed_m_per_s = std::numbers::pi * *t.wheel_diameter_mm * 1e-3 * *t.wheel_rpm / 60.0;
+      t.cutting_speed_m_per_s = cutting_speed_m_per_s(*t.wheel_diameter_mm * 1e-3, *t.wheel_rpm);
     const auto time = cell(c, row, "grinding_time_s");
     // Removal: given, or volume / time.
     t.removal_mm3_per_s = cell(c, row, "removal_mm3_per_s");
@@ -256,7 +257,7 @@ GrindingFitReport fit_grinding_tests(const std::vector<GrindingTest>& tests, con
       m.power_w = *x.power_w;
       m.removal_m3_per_s = *x.removal_mm3_per_s * 1e-9;
       m.impacts_per_turn = *x.impacts_per_turn;
-      m.wheel = {*x.wheel_diameter_mm * 1e-3, *x.wheel_width_mm * 1e-3, *x.wheel_rpm / 60.0};
+      m.wheel = {*x.wheel_diameter_mm * 1e-3, *x.wheel_width_mm * 1e-3, revolutions_per_s(*x.wheel_rpm)};
       m.feed_m_per_s = *x.feed_mm_per_s * 1e-3;
       mt.push_back(m);
       t.rows.push_back(i);

@@ -16,6 +16,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/grinding_io.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 namespace {
@@ -37,7 +38,7 @@ json config_json(const GrindingConfig& c) {
             {"file", c.source.string()},
             {"wheel_diameter_mm", p.wheel.diameter_m * 1e3},
             {"wheel_width_mm", p.wheel.width_m * 1e3},
-            {"wheel_rpm", p.wheel.speed_rev_per_s * 60.0},
+            {"wheel_rpm", rpm_from_revolutions_per_s(p.wheel.speed_rev_per_s)},
             {"feed_mm_per_s", p.feed_m_per_s * 1e3},
             {"force_ratio", p.force_ratio}};
   if (p.mechanistic) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "chatter/io/table_writer.hpp"
+#include "chatter/kinematics.hpp"
 #include "plot_files.hpp"
 
 namespace chatter {
@@ -121,7 +122,7 @@ PlotFiles plot_grinding_fit(const fs::path& image, const std::string& title, con
 PlotFiles plot_grinding_impacts(const fs::path& image, const std::string& title, const ImpactRecord& rec,
                                 const grinding::ImpactCount& c, double wheel_rpm) {
   const Files f = files_for(image);
-  const double turn = 60.0 / wheel_rpm, t0 = rec.time_s.front();
+  const double turn = revolution_s(wheel_rpm), t0 = rec.time_s.front();
   const double t_end = t0 + std::min(c.turns, 20) * turn;
   const bool force = rec.kind == grinding::ImpactSignal::kNormalForce;
   // The signal as counted: the force, or the speed's drop below its median.
@@ -169,7 +170,7 @@ PlotFiles plot_grinding_simulation(const fs::path& image, const std::string& tit
   for (const auto& x : r.series)
     d << g(x.time_s) << ' ' << g(x.depth_m * 1e3) << ' ' << g(x.surface_m * 1e3) << ' ' << g(x.contact_force_n)
       << ' ' << g(x.push_n) << '\n';
-  const double turn = 60.0 / r.wheel_rpm;
+  const double turn = revolution_s(r.wheel_rpm);
   const double t0 = r.series.front().time_s, t1 = r.series.back().time_s;
   std::ostringstream s;
   s << terminal(f, "Grinding simulation") << "set multiplot layout 2,1 title " << gnuplot_quote(title)

@@ -12,6 +12,7 @@
 
 #include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 #include "windowed_integral.hpp"
 
 namespace chatter {
@@ -285,9 +286,9 @@ bool Process::uniform_cutter() const {
   return operation_ == Operation::kTurning || (!has_variable_pitch() && !has_variable_helix());
 }
 
-double Process::period_s(double rpm) const { return uniform_cutter() ? delay_s(rpm) : 60.0 / rpm; }
+double Process::period_s(double rpm) const { return uniform_cutter() ? delay_s(rpm) : revolution_s(rpm); }
 
-double Process::tooth_passing_hz(double rpm) const { return rpm * delays_per_revolution() / 60.0; }
+double Process::tooth_passing_hz(double rpm) const { return chatter::tooth_passing_hz(rpm, delays_per_revolution()); }
 
 int Process::repeat_teeth(bool with_runout) const {
   if (operation_ == Operation::kTurning) return 1;
@@ -307,7 +308,7 @@ int Process::repeat_teeth(bool with_runout) const {
 
 double Process::floquet_period_s(double rpm, bool with_runout) const {
   const int r = repeat_teeth(with_runout);
-  return r == teeth() && r > 1 ? 60.0 / rpm : delay_s(rpm) * r;
+  return r == teeth() && r > 1 ? revolution_s(rpm) : delay_s(rpm) * r;
 }
 
 double Process::pitch_angle_rad(int j) const { return pitch_[static_cast<std::size_t>(j)]; }
@@ -320,15 +321,15 @@ double Process::runout_m(int j) const { return runout_[static_cast<std::size_t>(
 double Process::helix_lag_rad_per_m(int j) const { return lag_[static_cast<std::size_t>(j)]; }
 
 double Process::tooth_angle_rad(int j, double t_s, double z_m, double rpm) const {
-  if (has_profile()) return kTwoPi * rpm / 60.0 * t_s - tooth_offset_rad(j) - helix_lag_rad(j, z_m);
-  return kTwoPi * rpm / 60.0 * t_s - tooth_offset_rad(j) - z_m * helix_lag_rad_per_m(j);
+  if (has_profile()) return angular_speed_rad_per_s(rpm) * t_s - tooth_offset_rad(j) - helix_lag_rad(j, z_m);
+  return angular_speed_rad_per_s(rpm) * t_s - tooth_offset_rad(j) - z_m * helix_lag_rad_per_m(j);
 }
 
 double Process::tooth_delay_s(int j, double z_m, double rpm) const {
   const int prev = (j + milling_.teeth - 1) % milling_.teeth;
   if (has_profile())
-    return (pitch_angle_rad(j) + helix_lag_rad(j, z_m) - helix_lag_rad(prev, z_m)) / (kTwoPi * rpm / 60.0);
-  return (pitch_angle_rad(j) + z_m * (helix_lag_rad_per_m(j) - helix_lag_rad_per_m(prev))) / (kTwoPi * rpm / 60.0);
+    return (pitch_angle_rad(j) + helix_lag_rad(j, z_m) - helix_lag_rad(prev, z_m)) / (angular_speed_rad_per_s(rpm));
+  return (pitch_angle_rad(j) + z_m * (helix_lag_rad_per_m(j) - helix_lag_rad_per_m(prev))) / (angular_speed_rad_per_s(rpm));
 }
 
 bool Process::in_cut(double phi) const {
@@ -347,7 +348,7 @@ Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, dou
     return sum;
   }
   return arcs_integral(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
-                       arcs_, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+                       arcs_, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
 }
 
 Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
@@ -360,11 +361,11 @@ Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, doubl
   }
   return arcs_integral(
       force_direction_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2), arcs_,
-      kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
+      angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
 }
 
 Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
-  return arcs_integral(damping_trig(), arcs_, kTwoPi * rpm / 60.0, tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a,
+  return arcs_integral(damping_trig(), arcs_, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a,
                        t_b, a_m);
 }
 
@@ -380,7 +381,7 @@ double Process::process_damping_per_depth(double rpm) const {
   const double c = turning ? turning_.process_damping_coefficient_n_per_m : milling_.process_damping_coefficient_n_per_m;
   if (c == 0.0) return 0.0;
   const double d = turning ? turning_.workpiece_diameter_m : milling_.tool_diameter_m;
-  return c / (std::numbers::pi * d * rpm / 60.0);
+  return c / cutting_speed_m_per_s(d, rpm);
 }
 
 Eigen::Matrix2d Process::average_damping_direction() const {
@@ -403,7 +404,7 @@ Eigen::Matrix2d Process::average_damping_direction() const {
 std::vector<double> Process::engagement_events_s(double rpm, double depth_m) const {
   std::vector<double> out;
   if (operation_ == Operation::kTurning) return out;
-  const double omega = kTwoPi * rpm / 60.0, period = period_s(rpm);
+  const double omega = angular_speed_rad_per_s(rpm), period = period_s(rpm);
   if (has_profile()) {
     out = profile_events_s(rpm, depth_m);
     for (double& t : out) {
@@ -463,9 +464,9 @@ int Process::delays_per_revolution() const {
   return operation_ == Operation::kTurning ? 1 : milling_.teeth;
 }
 
-double Process::delay_s(double rpm) const { return 60.0 / (rpm * delays_per_revolution()); }
+double Process::delay_s(double rpm) const { return tooth_period_s(rpm, delays_per_revolution()); }
 
-double Process::rpm_from_delay(double tau_s) const { return 60.0 / (tau_s * delays_per_revolution()); }
+double Process::rpm_from_delay(double tau_s) const { return rpm_from_tooth_period(tau_s, delays_per_revolution()); }
 
 
 Eigen::Matrix2d Process::tooth_matrix(double phi) const {
@@ -485,7 +486,7 @@ Eigen::Matrix2d Process::directional_matrix(double t_s, double rpm) const {
       throw std::logic_error("directional_matrix: with a nose radius H depends on the depth (turning_matrix)");
     return turning_matrix(1.0);
   }
-  const double omega = kTwoPi * rpm / 60.0;
+  const double omega = angular_speed_rad_per_s(rpm);
   Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
   for (int j = 0; j < milling_.teeth; ++j) {
     double phi = std::fmod(omega * t_s + kTwoPi * j / milling_.teeth, kTwoPi);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "chatter/process.hpp"
+#include "chatter/kinematics.hpp"
 #include "windowed_integral.hpp"
 
 namespace chatter {
@@ -59,7 +60,7 @@ typename Windowed<T>::Value slice_integral(const T& f, const AxialSlice& s, doub
   const double dz = s.height_m();
   const double theta = offset + (tan_helix == 0.0 ? 0.0 : tan_helix * s.lag_lo);
   const double rate = (tan_helix == 0.0 || !(dz > 0.0)) ? 0.0 : tan_helix * (s.lag_hi - s.lag_lo) / dz;
-  return time_height_integral(w, kTwoPi * rpm / 60.0, theta, rate, t_a, t_b, dz);
+  return time_height_integral(w, angular_speed_rad_per_s(rpm), theta, rate, t_a, t_b, dz);
 }
 
 }  // namespace
@@ -110,7 +111,7 @@ std::vector<double> Process::profile_events_s(double rpm, double depth_m) const 
   // of the lowest engaged edge point and of the top of the cut (for a
   // cylinder z = 0 and z = a, the flat cutter's events exactly).
   std::vector<double> out;
-  const double omega = kTwoPi * rpm / 60.0;
+  const double omega = angular_speed_rad_per_s(rpm);
   const std::vector<AxialSlice> slices = axial_slices(depth_m);
   for (int j = 0; j < milling_.teeth; ++j) {
     const double tb = tan_helix_[static_cast<std::size_t>(j)];

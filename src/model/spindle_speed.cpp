@@ -11,6 +11,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/process.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 namespace {
@@ -60,7 +61,7 @@ std::string SpeedVariation::validate() const {
 }
 
 SpindleSpeed::SpindleSpeed(double mean_rpm, SpeedVariation v)
-    : omega0_(kTwoPi * mean_rpm / 60.0), v_(v), nu_(v.frequency_ratio * kTwoPi * mean_rpm / 60.0) {
+    : omega0_(angular_speed_rad_per_s(mean_rpm)), v_(v), nu_(v.frequency_ratio * angular_speed_rad_per_s(mean_rpm)) {
   if (!v_.active()) v_ = {};
 }
 
@@ -110,7 +111,7 @@ void Process::set_speed_variation(SpeedVariation v) {
 
 SpeedVariationPeriod speed_variation_period(const Process& process, double rpm, int max_modulation_periods) {
   const SpeedVariation& v = process.speed_variation();
-  const double omega0 = kTwoPi * rpm / 60.0;
+  const double omega0 = angular_speed_rad_per_s(rpm);
   SpeedVariationPeriod out;
   out.frequency_ratio_used = v.frequency_ratio;
   const double tf = process.floquet_period_s(rpm);

@@ -13,6 +13,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/solvers.hpp"
+#include "chatter/kinematics.hpp"
 #include "../solvers/extremum.hpp"
 #include "ops_internal.hpp"
 
@@ -63,7 +64,7 @@ double max_pitch_step_rad(PitchFamily family, int teeth, double min_pitch_ratio)
 }
 
 double budak_pitch_step_rad(PitchFamily family, int teeth, double spindle_rpm, double chatter_frequency_hz) {
-  const double ratio = (kTwoPi * spindle_rpm / 60.0) / (kTwoPi * chatter_frequency_hz);  // Ω / ω_c
+  const double ratio = angular_speed_rad_per_s(spindle_rpm) / (kTwoPi * chatter_frequency_hz);  // Ω / ω_c
   return family == PitchFamily::kLinear ? kTwoPi * ratio / teeth : kPi * ratio;
 }
 

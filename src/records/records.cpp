@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/io/table_writer.hpp"  // table_number
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 
@@ -189,7 +190,7 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
   j["periods"] = r.periods;
   // (Speed variation: a period of several revolutions, periods_per_revolution 0.)
   j["revolutions"] = q.periods_per_revolution > 0 ? static_cast<double>(r.periods) / q.periods_per_revolution
-                                                  : r.periods * r.floquet_period_s * st.spindle_rpm / 60.0;
+                                                  : revolutions_in(r.periods * r.floquet_period_s, st.spindle_rpm);
   j["analysed_from_period"] = r.analysed_from_period;
   json harmonics = json::array();
   for (std::size_t k = 0; k < r.harmonics.size() && k < 10; ++k)

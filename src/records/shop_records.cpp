@@ -14,6 +14,7 @@
 #include "chatter/records/shop.hpp"
 #include "chatter/report.hpp"
 #include "chatter/solvers.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 
@@ -281,7 +282,7 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
       implied += (k == 0 ? "the tooth passing at " : k == 1 ? ", its 2nd harmonic at " : ", its 3rd at ") +
                  fmt(std::round(det.implied_rpm[k])) + " rev/min";
     throw InputError(a.recording.string() + ": no line stands within +/-2 % of the tooth-passing frequency " +
-                     fmt(a.rpm * a.teeth / 60.0) + " Hz (" + name("rpm") + " " + fmt(a.rpm) + " x " + name("teeth") +
+                     fmt(tooth_passing_hz(a.rpm, a.teeth)) + " Hz (" + name("rpm") + " " + fmt(a.rpm) + " x " + name("teeth") +
                      " " + std::to_string(a.teeth) + " / 60) or its second harmonic: is " + name("rpm") + " (or " +
                      name("teeth") + ") right? The strongest line, " + fmt(det.strongest_line_hz) + " Hz, would be " +
                      implied + ". " + (style == ArgStyle::kFlag ? "--force" : "force=True") +

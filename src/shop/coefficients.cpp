@@ -13,6 +13,7 @@
 #include "chatter/cutting_law.hpp"
 #include "chatter/error.hpp"
 #include "chatter/shop.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 namespace {
@@ -128,7 +129,7 @@ std::array<double, 2> mean_forces(const MillingEngagement& e, double f, double a
 
 double mean_power(const MillingEngagement& e, double f, double a, double rpm, double diameter_m, double ktc,
                   double kte) {
-  return rpm * 2 * kPi / 60.0 * 0.5 * diameter_m * milling_mean_tangential_force_n(e.teeth, integrals(e), f, a, ktc, kte);
+  return angular_speed_rad_per_s(rpm) * 0.5 * diameter_m * milling_mean_tangential_force_n(e.teeth, integrals(e), f, a, ktc, kte);
 }
 
 CoefficientFit fit_coefficients_from_forces(const std::vector<ForceTest>& tests, const MillingEngagement& e) {
@@ -204,7 +205,7 @@ CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, 
   Eigen::VectorXd b(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PowerTest& t = tests[i];
-    const double g = t.spindle_rpm * 2 * kPi / 60.0 * 0.5 * tool_diameter_m * e.teeth * t.depth_m / (2 * kPi);
+    const double g = angular_speed_rad_per_s(t.spindle_rpm) * 0.5 * tool_diameter_m * e.teeth * t.depth_m / (2 * kPi);
     A.row(i) << g * t.feed_per_tooth_m * I.sin * sc, g * I.width_rad * se_;
     b[i] = t.power_w;
   }
@@ -233,7 +234,7 @@ RevolutionAverage average_whole_revolutions(const std::vector<double>& t, const 
   if (!(rpm > 0.0 && std::isfinite(rpm))) throw InputError("spindle_rpm = " + num(rpm) + ": must be > 0");
   if (t.size() < 2 || fx.size() != t.size() || fy.size() != t.size())
     throw InputError("a force series needs at least 2 samples of time, fx and fy");
-  const double period = 60.0 / rpm;
+  const double period = revolution_s(rpm);
   const double span = t.back() - t.front();
   const double whole = std::floor(span / period * (1 + 1e-12));
   // More revolutions than this (8 h at 20 000 rev/min) is a time column in the

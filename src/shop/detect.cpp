@@ -14,6 +14,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/shop.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 namespace {
@@ -95,7 +96,7 @@ std::vector<SpeedSuggestion> speed_corrections(double fc, int teeth, double curr
   std::vector<SpeedSuggestion> s;
   if (!(fc > 0) || teeth < 1 || !(rpm_max >= rpm_min) || !(rpm_min > 0)) return s;
   for (int k = 1;; ++k) {
-    const double n = 60.0 * fc / (teeth * k);
+    const double n = rpm_from_tooth_passing_hz(fc, teeth * k);
     if (n < rpm_min) break;
     if (n <= rpm_max) s.push_back({n, k});
   }
@@ -115,7 +116,7 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
     throw InputError("detector thresholds: peak ratio must be > 0, prominence > 1, minimum revolutions >= 1");
   const std::size_t n = samples.size();
   const double duration = static_cast<double>(n) / fs;
-  const double f_sp0 = o.spindle_rpm / 60.0;
+  const double f_sp0 = revolutions_per_s(o.spindle_rpm);
   const double revolutions = duration * f_sp0;
   if (n < 64 || revolutions < o.min_revolutions)
     throw InputError("the recording lasts " + num(duration) + " s (" + std::to_string(n) + " samples) = " +
@@ -215,7 +216,7 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
   {
     const std::size_t top = argmax(f_lo0, std::min(0.95 * nyquist, static_cast<double>(amp.size() - 1) * df));
     r.strongest_line_hz = interpolate(amp, top, df);
-    for (int k = 1; k <= 3; ++k) r.implied_rpm.push_back(60.0 * r.strongest_line_hz / (o.teeth * k));
+    for (int k = 1; k <= 3; ++k) r.implied_rpm.push_back(rpm_from_tooth_passing_hz(r.strongest_line_hz, o.teeth * k));
   }
   // Spindle frequency refined from the tooth-passing line, when it stands
   // out of the noise (else a noise bin near N N_t / 60 would "refine" it).

@@ -15,6 +15,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 namespace {
@@ -180,7 +181,7 @@ ForcedResponse ForcedResponseSolver::response(const ForcedSettings& s) const {
   // κ_j z)/Ω; it leaves the wall at −n_w·r − ρ_j; the wall at z is the
   // deepest pass.
   const int nt = p.teeth();
-  const double omega = kTwoPi * rpm / 60.0;
+  const double omega = angular_speed_rad_per_s(rpm);
   const int heights = p.has_helix() ? options_.axial_points : 0;  // z_i = a i / heights, i = 0 … heights
   out.wall_z_m.resize(static_cast<std::size_t>(heights + 1));
   out.wall_sle_m.assign(static_cast<std::size_t>(heights + 1), std::numeric_limits<double>::infinity());

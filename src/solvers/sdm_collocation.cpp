@@ -31,6 +31,7 @@
 
 #include <Eigen/LU>
 #include <unsupported/Eigen/MatrixFunctions>
+#include "chatter/kinematics.hpp"
 
 namespace chatter::sdm_detail {
 namespace {
@@ -155,7 +156,7 @@ void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, co
   g.nodes = nodes;
   const std::vector<double> c = gauss_nodes(nodes);
   const Index n2 = A.rows(), nr = Wx.rows(), snr = nodes * nr;
-  const double omega = kTwoPi * g.rpm / 60.0;
+  const double omega = angular_speed_rad_per_s(g.rpm);
   const double t_entry = p.entry_angle() / omega;  // tooth 0 enters here (Process::directional_matrix)
   std::map<double, StepWeights> by_length;         // one per milling segment
   for (Step& st : g.steps) {

@@ -14,6 +14,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/regenerative_cut.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::sdm_detail {
 namespace {
@@ -211,7 +212,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
     // pattern repeats (Process::floquet_period_s): one tooth period for a
     // uniform cutter, half a revolution for 70/110/70/110°, one revolution
     // for an irregular cutter (and always with general_cutter_path).
-    g.tau = o.general_cutter_path ? 60.0 / rpm : p.floquet_period_s(rpm);
+    g.tau = o.general_cutter_path ? revolution_s(rpm) : p.floquet_period_s(rpm);
     const double tooth = p.delay_s(rpm);
     g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
     const double needed = std::ceil(tooth / g.h_target - 1e-9);
@@ -262,7 +263,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
   }
   const MillingParameters& mp = p.milling_parameters();
   g.rpm = rpm;
-  const double omega = kTwoPi * rpm / 60.0;          // rad/s
+  const double omega = angular_speed_rad_per_s(rpm);  // rad/s
   const double theta_p = kTwoPi / mp.teeth;           // tooth pitch, rad
   const double en = p.entry_angle();
   const double delta = p.exit_angle() - en;            // cutting arc of one tooth

@@ -13,6 +13,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/report.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter {
 
@@ -36,7 +37,7 @@ SsvMapGrid ssv_stability_map(const StructuralModel& model, const Process& proces
   g.rho_per_revolution.assign(n, 0.0);
   g.frequency_ratio_used.assign(n, 0.0);
   g.exact.assign(n, 1);
-  const double rev = 60.0 / rpm;
+  const double rev = revolution_s(rpm);
   const Process steady = process.at_constant_speed();
   auto point = [&](std::size_t k) {
     const double a = amplitudes[k / frequencies.size()], f = frequencies[k % frequencies.size()];

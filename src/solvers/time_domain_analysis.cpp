@@ -14,6 +14,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::td_detail {
 namespace {
@@ -117,7 +118,7 @@ void SimulationRun::measure_forced(bool converged) {
       const double phi_w =
           process_.milling_parameters().direction == MillingDirection::kDown ? std::numbers::pi : 0.0;
       const double nx = 0.0, ny = phi_w == 0.0 ? 1.0 : -1.0;  // n_w = (sin φ_w, cos φ_w), exactly
-      const double rev = 60.0 / s_.spindle_rpm, omega = 2.0 * std::numbers::pi / rev, ex = std::exp(log_scale_);
+      const double rev = revolution_s(s_.spindle_rpm), omega = 2.0 * std::numbers::pi / rev, ex = std::exp(log_scale_);
       const int heights = process_.has_helix() || process_.has_profile() ? kWallHeights : 0;
       const double t_now = history_->newest().t;  // the end of the run (the last grid point)
       double worst = kNaN;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::td_detail {
 namespace {
@@ -49,7 +50,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
   tool_modes_ = static_cast<int>(model.tool.modes.size());
   milling_ = process.operation() == Operation::kMilling;
   teeth_ = milling_ ? process.milling_parameters().teeth : 1;
-  omega_spindle_ = 2.0 * kPi * s.spindle_rpm / 60.0;
+  omega_spindle_ = angular_speed_rad_per_s(s.spindle_rpm);
   if (milling_) {
     kt_ = process.milling_parameters().tangential_coefficient_n_per_m2;
     kr_ = process.milling_parameters().radial_coefficient_n_per_m2;
@@ -107,7 +108,7 @@ std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) co
   std::vector<double> out;
   if (!milling_) return out;
   if (general_) {
-    const double rpm = settings_.spindle_rpm, rev = 60.0 / rpm;
+    const double rpm = settings_.spindle_rpm, rev = revolution_s(rpm);
     auto repeat = [&](double t0, double every) {
       for (long k = 0; t0 + static_cast<double>(k) * every <= t_end; ++k)
         out.push_back(t0 + static_cast<double>(k) * every);
@@ -601,7 +602,7 @@ double simulation_period_s(const Process& process, double rpm, bool linear) {
 
 int simulation_periods_per_revolution(const Process& process, double rpm, bool linear) {
   if (process.has_speed_variation()) return 0;  // a period of several revolutions
-  return static_cast<int>(std::lround(60.0 / (rpm * simulation_period_s(process, rpm, linear))));
+  return static_cast<int>(std::lround(revolution_s(rpm) / simulation_period_s(process, rpm, linear)));
 }
 
 }  // namespace chatter

@@ -32,6 +32,7 @@
 #include <sstream>
 
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::td_detail {
 
@@ -73,7 +74,7 @@ constexpr int kMinRunPeriods = 4;
 
 int simulation_periods_in_revolutions(const Process& process, double rpm, bool linear, int revolutions) {
   if (!process.has_speed_variation()) return revolutions * simulation_periods_per_revolution(process, rpm, linear);
-  const double periods = revolutions * (60.0 / rpm) / simulation_period_s(process, rpm, linear);
+  const double periods = revolutions * revolution_s(rpm) / simulation_period_s(process, rpm, linear);
   return std::max(kMinRunPeriods, static_cast<int>(std::ceil(periods - 1e-9)));
 }
 

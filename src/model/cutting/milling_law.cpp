@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cutting_internal.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::cutting_detail {
 namespace {
@@ -41,11 +42,11 @@ class MillingLaw final : public CuttingLaw {
     const MillingParameters& mp = process_.milling_parameters();
     const int nt = mp.teeth;
     const double kt = mp.tangential_coefficient_n_per_m2;
-    const double omega = kTwoPi * p.spindle_rpm / 60.0;
+    const double omega = angular_speed_rad_per_s(p.spindle_rpm);
     MeanCut m;
-    m.cutting_speed_m_per_s = std::numbers::pi * p.diameter_m * p.spindle_rpm / 60.0;
+    m.cutting_speed_m_per_s = cutting_speed_m_per_s(p.diameter_m, p.spindle_rpm);
     // Table feed f N_t N/60 (m/s) times the cross-section cut.
-    const double table_speed = p.feed_m * nt * p.spindle_rpm / 60.0;
+    const double table_speed = table_speed_m_per_s(p.feed_m * nt, p.spindle_rpm);
     if (process_.has_profile()) {
       // Slice by slice: its arc, its radius (the torque arm and the width
       // across the feed R_s P_s) and its radial coefficient; the chip
@@ -99,7 +100,7 @@ class MillingLaw final : public CuttingLaw {
     const int nt = process_.teeth();
     const int slices = process_.has_helix() ? kHelixSlices : 1;
     const int samples = kSamplesPerTooth * nt;
-    const double rpm = p.spindle_rpm, period = 60.0 / rpm, dz = p.depth_m / slices;
+    const double rpm = p.spindle_rpm, period = revolution_s(rpm), dz = p.depth_m / slices;
     const std::vector<AxialSlice> cut = process_.has_profile() && p.depth_m > 0.0 ? process_.axial_slices(p.depth_m)
                                                                                 : std::vector<AxialSlice>{};
     Sampled out;

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 #include "cutting_internal.hpp"
 
 namespace chatter::cutting_detail {
@@ -28,8 +29,8 @@ class TurningLaw final : public CuttingLaw {
     const double fc = kc_ > 0.0 ? kc_ * p.depth_m * p.feed_m : kNaN;
     m.tangential_force_n = fc;
     m.torque_n_m = fc * p.diameter_m / 2.0;
-    m.power_w = fc * std::numbers::pi * p.diameter_m * p.spindle_rpm / 60.0;
-    m.cutting_speed_m_per_s = std::numbers::pi * p.diameter_m * p.spindle_rpm / 60.0;
+    m.cutting_speed_m_per_s = cutting_speed_m_per_s(p.diameter_m, p.spindle_rpm);
+    m.power_w = fc * m.cutting_speed_m_per_s;
     m.removal_rate_m3_per_s = p.depth_m * p.feed_m * m.cutting_speed_m_per_s;
     return m;
   }
