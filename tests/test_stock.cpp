@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "chatter/stock.hpp"
@@ -35,6 +36,25 @@ MillingEngagement run_line(ZMapStock& s, Eigen::Vector3d a, Eigen::Vector3d b, c
   }
   if (removed) *removed = total;
   return keep;
+}
+
+// The independent construction of an engaged arc: the span [lo, hi] of the
+// angles φ (0.01° apart, clockwise from n̂) at which a point just inside the
+// rim of a tool of radius R at c (the Z-map sees cells whose centres are in
+// the disk) lies in `material`; f̂ the feed, n̂ 90° left of it.
+template <class Material>
+std::pair<double, double> rim_span(const Eigen::Vector2d& c, double R, double h, const Eigen::Vector2d& f,
+                                   const Material& material) {
+  const Eigen::Vector2d n(-f.y(), f.x());
+  double lo = kPi, hi = 0.0;
+  for (int k = 1; k < 18000; ++k) {
+    const double phi = k * 0.01 * kDeg;
+    if (material(Eigen::Vector2d(c + (R - 0.5 * h) * (std::cos(phi) * n + std::sin(phi) * f)))) {
+      lo = std::min(lo, phi);
+      hi = std::max(hi, phi);
+    }
+  }
+  return {lo, hi};
 }
 
 TEST(ZMapStock, SlotIsHalfACircleAndRemovesDApL) {
@@ -92,7 +112,7 @@ TEST(ZMapStock, SlotCornerArcMatchesTheRimAgainstTheRemainingMaterial) {
   ZMapStock s({0, 0, 0}, {100, 100, 10}, h);
   const MillShape tool{R, 0.0, 0.0};
   run_line(s, {40, -10, z}, {40, 60, z}, tool, 1.0);  // first leg along +y
-  const Eigen::Vector2d f(1, 0), n(-f.y(), f.x());
+  const Eigen::Vector2d f(1, 0);
   auto material = [&](const Eigen::Vector2d& q) {
     if (q.x() < 0 || q.x() > 100 || q.y() < 0 || q.y() > 100) return false;
     const bool strip = std::abs(q.x() - 40.0) <= R && q.y() <= 60.0;
@@ -101,16 +121,7 @@ TEST(ZMapStock, SlotCornerArcMatchesTheRimAgainstTheRemainingMaterial) {
   };
   for (const double dx : {0.5, 2.0, 4.0}) {
     const Eigen::Vector2d c(40 + dx, 60);
-    double lo = kPi, hi = 0.0;
-    for (int k = 1; k < 18000; ++k) {
-      const double phi = k * 0.01 * kDeg;
-      // Just inside the rim: the Z-map sees cells whose centres are in the disk.
-      const Eigen::Vector2d q = c + (R - 0.5 * h) * (std::cos(phi) * n + std::sin(phi) * f);
-      if (material(q)) {
-        lo = std::min(lo, phi);
-        hi = std::max(hi, phi);
-      }
-    }
+    const auto [lo, hi] = rim_span(c, R, h, f, material);
     ZMapStock copy = s;
     const MillingEngagement e = copy.cut({c.x(), c.y(), z}, f, tool);
     const double tol = 3.0 * h / R + 0.5 * kDeg;
@@ -140,7 +151,7 @@ TEST(ZMapStock, PocketInsideCornerArcRisesAsThePolygonGives) {
     const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     return (q - (a + t * ab)).norm() <= R;
   };
-  const Eigen::Vector2d f(1, 0), n(-f.y(), f.x());
+  const Eigen::Vector2d f(1, 0);
   double first_width = 0.0;
   for (const double x : {40.0, 58.0, 60.0, 62.0}) {
     ZMapStock copy = s;
@@ -154,15 +165,7 @@ TEST(ZMapStock, PocketInsideCornerArcRisesAsThePolygonGives) {
       return true;
     };
     const Eigen::Vector2d c(x, 40);
-    double lo = kPi, hi = 0.0;
-    for (int k = 1; k < 18000; ++k) {
-      const double phi = k * 0.01 * kDeg;
-      const Eigen::Vector2d q = c + (R - 0.5 * h) * (std::cos(phi) * n + std::sin(phi) * f);
-      if (material(q)) {
-        lo = std::min(lo, phi);
-        hi = std::max(hi, phi);
-      }
-    }
+    const auto [lo, hi] = rim_span(c, R, h, f, material);
     const MillingEngagement e = copy.cut({c.x(), c.y(), z}, f, tool);
     const double tol = 3.0 * h / R + 0.5 * kDeg;
     EXPECT_NEAR(e.entry_rad, lo, tol) << "x " << x;
