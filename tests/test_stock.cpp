@@ -214,7 +214,7 @@ TEST(ZMapStock, BallEnvelopeAndFlatCap) {
   EXPECT_DOUBLE_EQ(bull.envelope_mm(2.9), 0.0);
   EXPECT_NEAR(bull.envelope_mm(5.0), 2.0, 1e-12);
   // A ball slot 2 mm deep cuts a circular segment: area R² acos((R−d)/R) − (R−d)√(2Rd − d²).
-  const double h = 0.02, R = 5.0, d = 2.0, L = 40.0;
+  const double h = 0.04, R = 5.0, d = 2.0, L = 40.0;
   ZMapStock s({0, 0, 0}, {L, 20, 10}, h);
   const double v0 = s.volume_mm3();
   run_line(s, {-6, 10, 10 - d}, {L + 6, 10, 10 - d}, ball, 0.5);
