@@ -400,6 +400,9 @@ class Process {
   /// straight-teeth grid, collocation, the exact-edge time domain, the forced
   /// response) gives way to the general one or refuses.
   bool split_engagement() const { return arcs_.size() > 1; }
+  /// Every arc's entry and exit (rad), in order: the angles at which a
+  /// straight tooth enters or leaves the cut. @pre milling.
+  std::vector<double> arc_edges_rad() const;
 
   /// Directional matrix of one milling tooth at angle φ (rad) while it cuts,
   /// N/m²: [[(K_t cosφ + K_r sinφ) sinφ, (K_t cosφ + K_r sinφ) cosφ],

@@ -332,6 +332,12 @@ double Process::tooth_delay_s(int j, double z_m, double rpm) const {
   return (pitch_angle_rad(j) + z_m * (helix_lag_rad_per_m(j) - helix_lag_rad_per_m(prev))) / (angular_speed_rad_per_s(rpm));
 }
 
+std::vector<double> Process::arc_edges_rad() const {
+  std::vector<double> edges;
+  for (const auto& [en, ex] : arcs_) edges.insert(edges.end(), {en, ex});
+  return edges;
+}
+
 bool Process::in_cut(double phi) const {
   phi = std::fmod(phi, kTwoPi);
   if (phi < 0.0) phi += kTwoPi;
@@ -414,9 +420,7 @@ std::vector<double> Process::engagement_events_s(double rpm, double depth_m) con
     }
   }
   for (int j = 0; j < milling_.teeth && !has_profile(); ++j) {
-    std::vector<double> edges;
-    for (const auto& [en, ex] : arcs_) edges.insert(edges.end(), {en, ex});
-    for (const double edge : edges) {
+    for (const double edge : arc_edges_rad()) {
       for (const double z : {0.0, depth_m}) {
         // φ_j(t, z) = edge (mod 2π) → t = (edge + Θ_j + κ z) / Ω (mod period)
         double t = std::fmod((edge + tooth_offset_rad(j) + z * helix_lag_rad_per_m(j)) / omega, period);

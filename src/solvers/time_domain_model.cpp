@@ -115,7 +115,7 @@ std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) co
     };
     if (slices_ == 1 && !profile_) {
       for (const CutElement& e : elements_)
-        for (const double edge : arc_edges()) {
+        for (const double edge : process_.arc_edges_rad()) {
           const double lag = process_.tooth_offset_rad(e.tooth) + e.z * process_.helix_lag_rad_per_m(e.tooth);
           double t0 = std::fmod((edge + lag) / omega_spindle_, rev);
           if (t0 < 0.0) t0 += rev;
@@ -128,7 +128,7 @@ std::vector<double> Model::arc_events_mean(double t_end, double tooth_period) co
     return out;
   }
   const double pitch = 2.0 * kPi / teeth_;
-  for (double phi : arc_edges()) {
+  for (double phi : process_.arc_edges_rad()) {
     const double t0 = std::fmod(phi, pitch) / omega_spindle_;
     for (long k = 0; t0 + static_cast<double>(k) * tooth_period <= t_end; ++k)
       out.push_back(t0 + static_cast<double>(k) * tooth_period);
@@ -340,11 +340,6 @@ double Model::element_angle(const CutElement& e, double t) const {
 
 bool Model::in_window(double phi) const { return process_.in_cut(phi); }  // (in_cut wraps as wrap() does)
 
-std::vector<double> Model::arc_edges() const {
-  std::vector<double> edges;
-  for (const auto& [en, ex] : arcs_) edges.insert(edges.end(), {en, ex});
-  return edges;
-}
 
 // How far (rad) a tooth's edge must miss the arc for element_angles to skip
 // its slices: far above the rotation chain's round-off (~1e-16 per slice).
