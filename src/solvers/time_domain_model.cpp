@@ -54,9 +54,8 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
   if (milling_) {
     kt_ = process.milling_parameters().tangential_coefficient_n_per_m2;
     kr_ = process.milling_parameters().radial_coefficient_n_per_m2;
-    arcs_ = process.engaged_arcs();
-    phi_en_ = arcs_.front().first;  // the one arc's ends (the exact edge's window)
-    phi_ex_ = arcs_.back().second;
+    phi_en_ = process.entry_angle();  // the one arc's ends (the exact edge's window)
+    phi_ex_ = process.exit_angle();
   } else {
     kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
     orthogonal_ = process.orthogonal_turning();
@@ -354,8 +353,9 @@ constexpr double kOutOfArcMargin = 1e-9;
 // φ is wrapped to [0, 2π).
 // With several arcs (Process::engaged_arcs) the fractions add: the arcs are disjoint.
 double Model::engaged_fraction(double phi, double w) const {
-  double f = engaged_fraction(phi, w, arcs_[0].first, arcs_[0].second);
-  for (std::size_t k = 1; k < arcs_.size(); ++k) f += engaged_fraction(phi, w, arcs_[k].first, arcs_[k].second);
+  const auto& arcs = process_.engaged_arcs();
+  double f = engaged_fraction(phi, w, arcs[0].first, arcs[0].second);
+  for (std::size_t k = 1; k < arcs.size(); ++k) f += engaged_fraction(phi, w, arcs[k].first, arcs[k].second);
   return f;
 }
 
@@ -437,7 +437,7 @@ void Model::element_angles(double t) const {
                              slices_ * std::abs(slice_lag_[static_cast<std::size_t>(j)]) - kOutOfArcMargin);
       const double hi = lo + span;
       bool meets = false;
-      for (const auto& [en, ex] : arcs_)
+      for (const auto& [en, ex] : process_.engaged_arcs())
         meets = meets || std::min(hi, ex) >= std::max(lo, en) || std::min(hi, ex + 2.0 * kPi) >= std::max(lo, en + 2.0 * kPi);
       if (!meets) {
         tooth_out_[static_cast<std::size_t>(j)] = 1;

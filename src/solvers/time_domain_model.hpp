@@ -266,7 +266,6 @@ class Model {
   int n_ = 0, tool_modes_ = 0, teeth_ = 1;
   bool milling_ = false;
   double omega_spindle_ = 0.0, kt_ = 0.0, kr_ = 0.0, kf_ = 0.0, phi_en_ = 0.0, phi_ex_ = 0.0;
-  std::vector<std::pair<double, double>> arcs_;  // the process's engaged arcs (milling)
   double pd_per_depth_ = 0.0;  // C_pd / V, N·s/m² (at the mean speed)
   // Spindle speed variation: on, the modulated speed, and the uniform
   // path's delay at the mean speed (tooth period; one revolution in turning), s.
