@@ -48,7 +48,7 @@ chatter::Config job_at(const py::object& job, std::optional<double> position_mm,
   chatter::Config cfg = *job_config(job);
   if (position_mm) cfg = chatter::config_at_position(cfg, *position_mm, "position_mm");
   if (immersion) {
-    if (cfg.process.operation() != chatter::Operation::kMilling)
+    if (!cfg.process.rotating_edges())
       throw InputError("radial_immersion: " + cfg.name + " is turning (milling only)");
     chatter::MillingParameters mp = cfg.process.milling_parameters();
     mp.radial_immersion = *immersion;
@@ -62,8 +62,8 @@ chatter::Config job_at(const py::object& job, std::optional<double> position_mm,
 }
 
 double feed_mm_of(const chatter::Config& cfg, std::optional<double> per_tooth, std::optional<double> per_rev) {
-  const bool milling = cfg.process.operation() == chatter::Operation::kMilling;
-  const char* right = milling ? "feed_per_tooth_mm" : "feed_mm_per_rev";
+  const bool milling = cfg.process.rotating_edges();
+  const std::string right(cfg.process.feed_record_key());
   if (milling ? per_rev.has_value() : per_tooth.has_value())
     throw InputError(std::string(milling ? "feed_mm_per_rev" : "feed_per_tooth_mm") + ": " + cfg.name + " is " +
                      (milling ? "milling: give feed_per_tooth_mm" : "turning: give feed_mm_per_rev"));
@@ -123,7 +123,7 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
   ctx.config = cfg.name;
   ctx.warnings = cfg.warnings;
   ctx.position_mm = position_mm;
-  if (cfg.process.operation() == chatter::Operation::kMilling)
+  if (cfg.process.rotating_edges())
     ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;
   ctx.limit = limit;
   py::dict out = py::module_::import("json").attr("loads")(chatter::forced_json(r, ctx, -1)).cast<py::dict>();
@@ -185,7 +185,7 @@ py::dict sle(const py::object& job, std::optional<double> rpm_min, std::optional
   py::dict out;
   out["config"] = cfg.name;
   out["depth_mm"] = depth_mm;
-  out[cfg.process.operation() == chatter::Operation::kMilling ? "feed_per_tooth_mm" : "feed_mm_per_rev"] = feed_mm;
+  out[py::str(std::string(cfg.process.feed_record_key()))] = feed_mm;
   if (position_mm) out["position_mm"] = *position_mm;
   out["spindle_rpm"] = rpm;
   out["surface_location_error_um"] = sle_um;

@@ -128,8 +128,7 @@ void bind_job(py::module_& m) {
       .def_property_readonly("source", [](const Job& j) { return j.cfg->source.string(); })
       .def_property_readonly("operation",
                              [](const Job& j) {
-                               return j.cfg->process.operation() == chatter::Operation::kMilling ? "milling"
-                                                                                                  : "turning";
+                               return std::string(j.cfg->process.operation_name());
                              })
       .def_property_readonly("warnings", [](const Job& j) { return j.cfg->warnings; })
       .def_property_readonly("feed_mm", [](const Job& j) { return optional_number(j.cfg->feed_mm); })
@@ -154,7 +153,7 @@ void bind_job(py::module_& m) {
                              })
       .def("__repr__", [](const Job& j) {
         return "<chatter.Job '" + j.cfg->name + "' (" +
-               (j.cfg->process.operation() == chatter::Operation::kMilling ? "milling" : "turning") + ")>";
+               std::string(j.cfg->process.operation_name()) + ")>";
       });
 
   m.def(

@@ -85,7 +85,7 @@ double positive(const py::handle& x, const std::string& name) {
   return v;
 }
 
-std::string feed_key(const chatter::OptimizationModel& m) { return m.milling() ? "feed_per_tooth_mm" : "feed_mm_per_rev"; }
+std::string feed_key(const chatter::OptimizationModel& m) { return std::string(m.process().feed_record_key()); }
 
 // A set-point from a dict with spindle_rpm or cutting_speed_m_per_min, the
 // feed and depth_mm (the keys of every optimisation record).

@@ -131,7 +131,7 @@ py::dict radial_map(const Job& job, const std::string& floquet, std::optional<do
   const chatter::Config& cfg = *job.cfg;
   if (!rpm) throw InputError("rpm: required with axes=\"radial-axial\" (the one spindle speed of the map, rev/min)");
   chatter::check_spindle_rpm(*rpm, "rpm");
-  if (cfg.process.operation() != chatter::Operation::kMilling)
+  if (!cfg.process.rotating_edges())
     throw InputError("axes=\"radial-axial\": a turning process has no radial immersion (use axes=\"speed-axial\")");
   const double dmax = depth_max(cfg, depth_max_mm);
   const std::vector<double> immersions =

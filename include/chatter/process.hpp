@@ -31,6 +31,8 @@
 
 #include <numbers>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -42,6 +44,22 @@
 namespace chatter {
 
 enum class Operation { kTurning, kMilling };
+
+/// The words of an operation, one definition for every record, message and
+/// front end (docs/results.md): "milling" / "turning".
+std::string_view operation_name(Operation op);
+/// The operation named `name` ("milling" or "turning").
+/// @throws InputError naming the rule for any other word.
+Operation operation_named(std::string_view name);
+/// True for an operation whose cutting edges rotate with the spindle through
+/// an engaged arc (milling): the directional matrix varies over a tooth
+/// period. False for one fixed edge (turning): it is constant in time.
+bool rotating_edges(Operation op);
+/// The key under which a record reports the feed (mm): "feed_per_tooth_mm"
+/// (milling) or "feed_mm_per_rev" (turning).
+std::string_view feed_record_key(Operation op);
+/// What one feed is per: "tooth" (milling) or "revolution" (turning).
+std::string_view feed_basis(Operation op);
 enum class MillingDirection { kDown, kUp };
 
 /// Turning with an insert (docs/turning_inserts.md). Plane of the model: X
@@ -201,6 +219,12 @@ class Process {
   static Process milling(MillingParameters p);
 
   Operation operation() const { return operation_; }
+  /// chatter::rotating_edges(operation()): the question a solver, record or
+  /// front end asks of the operation (edges sweeping an arc, or one fixed edge).
+  bool rotating_edges() const { return chatter::rotating_edges(operation_); }
+  std::string_view operation_name() const { return chatter::operation_name(operation_); }
+  std::string_view feed_record_key() const { return chatter::feed_record_key(operation_); }
+  std::string_view feed_basis() const { return chatter::feed_basis(operation_); }
   const TurningParameters& turning_parameters() const { return turning_; }
   const MillingParameters& milling_parameters() const { return milling_; }
 
@@ -261,6 +285,14 @@ class Process {
   /// equal heights a/S from the tip, each with R, κ and Λ at its heights,
   /// its arc and its radial coefficient. Cost O(S). @pre has_profile().
   std::vector<AxialSlice> axial_slices(double depth_m) const;
+  /// Why the cut at depth a (m) has no chip, or "" when it has one: the
+  /// rule of docs/results.md "No cut" (a cut with no chip is refused, never
+  /// judged stable or chatter). A depth <= 0, or a profiled cutter none of
+  /// whose axial_slices(a) reaches the radial depth's band (a bull nose or a
+  /// ball shallower than its corner: the edge stays inside the band's inner
+  /// radius R |1 − 2 a_e/D|). The feed's part of the rule (no static chip at
+  /// feed 0) belongs to the nonlinear time domain, which reads the feed.
+  std::string no_chip_reason(double depth_m) const;
   /// ∫_{t_a}^{t_b} ∫_{z_lo}^{z_hi} g(φ) H₁,κ(φ) dz dt over slice `s` of tooth
   /// j, φ = Ω t − Θ_j − tan β_j Λ(z) with Λ linear over the slice, g the
   /// slice's arc, in closed form (N/m² · m · s). @pre has_profile().

@@ -36,7 +36,7 @@ chatter_status chatter_cutting_load(const chatter_model* model, double spindle_r
     if (!std::isnan(diameter_mm)) require_positive(diameter_mm, "diameter_mm");
     if (!std::isnan(kc)) require_positive(kc, "tangential_coefficient_n_per_m2");
     const chatter::Process& process = model->config.process;
-    const bool milling = process.operation() == chatter::Operation::kMilling;
+    const bool milling = process.rotating_edges();
     if (milling && !std::isnan(kc))
       throw chatter::InputError("chatter_cutting_load: tangential_coefficient_n_per_m2: only for turning (milling's "
                                 "K_t is the config's)");

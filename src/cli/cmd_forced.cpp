@@ -28,11 +28,10 @@ constexpr double kMaxFeedMm = 100.0;
 constexpr double kMaxDepthMm = 1000.0;
 constexpr int kDefaultShaftPoints = 21;
 
-bool is_milling(const Config& cfg) { return cfg.process.operation() == Operation::kMilling; }
 
 // The feed in mm from the flag of the config's operation, else the config.
 double feed_mm_of(const po::variables_map& vm, const Config& cfg) {
-  const bool milling = is_milling(cfg);
+  const bool milling = cfg.process.rotating_edges();
   const std::string right = milling ? "feed-per-tooth-mm" : "feed-mm-per-rev";
   const std::string wrong = milling ? "feed-mm-per-rev" : "feed-per-tooth-mm";
   if (vm.count(wrong))
@@ -60,7 +59,7 @@ double depth_mm_of(const po::variables_map& vm) {
 // --radial-immersion: the config's milling process with another a_e/D.
 void apply_immersion(const po::variables_map& vm, Config& cfg) {
   if (!vm.count("radial-immersion")) return;
-  if (!is_milling(cfg)) throw InputError("--radial-immersion: " + cfg.source.string() + " is turning (milling only)");
+  if (!cfg.process.rotating_edges()) throw InputError("--radial-immersion: " + cfg.source.string() + " is turning (milling only)");
   MillingParameters mp = cfg.process.milling_parameters();
   mp.radial_immersion = vm["radial-immersion"].as<double>();
   const SpeedVariation ssv = cfg.process.speed_variation();
@@ -131,7 +130,7 @@ void summary(std::ostream& os, const Config& cfg, const ForcedResponse& r, const
 
 int forced_along_shaft(const po::variables_map& vm, const Config& cfg, const std::string& table_path,
                        const std::string& plot_path) {
-  if (is_milling(cfg)) throw InputError("--along-shaft: " + cfg.source.string() + " is milling (turning only)");
+  if (cfg.process.rotating_edges()) throw InputError("--along-shaft: " + cfg.source.string() + " is milling (turning only)");
   if (vm.count("rpm"))
     throw InputError("--rpm: not used with --along-shaft (the static deflection does not depend on the speed; "
                      "chatter surface gives the stability along the part)");
@@ -221,7 +220,7 @@ int cmd_forced(const std::vector<std::string>& args) {
   const double depth_mm = depth_mm_of(vm);
   apply_immersion(vm, cfg);
   const double feed_mm = feed_mm_of(vm, cfg);
-  if (!plot_path.empty() && !is_milling(cfg))
+  if (!plot_path.empty() && !cfg.process.rotating_edges())
     throw InputError("--plot: turning has a constant deflection (no path to draw); --along-shaft --plot draws the "
                      "diametral error along the part");
   double depth_max_mm = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm);
@@ -243,7 +242,7 @@ int cmd_forced(const std::vector<std::string>& args) {
   ctx.config = cfg.name;
   ctx.warnings = cfg.warnings;
   ctx.position_mm = common.position_mm;
-  if (is_milling(cfg)) ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;
+  if (cfg.process.rotating_edges()) ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;
   ctx.limit = limit;
   const bool json_to_stdout = json_path == "-";
   summary(json_to_stdout ? std::cerr : std::cout, cfg, r, limit);
@@ -343,7 +342,7 @@ int cmd_sle(const std::vector<std::string>& args) {
     }
     std::ostringstream title;
     title << cfg.name << ": " << fmt(depth_mm) << " mm, " << fmt(feed_mm)
-          << (is_milling(cfg) ? " mm/tooth" : " mm/rev");
+          << (cfg.process.rotating_edges() ? " mm/tooth" : " mm/rev");
     const auto pf = plot_sle(plot_path, title.str(), rows, limits, depth_mm);
     info << "wrote plot: " << pf.image.string() << " (gnuplot script " << pf.script.string() << ")\n";
   }

@@ -69,7 +69,7 @@ int map_radial_axial(const Common& common, const std::string& floquet_method, co
   if (table_to_stdout && json_to_stdout) throw InputError("--out - and --json -: only one of them on standard output");
   check_outputs({{"--out", out_path}, {"--json", json_path}, {"--plot", plot_path, true}});  // before computing
   const Config cfg = load_checked(common);
-  if (cfg.process.operation() != Operation::kMilling)
+  if (!cfg.process.rotating_edges())
     throw InputError("--axes radial-axial: " + cfg.source.string() +
                      " is a turning process, which has no radial immersion (use --axes speed-axial)");
   double depth_max_mm = cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm);

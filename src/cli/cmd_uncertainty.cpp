@@ -157,7 +157,7 @@ std::string add_uncertainty_json(const std::string& lobe_json, const Uncertainty
                                  const UncertaintyOutputs& out) {
   nlohmann::json j = nlohmann::json::parse(lobe_json);
   const UncertaintySpreads& s = *cfg.uncertainty;
-  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const bool milling = cfg.process.rotating_edges();
   nlohmann::json spreads = {{"frequency_percent", percents(s.frequency)},
                             {"damping_percent", percents(s.damping)},
                             {"stiffness_percent", percents(s.stiffness)}};

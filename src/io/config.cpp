@@ -341,7 +341,7 @@ Job load_job(const std::filesystem::path& file) {
     if (!std::filesystem::exists(tool.config_path))
       throw InputError(where + ": no such file (" + tool.config_path.string() + ")");
     tool.config = load_config(tool.config_path);  // its own messages name its file
-    const bool turning = tool.config.process.operation() == Operation::kTurning;
+    const bool turning = !tool.config.process.rotating_edges();
     if (turning != bar)
       throw InputError(where + ": a " + (turning ? "turning" : "milling") + " tool on a stock of shape = \"" +
                        (bar ? "bar" : "box") + "\" (a bar is turned, a box is milled)");

@@ -130,7 +130,7 @@ ConstraintLimits read_constraints(const Table& opt, Operation op) {
   ConstraintLimits c;
   const auto t = opt.table("constraints");
   if (!t) return c;
-  const bool milling = op == Operation::kMilling;
+  const bool milling = rotating_edges(op);
   const std::string_view dim = milling ? "max_surface_location_error_um" : "max_diametral_error_um";
   const std::string_view kKeys[] = {"max_force_n",       "max_power_kw", "max_torque_nm", dim,
                                     "max_roughness_um",  "min_removal_rate_mm3_per_s", "max_cost",
@@ -240,8 +240,8 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   const Document& doc = root.doc();
   const std::size_t mark = doc.error_count();
   const Operation op = process.operation();
-  const bool milling = op == Operation::kMilling;
-  const std::string_view feed_key = milling ? "feed_per_tooth_mm" : "feed_mm_per_rev";
+  const bool milling = rotating_edges(op);
+  const std::string_view feed_key = feed_record_key(op);
   const std::string_view wrong_feed = milling ? "feed_mm_per_rev" : "feed_per_tooth_mm";
   const std::string_view kKeys[] = {"objective", "cutting_speed_m_per_min", "spindle_rpm", feed_key, "depth_mm",
                                     "cutting_coefficient_n_per_mm2", "position_points", "loss", "constraints",

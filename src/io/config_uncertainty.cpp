@@ -65,7 +65,7 @@ std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const Stru
     doc.error(where, n, rule.str());
     break;
   }
-  const bool milling = process.operation() == Operation::kMilling;
+  const bool milling = process.rotating_edges();
   const auto kt = t->number("tangential_coefficient_percent", kSpreadPercent);
   const auto kr = t->number("radial_coefficient_percent", kSpreadPercent);
   const auto kf = t->number("feed_force_coefficient_percent", kSpreadPercent);

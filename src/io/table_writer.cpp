@@ -41,7 +41,7 @@ nlohmann::json body_json(const Body& b) {
 }
 
 nlohmann::json model_process_json(const Process& p) {
-  if (p.operation() == Operation::kTurning) {
+  if (!p.rotating_edges()) {
     const TurningParameters& t = p.turning_parameters();
     nlohmann::json j = {{"operation", "turning"}, {"feed_force_coefficient_n_per_m2", t.feed_force_coefficient_n_per_m2}};
     if (p.has_process_damping()) {

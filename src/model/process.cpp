@@ -528,4 +528,20 @@ Eigen::Matrix2d Process::average_directional_matrix() const {
   return milling_.teeth / kTwoPi * integral;
 }
 
+std::string_view operation_name(Operation op) { return op == Operation::kMilling ? "milling" : "turning"; }
+
+Operation operation_named(std::string_view name) {
+  if (name == "milling") return Operation::kMilling;
+  if (name == "turning") return Operation::kTurning;
+  throw InputError("operation \"" + std::string(name) + "\": must be \"turning\" or \"milling\"");
+}
+
+bool rotating_edges(Operation op) { return op == Operation::kMilling; }
+
+std::string_view feed_record_key(Operation op) {
+  return op == Operation::kMilling ? "feed_per_tooth_mm" : "feed_mm_per_rev";
+}
+
+std::string_view feed_basis(Operation op) { return op == Operation::kMilling ? "tooth" : "revolution"; }
+
 }  // namespace chatter

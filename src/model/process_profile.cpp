@@ -4,7 +4,9 @@
 // methods and the shop numerics read (include/chatter/process.hpp).
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "chatter/process.hpp"
 #include "chatter/kinematics.hpp"
@@ -47,6 +49,22 @@ std::vector<AxialSlice> Process::axial_slices(double depth_m) const {
         ka == 0.0 ? kr * lead_sin(s.lead_angle_rad) : kr * lead_sin(s.lead_angle_rad) + ka * lead_cos(s.lead_angle_rad);
   }
   return out;
+}
+
+std::string Process::no_chip_reason(double depth_m) const {
+  if (!(depth_m > 0.0)) return "no cut: a depth of 0 leaves no chip";
+  if (!has_profile()) return "";
+  for (const AxialSlice& s : axial_slices(depth_m))
+    if (s.engaged) return "";
+  const double r0 = profile_.tool_radius_m();
+  std::ostringstream os;
+  os.precision(4);
+  os << "no cut: " << depth_m * 1e3 << " mm deep, the " << to_string(profile_.parameters().geometry)
+     << " cutter's edge reaches " << profile_.radius_m(depth_m) * 1e3 << " mm from its axis, and the radial depth ("
+     << milling_.radial_immersion * 2.0 * r0 * 1e3 << " mm) starts "
+     << r0 * std::abs(1.0 - 2.0 * milling_.radial_immersion) * 1e3
+     << " mm from it: no edge engages, so there is no chip to judge (cut deeper or wider)";
+  return os.str();
 }
 
 namespace {

@@ -78,7 +78,7 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
                                 const MachineLimits& machine) {
   if (const std::string e = machine.validate(); !e.empty()) throw InputError(origin + ": " + e);
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
-  const bool milling = operation == Operation::kMilling;
+  const bool milling = rotating_edges(operation);
 
   OperationsFile out;
   std::map<std::string, std::size_t> column;  // name -> index
@@ -291,7 +291,7 @@ OperationsFile read_operations(const std::filesystem::path& file, Operation oper
 }
 
 Process process_for(const Process& base, const OperationRow& row) {
-  if (base.operation() == Operation::kTurning) {
+  if (!base.rotating_edges()) {
     if (row.radial_immersion || row.teeth || row.direction)
       throw InputError("operation " + in_quotes(row.id) + ": immersion, teeth and direction are for milling only");
     return base;

@@ -73,7 +73,7 @@ std::pair<double, double> bracket(const std::vector<double>& x, std::size_t i) {
   return {x[i == 0 ? 0 : i - 1], x[std::min(i + 1, x.size() - 1)]};
 }
 
-std::string feed_key(const OptimizationModel& m) { return m.milling() ? "feed_per_tooth_mm" : "feed_mm_per_rev"; }
+std::string feed_key(const OptimizationModel& m) { return std::string(m.process().feed_record_key()); }
 
 }  // namespace
 

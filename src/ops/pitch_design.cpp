@@ -86,7 +86,7 @@ std::string PitchDesignOptions::validate() const {
 
 PitchDesign design_pitch(const StructuralModel& model, const Process& process, const PitchDesignOptions& options) {
   if (const std::string why = options.validate(); !why.empty()) throw InputError(why);
-  if (process.operation() != Operation::kMilling)
+  if (!process.rotating_edges())
     throw InputError("the process is turning: pitch design needs a milling cutter (process.operation = \"milling\")");
   const int teeth = process.teeth();
   if (teeth < 2)

@@ -143,7 +143,7 @@ std::string speeds_word(std::size_t n) { return std::to_string(n) + (n == 1 ? " 
 
 // The radial immersion a_e/D of a milling config (1 for turning).
 double immersion(const Config& cfg) {
-  return cfg.process.operation() == Operation::kMilling ? cfg.process.milling_parameters().radial_immersion : 1.0;
+  return cfg.process.rotating_edges() ? cfg.process.milling_parameters().radial_immersion : 1.0;
 }
 
 // What a Floquet method finds that the averaged (zeroth-order) one cannot;
@@ -152,7 +152,7 @@ double immersion(const Config& cfg) {
 std::size_t explain_floquet(const ComparedMethod& f, const ComparedMethod* averaged, const Config& cfg,
                             std::size_t speeds, std::ostream& report) {
   const std::string& name = f.descriptor->name;
-  const bool turning = cfg.process.operation() == Operation::kTurning;
+  const bool turning = !cfg.process.rotating_edges();
   std::size_t flips = 0, flips_deeper_tf = 0;
   for (std::size_t i = 0; i < speeds; ++i)
     if (f.is_flip(i)) {
@@ -229,7 +229,7 @@ void explain_forced(const Config& cfg, const Comparison& c, std::ostream& report
   }
   for (const auto& r : c.methods)
     if (!lin && r.descriptor->kind == SolverKind::kAveraged) lin = &r;
-  if (!sim || !lin || cfg.process.operation() != Operation::kMilling) return;
+  if (!sim || !lin || !cfg.process.rotating_edges()) return;
   if (const auto it = sim->options.find("linear"); it != sim->options.end() && std::get<bool>(it->second)) return;
   std::size_t at = speeds.size();
   double worst = kForcedExplainRel;
@@ -292,7 +292,7 @@ std::string explanation(const Config& cfg, const Comparison& c) {
   for (const auto& d : solver_registry())
     for (const auto& r : c.methods)
       if (!averaged && r.descriptor == &d && d.kind == SolverKind::kAveraged) averaged = &r;
-  const bool turning = cfg.process.operation() == Operation::kTurning;
+  const bool turning = !cfg.process.rotating_edges();
   std::size_t flips = 0;
   for (const auto& r : c.methods)
     if (r.descriptor->kind == SolverKind::kFloquet)

@@ -19,7 +19,7 @@ std::string index_key(const OptimizationModel& m, std::size_t i) {
   return std::string(index_name(static_cast<PerformanceIndex>(i), m.operation()));
 }
 
-std::string feed_key(const OptimizationModel& m) { return m.milling() ? "feed_per_tooth_mm" : "feed_mm_per_rev"; }
+std::string feed_key(const OptimizationModel& m) { return std::string(m.process().feed_record_key()); }
 
 json mm_or_null(double m) { return finite_or_null(m * 1e3); }
 
@@ -43,7 +43,7 @@ void head(json& j, const char* format, const OptimizationModel& m, const RecordS
   json positions = json::array();
   for (const double x : m.positions_m()) positions.push_back(x * 1e3);
   j["positions_evaluated_mm"] = positions;
-  j["operation"] = m.milling() ? "milling" : "turning";
+  j["operation"] = m.process().operation_name();
   j["objective"] = std::string(objective_name(m.spec().objective));
   j["method"] = m.method().empty() ? json(nullptr) : json(m.method());
   j["warnings"] = source.warnings;
@@ -184,9 +184,9 @@ json adapt_record(const AdaptRun& run, const OptimizationModel& m, const AdaptRe
 }
 
 std::string adapt_table_csv(const json& record) {
-  const Operation op = record.at("operation") == "milling" ? Operation::kMilling : Operation::kTurning;
+  const Operation op = operation_named(record.at("operation").get<std::string>());
   std::vector<std::string> columns = {"iteration", "cutting_speed_m_per_min", "spindle_rpm",
-                                      op == Operation::kMilling ? "feed_per_tooth_mm" : "feed_mm_per_rev",
+                                      std::string(feed_record_key(op)),
                                       "depth_mm", "loss"};
   for (std::size_t i = 0; i < kIndexCount; ++i) columns.emplace_back(index_name(static_cast<PerformanceIndex>(i), op));
   for (const char* c : {"stability_margin", "feasible", "target", "step"}) columns.emplace_back(c);

@@ -173,7 +173,7 @@ RadialStabilityMapGrid radial_stability_map(const Process& process, double spind
                                             const ProcessSolverFactory& make_solver, bool multiplier_types,
                                             unsigned threads,
                                             const std::function<void(std::size_t, std::size_t)>& progress) {
-  if (process.operation() != Operation::kMilling)
+  if (!process.rotating_edges())
     throw InputError("the radial x axial map needs a milling process (turning has no radial immersion)");
   RadialStabilityMapGrid grid;
   grid.spindle_rpm = spindle_rpm;

@@ -270,7 +270,7 @@ FeatureSet needed_features(const StructuralModel& model, const Process& process)
   FeatureSet s;
   if (model.mode_count() > 0) s.insert(SolverFeature::kModalModel);
   if (model.has_measured()) s.insert(SolverFeature::kMeasuredFrf);
-  s.insert(process.operation() == Operation::kTurning ? SolverFeature::kTurning : SolverFeature::kMilling);
+  s.insert(process.rotating_edges() ? SolverFeature::kMilling : SolverFeature::kTurning);
   if (process.has_helix()) s.insert(SolverFeature::kHelix);
   if (process.has_variable_pitch()) s.insert(SolverFeature::kVariablePitch);
   if (process.has_variable_helix()) s.insert(SolverFeature::kVariableHelix);
@@ -317,7 +317,7 @@ bool has_lobe_method(const std::string& method) {
 
 std::string resolve_lobe_method(const std::string& requested, const StructuralModel& model, const Process& process,
                                 std::string* warning) {
-  const bool milling = process.operation() == Operation::kMilling;
+  const bool milling = process.rotating_edges();
   const auto flag_averaged = [&](const SolverDescriptor& d) {
     if (milling && d.kind == SolverKind::kAveraged && warning) *warning = std::string(kFlipLobeWarning);
     return d.name;

@@ -41,7 +41,7 @@ std::string number(double x) {
 // True when the motion repeats every tooth period and the regenerative term
 // vanishes in steady state (the Fourier path applies).
 bool tooth_periodic(const Process& p) {
-  if (p.operation() == Operation::kTurning) return true;
+  if (!p.rotating_edges()) return true;
   return p.uniform_cutter() && !p.has_runout() && !p.has_process_damping();
 }
 
@@ -111,7 +111,7 @@ ForcedResponse ForcedResponseSolver::response(const ForcedSettings& s) const {
   if (!(std::isfinite(s.feed_m) && s.feed_m >= 0.0))
     throw InputError("feed " + number(s.feed_m) + " m: must be >= 0 and finite");
   const Process& p = process_;
-  const bool milling = p.operation() == Operation::kMilling;
+  const bool milling = p.rotating_edges();
   const double rpm = s.spindle_rpm, a = s.depth_m;
   ForcedResponse out;
   out.spindle_rpm = rpm;

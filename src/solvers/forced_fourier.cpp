@@ -73,7 +73,7 @@ PathSource fourier_response(const StructuralModel& model, const Process& process
                             double feed_m, int harmonics, int max_harmonics) {
   PathSource out;
   const double tau = process.delay_s(rpm);  // the tooth period (one revolution in turning)
-  if (process.operation() == Operation::kTurning) {
+  if (!process.rotating_edges()) {
     // The cutting law's constant force (−a f d, docs/turning_inserts.md), so r = G(0) F.
     const Eigen::Vector2d F = CuttingLaw::of(process)->mean(CutPoint{rpm, depth_m, feed_m, kNaNDiameter}).force_n;
     const Matrix2c G0 = model.receptance(0.0);
@@ -122,7 +122,7 @@ PathSource fourier_response(const StructuralModel& model, const Process& process
 
 TurningDeflection static_deflection_turning(const StructuralModel& model, const Process& process, double depth_m,
                                             double feed_per_rev_m) {
-  if (process.operation() != Operation::kTurning)
+  if (process.rotating_edges())
     throw InputError("static deflection of turning: the process is milling (use the forced response)");
   if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
     std::ostringstream os;

@@ -128,7 +128,7 @@ MultiDelaySearch::MultiDelaySearch(StructuralModel model, Process process, Multi
 
 MultiDelaySearch::Speed MultiDelaySearch::speed(double rpm, double depth_m) const {
   Speed sp;
-  if (process_.operation() == Operation::kTurning) {
+  if (!process_.rotating_edges()) {
     sp.tau = {process_.delay_s(rpm)};
     sp.slope = {0.0};
   } else {

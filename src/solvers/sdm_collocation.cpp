@@ -151,7 +151,7 @@ StepWeights step_weights(const MatrixXd& A, double h, const std::vector<double>&
 
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
                      const MatrixXd& Wx, const MatrixXd& U) {
-  if (g.cutter || g.constant || g.ssv || p.operation() != Operation::kMilling)
+  if (g.cutter || g.constant || g.ssv || !p.rotating_edges())
     throw std::logic_error("add_collocation: not a straight-teeth milling grid (collocation_refusal lets it through)");
   g.nodes = nodes;
   const std::vector<double> c = gauss_nodes(nodes);

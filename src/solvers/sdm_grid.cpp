@@ -74,7 +74,7 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process, 
   // milling, for turning with a nose radius (n varies with the depth) and on
   // the general path (any cut). L S = U W by SVD.
   MatrixXd LS;
-  if (general_path || process.operation() == Operation::kMilling || process.has_nose_radius())
+  if (general_path || process.rotating_edges() || process.has_nose_radius())
     LS = mm.S;
   else if (process.orthogonal_turning())
     LS = mm.S.topRows(1);
@@ -169,14 +169,14 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
 
 bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o) {
   return o.general_cutter_path ||
-         (p.operation() == Operation::kMilling &&
+         (p.rotating_edges() &&
           (p.has_helix() || !p.uniform_cutter() || p.has_process_damping() || p.has_profile() ||
            p.split_engagement()));
 }
 
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
   if (o.collocation_nodes == 0) return "";
-  const char* what = p.operation() != Operation::kMilling ? "is turning"
+  const char* what = !p.rotating_edges() ? "is turning"
                      : p.has_speed_variation()            ? "has spindle speed variation"
                      : real_cutter_grid(p, o)             ? "takes the real-cutter path (a helix, variable pitch, "
                                                             "process damping, a profile or two engaged arcs)"
@@ -240,7 +240,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
   auto count = [&](double duration) {
     return std::max(1, static_cast<int>(std::ceil(duration / h_target - 1e-9)));
   };
-  if (p.operation() == Operation::kTurning) {
+  if (!p.rotating_edges()) {
     g.constant = true;
     g.m = count(g.tau);
     if (p.has_nose_radius()) {  // B H(a) U per depth (SdmKernel::build_steps)
@@ -313,7 +313,7 @@ Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_
 // cut; unused for milling and for a nose radius).
 MatrixXd turning_hhat_of(const Process& p) {
   MatrixXd h = MatrixXd::Zero(2, 1);
-  if (p.operation() != Operation::kTurning || p.has_nose_radius()) return h;
+  if (p.rotating_edges() || p.has_nose_radius()) return h;
   if (p.orthogonal_turning())
     h(0, 0) = p.turning_parameters().feed_force_coefficient_n_per_m2;
   else

@@ -81,7 +81,7 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
   const double T = g.tau, omega0 = speed.mean_rad_s();
   CutterGrid cg;
   cg.depth = a;
-  if (p.operation() == Operation::kTurning) {
+  if (!p.rotating_edges()) {
     // Constant coefficients: equal steps, a whole number m of them per
     // revolution at the mean speed (so that at R_VA = 0 the grid and the
     // delayed samples are those of the constant-speed solver), q m in the

@@ -81,7 +81,7 @@ bool exact_edge_applies(const Process& p, const TimeDomainOptions& o, bool linea
   // helix (delays that vary along the edge), runout (a floored, piecewise
   // static chip) and multiple regeneration (the nearest of several
   // surfaces) keep them too.
-  if (p.operation() != Operation::kMilling || o.axial_slices != 0 || !p.has_helix() || p.has_variable_helix() ||
+  if (!p.rotating_edges() || o.axial_slices != 0 || !p.has_helix() || p.has_variable_helix() ||
       p.has_profile())
     return false;
   if (!linear && (p.has_runout() || multiple_regeneration)) return false;

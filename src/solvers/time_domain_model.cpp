@@ -27,7 +27,7 @@ constexpr int kDefaultHelixSlices = 20;
 /// milling with a helix, a variable pitch or helix, process damping, runout
 /// (nonlinear mode only: linear mode ignores it), or an explicit axial_slices.
 bool general_cutter(const Process& p, const TimeDomainOptions& o, bool linear) {
-  if (p.operation() != Operation::kMilling) return false;
+  if (!p.rotating_edges()) return false;
   return o.axial_slices > 0 || p.has_helix() || !p.uniform_cutter() || p.has_process_damping() ||
          (p.has_runout() && !linear) || p.has_profile();
 }
@@ -48,7 +48,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
     : mm_(modal_matrices(model)), process_(process), settings_(s), tau_(tau) {
   n_ = static_cast<int>(mm_.omega.size());
   tool_modes_ = static_cast<int>(model.tool.modes.size());
-  milling_ = process.operation() == Operation::kMilling;
+  milling_ = process.rotating_edges();
   teeth_ = milling_ ? process.milling_parameters().teeth : 1;
   omega_spindle_ = angular_speed_rad_per_s(s.spindle_rpm);
   if (milling_) {
