@@ -80,6 +80,7 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   {
     py::gil_scoped_release release;
     const chatter::TimeDomainSimulator sim(cfg.model, cfg.process, o);
+    sim.require_chip(st);  // a cut with no chip is refused, not judged (docs/results.md)
     r = sim.simulate(st);
   }
   // The record of chatter simulate (chatter/records.hpp), then the arrays.

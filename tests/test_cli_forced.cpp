@@ -198,6 +198,42 @@ TEST_F(CliForced, CheckReportsTheSleAndTheToleranceVerdict) {
   EXPECT_EQ(j["summary"]["out_of_tolerance"], 1);
 }
 
+TEST_F(CliForced, AnUnstableRowIsUnstableNotOutOfTolerance) {
+  // Before: an unstable row with a tolerance was marked "OUT" and counted
+  // "out of tolerance"; it has no steady part error to hold (docs/operations.md).
+  const std::string cfg = std::string(CHATTER_SOURCE_DIR) + "/examples/forced/case_c_xy.toml";
+  std::ofstream(path("ops.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,max_sle_um\n"
+                                    "fin1,14000,2,,0.05,30\ndeep,14000,20,,0.05,30\n";
+  const RunResult r = run({"check", cfg, "--operations", path("ops.csv").string(), "--quiet", "--json",
+                           path("c.json").string()});
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "1 stable, 1 unstable, 0 rejected, 0 not judged, 0 out of tolerance")) << r.out;
+  const auto j = nlohmann::json::parse(slurp(path("c.json")));
+  const auto& ops = j["operations"];
+  ASSERT_EQ(ops.size(), 2u);
+  EXPECT_FALSE(ops[1]["stable"].get<bool>());
+  EXPECT_TRUE(ops[1]["forced"]["within_tolerance"].is_null()) << ops[1]["forced"];
+  EXPECT_TRUE(ops[1]["forced"]["surface_location_error_um"].is_null()) << ops[1]["forced"];
+  EXPECT_TRUE(ops[0]["forced"]["within_tolerance"].get<bool>());
+  EXPECT_EQ(j["summary"]["out_of_tolerance"], 0);
+  // Part quality beside the suggestion: the row's depth and feed at the
+  // suggested speed, as `forced` gives them there.
+  const auto& s = ops[0]["suggestion"];
+  ASSERT_TRUE(s.is_object()) << ops[0];
+  std::ostringstream rpm;
+  rpm.precision(17);
+  rpm << s["spindle_rpm"].get<double>();
+  const RunResult f = run({"forced", cfg, "--rpm", rpm.str(), "--depth-mm", "2", "--feed-per-tooth-mm", "0.05",
+                           "--json", "-"});
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const auto fj = nlohmann::json::parse(f.out);
+  ASSERT_TRUE(fj["stable"].get<bool>());
+  const double sle = std::abs(fj["surface_location_error_um"].get<double>());
+  EXPECT_NEAR(s["part_error_um"].get<double>(), sle, 1e-9 * sle) << s;
+  EXPECT_EQ(s["within_tolerance"].get<bool>(), sle <= 30.0) << s;
+  EXPECT_TRUE(contains(r.out, "sugg_sle_um")) << r.out;
+}
+
 TEST_F(CliForced, SimulateReportsTheForcedVibrationAndWarnsWhenTeethLeaveTheCut) {
   // A variable-pitch helix cutter in a resonant forced vibration below its
   // linear limit (docs/forced.md): the simulation is stable, the teeth leave

@@ -65,6 +65,20 @@ TEST_F(CliOptimize, PerformancePrintsTheIssuesJsonKeys) {
   }
   EXPECT_GT(j["stability_margin"].get<double>(), 1.25);
   EXPECT_TRUE(contains(r.err, "FAILS max_roughness_um")) << r.err;
+  EXPECT_FALSE(contains(r.err, "outside the [optimization] bounds")) << r.err;
+}
+
+TEST_F(CliOptimize, PerformanceOutsideTheBoundsSaysSo) {
+  // Issue 44: --feed-mm-per-rev 35 against bounds 0.05-0.5 gave no warning.
+  const RunResult r = run({"performance", kSeed, "--cutting-speed-m-per-min", "200", "--feed-mm-per-rev", "35",
+                           "--depth-mm", "1.5", "--json", "-"});
+  const std::string w = "feed 35 mm/rev is outside the [optimization] bounds 0.05-0.5 mm/rev: a unit slip?";
+  EXPECT_TRUE(contains(r.err, "warning: " + w)) << r.err;
+  EXPECT_TRUE(contains(nlohmann::json::parse(r.out)["warnings"].dump(), w)) << r.out;
+  const RunResult near = run({"performance", kSeed, "--cutting-speed-m-per-min", "200", "--feed-mm-per-rev", "0.6",
+                              "--depth-mm", "1.5"});
+  EXPECT_TRUE(contains(near.err, "feed 0.6 mm/rev is outside the [optimization] bounds 0.05-0.5 mm/rev: the models "
+                                 "extrapolate")) << near.err;
 }
 
 // Table 14 of the source study from its printed indices (docs/optimization.md).

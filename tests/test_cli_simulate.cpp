@@ -205,3 +205,85 @@ TEST_F(CliSimulate, FeedFromTheConfigUnlessTheFlagOverridesIt) {
 }
 
 }  // namespace
+
+namespace {
+
+// The "no cut" rule (docs/results.md) at the command line: a cut with no
+// chip is refused with the reason, never judged.
+class CliNoCut : public CliFixture {
+ protected:
+  // A 16 mm, 3-flute bull nose (2 mm corner) on 0.5 mm of radial depth: at
+  // 0.5 mm deep the corner reaches 7.32 mm from the axis, the band starts at
+  // 7.5 mm (tests/test_cutter_profile.cpp, NoChipWhereTheCornerMissesTheBand).
+  std::string bull_nose() {
+    const fs::path p = path("bull.toml");
+    std::ofstream(p) << "name = \"bull nose\"\n[process]\noperation = \"milling\"\nteeth = 3\n"
+                        "tangential_coefficient_n_per_mm2 = 700\nradial_coefficient_ratio = 0.3\n"
+                        "cutter_geometry = \"bull_nose\"\ncorner_radius_mm = 2\ntool_diameter_mm = 16\n"
+                        "radial_depth_mm = 0.5\nmilling_direction = \"climb\"\n"
+                        "[[tool.modes]]\nfrequency_hz = 600\ndamping_ratio = 0.03\nstiffness_n_per_um = 8\n"
+                        "direction = \"x\"\n[[tool.modes]]\nfrequency_hz = 620\ndamping_ratio = 0.03\n"
+                        "stiffness_n_per_um = 8\ndirection = \"y\"\n";
+    return p.string();
+  }
+};
+
+TEST_F(CliNoCut, NonlinearSimulationAtFeedZeroIsRefused) {
+  // Before: exit 0, verdict "chatter" (growth 1.096) at feed 0, "stable" at 1e-9 mm.
+  const RunResult r = run({"simulate", kCaseC, "--rpm", "18000", "--depth-mm", "1.5", "--feed-per-tooth-mm", "0"});
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.err, "no static chip")) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  // The linear question needs no feed.
+  EXPECT_EQ(run({"simulate", kCaseC, "--rpm", "18000", "--depth-mm", "0.2", "--feed-per-tooth-mm", "0", "--linear"})
+                .exit_code,
+            0);
+  // point by simulation at feed 0: refused (before: depth_limit_mm 0.0).
+  const RunResult p = run({"point", kCaseC, "--rpm", "18000", "--depth-mm", "1.5", "--method", "time-domain",
+                           "--feed-per-tooth-mm", "0"});
+  EXPECT_NE(p.exit_code, 0) << p.out;
+  EXPECT_TRUE(contains(p.err, "no static chip")) << p.err;
+}
+
+TEST_F(CliNoCut, BullNoseThatMissesTheBandIsNotJudged) {
+  const std::string cfg = bull_nose();
+  // Before: point said stable, margin 22.3.
+  for (const char* method : {"sdm", "analytic"}) {
+    const RunResult r = run({"point", cfg, "--rpm", "12000", "--depth-mm", "0.5", "--method", method});
+    EXPECT_NE(r.exit_code, 0) << method << ": " << r.out;
+    EXPECT_TRUE(contains(r.err, "no edge engages")) << r.err;
+    EXPECT_TRUE(contains(r.err, "7.5 mm")) << r.err;
+  }
+  const RunResult sim = run({"simulate", cfg, "--rpm", "12000", "--depth-mm", "0.5", "--feed-per-tooth-mm", "0.05"});
+  EXPECT_NE(sim.exit_code, 0) << sim.out;
+  EXPECT_TRUE(contains(sim.err, "no edge engages")) << sim.err;
+  // 1 mm deep the corner reaches the band: judged.
+  EXPECT_EQ(run({"point", cfg, "--rpm", "12000", "--depth-mm", "1", "--method", "sdm"}).exit_code, 0);
+  // check: the shallow row is not judged, with the reason; the deep one is.
+  const fs::path ops = path("ops.csv");
+  std::ofstream(ops) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nshallow,12000,0.5,,0.05\ndeep,12000,1,,0.05\n";
+  const RunResult c = run({"check", cfg, "--operations", ops.string(), "--json", "-", "--rpm-min", "5000", "--rpm-max", "20000"});
+  const auto j = nlohmann::json::parse(c.out);
+  ASSERT_EQ(j["not_judged"].size(), 1u) << c.out;
+  EXPECT_EQ(j["not_judged"][0]["id"], "shallow");
+  EXPECT_TRUE(contains(j["not_judged"][0]["reason"].get<std::string>(), "no edge engages")) << c.out;
+}
+
+TEST_F(CliNoCut, ImplausibleDepthsNameTheUnitSlip) {
+  // Before: 0.0015 mm gave margin 1286 with no word; 150 mm passed silently.
+  for (const auto& [depth, slip] : {std::pair{"0.0015", "a depth in m?"}, std::pair{"150", "a depth in um?"}}) {
+    const RunResult r = run({"point", kCaseC, "--rpm", "18000", "--depth-mm", depth, "--method", "analytic"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(contains(j["notes"].dump(), slip)) << depth << ": " << j["notes"];
+  }
+  const RunResult ok = run({"point", kCaseC, "--rpm", "18000", "--depth-mm", "1.5", "--method", "analytic"});
+  EXPECT_FALSE(contains(nlohmann::json::parse(ok.out)["notes"].dump(), "a depth in")) << ok.out;
+  const fs::path ops = path("ops.csv");
+  std::ofstream(ops) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nthin,18000,0.0015,,0.05\n";
+  const RunResult c = run({"check", kCaseC, "--operations", ops.string(), "--json", "-", "--method", "analytic"});
+  EXPECT_TRUE(contains(nlohmann::json::parse(c.out)["warnings"].dump(), "operation 'thin' (line 2): depth 0.0015 mm"))
+      << c.out;
+}
+
+}  // namespace

@@ -1172,5 +1172,23 @@ TEST(ConfigEngagedArcs, OneArcOrAListOfArcs) {
                                {"process.engaged_arc_deg", "not with radial_immersion"}));
 }
 
+
+// Unit slips on the radial engagement (issue 44): a percentage typed as the
+// ratio is refused with the ratio it meant; a radial depth in metres loads
+// with a warning that says so.
+TEST(Config, RadialEngagementUnitSlipsNameTheUnit) {
+  const std::string head = "teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_n_per_m2 = 2e8\n";
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "radial_immersion = 25\n"),
+                               {"process.radial_immersion = 25", "not a percentage: 25 % is 0.25"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "radial_immersion = 1.5\n"),
+                               {"process.radial_immersion = 1.5", "not a percentage: 1.5 % is 0.015"}));
+  EXPECT_TRUE(ThrowsInputError(Milling(head + "radial_immersion = 250\n"), {"process.radial_immersion = 250", "in (0, 1]"}));
+  const Config metres = parse_config(Milling(head + "tool_diameter_mm = 16\nradial_depth_mm = 0.004\n"), kOrigin);
+  ASSERT_EQ(metres.warnings.size(), 1u);
+  EXPECT_NE(metres.warnings[0].find("process.radial_depth_mm = 0.004"), std::string::npos) << metres.warnings[0];
+  EXPECT_NE(metres.warnings[0].find("a radial depth in m? (0.004 m is 4 mm)"), std::string::npos) << metres.warnings[0];
+  EXPECT_TRUE(parse_config(Milling(head + "tool_diameter_mm = 16\nradial_depth_mm = 0.5\n"), kOrigin).warnings.empty());
+}
+
 }  // namespace
 }  // namespace chatter

@@ -268,6 +268,22 @@ TEST_F(ConsistencyCli, MeanPowerTorqueAndRemovalAreTheCuttingLaws) {
   EXPECT_NEAR(mr["power_kw"].get<double>(), 600.0 * mrr * 1e-6, 1e-12 * mrr);
   EXPECT_NEAR(mr["torque_nm"].get<double>(), mr["power_kw"].get<double>() * 1e3 / (2 * std::numbers::pi * n / 60.0),
               1e-12 * mr["torque_nm"].get<double>());
+  // Part quality beside the suggestion (issue 44), without a tolerance: the
+  // recommended point's |SLE| and peak-to-peak are `forced`'s there.
+  std::ostringstream rpm_text, depth_text;
+  rpm_text.precision(17);
+  depth_text.precision(17);
+  rpm_text << n;
+  depth_text << d;
+  const RunResult fo = run({"forced", milling, "--rpm", rpm_text.str(), "--depth-mm", depth_text.str(),
+                           "--feed-per-tooth-mm", "0.05", "--json", "-"});
+  ASSERT_EQ(fo.exit_code, 0) << fo.err;
+  const json fr = json::parse(fo.out);
+  ASSERT_TRUE(fr["stable"].get<bool>());
+  const double sle = std::abs(fr["surface_location_error_um"].get<double>());
+  const double pp = std::max(fr["peak_to_peak_um"]["x"].get<double>(), fr["peak_to_peak_um"]["y"].get<double>());
+  EXPECT_NEAR(mr["part_error_um"].get<double>(), sle, 1e-9 * sle) << m.out;
+  EXPECT_NEAR(mr["peak_to_peak_um"].get<double>(), pp, 1e-9 * pp) << m.out;
 }
 
 // A ball end's power, torque and removal rate are the cutting law's at the

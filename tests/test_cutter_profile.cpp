@@ -352,5 +352,38 @@ TEST(CutterProfile, BadInputNamesTheRule) {
   EXPECT_NE(milling_error(p).find("profile slices = -3: must be in [0, 2000]"), std::string::npos) << milling_error(p);
 }
 
+// The "no cut" rule (docs/results.md): a 16 mm bull nose with a 2 mm corner
+// on a 0.5 mm radial depth. The band starts R(1 − 2 a_e/D) = 7.5 mm from the
+// axis; the corner reaches R − r_c + √(r_c² − (r_c − z)²) at height z: 7.32 mm
+// at the top of a 0.5 mm cut (no slice engages), 7.73 mm at 1 mm (the upper
+// slices do).
+TEST(CutterProfile, NoChipWhereTheCornerMissesTheBand) {
+  MillingParameters p;
+  p.teeth = 3;
+  p.tangential_coefficient_n_per_m2 = 700e6;
+  p.radial_coefficient_n_per_m2 = 210e6;
+  p.tool_diameter_m = 16e-3;
+  p.radial_immersion = 0.5 / 16.0;
+  p.cutter.geometry = CutterGeometry::kBullNose;
+  p.cutter.corner_radius_m = 2e-3;
+  const Process bull = Process::milling(p);
+  auto reach_mm = [](double z_mm) { return 8.0 - 2.0 + std::sqrt(4.0 - (2.0 - z_mm) * (2.0 - z_mm)); };
+  ASSERT_LT(reach_mm(0.5), 7.5);
+  ASSERT_GT(reach_mm(1.0), 7.5);
+  const std::string why = bull.no_chip_reason(0.5e-3);
+  EXPECT_NE(why.find("no cut"), std::string::npos) << why;
+  EXPECT_NE(why.find("reaches 7.323 mm"), std::string::npos) << why;  // reach_mm(0.5) = 7.3229
+  EXPECT_NE(why.find("starts 7.5 mm"), std::string::npos) << why;
+  EXPECT_EQ(bull.no_chip_reason(1.0e-3), "");
+  EXPECT_NE(bull.no_chip_reason(0.0), "");
+  // A flat cutter always has a chip at a depth > 0; a wide cut engages the corner at once.
+  MillingParameters flat = p;
+  flat.cutter = {};
+  EXPECT_EQ(Process::milling(flat).no_chip_reason(0.1e-3), "");
+  MillingParameters wide = p;
+  wide.radial_immersion = 0.5;
+  EXPECT_EQ(Process::milling(wide).no_chip_reason(0.05e-3), "");
+}
+
 }  // namespace
 }  // namespace chatter

@@ -313,9 +313,10 @@ struct OperationForced {
   /// The part error the tolerance applies to, m: |SLE| in milling, the
   /// diametral error 2δ in turning; NaN when the cut is unstable.
   double part_error_m = 0.0;
-  /// Stable and part_error_m <= row.max_error_m (true without a tolerance
-  /// when stable).
-  bool within_tolerance = true;
+  /// part_error_m <= row.max_error_m (true without a tolerance); empty when
+  /// the cut is unstable: no steady part error exists to hold against a
+  /// tolerance (the row counts as unstable, not as out of tolerance).
+  std::optional<bool> within_tolerance;
 };
 /// The forced response of `row` (its process_for(base, row)), empty when the
 /// row gives no feed. Cost: one ForcedResponseSolver response (~1–10 ms).
@@ -422,6 +423,9 @@ struct OperationCheck {
   /// diametral error, teeth leaving the cut, the part's tolerance): set when
   /// the row gives a feed (forced_check).
   std::optional<OperationForced> forced;
+  /// The same at the suggested speed (the row's depth, feed and tolerance):
+  /// the part quality beside the suggestion; set when both are.
+  std::optional<OperationForced> suggestion_forced;
   /// The mean cutting load at the row's speed, depth and feed on its
   /// process: set when the row gives a feed.
   std::optional<OperationLoad> load;
@@ -528,8 +532,12 @@ struct Recommendation {
   /// when not given or not binding below the other caps).
   double depth_part_error_m = std::numeric_limits<double>::infinity();
   /// The part error of the recommended cut (|SLE| milling, diametral error
-  /// turning), m; NaN unless max_part_error_m is given.
+  /// turning), m, from its forced response whether or not max_part_error_m
+  /// is given; NaN for a measured-FRF model (no forced response).
   double part_error_m = std::numeric_limits<double>::quiet_NaN();
+  /// The larger of the forced vibration's x and y peak-to-peak there, m
+  /// (NaN as part_error_m).
+  double peak_to_peak_m = std::numeric_limits<double>::quiet_NaN();
   /// Stability over the speed band: worst_limit_m is the smallest limit over
   /// spindle_rpm × (1 ± tol), worst_margin = worst_limit / depth (>= 1/safety),
   /// pocket edges where safety × limit >= depth.

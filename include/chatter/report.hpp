@@ -50,6 +50,13 @@ void check_spindle_rpm(double rpm, const std::string& name);
 /// @throws InputError when depth_mm is outside (0, kMaxDepthMm] (`allow_zero`:
 ///         [0, kMaxDepthMm]).
 void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero = false);
+/// The plausible band of a depth of cut, mm: thinner than a sharp edge's
+/// radius, or deeper than any flute, is probably a unit slip (m, µm).
+inline constexpr double kPlausibleDepthMm[2] = {0.01, 100.0};
+/// A sentence naming the likely unit slip of a depth outside
+/// kPlausibleDepthMm, or "" inside it. report_point adds it to the point's
+/// notes; `check` to its warnings.
+std::string depth_unit_hint(double depth_mm);
 
 /// What `chatter point` adds with spindle speed variation (docs/ssv.md): the
 /// modulation, the principal period it was solved over, and the gain over

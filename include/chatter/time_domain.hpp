@@ -52,6 +52,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <functional>
 #include <vector>
 
@@ -67,6 +68,14 @@ namespace chatter {
 /// hour per speed. One range for the option, the CLI and Python.
 inline constexpr int kMinVerdictPeriods = 20;
 inline constexpr int kMaxVerdictPeriods = 100000;
+
+/// The feed's part of the "no cut" rule (docs/results.md): a nonlinear run
+/// (the chip clipped at zero) at feed 0 has no static chip; its growth
+/// measures the clipping of a perturbation, not the cut. Refused by
+/// SimulationSettings and TimeDomainOptions validation.
+inline constexpr std::string_view kNoChipFeed =
+    "feed 0: no static chip, so no cut to judge (a nonlinear simulation needs a feed > 0; "
+    "the linear mode asks the stability question without one)";
 
 struct TimeDomainOptions {
   /// CVODE relative tolerance (in [1e-12, 1e-2]). The absolute tolerance is
@@ -211,6 +220,12 @@ class TimeDomainSimulator {
   /// With speed variation a nonlinear run that settles while the tool
   /// leaves the cut costs one more (linear) run (docs/ssv.md).
   SimulationResult simulate(const SimulationSettings& settings) const;
+  /// A front end's check before it reports one run as a verdict on the cut
+  /// (`chatter simulate`, Python's simulate): @throws InputError with the
+  /// process's no_chip_reason (no edge engaged at the depth, a depth of 0)
+  /// or kNoChipFeed. The lobe search does not call it: a depth at which no
+  /// edge engages is a stable point of its search.
+  void require_chip(const SimulationSettings& settings) const;
 
   const StructuralModel& model() const { return model_; }
   const Process& process() const { return process_; }

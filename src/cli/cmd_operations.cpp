@@ -153,7 +153,7 @@ int cmd_check(const std::vector<std::string>& args) {
     report = check_operations(cfg.model, cfg.process, file.rows, opt);
   }
 
-  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const bool milling = cfg.process.rotating_edges();
   std::vector<std::vector<std::string>> t;
   t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "worst_margin", "chatter_hz", "lobe",
                "suggest_rpm", "limit_there_mm", "worst_margin_there", "pocket_rpm"});
@@ -197,12 +197,19 @@ int cmd_check(const std::vector<std::string>& args) {
       const auto& f = report.checks[i].forced;
       const auto& op = report.checks[i].op;
       if (!f || !f->response.stable) {
-        t[i + 1].insert(t[i + 1].end(), {"-", "-", op.max_error_m && f ? "OUT" : "-"});
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});  // unstable: no steady part error to hold
         continue;
       }
       t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
       t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
-      t[i + 1].push_back(!op.max_error_m ? "-" : f->within_tolerance ? "ok" : "OUT");
+      t[i + 1].push_back(!op.max_error_m ? "-" : *f->within_tolerance ? "ok" : "OUT");
+    }
+    // The part error at the suggested speed: quality beside the suggestion.
+    t.front().push_back(milling ? "sugg_sle_um" : "sugg_diam_err_um");
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& s = report.checks[i].suggestion_forced;
+      t[i + 1].push_back(!s || !s->response.stable ? "-"
+                         : fixed((milling ? s->response.surface_location_error_m : s->part_error_m) * 1e6, 2));
     }
   }
   // The mean cutting load of the rows with a feed against the machine's

@@ -32,8 +32,7 @@ constexpr int kMapSpeeds = 121;
 constexpr int kMapFeeds = 81;
 constexpr int kMaxIterations = 10000;
 
-bool is_milling(const Config& cfg) { return cfg.process.operation() == Operation::kMilling; }
-std::string feed_flag(const Config& cfg) { return is_milling(cfg) ? "feed-per-tooth-mm" : "feed-mm-per-rev"; }
+std::string feed_flag(const Config& cfg) { return cfg.process.rotating_edges() ? "feed-per-tooth-mm" : "feed-mm-per-rev"; }
 
 void emit(const std::string& path, const json& j) {
   const std::string text = j.dump(2) + "\n";
@@ -195,9 +194,9 @@ int cmd_performance(const std::vector<std::string>& args) {
   const Operation op = l.cfg.process.operation();
   if (vm.count("cutting-speed-m-per-min") == vm.count("rpm"))
     throw InputError("give the speed with --cutting-speed-m-per-min or --rpm (one of them)");
-  const std::string right = feed_flag(l.cfg), wrong = is_milling(l.cfg) ? "feed-mm-per-rev" : "feed-per-tooth-mm";
+  const std::string right = feed_flag(l.cfg), wrong = l.cfg.process.rotating_edges() ? "feed-mm-per-rev" : "feed-per-tooth-mm";
   if (vm.count(wrong))
-    throw InputError("--" + wrong + ": " + l.cfg.source.string() + " is " + (is_milling(l.cfg) ? "milling" : "turning") +
+    throw InputError("--" + wrong + ": " + l.cfg.source.string() + " is " + std::string(l.cfg.process.operation_name()) +
                      ": give --" + right);
   if (!vm.count(right)) throw InputError("missing --" + right);
   IndexValues measured = unknown_indices();
@@ -215,7 +214,24 @@ int cmd_performance(const std::vector<std::string>& args) {
   p.feed_m = positive(right) * 1e-3;
   p.depth_m = positive("depth-mm") * 1e-3;
   const Performance r = model.evaluate(p, no_corrections(), measured);
-  if (!json_path.empty()) emit(json_path, performance_record(r, model, source_of(l, common)));
+  // A set-point outside the [optimization] bounds is evaluated (the models
+  // extrapolate) but said: far outside, it is usually a unit slip (issue 44:
+  // --feed-mm-per-rev 35 against 0.05-0.5 passed without a word).
+  RecordSource source = source_of(l, common);
+  const OptimizationSpec& spec = model.spec();
+  const std::string unit = model.milling() ? " mm/tooth" : " mm/rev";
+  auto outside = [&](const char* what, double x, const Bounds& b, double scale, const std::string& u) {
+    if (b.lo > 0.0 && (x < b.lo * (1.0 - 1e-12) || x > b.hi * (1.0 + 1e-12)))
+      source.warnings.push_back(std::string(what) + " " + fmt(x * scale, 5) + u + " is outside the [optimization] bounds " +
+                                fmt(b.lo * scale, 5) + "-" + fmt(b.hi * scale, 5) + u +
+                                (x > 10.0 * b.hi || x < 0.1 * b.lo ? ": a unit slip?" : ": the models extrapolate"));
+  };
+  outside("feed", p.feed_m, spec.feed_m, 1e3, unit);
+  outside("depth", p.depth_m, spec.depth_m, 1e3, " mm");
+  outside("spindle speed", p.spindle_rpm, spec.speed_rpm, 1.0, " rev/min");
+  for (std::size_t i = l.cfg.warnings.size(); i < source.warnings.size(); ++i)
+    std::cerr << "warning: " << source.warnings[i] << "\n";
+  if (!json_path.empty()) emit(json_path, performance_record(r, model, source));
   std::ostream& os = json_path == "-" ? std::cerr : std::cout;
   os << l.cfg.name << ":\n";
   summary(os, model, r);

@@ -153,6 +153,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
         plot_simulation(*window, title, so_far, f_max, /*running=*/true);
     };
   }
+  sim.require_chip(st);  // a cut with no chip is refused, not judged (docs/results.md)
   const SimulationResult r = sim.simulate(st);
 
   nlohmann::json j = simulation_record(r, simulation_request(st, cfg.process, rtol, depth_mm, feed_mm),

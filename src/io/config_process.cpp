@@ -15,6 +15,9 @@ namespace {
 // ------------------------------------------------------ plausibility bounds
 
 constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
+/// A radial depth thinner than this (mm) is a cut below a sharp edge's radius:
+/// warned as metres typed as mm (docs/config.md).
+constexpr double kPlausibleRadialDepthMm = 0.01;
 
 // ------------------------------------------------------------ the quantities
 
@@ -295,10 +298,21 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                   "must be <= tool_diameter_mm (" + number_text(*diameter_mm) + " mm): the cutter cannot engage more than its diameter");
       else if (ae && diameter_mm)
         immersion = *ae / *diameter_mm;
+      if (ae && *ae < kPlausibleRadialDepthMm)  // metres typed as mm (0.004 for 4 mm)
+        doc.warn(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                 "below " + number_text(kPlausibleRadialDepthMm) + " mm, a cut thinner than the edge's radius: a radial depth in m? (" +
+                     number_text(*ae) + " m is " + number_text(*ae * 1e3) + " mm)");
     } else {
-      if (!process->has("radial_immersion") && !process->meant("radial_immersion"))
+      const toml::node* n = process->find("radial_immersion");
+      const double v = !n ? 0.0 : n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                                : n->is_floating_point() ? n->as_floating_point()->get() : 0.0;
+      if (!n && !process->meant("radial_immersion"))
         doc.error_key(process->path_of("radial_immersion"),
                       "missing (required, a_e/D, in (0, 1]); or give radial_depth_mm with tool_diameter_mm");
+      else if (v > 1.0 && v <= 100.0)  // a percentage typed as the ratio (25 for 25 %)
+        doc.error(process->path_of("radial_immersion"), *n,
+                  "must be in (0, 1] (a_e/D, a ratio, not a percentage: " + doc.as_written(*n) + " % is " +
+                      number_text(v / 100.0) + ")");
       else
         immersion = process->number("radial_immersion", kUnitInterval);
     }

@@ -63,7 +63,8 @@ std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& c, i
   return j.dump(indent);
 }
 
-std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m, bool within_tolerance) {
+std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m,
+                              std::optional<bool> within_tolerance) {
   const bool s = r.stable;
   json j;
   j["stable"] = s;
@@ -74,7 +75,7 @@ std::string forced_check_json(const ForcedResponse& r, std::optional<double> max
   j["teeth_leave_cut"] = s ? json(r.teeth_leave_cut) : json(nullptr);
   j["linear_limit_holds"] = r.linear_limit_holds;
   j["max_error_um"] = max_error_m ? json(*max_error_m * 1e6) : json(nullptr);
-  j["within_tolerance"] = within_tolerance;
+  j["within_tolerance"] = within_tolerance ? json(*within_tolerance) : json(nullptr);
   return j.dump();
 }
 

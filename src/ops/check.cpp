@@ -15,6 +15,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/operations.hpp"
+#include "chatter/report.hpp"
 #include "chatter/solvers.hpp"
 #include "ops_internal.hpp"
 #include "speed_search.hpp"
@@ -46,7 +47,7 @@ std::string CheckOptions::validate() const {
 
 std::size_t CheckReport::out_of_tolerance() const {
   return static_cast<std::size_t>(std::count_if(checks.begin(), checks.end(), [](const OperationCheck& c) {
-    return c.forced && c.op.max_error_m && !c.forced->within_tolerance;
+    return c.forced && c.op.max_error_m && c.forced->within_tolerance == false;  // unstable rows: no verdict
   }));
 }
 
@@ -125,7 +126,7 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
   };
   using Key = std::tuple<double, int, int>;
   auto key_of = [&](const OperationRow& r) -> Key {
-    if (process.operation() == Operation::kTurning) return {0.0, 0, 0};
+    if (!process.rotating_edges()) return {0.0, 0, 0};
     const auto& m = process.milling_parameters();
     return {r.radial_immersion.value_or(m.radial_immersion), r.teeth.value_or(m.teeth),
             static_cast<int>(r.direction.value_or(m.direction))};
@@ -159,20 +160,27 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
         if (std::find(report.warnings.begin(), report.warnings.end(), n) == report.warnings.end())
           report.warnings.push_back(n);
     }
+    if (const std::string why = g.process.no_chip_reason(r.depth_m); !why.empty()) {
+      not_judged(i, why);  // no chip: refused, never judged (docs/results.md "No cut")
+      continue;
+    }
     g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
     g.rows.push_back(i);
     if (options.flute_length_m && r.depth_m > *options.flute_length_m)
       report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): depth " +
                                 num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
                                 num(*options.flute_length_m * 1e3) + " mm");
+    if (const std::string hint = depth_unit_hint(r.depth_m * 1e3); !hint.empty())
+      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): " + hint);
     if (r.feed_per_tooth_m && *r.feed_per_tooth_m > kPlausibleFeedM)
       report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): feed " +
                                 num(*r.feed_per_tooth_m * 1e3) + " mm per " +
-                                (process.operation() == Operation::kMilling ? "tooth" : "revolution") +
+                                std::string(process.feed_basis()) +
                                 " is above 1 mm: a feed in um, or per revolution?");
   }
   std::vector<Group*> groups;
-  for (auto& [key, g] : by_key) groups.push_back(&g);
+  for (auto& [key, g] : by_key)
+    if (!g.rows.empty()) groups.push_back(&g);
 
   // Groups are independent: solved in parallel (each deterministic, so the
   // report does not depend on the thread count); a lone group scans in parallel.
@@ -236,6 +244,11 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
     if (!judged[i]) continue;
     try {
       checks[i].forced = forced_check(model, process, rows[i]);
+      if (checks[i].suggestion && checks[i].forced) {
+        OperationRow at = rows[i];
+        at.spindle_rpm = checks[i].suggestion->spindle_rpm;
+        checks[i].suggestion_forced = forced_check(model, process, at);
+      }
     } catch (const std::exception& e) {
       const std::string w = std::string("forced vibration not computed: ") + e.what();
       if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())

@@ -25,7 +25,7 @@ std::optional<OperationForced> forced_check(const StructuralModel& model, const 
   out.part_error_m = !r.stable ? std::numeric_limits<double>::quiet_NaN()
                      : r.milling ? std::abs(r.surface_location_error_m)
                                  : r.diametral_error_m;
-  out.within_tolerance = r.stable && (!row.max_error_m || out.part_error_m <= *row.max_error_m);
+  if (r.stable) out.within_tolerance = !row.max_error_m || out.part_error_m <= *row.max_error_m;
   return out;
 }
 

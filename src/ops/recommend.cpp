@@ -219,7 +219,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   const bool limits = std::isfinite(mc.max_power_w) || std::isfinite(mc.max_torque_n_m);
   if (limits && !(options.diameter_m > 0.0))
     throw InputError(std::string("recommend: a power or torque limit needs the ") +
-                     (process.operation() == Operation::kMilling ? "tool diameter (RecommendOptions::diameter_m)"
+                     (process.rotating_edges() ? "tool diameter (RecommendOptions::diameter_m)"
                                                                  : "workpiece diameter (RecommendOptions::diameter_m)"));
   Recommendation rec;
   std::string warning;
@@ -322,7 +322,24 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
   rec.depth_cap_m = best.cap;
   rec.depth_flute_m = best.flute;
   rec.depth_part_error_m = best.part;
-  if (part_error) rec.part_error_m = part_error->error(rec.spindle_rpm, rec.depth_m);
+  // Part quality beside the suggestion (docs/results.md), with or without a
+  // tolerance: the forced response at the recommended cut (modal models).
+  if (!model.has_measured()) {
+    ForcedSettings st;
+    st.spindle_rpm = rec.spindle_rpm;
+    st.depth_m = rec.depth_m;
+    st.feed_m = options.feed_per_tooth_m;
+    st.record_path = false;
+    try {
+      const ForcedResponse fr = ForcedResponseSolver(model, process).response(st);
+      if (fr.stable) {
+        rec.part_error_m = fr.milling ? std::abs(fr.surface_location_error_m) : fr.diametral_error_m;
+        rec.peak_to_peak_m = std::max(fr.peak_to_peak_x_m, fr.peak_to_peak_y_m);
+      }
+    } catch (const InputError& e) {
+      rec.warnings.push_back(std::string("part error not computed: ") + e.what());
+    }
+  }
   rec.pocket = make_pocket(s, best.rpm, rec.depth_m, rec.depth_m / options.safety);
   rec.pocket.limit = rec.limit;
   rec.pocket.worst_limit_m = best.worst;
@@ -430,10 +447,12 @@ std::string explain(const Recommendation& r, const RecommendOptions& o) {
     os << "MRR: " << f(r.mrr_per_diameter_m2_per_s * 6e7 * 1e-3, 4)
        << " cm^3/min per mm of diameter (give the diameter for MRR, power and torque)\n";
   }
-  if (o.max_part_error_m)
-    os << "Part error (forced vibration, linear model): "
-       << f(r.part_error_m * 1e6, 2) << " um of " << f(*o.max_part_error_m * 1e6, 2)
-       << " um allowed (milling: |surface location error|; turning: diametral error)\n";
+  if (std::isfinite(r.part_error_m)) {
+    os << "Part error (forced vibration, linear model): " << f(r.part_error_m * 1e6, 2) << " um";
+    if (o.max_part_error_m) os << " of " << f(*o.max_part_error_m * 1e6, 2) << " um allowed";
+    os << " (milling: |surface location error|; turning: diametral error), vibration "
+       << f(r.peak_to_peak_m * 1e6, 2) << " um peak to peak\n";
+  }
   for (const auto& w : r.warnings) os << "warning: " << w << "\n";
   return os.str();
 }

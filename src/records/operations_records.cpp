@@ -1,6 +1,7 @@
 // The records of check and recommend (chatter/records.hpp): the same JSON
 // for `chatter check --json`, `chatter recommend --json`, Python's
 // chatter.check / chatter.recommend and the C API.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -105,7 +106,7 @@ struct LoadInputs {
   std::optional<double> kc;
 };
 LoadInputs load_inputs(const Config& cfg, const CheckLoadArgs& a, MachineLimits& machine, ArgStyle style) {
-  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const bool milling = cfg.process.rotating_edges();
   const auto name = [&](const char* key) { return arg_name(style, key); };
   const auto positive = [&](const char* key, double x) { return positive_arg(style, key, x); };
   const auto only = [&](const char* key, bool given, bool ok, const char* op) {
@@ -149,7 +150,7 @@ CheckOptions check_options(const Config& cfg, std::optional<double> rpm_min, std
 }
 
 RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle style) {
-  const bool milling = cfg.process.operation() == Operation::kMilling;
+  const bool milling = cfg.process.rotating_edges();
   const auto name = [&](const char* key) { return arg_name(style, key); };
   RecommendOptions opt;
   opt.machine = machine_range(cfg, a.rpm_min, a.rpm_max, style);
@@ -209,7 +210,7 @@ int check_exit_status(const CheckReport& report, const OperationsFile& file) {
 json check_record(const CheckReport& report, const OperationsFile& file, const CheckRecordInputs& in,
                   const RecordSource& source) {
   const CheckOptions& opt = *in.options;
-  const bool milling = in.process->operation() == Operation::kMilling;
+  const bool milling = in.process->rotating_edges();
   json j;
   j["format"] = "chatter-operation-check";
   j["version"] = version();
@@ -269,6 +270,15 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
       json s = limit_json(*c.suggestion);
       s["margin"] = finite_or_null(c.suggestion_margin);
       s.update(pocket_json(*c.suggestion_pocket));
+      // Part quality beside the suggestion: the forced response there.
+      if (const auto& f = c.suggestion_forced) {
+        const bool have = f->response.stable;
+        s["part_error_um"] = have ? finite_or_null(f->part_error_m * 1e6) : json(nullptr);
+        s["peak_to_peak_um"] =
+            have ? finite_or_null(std::max(f->response.peak_to_peak_x_m, f->response.peak_to_peak_y_m) * 1e6)
+                 : json(nullptr);
+        s["within_tolerance"] = f->within_tolerance ? json(*f->within_tolerance) : json(nullptr);
+      }
       o["suggestion"] = s;
     } else {
       o["suggestion"] = nullptr;
@@ -312,7 +322,7 @@ json recommend_record(const Recommendation& r, const RecommendOptions& opt, cons
                  {"speed_tolerance_pct", opt.speed_tolerance * 100.0},
                  {"diameter_mm", opt.diameter_m > 0.0 ? json(opt.diameter_m * 1e3) : json(nullptr)},
                  {"max_sle_um", opt.max_part_error_m ? json(*opt.max_part_error_m * 1e6) : json(nullptr)}};
-  if (process.operation() == Operation::kMilling) {
+  if (process.rotating_edges()) {
     const auto& mp = process.milling_parameters();
     j["inputs"]["radial_immersion"] = mp.radial_immersion;
     j["inputs"]["teeth"] = mp.teeth;
@@ -330,8 +340,9 @@ json recommend_record(const Recommendation& r, const RecommendOptions& opt, cons
                         {"flute_length", finite_or_null(r.depth_flute_m * 1e3)},
                         {"surface_error", finite_or_null(r.depth_part_error_m * 1e3)}};
   // The forced vibration's part error at the recommended cut (|SLE| milling,
-  // diametral error turning), when a tolerance was given.
+  // diametral error turning) and its peak-to-peak: beside every suggestion.
   j["part_error_um"] = finite_or_null(r.part_error_m * 1e6);
+  j["peak_to_peak_um"] = finite_or_null(r.peak_to_peak_m * 1e6);
   j["speed_band"] = pocket_json(r.pocket);
   json b = json::array();
   for (auto x : r.binding) b.push_back(to_string(x));

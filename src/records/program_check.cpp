@@ -64,6 +64,7 @@ Config cut_config(const ToolSetup& t, const Sample& s) {
 struct RowVerdict {
   PointReport point;
   double part_error_m = kNaN;
+  bool no_chip = false;  ///< the cut's slices miss the stock's arc: no chip, a block in air
 };
 
 // The solves: one per distinct cut key with the cache (one per sample
@@ -205,6 +206,8 @@ std::vector<RowVerdict> judge_rows(const Engaged& eng, const Solves& sv, const s
     const Sample& s = eng.samples[worst[r]];
     const Solved& cut = sv.solved[sv.key_of[worst[r]]];
     RowVerdict& out = verdicts[v];
+    out.no_chip = !cut.config.process.no_chip_reason(s.depth_mm * 1e-3).empty();
+    if (out.no_chip) return tick();
     out.point = report_point(*cut.solver, cut.config.process, s.rpm, s.depth_mm);
     if (out.point.stable && eng.rows[r].feed > 0.0) out.part_error_m = part_error_m(cut, s.rpm, s.depth_mm, eng.rows[r].feed);
     tick();
@@ -310,7 +313,7 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
   for (std::size_t r = 0; r < rows.size(); ++r) {
     ProgramRow& row = rows[r];
     ++sum.blocks;
-    if (worst[r] == kNone) {
+    if (worst[r] == kNone || verdicts[verdict_of[r]].no_chip) {
       ++sum.air_blocks;
       row.air = true;
       row.overloaded = false;

@@ -47,11 +47,23 @@ void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero) {
                      " mm (no cut is a metre deep): typed in um?");
 }
 
+std::string depth_unit_hint(double depth_mm) {
+  if (depth_mm > 0.0 && depth_mm < kPlausibleDepthMm[0])
+    return "depth " + number(depth_mm) + " mm is thinner than a sharp edge's radius (" + number(kPlausibleDepthMm[0]) +
+           " mm): a depth in m?";
+  if (depth_mm > kPlausibleDepthMm[1])
+    return "depth " + number(depth_mm) + " mm is deeper than any flute (" + number(kPlausibleDepthMm[1]) +
+           " mm): a depth in um?";
+  return "";
+}
+
 PointReport report_point(const LobeSolver& solver, const Process& process, double spindle_rpm, double depth_mm,
                          const LobeSolver* constant_speed) {
   const double depth_m = depth_mm * 1e-3;
+  if (const std::string why = process.no_chip_reason(depth_m); !why.empty()) throw InputError(why);
   PointReport r;
   r.depth_mm = depth_mm;
+  if (const std::string hint = depth_unit_hint(depth_mm); !hint.empty()) r.notes.push_back(hint);
   r.method = solver.method();
   r.spindle_rpm = spindle_rpm;
   r.depth_m = depth_m;

@@ -42,8 +42,10 @@ std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& cont
 /// docs/operations.md): stable, surface_location_error_um (milling) or
 /// diametral_error_um (turning), peak_to_peak_um {x, y},
 /// min_chip_thickness_um, teeth_leave_cut, linear_limit_holds, max_error_um
-/// (null without a tolerance) and within_tolerance; one line.
-std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m, bool within_tolerance);
+/// (null without a tolerance) and within_tolerance (null when the cut is
+/// unstable: no steady error to hold against a tolerance); one line.
+std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m,
+                              std::optional<bool> within_tolerance);
 
 /// The tool path over one period as CSV:
 /// time_s,rel_x_um,rel_y_um,wall_normal_um (empty table when not recorded).
