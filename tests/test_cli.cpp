@@ -373,6 +373,36 @@ TEST_F(CliTest, MainHelp) {
   }
 }
 
+// Every command's --help prints its defaults as a person wrote them (0.3,
+// not 0.29999999999999999), and every file its examples name exists (issue
+// 44: `grind fit --help` named two that did not): the commands are read off
+// `chatter --help`.
+TEST_F(CliTest, HelpDefaultsAreShortNumbersAndExampleFilesExist) {
+  const RunResult main_help = run({"--help"});
+  ASSERT_EQ(main_help.exit_code, 0);
+  std::vector<std::vector<std::string>> commands;
+  std::istringstream in(main_help.out);
+  bool listing = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "Commands:") listing = true;
+    else if (listing && line.rfind("  ", 0) != 0) listing = false;
+    else if (listing) commands.push_back({line.substr(2, line.find(' ', 2) - 2)});
+  }
+  ASSERT_GE(commands.size(), 20u) << main_help.out;
+  for (const char* sub : {"predict", "sweep", "fit", "impacts", "simulate", "plan"}) commands.push_back({"grind", sub});
+  const std::regex long_default(R"(\(=[-+0-9.eE]{9,}\))");
+  for (std::vector<std::string> c : commands) {
+    c.push_back("--help");
+    const RunResult r = run(c);
+    EXPECT_EQ(r.exit_code, 0) << c.front() << ": " << r.err;
+    std::smatch m;
+    EXPECT_FALSE(std::regex_search(r.out, m, long_default)) << c.front() << " " << c[1] << ": " << m.str();
+    const std::regex shipped(R"(\b(configs|examples)/[A-Za-z0-9_./-]+\.(toml|csv|unv|uff|ngc|wav|json))");
+    for (auto it = std::sregex_iterator(r.out.begin(), r.out.end(), shipped); it != std::sregex_iterator(); ++it)
+      EXPECT_TRUE(fs::exists(fs::path(CHATTER_SOURCE_DIR) / it->str())) << c.front() << " " << c[1] << ": " << it->str();
+  }
+}
+
 TEST_F(CliTest, NoArgumentsIsUsageError) {
   const auto r = run({});
   EXPECT_EQ(r.exit_code, 2);
@@ -1039,6 +1069,8 @@ TEST_F(CliTest, CompareAgreesOnTurningAndExplainsFlipLobesInMilling) {
   EXPECT_LT(j["pairs"][0]["largest_relative_difference"].get<double>(), 1e-8);  // analytic vs coupled
   EXPECT_LT(j["pairs"][1]["largest_relative_difference"].get<double>(), 5e-3);  // analytic vs sdm: sdm's 0.5 %
   EXPECT_TRUE(contains(r.out, "discretisation error")) << r.out;
+  // Every file written is reported, not only a plot (issue 44).
+  EXPECT_TRUE(contains(r.out, "wrote " + t.string()) && contains(r.out, "wrote " + js.string())) << r.out;
 
   r = run({"compare", config_path("milling_benchmark_ae005_down.toml").string(), "--rpm-min", "14000", "--rpm-max",
            "18200", "--rpm-points", "8", "--table", t.string(), "--json", js.string(), "--quiet"});

@@ -11,11 +11,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "chatter/pitch_design.hpp"
+#include "chatter/records/pitch.hpp"
 #include "cli_harness.hpp"
 
 namespace fs = std::filesystem;
@@ -30,7 +33,7 @@ using chatter::test::slurp;
 const std::string kConfigs = std::string(CHATTER_SOURCE_DIR) + "/configs/";
 const std::string kExample = kConfigs + "milling_pitch_design_4flute.toml";
 
-// The fragment's angles are printed in degrees (17 digits) and read back by
+// The fragment's angles are printed in degrees (12 digits) and read back by
 // the config (degrees -> rad, scaled to sum to exactly 360°): a few ulps of
 // the angle, which moves the sdm limit by far less than this.
 constexpr double kFragmentRoundTrip = 1e-7;
@@ -132,6 +135,37 @@ TEST_F(CliDesignPitch, JsonToStandardOutput) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["inputs"]["teeth"], 4);
   EXPECT_TRUE(contains(r.err, "designed pitch")) << r.err;
+  // The chip loads and the bound, from the record's own angles and steps.
+  double lo = 1e9, hi = 0.0;
+  for (const auto& a : j["pitch_angles_deg"]) {
+    lo = std::min(lo, a.get<double>());
+    hi = std::max(hi, a.get<double>());
+  }
+  EXPECT_NEAR(j["chip_load_ratio"].get<double>(), hi / lo, 1e-12);
+  EXPECT_EQ(j["on_min_pitch_bound"].get<bool>(),
+            j["designed"]["step_deg"].get<double>() >= j["step_max_deg"].get<double>() * (1.0 - 1e-9));
+  EXPECT_TRUE(contains(r.err, "chip loads: the largest")) << r.err;
+}
+
+TEST(PitchRecord, BoundAndChipLoadsOfThreeTeethOnTheBound) {
+  // design-pitch --teeth 3 at the 0.5 x bound (issue 44): 60/120/180 deg,
+  // the smallest pitch half the equal 120 deg, chip loads 3:1; the fragment
+  // prints 60, not 59.999999999999993.
+  chatter::PitchDesign d;
+  const double deg = std::numbers::pi / 180.0;
+  d.designed.angles_rad = {(180.0 / 3.0) * deg * (1.0 - 1e-16), 120.0 * deg, 180.0 * deg};
+  d.step_max_rad = 60.0 * deg;
+  d.designed.step_rad = 60.0 * deg;
+  d.speeds_rpm = {1000.0, 2000.0};
+  EXPECT_TRUE(chatter::on_min_pitch_bound(d));
+  EXPECT_NEAR(chatter::chip_load_ratio(d), 3.0, 1e-12);
+  const std::string summary = chatter::pitch_design_summary(d);
+  EXPECT_TRUE(contains(summary, "on the bound: the smallest pitch is 60 deg")) << summary;
+  EXPECT_TRUE(contains(summary, "chip loads: the largest 3 x the smallest")) << summary;
+  const std::string fragment = chatter::pitch_design_fragment(d, "x");
+  EXPECT_TRUE(contains(fragment, "pitch_angles_deg = [60, 120, 180]")) << fragment;
+  d.designed.step_rad = 30.0 * deg;
+  EXPECT_FALSE(chatter::on_min_pitch_bound(d));
 }
 
 struct BadCase {

@@ -17,6 +17,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "chatter/error.hpp"
@@ -485,6 +487,12 @@ TEST(Forced, TeethLeaveTheCutWhereTheNonlinearSimulationLeavesItToo) {
     ASSERT_EQ(s.out_of_cut_fraction_per_tooth.size(), 4u);
     if (deep) {
       EXPECT_GT(s.out_of_cut_fraction, 0.0);
+      // One definition per reported fraction: the warning quotes
+      // out_of_cut_fraction itself (3 significant digits).
+      std::ostringstream pct;
+      pct.precision(3);
+      pct << "teeth out of the cut " << 100.0 * s.out_of_cut_fraction << " % of their arc time";
+      EXPECT_NE(s.linear_limit_warning.find(pct.str()), std::string::npos) << pct.str() << " | " << s.linear_limit_warning;
     }
   }
 }

@@ -241,6 +241,34 @@ TEST(GrindingBadInput, TargetDepthBeyondTheWheelRadius) {
   }
 }
 
+// A power whose groove reaches the wheel's radius is refused, as a target
+// depth there is (issue 44: 1e9 W gave a 1 561 mm groove with a warning; a
+// 0.23 mm wheel, metres typed as mm, a 1.5 mm groove). The sweep keeps such
+// points, each with its warning.
+TEST(GrindingBadInput, PowerWhoseGrooveReachesTheWheelRadius) {
+  const Process p = cases::seed001_ch4();
+  const Prediction ok = predict_at_power(p, 1000.0);
+  EXPECT_LT(ok.max_depth_m, 0.115);
+  try {
+    predict_at_power(p, 1e9);
+    FAIL() << "accepted 1e9 W";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond the wheel radius 115 mm"), std::string::npos) << e.what();
+  }
+  Process tiny = p;
+  tiny.wheel.diameter_m = 0.23e-3;  // 0.23 "mm": metres typed as mm
+  try {
+    predict_at_power(tiny, 1000.0);
+    FAIL() << "accepted a 0.23 mm wheel at 1 kW";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("wheel diameter in m?"), std::string::npos) << e.what();
+  }
+  const auto curves = sweep_power(p, 1000.0, 1e9, 3, {});
+  ASSERT_EQ(curves.size(), 1u);
+  ASSERT_EQ(curves[0].points.size(), 3u);
+  EXPECT_FALSE(curves[0].points.back().warnings.empty());
+}
+
 TEST(GrindingBadInput, ZeroFeedAndOtherFields) {
   Process p = cases::seed001_ch4();
   p.feed_m_per_s = 0.0;

@@ -5,10 +5,14 @@
 // [grinding] fragment loading back, and bad tests tables and records.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -216,6 +220,39 @@ TEST_F(GrindingFiles, DerivedColumns) {
   EXPECT_NEAR(*t[0].friction_coefficient, 2093 / (vc * 219), 1e-12);  // seed 000 table 6.2: about 0.5
   EXPECT_NEAR(*t[0].g_ratio, *t[0].removal_mm3_per_s / wear, 1e-12);
   EXPECT_NEAR(*t[0].depth_per_pass_mm, *t[0].removal_mm3_per_s / (50 * 25), 1e-12);
+}
+
+// A test with an empty cell for one target leaves that fit, and the fit
+// says so (issue 44: it was dropped silently).
+TEST_F(GrindingFiles, AnEmptyCellIsLeftOutOfThatFitAndSaid) {
+  const fs::path tests = kSource / "examples/grinding/underwater_tests_seed000.csv";
+  const GrindingFitReport all = fit_grinding_tests(read_grinding_tests(tests, {}), "poly11", "", tests.string());
+  for (const auto& t : all.targets)
+    for (const std::string& w : t.fit.warnings) EXPECT_EQ(w.find("left out"), std::string::npos) << w;
+  // The same table with the first test's removal blanked.
+  std::ifstream in(tests);
+  std::string header, first, text;
+  std::getline(in, header);
+  while (header.rfind('#', 0) == 0) std::getline(in, header);
+  std::getline(in, first);
+  std::vector<std::string> names, cells;
+  for (std::istringstream h(header); std::getline(h, text, ',');) names.push_back(text);
+  for (std::istringstream c(first); std::getline(c, text, ',');) cells.push_back(text);
+  const auto col = std::find(names.begin(), names.end(), "removal_mm3_per_s") - names.begin();
+  ASSERT_LT(static_cast<std::size_t>(col), cells.size()) << header;
+  cells[static_cast<std::size_t>(col)].clear();
+  std::ostringstream blank;
+  blank << header << "\n";
+  for (std::size_t i = 0; i < cells.size(); ++i) blank << (i ? "," : "") << cells[i];
+  blank << "\n" << std::string(std::istreambuf_iterator<char>(in), {});
+  const GrindingFitReport r =
+      fit_grinding_tests(read_grinding_tests(write("blank.csv", blank.str()), {}), "poly11", "", "blank.csv");
+  ASSERT_EQ(r.targets[0].name, "removal");
+  EXPECT_EQ(r.targets[0].rows.size(), all.targets[0].rows.size() - 1);
+  const auto& w = r.targets[0].fit.warnings;
+  EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](const std::string& s) {
+    return s.find("have no value: left out of this fit (11 of 12 tests)") != std::string::npos;
+  })) << (w.empty() ? "" : w.front());
 }
 
 TEST_F(GrindingFiles, FitFragmentLoadsBack) {

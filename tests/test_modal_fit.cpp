@@ -215,6 +215,31 @@ TEST(ModalFit, ModeCountAndThreshold) {
   EXPECT_EQ(fit_modes(t, o).modes.size(), 1u);
 }
 
+// A weak maximum (a mode whose peak is 4.7 % of the highest: |G| = 3.9e-8
+// against 8.35e-7 m/N at 1 800 and 650 Hz) is no resonance to fit when N
+// modes are asked and the bar is 10 %: the N highest must each reach
+// peak_threshold of the highest (issue 44).
+TEST(ModalFit, AskedModesMustBeResonancesNotWeakMaxima) {
+  std::vector<TrueMode> modes = kModes;
+  modes.push_back({1800.0, 0.005, 3e9});
+  const FrfTable t = synthesize(modes);
+  ModalFitOptions o;
+  o.modes = 3;
+  o.peak_threshold = 0.1;
+  try {
+    fit_modes(t, o);
+    FAIL() << "a third mode fitted to a 4.7 % maximum";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds 2 resonance peak(s) at least 10 % of the highest (and 1 smaller"),
+              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ask for 2"), std::string::npos) << e.what();
+  }
+  o.peak_threshold = 0.01;  // a user who lowers the bar gets the weak mode back
+  const ModalFitResult r = fit_modes(t, o);
+  ASSERT_EQ(r.modes.size(), 3u);
+  EXPECT_NEAR(r.modes[2].natural_frequency_hz, 1800.0, 1.0);
+}
+
 TEST(ModalFit, BandWithResidualsAroundOneMode) {
   // Band 560–740 Hz around the first mode: the second mode (1100 Hz) adds an
   // almost constant compliance that the upper residual takes up.

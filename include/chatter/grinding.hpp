@@ -255,7 +255,9 @@ struct Prediction {
 /// The removal and all else at useful power P (W).
 /// @throws InputError "power_w = ...: must be > 0 W" (and finite), or when the
 ///         process has neither a mechanistic nor an empirical removal model,
-///         or the empirical removal is not > 0 there. Cost O(1) (a few dozen
+///         or the empirical removal is not > 0 there, or the groove would
+///         reach the wheel's radius (as predict_for_depth refuses such a
+///         target; sweep_power keeps those points with a warning). Cost O(1) (a few dozen
 ///         Newton steps at most).
 Prediction predict_at_power(const Process& p, double power_w);
 /// The power that cuts a groove of maximum depth h0 (m), and all else.

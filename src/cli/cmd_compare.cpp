@@ -103,6 +103,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   if (json_to_stdout) std::cout << json_text;
   std::ostream& info = table_to_stdout || json_to_stdout ? std::cerr : std::cout;
   info << c.explanation;
+  for (const auto& [file, text] : files) info << "wrote " << file.string() << "\n";  // every file, not only the plot
   PlotOptions options;
   options.depth_axis_max_mm = plot_depth_axis_mm;
   const std::string title = cfg.name + ": depth limit by method";

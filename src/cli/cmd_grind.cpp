@@ -160,7 +160,8 @@ int cmd_predict(const std::vector<std::string>& args) {
   if (p.removal_rate_kg_per_h) os << " (" << f6(*p.removal_rate_kg_per_h) << " kg/h)";
   os << "\n  maximum depth      " << f6(p.max_depth_m * 1e3) << " mm; groove width " << f6(p.groove_width_m * 1e3)
      << " mm; depth per pass " << f6(p.depth_per_pass_m * 1e3) << " mm\n"
-     << "  forces             tangential " << f6(p.tangential_force_n) << " N, normal " << f6(p.normal_force_n) << " N\n";
+     << "  forces             tangential " << f6(p.tangential_force_n) << " N, normal " << f6(p.normal_force_n)
+     << " N (power / cutting speed, normal = tangential / force_ratio)\n";
   if (p.friction_power_w)
     os << "  power split        friction " << f6(*p.friction_power_w) << " W + chip " << f6(*p.chip_power_w) << " W\n";
   os << "  specific energy    " << f6(p.specific_energy_j_per_m3 * 1e-9) << " J/mm^3\n";
@@ -176,7 +177,8 @@ int cmd_predict(const std::vector<std::string>& args) {
   if (p.empirical) {
     os << "  empirical models  ";
     if (p.empirical->removal_rate_m3_per_s) os << " removal " << f6(*p.empirical->removal_rate_m3_per_s * 1e9) << " mm^3/s;";
-    if (p.empirical->normal_force_n) os << " normal force " << f6(*p.empirical->normal_force_n) << " N;";
+    if (p.empirical->normal_force_n)
+      os << " normal force " << f6(*p.empirical->normal_force_n) << " N (the fitted model's, beside the force ratio's above);";
     if (p.empirical->wear_rate_m3_per_s) os << " wear " << f6(*p.empirical->wear_rate_m3_per_s * 1e9) << " mm^3/s;";
     if (p.empirical->g_ratio) os << " G-ratio " << f6(*p.empirical->g_ratio) << ";";
     os << "\n";

@@ -52,8 +52,8 @@ MODEL:
                 cutting speed and --variable (docs/grinding.md gives the term order)
 
 Examples:
-  chatter grind fit examples/grinding/scompi_tests.csv --model mechanistic --out fitted.toml
-  chatter grind fit examples/grinding/underwater_tests.csv --model poly11 --json - --plot fit.png
+  chatter grind fit examples/grinding/scompi_tests_synthetic.csv --model mechanistic --out fitted.toml
+  chatter grind fit examples/grinding/underwater_tests_seed000.csv --model poly11 --json - --plot fit.png
 )";
 
 const char* const kImpactsUsage = R"(Usage: chatter grind impacts FORCE.csv --wheel-rpm N [options]
@@ -67,7 +67,7 @@ starts above the threshold and ends below the median plus half of (threshold
 - median); it counts in the turn holding its maximum.
 
 Example:
-  chatter grind impacts examples/grinding/force_1000w.csv --wheel-rpm 6000 --plot impacts.png
+  chatter grind impacts force_log.csv --wheel-rpm 6000 --plot impacts.png   (your logged time_s, normal_force_n)
 )";
 
 std::string f4(double x) { return fmt(x, 4); }
@@ -79,8 +79,11 @@ void print_stats(std::ostream& os, const std::string& title, const grinding::Fit
   for (std::size_t i = 0; i < f.coefficients.size(); ++i) {
     const double s = scale.empty() ? 1.0 : scale[i];
     char line[256];
-    std::snprintf(line, sizeof line, "    %-30s %13.6g  +- %-11.4g (95 %%: %.6g to %.6g)\n", names[i].c_str(),
-                  f.coefficients[i] * s, f.confidence_95[i] * s, f.lower_95[i] * s, f.upper_95[i] * s);
+    // Both spreads, each labelled (issue 44: "+-" was the 95 % half-width
+    // where docs/grinding.md names the standard error).
+    std::snprintf(line, sizeof line, "    %-30s %13.6g  standard error %-11.4g 95 %% interval %.6g to %.6g\n",
+                  names[i].c_str(), f.coefficients[i] * s, f.standard_error[i] * s, f.lower_95[i] * s,
+                  f.upper_95[i] * s);
     os << line;
   }
   os << "    R^2 = " << f4(f.r_squared) << ", RMSE = " << f4(f.rmse) << " " << unit << ", MAE = " << f4(f.mae) << " "

@@ -262,10 +262,14 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
   if (abs_lim && abs_lim->depth_m < INFINITY)
     summary << "; stable at any speed below " << fmt(abs_lim->depth_m * 1e3, 5) << " mm";
   if (best) {
-    summary << "; deepest limit in the sweep: ";
+    // The table's rows, not the envelope's peak: between two rows it may be
+    // deeper (issue 44: 2.13, 2.49, 2.61 mm for one cutter at three samplings).
+    summary << "; deepest sampled row: ";
     if (best->bounded()) summary << fmt(best->depth_limit_m * 1e3, 5) << " mm";
     else summary << "none below " << fmt(s.depth_max_mm) << " mm";
     summary << " at " << fmt(best->spindle_rpm) << " rev/min";
+    if (best->bounded() && rows.size() > 1)
+      summary << " (the peak between rows may be deeper: chatter recommend refines it)";
   }
   if (bounded == 0) summary << "; no chatter below " << fmt(s.depth_max_mm) << " mm at any speed";
   if (adaptive)

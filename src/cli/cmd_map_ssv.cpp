@@ -33,10 +33,10 @@ void add_ssv_map_options(po::options_description& d) {
       ("ssv-map", "map the spindle speed variation instead: spectral radius per revolution over amplitude ratio x "
        "frequency ratio at --rpm and --depth-mm (docs/ssv.md)")
       ("depth-mm", po::value<double>(), "with --ssv-map: the depth of cut, mm (required)")
-      ("ssv-amplitude-max", po::value<double>()->default_value(0.3), "with --ssv-map: largest amplitude ratio "
+      ("ssv-amplitude-max", po::value<double>()->default_value(0.3, "0.3"), "with --ssv-map: largest amplitude ratio "
        "R_VA, in (0, 1); the grid runs from 0 (constant speed)")
       ("ssv-amplitude-points", po::value<int>()->default_value(7), "with --ssv-map: amplitude ratios (>= 2)")
-      ("ssv-frequency-min", po::value<double>()->default_value(0.05), "with --ssv-map: smallest frequency ratio "
+      ("ssv-frequency-min", po::value<double>()->default_value(0.05, "0.05"), "with --ssv-map: smallest frequency ratio "
        "R_VF (> 0)")
       ("ssv-frequency-max", po::value<double>()->default_value(0.5), "with --ssv-map: largest frequency ratio "
        "R_VF (>= --ssv-frequency-min)")

@@ -283,9 +283,13 @@ GrindingFitReport fit_grinding_tests(const std::vector<GrindingTest>& tests, con
     GrindingFitReport::Target t;
     t.name = w.name;
     std::vector<grinding::EmpiricalSample> samples;
+    std::string left_out;  // tests with an empty cell for this target: said, not dropped silently
     for (std::size_t i = 0; i < tests.size(); ++i) {
       const GrindingTest& x = tests[i];
-      if (!(x.*(w.value))) continue;
+      if (!(x.*(w.value))) {
+        left_out += (left_out.empty() ? "" : ", ") + std::to_string(x.line);
+        continue;
+      }
       if (const std::string m = missing(x, false, power_law, force); !m.empty())
         throw InputError(tests_file + ": line " + std::to_string(x.line) + ": the " + w.name + " model needs " + m);
       grinding::EmpiricalSample smp;
@@ -305,6 +309,9 @@ GrindingFitReport fit_grinding_tests(const std::vector<GrindingTest>& tests, con
     } catch (const InputError& e) {
       throw InputError(tests_file + ": " + w.name + " model: " + e.what());
     }
+    if (!left_out.empty())
+      t.fit.warnings.push_back("line(s) " + left_out + " have no value: left out of this fit (" +
+                               std::to_string(samples.size()) + " of " + std::to_string(tests.size()) + " tests)");
     report.targets.push_back(t);
   }
   if (report.targets.empty())

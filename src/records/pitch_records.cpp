@@ -3,6 +3,7 @@
 // its band table, its config fragment and its summary.
 #include "chatter/records/pitch.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -80,7 +81,7 @@ PitchDesignOptions pitch_design_options(const Config& cfg, const PitchDesignArgs
   o.scan_points = a.scan_points;
   // The config: a milling cutter of the asked teeth, equal pitch.
   const std::string where = cfg.source.empty() ? std::string("the config") : cfg.source.string();
-  if (cfg.process.operation() != Operation::kMilling)
+  if (!cfg.process.rotating_edges())
     throw InputError(where + ": process.operation = \"turning\": design-pitch designs a milling cutter");
   const int teeth = cfg.process.teeth();
   if (a.teeth) {
@@ -161,6 +162,8 @@ json pitch_design_record(const PitchDesign& d, const PitchDesignOptions& o, cons
                {"step_deg", d.rule_step_rad * kDegPerRad},
                {"clipped", d.rule_clipped}};
   j["step_max_deg"] = d.step_max_rad * kDegPerRad;
+  j["on_min_pitch_bound"] = on_min_pitch_bound(d);
+  j["chip_load_ratio"] = chip_load_ratio(d);
   j["gain"] = d.gain;
   j["gain_is_lower_bound"] = d.gain_is_lower_bound;
   json ev = json::array();
@@ -178,6 +181,15 @@ json pitch_design_record(const PitchDesign& d, const PitchDesignOptions& o, cons
   j["band"] = rows;
   j["summary"] = pitch_design_summary(d);
   return j;
+}
+
+bool on_min_pitch_bound(const PitchDesign& d) {
+  return d.step_max_rad > 0.0 && d.designed.step_rad >= d.step_max_rad * (1.0 - 1e-9);
+}
+
+double chip_load_ratio(const PitchDesign& d) {
+  const auto [lo, hi] = std::minmax_element(d.designed.angles_rad.begin(), d.designed.angles_rad.end());
+  return *hi / *lo;
 }
 
 std::string pitch_design_csv(const PitchDesign& d) {
@@ -202,8 +214,9 @@ std::string pitch_design_fragment(const PitchDesign& d, const std::string& confi
      << "# Put this line in [process]:\n"
      << "pitch_angles_deg = [";
   for (std::size_t j = 0; j < d.designed.angles_rad.size(); ++j) {
+    // 12 digits: 60, not 59.999999999999993 (the sum stays 360 deg to 1e-9).
     char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", d.designed.angles_rad[j] * kDegPerRad);
+    std::snprintf(buf, sizeof buf, "%.12g", d.designed.angles_rad[j] * kDegPerRad);
     os << (j ? ", " : "") << buf;
   }
   os << "]\n";
@@ -227,6 +240,11 @@ std::string pitch_design_summary(const PitchDesign& d) {
      << (d.rule_clipped ? " (beyond the largest step " + fmt(d.step_max_rad * kDegPerRad, 4) + " deg: started there)"
                         : "")
      << ", worst limit " << depth_text(d.start.worst_limit_m) << "\n";
+  if (on_min_pitch_bound(d))
+    os << "on the bound: the smallest pitch is " << fmt(kDegPerRad * *std::min_element(d.designed.angles_rad.begin(), d.designed.angles_rad.end()), 5)
+       << " deg, the minimum-pitch ratio times the equal pitch (--min-pitch-ratio); the best design may lie beyond it\n";
+  os << "chip loads: the largest " << fmt(chip_load_ratio(d), 3)
+     << " x the smallest (a tooth's chip grows with the pitch in front of it)\n";
   return os.str();
 }
 

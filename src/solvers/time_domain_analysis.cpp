@@ -163,7 +163,11 @@ void SimulationRun::measure_forced(bool converged) {
       os << "the linear stability limit does not hold: forced vibration "
          << 1e6 * std::max(res_.forced_peak_to_peak_x_m, res_.forced_peak_to_peak_y_m)
          << " um peak to peak exceeds the chip (feed " << 1e6 * s_.feed_m << " um; teeth out of the cut "
-         << 100.0 * worst << " % of their arc time): the cut is stable in the simulation but the lobes of the "
+         << 100.0 * res_.out_of_cut_fraction << " % of their arc time";
+      // The reported fraction (out_of_cut_fraction) is the one quoted; the
+      // worst tooth's share, which decides teeth_leave_cut, beside it.
+      if (std::abs(worst - res_.out_of_cut_fraction) > 5e-4) os << ", the worst tooth " << 100.0 * worst << " %";
+      os << "): the cut is stable in the simulation but the lobes of the "
          << "linear methods (analytic, sdm) do not describe it; see chatter forced";
       res_.linear_limit_warning = os.str();
     }

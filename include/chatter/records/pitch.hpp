@@ -52,16 +52,27 @@ PitchDesign run_pitch_design(const Config& config, const PitchDesignOptions& opt
 /// depth_max_mm), worst_rpm}, the rule {spindle_rpm, chatter_frequency_hz,
 /// step_deg (as the formula gives it), clipped}, step_max_deg, gain,
 /// gain_is_lower_bound, evaluated [{step_deg, worst_limit_mm}], the band
-/// table {spindle_rpm, depth_limit_equal_mm, depth_limit_designed_mm}.
+/// table {spindle_rpm, depth_limit_equal_mm, depth_limit_designed_mm},
+/// on_min_pitch_bound and chip_load_ratio (below).
 nlohmann::json pitch_design_record(const PitchDesign& d, const PitchDesignOptions& options,
                                    const RecordSource& source);
+
+/// True when the designed step is the largest the minimum-pitch ratio allows
+/// (step_max_rad): the design sits on that bound, and a better one may lie
+/// beyond it.
+bool on_min_pitch_bound(const PitchDesign& d);
+/// The largest over the smallest designed pitch angle: the ratio of the
+/// teeth's chip loads (a tooth's chip is the feed over the pitch in front of
+/// it, at the mean feed per tooth times pitch / equal pitch).
+double chip_load_ratio(const PitchDesign& d);
 
 /// CSV: spindle_rpm,depth_limit_equal_mm,depth_limit_designed_mm (one row
 /// per band speed; a limit above the searched depth prints as inf).
 std::string pitch_design_csv(const PitchDesign& d);
 
-/// The [process] fragment: a comment and `pitch_angles_deg = [...]` (17
-/// significant digits, summing to 360 within the config's 0.001°).
+/// The [process] fragment: a comment and `pitch_angles_deg = [...]` (12
+/// significant digits: 60, not 59.999999999999993; summing to 360 within
+/// the config's 0.001°).
 std::string pitch_design_fragment(const PitchDesign& d, const std::string& config_name);
 
 /// A few lines for a person: angles, worst limits, gain, the rule.
