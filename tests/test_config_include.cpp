@@ -115,9 +115,41 @@ TEST_F(ConfigInclude, AKeyInTwoFilesIsRefusedWithBothNamed) {
                                                 kProcess + kModes);
   const std::string m = message(main);
   EXPECT_NE(m.find(coefficients.string() + ": process.teeth: also given in " + main.string()), std::string::npos) << m;
-  EXPECT_NE(m.find((dir_ / "modes.toml").string() + ": tool.modes: also given in " + main.string()),
-            std::string::npos)
-      << m;
+  EXPECT_EQ(m.find("tool.modes: also given"), std::string::npos) << "mode lists append: " << m;
+}
+
+// Two tap tests, each fitted to its own fragment, make one tool (issue 44:
+// include = ["modes_x.toml", "modes_y.toml"] was refused); each mode's
+// messages name its own file.
+TEST_F(ConfigInclude, ModeListsAppendAcrossFiles) {
+  std::string y = kModes;
+  y.replace(y.find("800"), 3, "820");
+  y.replace(y.find("\"x\""), 3, "\"y\"");
+  write("modes_x.toml", kModes);
+  const fs::path my = write("modes_y.toml", y);
+  write("coefficients.toml", kCoefficients);
+  const fs::path main = write(
+      "main.toml", std::string("include = [\"modes_x.toml\", \"modes_y.toml\", \"coefficients.toml\"]\n") + kProcess);
+  const fs::path flat = write("flat.toml", std::string("include = [\"coefficients.toml\"]\n") + kProcess + kModes + y);
+  const Config a = load_config(main), b = load_config(flat);
+  ASSERT_EQ(a.model.tool.modes.size(), 2u);
+  ASSERT_EQ(b.model.tool.modes.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(a.model.tool.modes[i].natural_frequency_hz, b.model.tool.modes[i].natural_frequency_hz);
+    EXPECT_EQ(a.model.tool.modes[i].direction, b.model.tool.modes[i].direction);
+  }
+  EXPECT_EQ(a.model.tool.modes[1].direction, Eigen::Vector2d(0.0, 1.0));
+  // The including file's own modes and an included file's append too.
+  const fs::path mixed = write("mixed.toml", std::string("include = [\"modes_y.toml\", \"coefficients.toml\"]\n") +
+                                                 kProcess + kModes);
+  EXPECT_EQ(load_config(mixed).model.tool.modes.size(), 2u);
+  // A bad value in the appended mode names the file it is in.
+  std::string bad = y;
+  bad.replace(bad.find("0.02"), 4, "2");
+  const fs::path by = write("modes_y.toml", bad);
+  ASSERT_EQ(by, my);
+  const std::string m = message(main);
+  EXPECT_NE(m.find(my.string() + ": tool.modes[1].damping_ratio = 2: must be in (0, 1)"), std::string::npos) << m;
 }
 
 TEST_F(ConfigInclude, CyclesBadValuesAndMissingFilesAreRefused) {

@@ -7,8 +7,9 @@
 // them; an included file may include others (at most kMaxIncludeDepth deep,
 // kMaxIncludedFiles in all); a file that includes itself, directly or
 // through others, is refused with the chain; a key given in two files
-// (a value, or an array such as tool.modes) is refused with both files
-// named — tables ([process], [tool]) merge key by key. Messages about a key
+// (a value, or an array) is refused with both files named — tables
+// ([process], [tool]) merge key by key, and mode lists (tool.modes,
+// workpiece.modes) append: one fragment per tap test. Messages about a key
 // name the file it is in (Document::add_source).
 #include <cstdint>
 #include <filesystem>
@@ -54,6 +55,18 @@ struct Merger {
       toml::table* b = value.as_table();
       if (a && b && !a->is_inline() && !b->is_inline()) {
         merge(*a, *b, path, index);
+        continue;
+      }
+      // Mode lists append: two tap tests (x and y), each fitted to its own
+      // fragment, make one body (issue 44). Each appended mode is this
+      // file's (Document::origin_of takes the longest matching path).
+      toml::array* list = existing->as_array();
+      toml::array* more = value.as_array();
+      if (key.str() == "modes" && list && more && list->is_array_of_tables() && more->is_array_of_tables()) {
+        for (auto&& mode : *more) {
+          files[index].paths.push_back(path + "[" + std::to_string(list->size()) + "]");
+          list->push_back(std::move(*mode.as_table()));
+        }
         continue;
       }
       clashes.push_back(files[index].origin + ": " + path + ": also given in " + owner(path) +

@@ -90,10 +90,17 @@ void Document::add_source(std::string origin, std::string_view text, std::vector
 }
 
 const std::string& Document::origin_of(const Path& path) const {
+  // The longest matching path: a mode appended to tool.modes by a second
+  // file ("tool.modes[2]") is that file's, not the first one's.
+  const std::string* best = &origin_;
+  std::size_t best_size = 0;
   for (std::size_t s = 1; s < sources_.size(); ++s)
     for (const Path& p : sources_[s].paths)
-      if (path_under(path, p)) return sources_[s].origin;
-  return origin_;
+      if (path_under(path, p) && (best == &origin_ || p.size() > best_size)) {
+        best = &sources_[s].origin;
+        best_size = p.size();
+      }
+  return *best;
 }
 
 const Document::Source& Document::source_of(const toml::node& n) const {
