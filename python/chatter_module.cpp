@@ -12,6 +12,8 @@
 // other failure -> RuntimeError. Every solve runs with the GIL released.
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "bindings.hpp"
 #include "chatter/error.hpp"
 #include "chatter/io/table_writer.hpp"  // version()
@@ -31,9 +33,16 @@ PYBIND11_MODULE(_chatter, m) {
   } catch (py::error_already_set&) {
     numpy_found = false;
   }
-  if (!numpy_found)
-    throw py::import_error("chatter needs NumPy, which this Python cannot find: install it (Debian: apt install "
-                           "python3-numpy) or use the interpreter that has it");
+  if (!numpy_found) {
+    // Which interpreter runs, which one the build targets, and how to use it
+    // (issue 44: a pyenv python3 stopped with "needs NumPy" and no way on).
+    const std::string running = py::str(py::module_::import("sys").attr("executable"));
+    throw py::import_error("chatter needs NumPy, which this Python (" + running +
+                           ") cannot find. The module was built for " CHATTER_PYTHON_BUILT_FOR
+                           " (Debian's, NumPy from apt install python3-numpy): run it with that interpreter, "
+                           "or give this one NumPy, or rebuild with -DPython_EXECUTABLE=" + running +
+                           " (docs/python.md, \"Build and install\")");
+  }
   m.doc() = "chatter: regenerative chatter prediction and stability lobes (docs/python.md)";
   m.attr("__version__") = chatter::version();
   static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);

@@ -136,3 +136,20 @@ def test_import_without_numpy_names_numpy():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert p.returncode != 0
     assert "ImportError: chatter needs NumPy" in p.stderr, p.stderr
+
+
+def test_an_interpreter_without_numpy_is_told_which_one_the_build_targets():
+    """Issue 44: a python3 without NumPy (a pyenv one) stopped with "chatter
+    needs NumPy" and no way on; the message names the running interpreter,
+    the one the module was built for, and the three ways out. NumPy is hidden
+    in a fresh interpreter (sys.modules['numpy'] = None)."""
+    import subprocess
+    import sys
+    code = ("import sys; sys.modules['numpy'] = None\n"
+            "try:\n    import chatter\nexcept ImportError as e:\n    print(e)\nelse:\n    print('imported')\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    message = p.stdout
+    assert "chatter needs NumPy, which this Python (" + sys.executable + ") cannot find" in message, message
+    assert "The module was built for /" in message, message
+    assert "-DPython_EXECUTABLE=" + sys.executable in message, message
