@@ -279,6 +279,15 @@ TEST_F(CliNoCut, ImplausibleDepthsNameTheUnitSlip) {
   }
   const RunResult ok = run({"point", kCaseC, "--rpm", "18000", "--depth-mm", "1.5", "--method", "analytic"});
   EXPECT_FALSE(contains(nlohmann::json::parse(ok.out)["notes"].dump(), "a depth in")) << ok.out;
+  EXPECT_FALSE(contains(ok.err, "outside the config's speed range")) << ok.err;
+  // A speed outside the config's range (the machine's, for check) is said.
+  const chatter::Config cfg = chatter::load_config(kCaseC);
+  ASSERT_TRUE(cfg.sweep.rpm_min.has_value());
+  const std::string slow = std::to_string(static_cast<int>(*cfg.sweep.rpm_min / 2));
+  const RunResult low = run({"point", kCaseC, "--rpm", slow, "--depth-mm", "0.5", "--method", "analytic"});
+  ASSERT_EQ(low.exit_code, 0) << low.err;
+  EXPECT_TRUE(contains(low.err, "note: --rpm " + slow + ": outside the config's speed range")) << low.err;
+  EXPECT_TRUE(contains(nlohmann::json::parse(low.out)["notes"].dump(), "outside the config's speed range")) << low.out;
   const fs::path ops = path("ops.csv");
   std::ofstream(ops) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm\nthin,18000,0.0015,,0.05\n";
   const RunResult c = run({"check", kCaseC, "--operations", ops.string(), "--json", "-", "--method", "analytic"});

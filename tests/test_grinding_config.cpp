@@ -74,6 +74,25 @@ TEST(GrindingConfig, ShippedConfigsLoadWithoutWarnings) {
   ASSERT_TRUE(u.process.no_load_loss);
 }
 
+// Seed 000's use of its empirical models: the power for a target removal
+// (issue 44: refused without a mechanistic model). The inversion is the
+// forward model read back: Z(P) at 1 500 W, then the power for that Z.
+TEST(GrindingConfig, EmpiricalRemovalInvertedInItsTestedPowerRange) {
+  const GrindingConfig u = load_grinding_config(kSource / "configs/grinding_underwater_seed000.toml");
+  const grinding::Prediction forward = grinding::predict_at_power(u.process, 1500.0);
+  const grinding::Prediction back = grinding::predict_for_removal(u.process, forward.removal_rate_m3_per_s);
+  EXPECT_NEAR(back.power_w, 1500.0, 1e-8 * 1500.0);
+  EXPECT_NEAR(back.removal_rate_m3_per_s, forward.removal_rate_m3_per_s, 1e-9 * forward.removal_rate_m3_per_s);
+  EXPECT_EQ(back.mode, "target_removal");
+  EXPECT_EQ(back.removal_source, "empirical");
+  try {
+    grinding::predict_for_removal(u.process, 5000e-9);
+    FAIL() << "5000 mm^3/s accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("over its tested power range 1106 to 2751 W"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GrindingConfig, LobeLoaderRefusesAGrindingConfig) {
   try {
     load_config(kSource / "configs/grinding_scompi_ch4.toml");

@@ -263,9 +263,12 @@ Prediction predict_at_power(const Process& p, double power_w);
 /// The power that cuts a groove of maximum depth h0 (m), and all else.
 /// @throws InputError unless 0 < h0 < R, or without a mechanistic model.
 Prediction predict_for_depth(const Process& p, double max_depth_m);
-/// The power that removes Z_w (m^3/s), and all else.
+/// The power that removes Z_w (m^3/s), and all else. Without a mechanistic
+/// model, the empirical removal model inverted inside its tested power range
+/// (the first power there whose removal is Z_w, to 1e-12).
 /// @throws InputError unless Z_w > 0 and its groove is shallower than R, or
-///         without a mechanistic model.
+///         without a mechanistic model when no empirical removal model with a
+///         tested power range reaches Z_w there (the message gives its range).
 Prediction predict_for_removal(const Process& p, double removal_m3_per_s);
 
 /// The empirical models at useful power P (W) for this wheel (the normal

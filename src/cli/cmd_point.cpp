@@ -61,6 +61,16 @@ int cmd_point(const std::vector<std::string>& args) {
   const chatter::PointReport report = chatter::report_point(*built.solver, cfg.process, rpm, depth_mm);
   chatter::RecordSource source = chatter::record_source(cfg, common.position_mm);
   source.notes = built.notes;
+  // The config's speed range is the machine's (check's default): a speed
+  // outside it is said, as check says it of a row (issue 44: --rpm 300 on a
+  // 500-24 000 machine passed silently).
+  const auto& sw = cfg.sweep;
+  if ((sw.rpm_min && rpm < *sw.rpm_min) || (sw.rpm_max && rpm > *sw.rpm_max))
+    source.notes.push_back("--rpm " + fmt(rpm) + ": outside the config's speed range [" +
+                           (sw.rpm_min ? fmt(*sw.rpm_min) : std::string("-")) + ", " +
+                           (sw.rpm_max ? fmt(*sw.rpm_max) : std::string("-")) + "] rev/min (sweep.rpm_min/rpm_max, "
+                           "the machine's range for check)");
+  for (std::size_t i = built.notes.size(); i < source.notes.size(); ++i) std::cerr << "note: " << source.notes[i] << "\n";
   for (const std::string& n : report.notes) std::cerr << "note: " << n << "\n";
   std::cout << chatter::point_record(report, source).dump(2) << "\n";
   return (vm.count("fail-on-chatter") && !report.stable) ? kExitChatter : 0;

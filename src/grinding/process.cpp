@@ -342,10 +342,56 @@ Prediction predict_for_depth(const Process& p, double h0) {
   return inverse(p, h0, groove_area_m2(h0, R) * p.feed_m_per_s, "target_depth");
 }
 
+namespace {
+
+// Points of the scan that brackets the empirical removal's crossing.
+constexpr int kInverseScanPoints = 400;
+
+// The empirical removal model inverted in its tested power range (seed 000's
+// own use: the power for a target removal). The first crossing of the
+// removal Z(P) with the target in the range, bracketed by a scan and closed
+// by bisection; outside the range it is refused with the range's removals.
+Prediction empirical_for_removal(const Process& p, double removal) {
+  const EmpiricalModel& m = *p.empirical.removal;
+  if (!m.domain.useful_power_w)
+    throw InputError("target_removal_mm3_per_s: the empirical removal model has no tested power range "
+                     "([grinding.models.removal] domain useful_power_w) to invert it in");
+  const double lo = m.domain.useful_power_w->lo, hi = m.domain.useful_power_w->hi;
+  auto z = [&](double power) {
+    std::vector<std::string> ignored;
+    return predict_empirical(p, power, ignored).removal_rate_m3_per_s.value_or(std::numeric_limits<double>::quiet_NaN());
+  };
+  double a = lo, za = z(lo), z_min = za, z_max = za;
+  for (int i = 1; i <= kInverseScanPoints; ++i) {
+    double b = lo + (hi - lo) * i / kInverseScanPoints;
+    const double zb = z(b);
+    z_min = std::min(z_min, zb);
+    z_max = std::max(z_max, zb);
+    if (std::isfinite(za) && std::isfinite(zb) && (za - removal) * (zb - removal) <= 0.0) {
+      for (int k = 0; k < 200 && b - a > 1e-12 * b; ++k) {
+        const double mid = 0.5 * (a + b), zm = z(mid);
+        if ((za - removal) * (zm - removal) <= 0.0) b = mid;
+        else a = mid, za = zm;
+      }
+      Prediction r = predict_at_power(p, 0.5 * (a + b));
+      r.mode = "target_removal";
+      return r;
+    }
+    a = b, za = zb;
+  }
+  throw InputError("target_removal_mm3_per_s = " + detail::num(removal * 1e9) +
+                   ": the empirical removal model gives " + detail::num(z_min * 1e9) + " to " +
+                   detail::num(z_max * 1e9) + " mm^3/s over its tested power range " + detail::num(lo) + " to " +
+                   detail::num(hi) + " W: outside it the model is not read");
+}
+
+}  // namespace
+
 Prediction predict_for_removal(const Process& p, double removal) {
-  require_mechanistic(p, "target_removal_mm3_per_s");
   if (!(std::isfinite(removal) && removal > 0.0))
     throw InputError("target_removal_mm3_per_s = " + detail::num(removal * 1e9) + ": must be > 0 mm^3/s");
+  if (!p.mechanistic && p.empirical.removal) return empirical_for_removal(p, removal);
+  require_mechanistic(p, "target_removal_mm3_per_s");
   const double R = p.wheel.radius_m();
   const double h0 = depth_from_removal_m(removal, p.feed_m_per_s, R);
   if (!(h0 < R))
