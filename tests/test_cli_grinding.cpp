@@ -96,13 +96,26 @@ TEST_F(GrindCli, InverseModesGiveThePower) {
   EXPECT_NEAR(r["power_w"].get<double>(), 1500.0, kInverseTolW);
 }
 
+// The empirical models give a target depth too: the groove's maximum depth
+// comes back as asked (the depth geometry read back through the removal).
+TEST_F(GrindCli, EmpiricalTargetDepthComesBackAsAsked) {
+  const json r = ok_json({"grind", "predict", kUnderwater, "--target-depth-mm", "0.1", "--json", "-"});
+  EXPECT_NEAR(r["max_depth_mm"].get<double>(), 0.1, 1e-9);
+  EXPECT_EQ(r["mode"], "target_depth");
+  EXPECT_EQ(r["removal_source"], "empirical");
+  EXPECT_GT(r["power_w"].get<double>(), 1106.0);
+  EXPECT_LT(r["power_w"].get<double>(), 2751.0);
+}
+
 TEST_F(GrindCli, BadInputExitsTwoWithTheRule) {
   bad({"grind", "predict", kScompi, "--power-w", "0"}, "--power-w: power_w = 0: must be > 0 W");
   bad({"grind", "predict", kScompi, "--power-w", "-200"}, "must be > 0 W");
   bad({"grind", "predict", kScompi, "--target-depth-mm", "200"}, "must be below the wheel radius 115 mm");
   bad({"grind", "predict", kScompi}, "give exactly one of --power-w");
   bad({"grind", "predict", kScompi, "--power-w", "1", "--target-depth-mm", "0.1"}, "give exactly one of");
-  bad({"grind", "predict", kUnderwater, "--target-depth-mm", "0.1"}, "needs the mechanistic model");
+  // Seed 000's empirical models: a target depth is inverted in their tested
+  // power range (1 106-2 751 W); 1 mm is beyond what they give there.
+  bad({"grind", "predict", kUnderwater, "--target-depth-mm", "1"}, "over its tested power range 1106 to 2751 W");
   bad({"grind", "frobnicate"}, "unknown command 'frobnicate'");
   // A config with a zero feed and an impacts table going back in power.
   std::ofstream(path("bad.toml")) << "[grinding]\nwheel_diameter_mm = 230\nwheel_width_mm = 6.8\nwheel_rpm = 6000\n"

@@ -261,7 +261,9 @@ struct Prediction {
 ///         Newton steps at most).
 Prediction predict_at_power(const Process& p, double power_w);
 /// The power that cuts a groove of maximum depth h0 (m), and all else.
-/// @throws InputError unless 0 < h0 < R, or without a mechanistic model.
+/// Without a mechanistic model: the removal of that groove, A(h0) v_f,
+/// through the empirical removal model (predict_for_removal).
+/// @throws InputError unless 0 < h0 < R, or as predict_for_removal.
 Prediction predict_for_depth(const Process& p, double max_depth_m);
 /// The power that removes Z_w (m^3/s), and all else. Without a mechanistic
 /// model, the empirical removal model inverted inside its tested power range

@@ -332,13 +332,20 @@ Prediction predict_at_power(const Process& p, double power_w) {
 }
 
 Prediction predict_for_depth(const Process& p, double h0) {
-  require_mechanistic(p, "target_depth_mm");
   const double R = p.wheel.radius_m();
   if (!(std::isfinite(h0) && h0 > 0.0))
     throw InputError("target_depth_mm = " + detail::num(h0 * 1e3) + ": must be > 0 mm");
   if (!(h0 < R))
     throw InputError("target_depth_mm = " + detail::num(h0 * 1e3) + ": must be below the wheel radius " +
                      detail::num(R * 1e3) + " mm");
+  if (!p.mechanistic && p.empirical.removal) {
+    // The groove of depth h0 removes A(h0) v_f: the empirical removal model
+    // inverted for that (seed 000's predictor's own use).
+    Prediction r = predict_for_removal(p, groove_area_m2(h0, R) * p.feed_m_per_s);
+    r.mode = "target_depth";
+    return r;
+  }
+  require_mechanistic(p, "target_depth_mm");
   return inverse(p, h0, groove_area_m2(h0, R) * p.feed_m_per_s, "target_depth");
 }
 
