@@ -239,6 +239,8 @@ TEST_F(GrindingFiles, DerivedColumns) {
   EXPECT_NEAR(*t[0].friction_coefficient, 2093 / (vc * 219), 1e-12);  // seed 000 table 6.2: about 0.5
   EXPECT_NEAR(*t[0].g_ratio, *t[0].removal_mm3_per_s / wear, 1e-12);
   EXPECT_NEAR(*t[0].depth_per_pass_mm, *t[0].removal_mm3_per_s / (50 * 25), 1e-12);
+  // Specific energy P / Z_w: 2093 W over 941.6 / 17.7 mm^3/s = 39.34 J/mm^3.
+  EXPECT_NEAR(*t[0].specific_energy_j_per_mm3, 2093.0 * 17.7 / 941.6, 1e-12);
 }
 
 // A test with an empty cell for one target leaves that fit, and the fit

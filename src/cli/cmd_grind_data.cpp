@@ -41,8 +41,9 @@ test per line:
                              (columns, or the options below for every test)
   cutting_speed_m_per_s      (computed from the diameter and rpm when absent)
   test                       a label, not read
-Derived per test: mu = P / (V_c F_N), G-ratio = removal / wear, depth per pass
-= removal / (feed x width).
+Derived per test (in --json's "tests"): mu = P / (V_c F_N), G-ratio = removal /
+wear, depth per pass = removal / (feed x width), specific energy = P / removal
+(J/mm^3).
 
 MODEL:
   mechanistic   P = k_e [n_c N (3/4) E w] + k_c Z_w (seed 001): needs power_w,

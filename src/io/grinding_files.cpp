@@ -161,6 +161,8 @@ std::vector<GrindingTest> read_grinding_tests(const fs::path& path, const Grindi
       t.g_ratio = *t.removal_mm3_per_s / *t.wear_mm3_per_s;
     if (t.removal_mm3_per_s && t.feed_mm_per_s && t.wheel_width_mm)
       t.depth_per_pass_mm = *t.removal_mm3_per_s / (*t.feed_mm_per_s * *t.wheel_width_mm);
+    if (t.power_w && t.removal_mm3_per_s && *t.removal_mm3_per_s > 0.0)
+      t.specific_energy_j_per_mm3 = *t.power_w / *t.removal_mm3_per_s;
     out.push_back(t);
   }
   return out;

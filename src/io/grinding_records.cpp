@@ -159,7 +159,8 @@ std::string grinding_fit_json(const GrindingFitReport& r) {
                      {"cutting_speed_m_per_s", opt(t.cutting_speed_m_per_s)},
                      {"friction_coefficient", opt(t.friction_coefficient)},
                      {"g_ratio", opt(t.g_ratio)},
-                     {"depth_per_pass_mm", opt(t.depth_per_pass_mm)}});
+                     {"depth_per_pass_mm", opt(t.depth_per_pass_mm)},
+                     {"specific_energy_j_per_mm3", opt(t.specific_energy_j_per_mm3)}});
   j["tests"] = tests;
   return j.dump(2) + "\n";
 }

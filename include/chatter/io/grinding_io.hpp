@@ -39,6 +39,7 @@ struct GrindingTest {
   std::optional<double> friction_coefficient;  ///< mu = P / (V_c F_N)
   std::optional<double> g_ratio;               ///< removal / wear
   std::optional<double> depth_per_pass_mm;     ///< removal / (feed x width)
+  std::optional<double> specific_energy_j_per_mm3;  ///< power / removal (seed 000's tables list it)
 };
 
 /// The wheel and feed of tests whose table lacks the columns (the CLI's
