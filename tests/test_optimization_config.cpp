@@ -66,6 +66,14 @@ TEST(OptimizationConfig, ReadsBoundsInSiAndDefaults) {
   EXPECT_FALSE(s.roughness);
   EXPECT_FALSE(s.economics);
   EXPECT_FALSE(parse_config(kTurning, "o.toml").optimization);
+  // The indices left out of weights_percent weigh 0, and the config says so
+  // (issue 44: silently).
+  const std::vector<std::string>& w = c.warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("o.toml: optimization.loss.weights_percent: surface_roughness_um, cost, production_rate_per_h "
+                      "not given: each weighs 0 %"),
+            std::string::npos)
+      << w[0];
 }
 
 TEST(OptimizationConfig, CriticalLossFromItsParts) {

@@ -108,6 +108,15 @@ LossSpec read_loss(const Table& opt, Operation op, Objective objective) {
   if (!per_index("weights_percent", kPercent, weights))
     doc.error_key(t->path_of("weights_percent"), "missing (required: the weight of each index in percent, summing "
                                                  "to 100: " + std::string(names[0]) + ", ...)");
+  // An index left out of weights_percent weighs 0: said, not silent (issue 44).
+  if (const auto w = t->table("weights_percent")) {
+    std::string omitted;
+    for (const std::string_view n : names)
+      if (!w->has(n)) omitted += (omitted.empty() ? "" : ", ") + std::string(n);
+    if (!omitted.empty())
+      doc.warn_key(t->path_of("weights_percent"),
+                   omitted + " not given: each weighs 0 % (the loss ignores it; write 0 to say so)");
+  }
   double sum = 0.0;
   for (std::size_t i = 0; i < kLossIndexCount; ++i) sum += weights[i], s.weight[i] = weights[i] / 100.0;
   if (t->has("weights_percent") && std::abs(sum - 100.0) > 1e-6)
