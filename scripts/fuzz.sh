@@ -18,6 +18,8 @@
 #   shop        the shop-data readers: cutting-tests table, force series, CSV and
 #               audio recordings, then the coefficient fit and the detector (fuzz/fuzz_shop.cpp)
 #   fit         the modal fit on fuzzed FRF tables (fuzz/fuzz_fit.cpp)
+#   logs        the grinding tests table (then its fits) and the adapt measurement log (fuzz/fuzz_logs.cpp)
+#   program     JOB.toml and the interpreter's canonical-call log of chatter program (fuzz/fuzz_program.cpp)
 # `scripts/fuzz.sh 300` (a number first) fuzzes the config loader for 300 s.
 # Needs clang and its runtime (Debian: clang libclang-rt-14-dev); installs them if missing.
 # Seeds: fuzz/corpus/TARGET/. New inputs that increase coverage go to
@@ -37,6 +39,7 @@ fi
 seconds=${1:-60}
 runs=${2:--1}
 libs=${libs:-}
+target_flags=""  # one target's own defines (program: where the shipped tool configs are)
 # The sources of a layer as CMakeLists.txt lists them (set(CHATTER_<L>_SOURCES
 # ...) and list(APPEND CHATTER_<L>_SOURCES ...)), so the fuzz builds follow the
 # library instead of a copied list that drifts.
@@ -62,8 +65,15 @@ case "$target" in
   fit)
     srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp"
     max_len=512 corpus=corpus-fit prefix="fit-" ;;
+  logs)
+    srcs="$(layer_sources CORE) $(layer_sources IO)"
+    libs="-lsundials_cvode -lsundials_nvecserial -lsndfile" max_len=8192 corpus=corpus-logs prefix="logs-" ;;
+  program)
+    srcs="$(layer_sources CORE) $(layer_sources IO)"
+    libs="-lsundials_cvode -lsundials_nvecserial -lsndfile" max_len=16384 corpus=corpus-program prefix="program-"
+    target_flags="-DCHATTER_SOURCE_DIR=\"$PWD\"" ;;
   *)
-    echo "fuzz.sh: unknown target '$target' (config, frf, operations, shop or fit)" >&2
+    echo "fuzz.sh: unknown target '$target' (config, frf, operations, shop, fit, logs or program)" >&2
     exit 2 ;;
 esac
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
@@ -87,6 +97,7 @@ mkdir -p "build-fuzz/$corpus" "build-fuzz/obj-$target-$tag"
 # not traced in Eigen and the standard library (fuzz/coverage_ignorelist.txt).
 flags=(-std=c++20 -O2 -g -DEIGEN_NO_DEBUG -DCHATTER_VERSION=\"fuzz\" "-fsanitize=fuzzer-no-link,$sanitize" -fno-sanitize-recover=undefined
        -fsanitize-coverage-ignorelist=fuzz/coverage_ignorelist.txt -Iinclude -Isrc/solvers -I/usr/include/eigen3)
+if [ -n "$target_flags" ]; then flags+=("$target_flags"); fi
 cc=clang++
 command -v ccache >/dev/null && cc="ccache clang++"
 objs=()
