@@ -19,7 +19,8 @@
 #include "chatter/error.hpp"
 #include "chatter/forced.hpp"
 #include "chatter/io/config.hpp"
-#include "chatter/io/forced_records.hpp"
+#include "chatter/records/forced.hpp"
+#include "module.hpp"
 #include "chatter/lobes.hpp"
 
 namespace py = pybind11;
@@ -126,7 +127,7 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
   if (cfg.process.rotating_edges())
     ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;
   ctx.limit = limit;
-  py::dict out = py::module_::import("json").attr("loads")(chatter::forced_json(r, ctx, -1)).cast<py::dict>();
+  py::dict out = chatter_py::to_python(chatter::forced_record(r, ctx)).cast<py::dict>();
   if (record_path && r.stable && r.milling) {
     py::dict path;
     path["time_s"] = scaled(r.t_s, 1.0);

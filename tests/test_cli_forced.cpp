@@ -198,6 +198,19 @@ TEST_F(CliForced, CheckReportsTheSleAndTheToleranceVerdict) {
   EXPECT_EQ(j["summary"]["out_of_tolerance"], 1);
 }
 
+// Case C at 18 250 rev/min: the first limit is 1.15 mm, yet sdm's map is
+// stable again at 4.4 mm (spectral radius 0.951; `chatter map`). forced
+// reports the SLE there and says the cut sits in an island above the first
+// limit (issue 44: it said nothing).
+TEST_F(CliForced, AStableIslandAboveTheFirstLimitIsSaid) {
+  const RunResult island = run({"forced", kCaseC, "--rpm", "18250", "--depth-mm", "4.4", "--feed-per-tooth-mm", "0.05"});
+  ASSERT_EQ(island.exit_code, 0) << island.err;
+  EXPECT_TRUE(contains(island.out, "above the first limit: stable only in an island")) << island.out;
+  const RunResult below = run({"forced", kCaseC, "--rpm", "18250", "--depth-mm", "1", "--feed-per-tooth-mm", "0.05"});
+  ASSERT_EQ(below.exit_code, 0) << below.err;
+  EXPECT_FALSE(contains(below.out, "island")) << below.out;
+}
+
 TEST_F(CliForced, AnUnstableRowIsUnstableNotOutOfTolerance) {
   // Before: an unstable row with a tolerance was marked "OUT" and counted
   // "out of tolerance"; it has no steady part error to hold (docs/operations.md).

@@ -5,6 +5,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/io/grinding_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -952,13 +953,43 @@ TEST(ConfigWarning, DampingAndFrequency) {
 }
 
 TEST(ConfigWarning, FrequencyOutOfReachOfTheSpeedRange) {
-  // A 100 Hz mode, 2 teeth, rpm_max = 5: tooth passing at 1/6 Hz, lobe 600.
-  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 1\nrpm_max = 5\n",
+  // A 100 Hz mode, 2 teeth, rpm_max = 12: tooth passing at 0.4 Hz, lobe 250
+  // (at or above the 10 rev/min a spindle turns: no warning on the speeds).
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 10\nrpm_max = 12\n",
                         {"tool.modes[0].frequency_hz = 100.0: f is over 200 times the tooth-passing frequency",
                          "rev/min"}));
   // A 100 Hz mode against 2 teeth at 120 000 rev/min or more: tooth passing 40 times f.
   EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 120000\nrpm_max = 200000\n",
                         {"tool.modes[0].frequency_hz = 100.0: f is under 1/20 of the tooth-passing frequency"}));
+}
+
+// Every length, speed and coefficient of [process] and [sweep] has a usual
+// band; a value 1000 times off names the unit slip (issue 44: these loaded
+// silently). Each case: the key, the value, and a piece of the warning.
+TEST(ConfigWarning, LengthsSpeedsAndCoefficientsOutsideTheirBandNameTheUnit) {
+  const std::string head = "teeth = 2\ntangential_coefficient_n_per_m2 = 6e8\nradial_coefficient_n_per_m2 = 2e8\n";
+  const std::string ratio = head + "radial_immersion = 0.5\n";
+  EXPECT_TRUE(WarnsOnce(Milling(ratio + "tool_diameter_mm = 0.016\n"),
+                        {"process.tool_diameter_mm = 0.016: outside the 0.1 to 500 mm of milling cutters",
+                         "is it in m (tool_diameter_mm = 16)?"}));
+  EXPECT_TRUE(WarnsOnce(Milling(ratio + "tool_diameter_mm = 16000\n"),
+                        {"tool_diameter_mm = 16000", "is it in um (tool_diameter_mm = 16)?"}));
+  EXPECT_TRUE(WarnsOnce(Milling(ratio + "flute_length_mm = 30000\n"), {"process.flute_length_mm = 30000"}));
+  EXPECT_TRUE(WarnsOnce(Milling(head + "radial_immersion = 0.0005\n"),
+                        {"process.radial_immersion = 0.0005: outside the 0.001 to 1 of milling"}));
+  EXPECT_TRUE(WarnsOnce(Milling(ratio + "feed_per_tooth_mm = 0.00005\n"),
+                        {"process.feed_per_tooth_mm = 0.00005", "is it in m (feed_per_tooth_mm = 0.05)?"}));
+  const std::vector<std::string> ka = WarningsOf(Milling(ratio + "axial_force_coefficient_n_per_m2 = 4e11\n"));
+  EXPECT_TRUE(std::any_of(ka.begin(), ka.end(), [](const std::string& w) {
+    return w.find("process.axial_force_coefficient_n_per_m2 = 4e11: K_a = 4e+11 N/m^2 is over") != std::string::npos;
+  })) << ka.size();
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\nrpm_min = 5\nrpm_max = 400\n",
+                        {"sweep.rpm_min = 5: outside the 10 to 200 000 rev/min", "is it in rev/s (rpm_min = 300)?"}));
+  EXPECT_TRUE(WarnsOnce(Milling(kMillingKeys) + "[sweep]\ndepth_max_mm = 8000\n",
+                        {"sweep.depth_max_mm = 8000", "is it in um (depth_max_mm = 8)?"}));
+  // Inside the bands: silent.
+  EXPECT_TRUE(parse_config(Milling(ratio + "tool_diameter_mm = 16\nflute_length_mm = 30\nfeed_per_tooth_mm = 0.05\n"),
+                           kOrigin).warnings.empty());
 }
 
 TEST(ConfigWarning, CantileverInMillimetresTypedIntoMetreKeys) {

@@ -12,7 +12,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/forced.hpp"
-#include "chatter/io/forced_records.hpp"
+#include "chatter/records/forced.hpp"
 #include "chatter/io/plot_forced.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "cli_common.hpp"
@@ -106,6 +106,11 @@ void summary(std::ostream& os, const Config& cfg, const ForcedResponse& r, const
     return;
   }
   os << "  stable: sdm spectral radius " << fmt(r.spectral_radius, 4) << " (depth limit at this speed: " << lim << ")\n";
+  // Deeper than the first limit yet stable: an island of sdm's map (issue
+  // 44: an SLE reported for a cut the lobes call chatter, without a word).
+  if (limit.bounded() && r.depth_m > limit.depth_limit_m)
+    os << "  above the first limit: stable only in an island of the stability map; a small change of speed or\n"
+          "  depth chatters, and the numbers below hold only inside it (chatter map shows the island)\n";
   if (!r.milling) {
     os << "  static deflection along the radius " << um_text(r.surface_location_error_m) << ": diametral error "
        << um_text(r.diametral_error_m) << " (material left)\n";
@@ -247,8 +252,8 @@ int cmd_forced(const std::vector<std::string>& args) {
   const bool json_to_stdout = json_path == "-";
   summary(json_to_stdout ? std::cerr : std::cout, cfg, r, limit);
   std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (json_to_stdout) std::cout << forced_json(r, ctx) << "\n";
-  else if (!json_path.empty()) files.emplace_back(json_path, forced_json(r, ctx) + "\n");
+  if (json_to_stdout) std::cout << forced_record(r, ctx).dump(2) << "\n";
+  else if (!json_path.empty()) files.emplace_back(json_path, forced_record(r, ctx).dump(2) + "\n");
   if (!r.stable) {
     if (!files.empty()) write_text_files(files);
     std::cerr << "chatter: forced: unstable at " << fmt(rpm) << " rev/min and " << fmt(depth_mm)

@@ -14,6 +14,7 @@ constexpr UnitKey kAxialKeys[] = {{"axial_force_coefficient_n_per_m2", 1.0, "N/m
                                   {"axial_force_coefficient_n_per_mm2", 1e6, "N/mm^2"}};
 const Quantity kAxial{kAxialKeys};
 constexpr Plausible kAxialBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
+const Band kAxialBand{5e6, 1.5e10, "K_a", "N/m^2", "the 5e6 to 1.5e10 N/m^2 of metal cutting"};
 constexpr std::string_view kRowKeys[] = {"height_mm", "radius_mm", "lead_angle_deg"};
 constexpr std::string_view kGeometryRule = R"(must be "flat", "ball", "bull_nose" or "general")";
 const Range kLeadDeg{"in [0, 90] (deg)", 0.0, false, 90.0, false};
@@ -32,8 +33,10 @@ std::optional<ProfilePoint> read_row(const Table& row) {
 void read_cutter(const Table& process, std::optional<double> diameter_mm, MillingParameters* p) {
   const Document& doc = process.doc();
   if (const Given ka = process.quantity(kAxial, kNonNegative);
-      ka.si && process.plausible(ka.unit->key, *ka.si, kAxialBound, ka.unit))
+      ka.si && process.plausible(ka.unit->key, *ka.si, kAxialBound, ka.unit)) {
     p->axial_coefficient_n_per_m2 = *ka.si;
+    if (*ka.si > 0.0) warn_band(process, ka, kAxial, kAxialBand);  // 0: no axial force
+  }
   const std::string name = process.string("cutter_geometry", kGeometryRule).value_or("flat");
   CutterProfileParameters& c = p->cutter;
   if (name == "flat") c.geometry = CutterGeometry::kFlat;

@@ -37,23 +37,6 @@ const Range kFraction{"in [0, 1]", 0.0, false, 1.0, false};
 // A speed written in rev/s where rev/min was meant reads this much too low.
 constexpr double kRevPerSToRpm = rpm_from_revolutions_per_s(1.0);
 
-/// A usual band in the key's own unit, and the mix-up it most likely is.
-struct Usual {
-  double lo, hi;
-  const char* what;        ///< "the 25 to 600 mm of grinding wheels"
-  double mixup_factor = 0; ///< written x factor is the value in the key's unit if the mix-up happened
-  const char* mixup_unit = "";
-};
-
-void warn_usual(const Table& t, std::string_view key, std::optional<double> v, const Usual& u) {
-  if (!v || (*v >= u.lo && *v <= u.hi)) return;
-  std::string what = std::string("outside ") + u.what;
-  const double meant = *v * u.mixup_factor;
-  if (u.mixup_factor > 0.0 && meant >= u.lo && meant <= u.hi)
-    what += "; is it in " + std::string(u.mixup_unit) + " (" + std::string(key) + " = " + number_text(meant) + ")?";
-  t.doc().warn(t.path_of(key), *t.find(key), what);
-}
-
 std::optional<double> bounded(const Table& t, std::string_view key, std::optional<double> v, const Plausible& b) {
   if (v && !t.plausible(key, *v, b)) return std::nullopt;
   return v;

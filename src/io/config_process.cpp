@@ -15,6 +15,16 @@ namespace {
 // ------------------------------------------------------ plausibility bounds
 
 constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel cuts at about 2e9)"};
+/// A feed below this (mm per tooth or revolution) is thinner than any chip.
+constexpr double kThinFeedMm = 1e-3;
+/// The usual lengths of the process (docs/config.md, "Plausibility warnings"),
+/// in mm as written; metres typed as mm fall below, micrometres above.
+const Usual kToolDiameterUsual{0.1, 500.0, "the 0.1 to 500 mm of milling cutters", 1e3, "m", 1e-3, "um"};
+const Usual kWorkpieceDiameterUsual{0.5, 5000.0, "the 0.5 to 5 000 mm of turned parts", 1e3, "m", 1e-3, "um"};
+const Usual kFluteLengthUsual{0.1, 500.0, "the 0.1 to 500 mm of cutting flutes", 1e3, "m", 1e-3, "um"};
+const Usual kImmersionUsual{1e-3, 1.0, "the 0.001 to 1 of milling (a_e/D, a ratio)"};
+/// A nose radius below this (mm, but > 0: 0 is a sharp corner) is metres typed as mm.
+constexpr double kTinyNoseRadiusMm = 0.01;
 /// A radial depth thinner than this (mm) is a cut below a sharp edge's radius:
 /// warned as metres typed as mm (docs/config.md).
 constexpr double kPlausibleRadialDepthMm = 0.01;
@@ -120,6 +130,11 @@ void warn_feed(const Table& process, std::string_view key, const std::optional<d
     process.doc().warn(process.path_of(key), *process.find(key),
                        "a feed of " + number_text(*feed) + " mm " + per + " is above the 0.01 to 1 mm of cutting; "
                        "a feed per revolution given per tooth, or in the wrong unit?");
+  if (feed && *feed < kThinFeedMm)  // metres typed as mm (0.00005 for 0.05)
+    process.doc().warn(process.path_of(key), *process.find(key),
+                       "a feed of " + number_text(*feed) + " mm " + per + " is below " + number_text(kThinFeedMm) +
+                           " mm, thinner than any chip; is it in m (" + std::string(key) + " = " +
+                           number_text(*feed * 1e3) + ")?");
 }
 
 void reject_keys_of(const Table& process, std::span<const std::string_view> keys, std::string_view operation) {
@@ -209,8 +224,10 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     const auto dw = process->number("workpiece_diameter_mm", kPositive);
     double kr = 0.0;  // K_r of the insert, N/m² (absent: 0)
     if (const Given g = process->quantity(kRadialForce, kNonNegative);
-        g.si && process->plausible(g.unit->key, *g.si, kCoefficientBound, g.unit))
+        g.si && process->plausible(g.unit->key, *g.si, kCoefficientBound, g.unit)) {
       kr = *g.si;
+      if (kr > 0.0) warn_band(*process, g, kRadialForce, kRadialBand);  // 0: an insert without radial force
+    }
     const auto lead = process->number("lead_angle_deg", kLeadAngleDeg);
     const auto nose = process->number("nose_radius_mm", kNoseRadiusMm);
     if (lead && *lead < kRadianLikeLeadDeg)
@@ -218,6 +235,11 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
                "a lead angle of " + number_text(*lead) + " deg: a value in radians (" + number_text(*lead) +
                    " rad = " + number_text(*lead * 180.0 / kPi) + " deg)? the key is in degrees, 90 = edge "
                    "perpendicular to the feed");
+    if (nose && *nose > 0.0 && *nose < kTinyNoseRadiusMm)
+      doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
+               "a nose radius of " + number_text(*nose) + " mm is below the 0.1 to 2.4 mm of turning inserts (0 is a "
+               "sharp corner); is it in m (nose_radius_mm = " + number_text(*nose * 1e3) + ")?");
+    warn_usual(*process, "workpiece_diameter_mm", dw, kWorkpieceDiameterUsual);
     if (nose && *nose > kLargeNoseRadiusMm)
       doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
                "a nose radius of " + number_text(*nose) + " mm is above the 0.1 to 2.4 mm of turning inserts (round "
@@ -269,6 +291,7 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
     }
     // Tool diameter and radial engagement: a_e/D, or a_e in mm with D.
     const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
+    warn_usual(*process, "tool_diameter_mm", diameter_mm, kToolDiameterUsual);
     std::optional<double> immersion;
     const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
     // Engaged arcs instead of a wall (what `chatter program` reads off a stock).
@@ -313,8 +336,10 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
         doc.error(process->path_of("radial_immersion"), *n,
                   "must be in (0, 1] (a_e/D, a ratio, not a percentage: " + doc.as_written(*n) + " % is " +
                       number_text(v / 100.0) + ")");
-      else
+      else {
         immersion = process->number("radial_immersion", kUnitInterval);
+        warn_usual(*process, "radial_immersion", immersion, kImmersionUsual);
+      }
     }
     constexpr std::string_view kDirectionRuleMilling = R"(must be "down" (= "climb") or "up" (= "conventional"))";
     const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
@@ -326,7 +351,10 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
       doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
     *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
     warn_feed(*process, "feed_per_tooth_mm", *feed_mm, "per tooth");
-    if (const auto flute = process->number("flute_length_mm", kPositive)) *flute_length_m = *flute * 1e-3;
+    if (const auto flute = process->number("flute_length_mm", kPositive)) {
+      *flute_length_m = *flute * 1e-3;
+      warn_usual(*process, "flute_length_mm", flute, kFluteLengthUsual);
+    }
     // The cutter (docs/config.md, "Real cutters").
     const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
     const auto pitch = process->number_list("pitch_angles_deg", kPositive);

@@ -9,7 +9,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/records.hpp"
-#include "chatter/io/forced_records.hpp"  // forced_check_json
+#include "chatter/records/forced.hpp"  // forced_check_record
 #include "chatter/io/table_writer.hpp"    // version()
 
 namespace chatter {
@@ -252,8 +252,7 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
       o["milling_direction"] = direction_name(c.op.direction.value_or(mp.direction));
     }
     // The forced vibration (null without a feed; docs/forced.md).
-    o["forced"] = c.forced ? json::parse(forced_check_json(c.forced->response, c.op.max_error_m,
-                                                           c.forced->within_tolerance))
+    o["forced"] = c.forced ? forced_check_record(c.forced->response, c.op.max_error_m, c.forced->within_tolerance)
                            : json(nullptr);
     // The mean cutting load (null without a feed; docs/cutting_law.md).
     if (c.load) {

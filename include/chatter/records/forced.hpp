@@ -1,6 +1,7 @@
 // The records of the forced response (docs/forced.md): the one place its
 // JSON object and its tables are written, for `chatter forced`, `chatter
-// sle`, Python (chatter.forced / chatter.sle parse the same JSON text) and
+// sle`, `chatter check`'s forced column, Python (chatter.forced converts the
+// same record) and
 // the C API (the same numbers in a struct). Shop units at this edge: µm,
 // mm, rev/min, N.
 #pragma once
@@ -8,6 +9,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "chatter/lobes.hpp"
 #include "chatter/results.hpp"  // ForcedResponse, ShaftDeflection: plain data
@@ -35,17 +38,18 @@ struct ForcedRecordContext {
 /// min_chip_thickness_um, negative_chip_arc_deg, negative_chip_fraction,
 /// teeth_leave_cut, linear_limit_holds, diametral_error_um (turning), and
 /// wall_profile {z_mm, sle_um} (milling). Unstable: the response numbers
-/// are null. `indent` as nlohmann's dump (−1: one line).
-std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& context, int indent = 2);
+/// are null. The CLI prints it, Python converts it (to_python), as every
+/// record of the records layer.
+nlohmann::json forced_record(const ForcedResponse& r, const ForcedRecordContext& context);
 
 /// The `forced` object of one `chatter check --json` operation (issue 27,
 /// docs/operations.md): stable, surface_location_error_um (milling) or
 /// diametral_error_um (turning), peak_to_peak_um {x, y},
 /// min_chip_thickness_um, teeth_leave_cut, linear_limit_holds, max_error_um
 /// (null without a tolerance) and within_tolerance (null when the cut is
-/// unstable: no steady error to hold against a tolerance); one line.
-std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m,
-                              std::optional<bool> within_tolerance);
+/// unstable: no steady error to hold against a tolerance).
+nlohmann::json forced_check_record(const ForcedResponse& r, std::optional<double> max_error_m,
+                                   std::optional<bool> within_tolerance);
 
 /// The tool path over one period as CSV:
 /// time_s,rel_x_um,rel_y_um,wall_normal_um (empty table when not recorded).

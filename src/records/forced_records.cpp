@@ -1,5 +1,5 @@
-// The records of the forced response (include/chatter/io/forced_records.hpp).
-#include "chatter/io/forced_records.hpp"
+// The records of the forced response (include/chatter/records/forced.hpp).
+#include "chatter/records/forced.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -22,7 +22,7 @@ std::string cell(double x) { return std::isfinite(x) ? table_number(x) : std::st
 
 }  // namespace
 
-std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& c, int indent) {
+json forced_record(const ForcedResponse& r, const ForcedRecordContext& c) {
   json j;
   j["config"] = c.config;
   j["warnings"] = c.warnings;
@@ -60,11 +60,11 @@ std::string forced_json(const ForcedResponse& r, const ForcedRecordContext& c, i
     }
     j["wall_profile"] = {{"z_mm", z}, {"sle_um", sle}};
   }
-  return j.dump(indent);
+  return j;
 }
 
-std::string forced_check_json(const ForcedResponse& r, std::optional<double> max_error_m,
-                              std::optional<bool> within_tolerance) {
+json forced_check_record(const ForcedResponse& r, std::optional<double> max_error_m,
+                         std::optional<bool> within_tolerance) {
   const bool s = r.stable;
   json j;
   j["stable"] = s;
@@ -76,7 +76,7 @@ std::string forced_check_json(const ForcedResponse& r, std::optional<double> max
   j["linear_limit_holds"] = r.linear_limit_holds;
   j["max_error_um"] = max_error_m ? json(*max_error_m * 1e6) : json(nullptr);
   j["within_tolerance"] = within_tolerance ? json(*within_tolerance) : json(nullptr);
-  return j.dump();
+  return j;
 }
 
 std::string forced_path_csv(const ForcedResponse& r) {
