@@ -30,6 +30,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/grinding_io.hpp"
 #include "chatter/io/optimization_files.hpp"
+#include "fuzz_folder.hpp"
 
 namespace {
 
@@ -42,23 +43,9 @@ namespace fs = std::filesystem;
 
 bool finite_or_absent(const std::optional<double>& v) { return !v || std::isfinite(*v); }
 
-// The folder, removed again when the process exits normally.
-struct Folder {
-  fs::path dir;
-  Folder() {
-    const fs::path base = fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-    dir = base / ("chatter_fuzz_logs_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 const fs::path& folder() {
-  static const Folder f;
-  return f.dir;
+  static const chatter::fuzz::Folder f("logs");
+  return f.path();
 }
 
 void check_fit(const chatter::GrindingFitReport& r) {
@@ -114,10 +101,7 @@ void measurements(std::string_view text) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   const fs::path p = folder() / "tests.csv";
-  {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  }
+  chatter::fuzz::write_input(p, bytes);
   grinding_tests(p);
   measurements(bytes);
   return 0;

@@ -31,6 +31,7 @@
 #include "chatter/io/job.hpp"
 #include "chatter/io/nc_program.hpp"
 #include "chatter/toolpath.hpp"
+#include "fuzz_folder.hpp"
 
 #ifndef CHATTER_SOURCE_DIR
 #define CHATTER_SOURCE_DIR "."
@@ -45,28 +46,19 @@ namespace fs = std::filesystem;
   std::abort();
 }
 
-struct Folder {
-  fs::path dir;
-  Folder() {
-    const fs::path base = fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-    dir = base / ("chatter_fuzz_program_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    // The tool configs a shipped job names, so that its seeds load.
+// The folder, with the tool configs a shipped job names (so that its seeds load).
+const fs::path& folder() {
+  static const chatter::fuzz::Folder f("program");
+  static const bool copied = [] {
     for (const char* name : {"end_mill.toml", "insert.toml"}) {
       std::error_code ec;
-      fs::copy_file(fs::path(CHATTER_SOURCE_DIR) / "examples/program" / name, dir / name,
+      fs::copy_file(fs::path(CHATTER_SOURCE_DIR) / "examples/program" / name, f.path() / name,
                     fs::copy_options::overwrite_existing, ec);
     }
-  }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
-const fs::path& folder() {
-  static const Folder f;
-  return f.dir;
+    return true;
+  }();
+  (void)copied;
+  return f.path();
 }
 
 void job(const fs::path& p) {
@@ -111,10 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     second = all.substr(cut + 6);
   }
   const fs::path p = folder() / "JOB.toml";
-  {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out.write(first.data(), static_cast<std::streamsize>(first.size()));
-  }
+  chatter::fuzz::write_input(p, first);
   job(p);
   canon_log(std::string(second));
   return 0;

@@ -34,6 +34,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/shop_io.hpp"
 #include "chatter/shop.hpp"
+#include "fuzz_folder.hpp"
 
 namespace {
 
@@ -48,30 +49,12 @@ constexpr std::size_t kMaxDetectSamples = 1u << 16;
   std::abort();
 }
 
-// The folder, removed again when the process exits normally.
-struct Folder {
-  fs::path dir;
-  Folder() {
-    const fs::path base = fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-    dir = base / ("chatter_fuzz_shop_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 const fs::path& folder() {
-  static const Folder f;
-  return f.dir;
+  static const chatter::fuzz::Folder f("shop");
+  return f.path();
 }
 
-void write(const fs::path& p, std::string_view bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) fail("cannot write the temporary file");
-}
+void write(const fs::path& p, std::string_view bytes) { chatter::fuzz::write_input(p, bytes); }
 
 bool finite(double v) { return std::isfinite(v); }
 

@@ -2,37 +2,11 @@
 // fuzz/corpus/operations/: every file must be parsed into valid rows (for a
 // turning and a milling process) or refused with an InputError; the target aborts
 // otherwise, failing the test.
-#include <gtest/gtest.h>
-
-#include <algorithm>
-#include <cstdint>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <string>
-#include <vector>
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+#include "fuzz_replay.hpp"
 
 namespace {
 
-std::vector<std::filesystem::path> corpus(const std::string& name) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(CHATTER_SOURCE_DIR) + "/fuzz/corpus/" + name))
-    if (e.is_regular_file()) files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-TEST(FuzzCorpus, OperationsReaderSurvivesEveryCorpusFile) {
-  const auto files = corpus("operations");
-  ASSERT_GE(files.size(), 10u);  // examples/operations/ and the broken seeds at least
-  for (const auto& f : files) {
-    SCOPED_TRACE(f.string());
-    std::ifstream in(f, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    EXPECT_EQ(LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), 0);
-  }
-}
+// At least examples/operations/ and the broken seeds.
+TEST(FuzzCorpus, OperationsReaderSurvivesEveryCorpusFile) { chatter::test::replay_fuzz_corpus("operations", 10u); }
 
 }  // namespace

@@ -5,37 +5,11 @@
 // aborts otherwise, failing the test. The crash_* files are the findings of
 // docs/reliability.md (a detector peak on a slope, a revolution count
 // overflowing int).
-#include <gtest/gtest.h>
-
-#include <algorithm>
-#include <cstdint>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <string>
-#include <vector>
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+#include "fuzz_replay.hpp"
 
 namespace {
 
-std::vector<std::filesystem::path> corpus(const std::string& name) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(CHATTER_SOURCE_DIR) + "/fuzz/corpus/" + name))
-    if (e.is_regular_file()) files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-TEST(FuzzCorpus, ShopReadersSurviveEveryCorpusFile) {
-  const auto files = corpus("shop");
-  ASSERT_GE(files.size(), 18u);  // the seeds committed with the target at least
-  for (const auto& f : files) {
-    SCOPED_TRACE(f.string());
-    std::ifstream in(f, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    EXPECT_EQ(LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), 0);
-  }
-}
+// At least the seeds committed with the target.
+TEST(FuzzCorpus, ShopReadersSurviveEveryCorpusFile) { chatter::test::replay_fuzz_corpus("shop", 18u); }
 
 }  // namespace
