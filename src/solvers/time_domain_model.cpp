@@ -584,20 +584,3 @@ void Model::tally_air(std::vector<double>& arc, std::vector<double>& air) const 
 
 }  // namespace chatter::td_detail
 
-namespace chatter {
-
-using td_detail::simulation_period;
-
-double simulation_period_s(const Process& process, double rpm, bool linear) {
-  SimulationSettings s;
-  s.spindle_rpm = rpm;
-  s.linear = linear;
-  return simulation_period(process, s);
-}
-
-int simulation_periods_per_revolution(const Process& process, double rpm, bool linear) {
-  if (process.has_speed_variation()) return 0;  // a period of several revolutions
-  return static_cast<int>(std::lround(revolution_s(rpm) / simulation_period_s(process, rpm, linear)));
-}
-
-}  // namespace chatter

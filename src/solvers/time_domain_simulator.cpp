@@ -1,7 +1,8 @@
 // The time-domain simulator's public surface (chatter/time_domain.hpp): the
 // checks of its options and of one run's settings, the "no cut" refusal a
 // front end asks for (docs/results.md), and simulate(), which hands one run
-// to SimulationRun (time_domain_run.cpp). Design: docs/time_domain.md.
+// to SimulationRun (time_domain_run.cpp); the period of a run the records
+// report (simulation_period_s). Design: docs/time_domain.md.
 #include "chatter/time_domain.hpp"
 #include "time_domain_run.hpp"
 
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/kinematics.hpp"
 
 namespace chatter::td_detail {
 
@@ -33,6 +35,7 @@ void validate_settings(const SimulationSettings& s) {
 namespace chatter {
 
 using td_detail::SimulationRun;
+using td_detail::simulation_period;
 using td_detail::validate_settings;
 
 std::string TimeDomainOptions::validate() const {
@@ -84,6 +87,18 @@ SimulationResult TimeDomainSimulator::simulate(const SimulationSettings& s) cons
   SimulationResult r = run.run();
   if (process_.has_speed_variation()) td_detail::check_locked_orbit(*this, s, r);
   return r;
+}
+
+double simulation_period_s(const Process& process, double rpm, bool linear) {
+  SimulationSettings s;
+  s.spindle_rpm = rpm;
+  s.linear = linear;
+  return simulation_period(process, s);
+}
+
+int simulation_periods_per_revolution(const Process& process, double rpm, bool linear) {
+  if (process.has_speed_variation()) return 0;  // a period of several revolutions
+  return static_cast<int>(std::lround(revolution_s(rpm) / simulation_period_s(process, rpm, linear)));
 }
 
 }  // namespace chatter
