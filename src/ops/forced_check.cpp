@@ -6,6 +6,7 @@
 
 #include "chatter/forced.hpp"
 #include "chatter/operations.hpp"
+#include "ops_internal.hpp"
 
 namespace chatter {
 
@@ -22,9 +23,7 @@ std::optional<OperationForced> forced_check(const StructuralModel& model, const 
   OperationForced out;
   out.response = solver.response(st);
   const ForcedResponse& r = out.response;
-  out.part_error_m = !r.stable ? std::numeric_limits<double>::quiet_NaN()
-                     : r.milling ? std::abs(r.surface_location_error_m)
-                                 : r.diametral_error_m;
+  out.part_error_m = detail::ops::part_error_m(r);
   if (r.stable) out.within_tolerance = !row.max_error_m || out.part_error_m <= *row.max_error_m;
   return out;
 }

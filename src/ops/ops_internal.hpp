@@ -3,12 +3,14 @@
 // check and recommend. Not part of the public API.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <string_view>
 
 #include "chatter/lobes.hpp"
+#include "chatter/results.hpp"  // ForcedResponse
 
 namespace chatter::detail::ops {
 
@@ -20,6 +22,14 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // fraction of the speed (≈ 1e-4 rev/min at 10 000 rev/min: well below what a
 // spindle holds); at most kGoldenMaxIterations limit_at() calls.
 inline constexpr double kGoldenRelativeWidth = 1e-8;
+
+/// The part error a tolerance applies to (docs/results.md), m: |SLE| in
+/// milling, the diametral error 2δ in turning; NaN when the cut is unstable
+/// (no steady error). The one definition check and recommend read.
+inline double part_error_m(const ForcedResponse& r) {
+  if (!r.stable) return kNaN;
+  return r.milling ? std::abs(r.surface_location_error_m) : r.diametral_error_m;
+}
 inline constexpr int kGoldenMaxIterations = 100;
 
 // Progress estimates (solves): a scan of a few lobes and its refinements per

@@ -173,8 +173,7 @@ class PartErrorCap {
     st.feed_m = feed_m_;
     st.record_path = false;
     const ForcedResponse r = solver_.response(st);
-    if (!r.stable) return kInf;
-    return r.milling ? std::abs(r.surface_location_error_m) : r.diametral_error_m;
+    return r.stable ? part_error_m(r) : kInf;  // unstable: out of any tolerance
   }
 
   double cap(double rpm, double d_hi) {
@@ -333,7 +332,7 @@ Recommendation recommend(const StructuralModel& model, const Process& process, c
     try {
       const ForcedResponse fr = ForcedResponseSolver(model, process).response(st);
       if (fr.stable) {
-        rec.part_error_m = fr.milling ? std::abs(fr.surface_location_error_m) : fr.diametral_error_m;
+        rec.part_error_m = part_error_m(fr);
         rec.peak_to_peak_m = std::max(fr.peak_to_peak_x_m, fr.peak_to_peak_y_m);
       }
     } catch (const InputError& e) {
