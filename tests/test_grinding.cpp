@@ -330,5 +330,40 @@ TEST(GrindingPlan, WheelsTimeAndChangesFromAConstantGRatio) {
   EXPECT_THROW(plan_repair(p, o), InputError);
 }
 
+// Issue 44: the annex-IV wear model gave a G-ratio of 58 (the seed measured
+// 1.9) without a word. A wear model near zero makes removal / wear
+// meaningless: outside 0.2 to 20 the prediction says so; at 1.9, nothing.
+TEST(GrindingSeed000, GRatioOutsideRoughGrindingIsWarned) {
+  Process p = cases::seed000_annex6();
+  const double removal = predict_at_power(p, cases::kAnnexPower).removal_rate_m3_per_s * 1e9;  // mm^3/s
+  auto with_g = [&](double g) {
+    EmpiricalModel wear;
+    wear.form = EmpiricalForm::kPoly11;
+    wear.coefficients = {removal / g, 0.0, 0.0};
+    p.empirical.wear = wear;
+    return predict_at_power(p, cases::kAnnexPower);
+  };
+  const Prediction usual = with_g(1.9);
+  EXPECT_NEAR(*usual.empirical->g_ratio, 1.9, 1e-12);
+  EXPECT_TRUE(usual.warnings.empty()) << usual.warnings.front();
+  const Prediction odd = with_g(58.0);
+  ASSERT_EQ(odd.warnings.size(), 1u);
+  EXPECT_NE(odd.warnings[0].find("G-ratio 58 at 2021 W (removal / wear models): outside the 0.2 to 20 of rough "
+                                 "grinding"),
+            std::string::npos)
+      << odd.warnings[0];
+  EXPECT_EQ(with_g(0.1).warnings.size(), 1u);
+  // A wear model at or below zero: no G-ratio, and a warning instead of silence.
+  EmpiricalModel none;
+  none.form = EmpiricalForm::kPoly11;
+  none.coefficients = {-1.0, 0.0, 0.0};
+  p.empirical.wear = none;
+  const Prediction r = predict_at_power(p, cases::kAnnexPower);
+  EXPECT_FALSE(r.empirical->g_ratio.has_value());
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("grinding.models.wear: -1 mm^3/s at 2021 W (not > 0): no G-ratio"), std::string::npos)
+      << r.warnings[0];
+}
+
 }  // namespace
 }  // namespace chatter::grinding

@@ -92,6 +92,19 @@ std::vector<std::string> EmpiricalModel::outside_domain(const EmpiricalInputs& i
   return out;
 }
 
+// The G-ratios of rough grinding with resin-bonded discs (seed 000 measured
+// 1.9 on its underwater tests): outside, a wear model near zero (or below
+// it) makes the ratio of two fits meaningless. "" inside.
+namespace {
+constexpr double kUsualGRatio[2] = {0.2, 20.0};
+std::string unusual_g_ratio(double g) {
+  if (g >= kUsualGRatio[0] && g <= kUsualGRatio[1]) return "";
+  return "outside the " + detail::num(kUsualGRatio[0]) + " to " + detail::num(kUsualGRatio[1]) +
+         " of rough grinding with resin-bonded discs (seed 000 measured 1.9): the wear model is near zero here, "
+         "its relative error large; give a measured G-ratio (grind plan --g-ratio)";
+}
+}  // namespace
+
 EmpiricalPrediction predict_empirical(const Process& p, double power_w, std::vector<std::string>& warnings) {
   EmpiricalPrediction e;
   EmpiricalInputs in;
@@ -121,6 +134,13 @@ EmpiricalPrediction predict_empirical(const Process& p, double power_w, std::vec
     if (const auto v = read(*p.empirical.wear, "wear")) e.wear_rate_m3_per_s = *v * 1e-9;
   if (e.removal_rate_m3_per_s && e.wear_rate_m3_per_s && *e.wear_rate_m3_per_s > 0.0)
     e.g_ratio = *e.removal_rate_m3_per_s / *e.wear_rate_m3_per_s;
+  else if (e.wear_rate_m3_per_s)
+    warnings.push_back("grinding.models.wear: " + detail::num(*e.wear_rate_m3_per_s * 1e9) + " mm^3/s at " +
+                       detail::num(power_w) + " W (not > 0): no G-ratio; the wear model does not hold here");
+  if (e.g_ratio)
+    if (const std::string w = unusual_g_ratio(*e.g_ratio); !w.empty())
+      warnings.push_back("G-ratio " + detail::num(*e.g_ratio) + " at " + detail::num(power_w) + " W (removal / wear "
+                         "models): " + w);
   return e;
 }
 
@@ -215,6 +235,9 @@ Plan plan_repair(const Process& p, const PlanOptions& o) {
   plan.removal_per_wheel_m3 = removed;
   plan.wheel_life_s = time;
   plan.mean_g_ratio = removed / plan.usable_wheel_volume_m3;
+  if (model_wear)
+    if (const std::string w = unusual_g_ratio(plan.mean_g_ratio); !w.empty())
+      plan.warnings.push_back("mean G-ratio " + detail::num(plan.mean_g_ratio) + " over the wheel's life: " + w);
   plan.wheels = o.volume_m3 / removed;
   plan.wheels_needed = static_cast<int>(std::ceil(plan.wheels - 1e-9));
   plan.wheel_changes = std::max(0, plan.wheels_needed - 1);
