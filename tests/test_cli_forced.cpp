@@ -247,6 +247,56 @@ TEST_F(CliForced, AnUnstableRowIsUnstableNotOutOfTolerance) {
   EXPECT_TRUE(contains(r.out, "sugg_sle_um")) << r.out;
 }
 
+// Issue 44: a suggested speed never breaks the row's tolerance silently.
+// Case C's finishing row: the best-margin speed (25 000 rev/min) leaves
+// |SLE| 8.9 um; with a 5 um tolerance the suggestion moves to a stable speed
+// whose SLE holds it, checked here by `forced` at both speeds; with 0.01 um
+// no speed holds it and the note says so.
+TEST_F(CliForced, CheckSuggestionHoldsTheRowsTolerance) {
+  const std::string cfg = std::string(CHATTER_SOURCE_DIR) + "/examples/forced/case_c_xy.toml";
+  auto check = [&](const std::string& tol) {
+    std::ofstream(path("ops.csv")) << "id,spindle_rpm,depth_mm,radial_immersion,feed_per_tooth_mm,max_sle_um\n"
+                                      "fin1,14000,2,,0.05," << tol << "\n";
+    const RunResult r = run({"check", cfg, "--operations", path("ops.csv").string(), "--json", path("c.json").string()});
+    EXPECT_NE(r.exit_code, 2) << r.err;
+    return std::pair{r.out, nlohmann::json::parse(slurp(path("c.json")))["operations"][0]};
+  };
+  auto sle_at = [&](double rpm) {
+    std::ostringstream n;
+    n.precision(17);
+    n << rpm;
+    const RunResult f = run({"forced", cfg, "--rpm", n.str(), "--depth-mm", "2", "--feed-per-tooth-mm", "0.05",
+                             "--json", "-"});
+    EXPECT_EQ(f.exit_code, 0) << f.err;
+    return std::abs(nlohmann::json::parse(f.out)["surface_location_error_um"].get<double>());
+  };
+  const auto [loose_out, loose] = check("30");
+  const double best = loose["suggestion"]["spindle_rpm"].get<double>();
+  EXPECT_TRUE(loose["suggestion"]["note"].is_null());
+  const double best_sle = sle_at(best);
+  ASSERT_GT(best_sle, 5.0) << "the case no longer tests a broken tolerance";
+  const auto [out, op] = check("5");
+  const auto& s = op["suggestion"];
+  ASSERT_TRUE(s.is_object()) << op;
+  const double moved = s["spindle_rpm"].get<double>();
+  EXPECT_NE(moved, best);
+  EXPECT_TRUE(s["within_tolerance"].get<bool>()) << s;
+  EXPECT_GT(s["worst_margin"].is_null() ? 2.0 : s["worst_margin"].get<double>(), 1.0) << s;
+  const double sle = sle_at(moved);
+  EXPECT_LE(sle, 5.0);
+  EXPECT_NEAR(s["part_error_um"].get<double>(), sle, 1e-9 * sle);
+  EXPECT_NE(s["note"].get<std::string>().find("moved from " + std::to_string(static_cast<int>(std::round(best))) +
+                                              " rev/min (part error"),
+            std::string::npos)
+      << s["note"];
+  EXPECT_TRUE(contains(out, "suggestion for 'fin1': moved from")) << out;
+  const auto [tight_out, tight] = check("0.01");
+  EXPECT_FALSE(tight["suggestion"]["within_tolerance"].get<bool>());
+  EXPECT_NE(tight["suggestion"]["note"].get<std::string>().find("no other stable scanned speed holds it"),
+            std::string::npos)
+      << tight["suggestion"]["note"];
+}
+
 TEST_F(CliForced, SimulateReportsTheForcedVibrationAndWarnsWhenTeethLeaveTheCut) {
   // A variable-pitch helix cutter in a resonant forced vibration below its
   // linear limit (docs/forced.md): the simulation is stable, the teeth leave

@@ -426,6 +426,11 @@ struct OperationCheck {
   /// The same at the suggested speed (the row's depth, feed and tolerance):
   /// the part quality beside the suggestion; set when both are.
   std::optional<OperationForced> suggestion_forced;
+  /// Why the suggestion is not the best-margin speed, or what it cannot
+  /// hold: set when the best-margin speed breaks the row's part tolerance
+  /// ("moved from N rev/min (part error ...) to ...", or "no other stable
+  /// scanned speed holds it ..."); empty otherwise.
+  std::string suggestion_note;
   /// The mean cutting load at the row's speed, depth and feed on its
   /// process: set when the row gives a feed.
   std::optional<OperationLoad> load;

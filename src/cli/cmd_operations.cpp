@@ -242,6 +242,8 @@ int cmd_check(const std::vector<std::string>& args) {
   out << "\n";
   for (const auto& w : report.warnings) out << "warning: " << w << "\n";
   if (!report.checks.empty()) out << text_table(t);
+  for (const OperationCheck& c : report.checks)
+    if (!c.suggestion_note.empty()) out << "suggestion for '" << c.op.id << "': " << c.suggestion_note << "\n";
   if (!file.rejected.empty()) {
     out << "rejected rows (not checked):\n";
     for (const auto& b : file.rejected)

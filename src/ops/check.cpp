@@ -73,6 +73,21 @@ constexpr double kPlausibleFeedM = 1e-3;
 // the suggested speed with its pocket. `s` is the speed search of the row's
 // process (it caches the solves the rows of a process share); `ds` the depth
 // searched for the row. Each per-row judgement is one step here.
+// Sets c's suggestion to speed n: its exact limit, margin and pocket at the
+// row's depth, when its band's worst limit clears the depth.
+void suggest(SpeedSearch& s, const OperationRow& r, double ds, double n, OperationCheck& c) {
+  const double w = s.band_min(n);
+  const double worst = w > ds ? kInf : w;
+  if (!(worst > r.depth_m)) return;
+  c.suggestion = clip(s.at(n), ds);
+  c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
+  SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
+  p.limit = *c.suggestion;
+  p.worst_limit_m = worst;
+  p.worst_margin = worst / r.depth_m;
+  c.suggestion_pocket = p;
+}
+
 OperationCheck check_row(SpeedSearch& s, const std::string& method, const OperationRow& r, double ds) {
   auto clipped = [&](double w) { return w > ds ? kInf : w; };
   OperationCheck c;
@@ -94,17 +109,52 @@ OperationCheck check_row(SpeedSearch& s, const std::string& method, const Operat
     const double best = s.best(ds, r.spindle_rpm);
     if (clipped(s.band_min(best)) > own_worst) n = best;
   }
-  const double worst = clipped(s.band_min(n));
-  if (worst > r.depth_m) {
-    c.suggestion = clip(s.at(n), ds);
-    c.suggestion_margin = c.suggestion->depth_limit_m / r.depth_m;
-    SpeedPocket p = make_pocket(s, n, r.depth_m, r.depth_m);
-    p.limit = *c.suggestion;
-    p.worst_limit_m = worst;
-    p.worst_margin = worst / r.depth_m;
-    c.suggestion_pocket = p;
-  }
+  suggest(s, r, ds, n, c);
   return c;
+}
+
+// Candidates tried for a suggestion within the part's tolerance: forced
+// responses (~1-10 ms each) at the stable scanned speeds, best worst margin
+// first.
+constexpr std::size_t kToleranceTries = 24;
+
+// When the suggested speed breaks the row's part tolerance (its forced part
+// error above row.max_error_m), the stable speed with the largest worst
+// margin whose part error holds the tolerance replaces it; without one the
+// suggestion stays and the note says no scanned speed holds the tolerance.
+// Cost: up to kToleranceTries forced responses and their exact band solves.
+void suggest_within_tolerance(SpeedSearch& s, const StructuralModel& model, const Process& process,
+                              const OperationRow& r, OperationCheck& c) {
+  const OperationForced& broken = *c.suggestion_forced;
+  const double ds = c.search_depth_m;
+  auto clipped = [&](double w) { return w > ds ? kInf : w; };
+  std::vector<std::pair<double, double>> ranked;  // (estimated worst limit, rpm)
+  for (const double n : s.scan_speeds())
+    if (const double w = s.band_min_scan(n, ds); w > r.depth_m && n != c.suggestion->spindle_rpm) ranked.emplace_back(w, n);
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  auto um = [](double m) {
+    std::ostringstream os;
+    os.precision(3);
+    os << m * 1e6 << " um";
+    return os.str();
+  };
+  const std::string was = num(std::round(c.suggestion->spindle_rpm)) + " rev/min (part error " +
+                          um(broken.part_error_m) + ", tolerance " + um(*r.max_error_m) + ")";
+  for (std::size_t k = 0; k < ranked.size() && k < kToleranceTries; ++k) {
+    const double n = ranked[k].second;
+    if (!(clipped(s.band_min(n)) > r.depth_m)) continue;  // the estimate was optimistic
+    OperationRow at = r;
+    at.spindle_rpm = n;
+    const std::optional<OperationForced> f = forced_check(model, process, at);
+    if (!f || f->within_tolerance != true) continue;
+    suggest(s, r, ds, n, c);
+    c.suggestion_forced = f;
+    c.suggestion_note = "moved from " + was + " to " + num(std::round(n)) + " rev/min (part error " +
+                        um(f->part_error_m) + "), the stable speed with the largest margin within the tolerance";
+    return;
+  }
+  c.suggestion_note = "the best-margin speed " + was + " breaks the tolerance, and no other stable scanned speed "
+                      "holds it at this depth and feed: reduce the feed or the depth";
 }
 
 }  // namespace
@@ -197,13 +247,21 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
   };
   const double tol = options.speed_tolerance;
   std::vector<std::vector<std::pair<std::size_t, std::string>>> failed(groups.size());  // per group, in row order
+  // Each group's solver and speed search outlive the loop: the tolerance
+  // search of a suggestion (below) asks them again.
+  std::vector<std::unique_ptr<LobeSolver>> solvers(groups.size());
+  std::vector<std::unique_ptr<SpeedSearch>> searches(groups.size());
+  std::vector<std::size_t> group_of(rows.size(), groups.size());
+  for (std::size_t gi = 0; gi < groups.size(); ++gi)
+    for (const std::size_t i : groups[gi]->rows) group_of[i] = gi;
   parallel_for(groups.size(), options.threads, [&](std::size_t gi) {
     const Group& g = *groups[gi];
-    std::unique_ptr<LobeSolver> solver;
-    std::optional<SpeedSearch> search;
+    std::unique_ptr<LobeSolver>& solver = solvers[gi];
+    std::unique_ptr<SpeedSearch>& search = searches[gi];
     try {
       solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
-      search.emplace(*solver, options.machine.rpm_min, options.machine.rpm_max, tol, scan_threads);
+      search = std::make_unique<SpeedSearch>(*solver, options.machine.rpm_min, options.machine.rpm_max, tol,
+                                             scan_threads);
       search->on_solve = tick;
       search->scan(true);
     } catch (const std::exception& e) {
@@ -248,6 +306,9 @@ CheckReport check_operations(const StructuralModel& model, const Process& proces
         OperationRow at = rows[i];
         at.spindle_rpm = checks[i].suggestion->spindle_rpm;
         checks[i].suggestion_forced = forced_check(model, process, at);
+        if (checks[i].suggestion_forced && checks[i].suggestion_forced->within_tolerance == false &&
+            rows[i].max_error_m && group_of[i] < groups.size() && searches[group_of[i]])
+          suggest_within_tolerance(*searches[group_of[i]], model, process, rows[i], checks[i]);
       }
     } catch (const std::exception& e) {
       const std::string w = std::string("forced vibration not computed: ") + e.what();

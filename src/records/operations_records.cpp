@@ -278,6 +278,7 @@ json check_record(const CheckReport& report, const OperationsFile& file, const C
                  : json(nullptr);
         s["within_tolerance"] = f->within_tolerance ? json(*f->within_tolerance) : json(nullptr);
       }
+      s["note"] = c.suggestion_note.empty() ? json(nullptr) : json(c.suggestion_note);
       o["suggestion"] = s;
     } else {
       o["suggestion"] = nullptr;
