@@ -1277,7 +1277,7 @@ std::string case_a_with_stiffness_in_n_per_um() {
 }
 
 constexpr const char* kCaseAStiffnessWarning =
-    ": workpiece.modes[0].stiffness_n_per_m = 45: k = 45 N/m is over 1e3 times below the 1e5 to 1e10 N/m of "
+    ": workpiece.modes[0].stiffness_n_per_m = 45: k = 45 N/m is over 1e3 times below the 1e5 to 5e8 N/m (0.1 to 500 N/um) of "
     "machine-tool, tool and workpiece modes; did you mean N/um (stiffness_n_per_um = 45)?";
 
 TEST_F(CliTest, ShippedConfigsRaiseNoWarning) {

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/usual_bands.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
 #include "chatter/results.hpp"
@@ -52,7 +53,7 @@ void check_spindle_rpm(double rpm, const std::string& name);
 void check_depth_mm(double depth_mm, const std::string& name, bool allow_zero = false);
 /// The plausible band of a depth of cut, mm: thinner than a sharp edge's
 /// radius, or deeper than any flute, is probably a unit slip (m, µm).
-inline constexpr double kPlausibleDepthMm[2] = {0.01, 100.0};
+inline constexpr double kPlausibleDepthMm[2] = {usual::kDepthOfCutMm.lo, usual::kDepthOfCutMm.hi};
 /// A sentence naming the likely unit slip of a depth outside
 /// kPlausibleDepthMm, or "" inside it. report_point adds it to the point's
 /// notes; `check` to its warnings.

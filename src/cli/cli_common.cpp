@@ -1,5 +1,7 @@
 #include "cli_common.hpp"
 
+#include "chatter/usual_bands.hpp"
+
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -85,12 +87,41 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
   po::notify(vm);
   common.strict = vm.count("strict") > 0;
   if (vm.count("position-mm")) common.position_mm = vm["position-mm"].as<double>();
+  common.flag_warnings = flag_warnings(vm);
   if (common.config_path.empty()) throw po::error("missing CONFIG (a .toml file, see configs/)");
   return true;
 }
 
+std::vector<std::string> flag_warnings(const po::variables_map& vm) {
+  std::vector<std::string> out;
+  for (const FlagBand& f : kFlagBands) {
+    const auto it = vm.find(f.flag);
+    if (it == vm.end() || it->second.defaulted()) continue;
+    const boost::any& v = it->second.value();
+    std::optional<double> x;
+    if (const double* d = boost::any_cast<double>(&v)) x = *d;
+    else if (const int* i = boost::any_cast<int>(&v)) x = *i;
+    if (!x || *x == 0.0) continue;  // 0 means "none" (no feed: the linear mode; tolerance 0: the exact speed)
+    const std::string name = std::string("--") + f.flag;
+    if (const std::string what = unusual(name, *x, *f.band); !what.empty())
+      out.push_back(name + " = " + fmt(*x) + ": " + what);
+  }
+  return out;
+}
+
+void print_flag_warnings(const po::variables_map& vm, bool strict) {
+  const std::vector<std::string> w = flag_warnings(vm);
+  if (strict && !w.empty()) {
+    std::string message;
+    for (const std::string& x : w) message += (message.empty() ? "" : "\n") + x + " (--strict)";
+    throw InputError(message);
+  }
+  for (const std::string& x : w) std::cerr << "warning: " << x << "\n";
+}
+
 Config load_checked(const Common& common) {
   Config cfg = load_config(common.config_path);
+  cfg.warnings.insert(cfg.warnings.end(), common.flag_warnings.begin(), common.flag_warnings.end());
   if (!cfg.warnings.empty()) {
     if (common.strict) {
       std::string message;

@@ -47,7 +47,20 @@ struct Common {
   /// --position-mm: the tool position along a position-dependent model
   /// (docs/position.md); load_checked() then returns the model there.
   std::optional<double> position_mm;
+  /// The numbers given as flags outside their usual band (flag_warnings);
+  /// load_checked adds them to the config's warnings.
+  std::vector<std::string> flag_warnings;
 };
+
+/// "--<flag> = v: outside <band>; is it in <unit> (...)?" for each flag of
+/// `vm` given on the command line (not defaulted) with a number outside its
+/// usual band (chatter/usual_bands.hpp kFlagBands). Warned, never refused
+/// (--strict refuses them with the config's warnings).
+std::vector<std::string> flag_warnings(const po::variables_map& vm);
+/// flag_warnings printed on stderr ("warning: --rpm = ..."), for the
+/// commands without a machining config (detect, coefficients, grind); with
+/// `strict` they are errors: @throws InputError listing them.
+void print_flag_warnings(const po::variables_map& vm, bool strict);
 
 /// Adds --method to `d`.
 void add_common(po::options_description& d, Common& c);
@@ -64,7 +77,7 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
            Common& common, po::variables_map& vm);
 
 /// Loads CONFIG and prints each plausibility warning on stderr as
-/// "warning: <file>: <key> = <value>: <what>". With --strict the warnings are
+/// "warning: <file>: <key> = <value>: <what>", the flags' after them. With --strict the warnings are
 /// errors: @throws InputError listing them (before anything is written).
 /// With --position-mm the returned config's model is the structure at that
 /// position (config_at_position); @throws InputError naming --position-mm when

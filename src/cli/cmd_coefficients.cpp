@@ -91,6 +91,7 @@ int cmd_coefficients(const std::vector<std::string>& args) {
   }
   if (!vm.count("tests")) throw po::error("missing TESTS.csv (one cutting test per line)");
   po::notify(vm);
+  print_flag_warnings(vm, false);
 
   // ---- options, all checked before anything is read or written ----
   CoefficientArgs a;

@@ -109,6 +109,7 @@ int cmd_detect(const std::vector<std::string>& args) {
   }
   if (!vm.count("recording")) throw po::error("missing RECORDING (a .wav, .flac, .aiff or .csv file)");
   po::notify(vm);
+  print_flag_warnings(vm, false);
 
   // ---- options, all checked before anything is read or written ----
   DetectArgs a;

@@ -75,6 +75,7 @@ bool parse_grind(const std::vector<std::string>& args, const char* usage, po::op
     return false;
   }
   po::notify(vm);
+  print_flag_warnings(vm, vm.count("strict") > 0);
   if (positional.empty()) throw po::error(std::string("missing ") + name);
   return true;
 }

@@ -54,7 +54,7 @@ std::optional<grinding::ImpactsPerTurn> read_impacts(const Table& g) {
   }
   if (number) {
     const auto v = bounded(g, "impacts_per_turn", g.number("impacts_per_turn", kPositive), kImpactsBound);
-    warn_usual(g, "impacts_per_turn", v, {0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"});
+    warn_usual(g, "impacts_per_turn", v, usual::kImpactsPerTurn);
     if (!v) return std::nullopt;
     return grinding::ImpactsPerTurn(*v);
   }
@@ -84,7 +84,8 @@ std::optional<grinding::ImpactsPerTurn> read_impacts(const Table& g) {
     }
     power.push_back(*p);
     impacts.push_back(*n);
-    warn_usual(row, "impacts_per_turn", n, {0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"});
+    warn_usual(row, "power_w", p, usual::kGrindingPowerW);
+    warn_usual(row, "impacts_per_turn", n, usual::kImpactsPerTurn);
   }
   if (!ok) return std::nullopt;
   return model_checked(g, [&] { return grinding::ImpactsPerTurn(power, impacts); });
@@ -143,7 +144,9 @@ std::optional<grinding::NoLoadLoss> read_no_load(const Table& g) {
   const auto k = t->required_number("speed_exponent", kAnyNumber, "");
   const auto x = t->number("diameter_exponent", kAnyNumber);
   stop_if_errors_since(g.doc(), mark);
-  warn_usual(*t, "speed_exponent", k, {0.0, 4.0, "the 0 to 4 of drag losses (3 for pure drag, 1.3 with air injection)"});
+  warn_usual(*t, "speed_exponent", k, {0.5, 4.0, "the 0.5 to 4 of drag losses (3 for pure drag, 1.3 with air injection)"});
+  if (x && *x != 0.0)
+    warn_usual(*t, "diameter_exponent", x, {0.05, 4.0, "the 0.05 to 4 of drag losses' diameter exponents (seed 000: 0.35)"});
   return grinding::NoLoadLoss{*c0, *k, x.value_or(0.0)};
 }
 
@@ -266,7 +269,7 @@ grinding::Process read_grinding(const Table& root) {
     doc.error_key(g->path_of("wheel_rpm"), "missing (required, rev/min; or motor_rpm and transmission_ratio)");
   } else {
     rpm = bounded(*g, "wheel_rpm", g->number("wheel_rpm", kPositive), kRpmBound);
-    warn_usual(*g, "wheel_rpm", rpm, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinding wheels", kRevPerSToRpm, "rev/s"});
+    warn_usual(*g, "wheel_rpm", rpm, usual::kWheelRpm);
   }
   const auto feed = bounded(*g, "feed_mm_per_s", g->required_number("feed_mm_per_s", kPositive, "mm/s"), kFeedBound);
   const auto mu = g->required_number("force_ratio", kForceRatio, "F_T/F_N");
@@ -275,10 +278,11 @@ grinding::Process read_grinding(const Table& root) {
   if (d && dmin && !(*dmin < *d))
     doc.error(g->path_of("wheel_min_diameter_mm"), *g->find("wheel_min_diameter_mm"),
               "must be below wheel_diameter_mm (" + number_text(*d) + " mm)");
-  warn_usual(*g, "wheel_diameter_mm", d, {25.0, 600.0, "the 25 to 600 mm of grinding wheels", 1e3, "m"});
-  warn_usual(*g, "wheel_width_mm", e, {1.0, 100.0, "the 1 to 100 mm of grinding wheel widths", 1e3, "m"});
-  warn_usual(*g, "feed_mm_per_s", feed, {1.0, 500.0, "the 1 to 500 mm/s of robotic grinding feeds", 1e3, "m/s"});
-  warn_usual(*g, "force_ratio", mu, {0.1, 1.5, "the 0.1 to 1.5 of grinding force ratios F_T/F_N (seed 001: 0.26)"});
+  warn_usual(*g, "wheel_diameter_mm", d, usual::kWheelDiameterMm);
+  warn_usual(*g, "wheel_min_diameter_mm", dmin, usual::kWheelDiameterMm);
+  warn_usual(*g, "wheel_width_mm", e, usual::kWheelWidthMm);
+  warn_usual(*g, "feed_mm_per_s", feed, usual::kGrindingFeedMmPerS);
+  warn_usual(*g, "force_ratio", mu, usual::kGrindingForceRatio);
   warn_usual(*g, "density_kg_per_m3", rho, {500.0, 25000.0, "the 500 to 25 000 kg/m^3 of solids (steel 7850)", 1e3, "g/cm^3"});
 
   // Seed 001's mechanistic model: both coefficients and the impacts, or none.
@@ -317,6 +321,16 @@ grinding::Process read_grinding(const Table& root) {
   if (mechanistic) p.mechanistic = grinding::MechanisticModel{*ke * 1e3, *kc * 1e6, *nc};
   if (partition) p.partition = *partition;
   if (no_load) p.no_load_loss = *no_load;
+  if (p.no_load_loss) {
+    // c0 carries no unit a band can hold; the loss it gives on this wheel can.
+    const double loss = p.no_load_loss->loss_w(p.wheel);
+    const auto t = g->table("no_load_loss");
+    if (p.no_load_loss->c0 > 0.0 && !(loss >= 1.0 && loss <= 2e4))
+      t->doc().warn(t->path_of("c0"), *t->find("c0"),
+                    "gives a no-load loss of " + number_text(loss) + " W at " + number_text(*rpm) + " rev/min and " +
+                        number_text(*d) + " mm, outside the 1 W to 20 kW of grinder drag; check c0's units "
+                        "(W / ((rad/s)^speed_exponent mm^diameter_exponent))");
+  }
   if (models) p.empirical = *models;
   if (const std::string why = p.validate(); !why.empty()) doc.fail_key("grinding", why);  // a rule above is missing
   return p;

@@ -155,6 +155,17 @@ ConstraintLimits read_constraints(const Table& opt, Operation op) {
   c.min_production_rate_per_h = t->number("min_production_rate_per_h", kPositive);
   if (const auto s = boolean(*t, "stability")) c.stability = *s;
   if (const auto m = t->number("stability_margin", kMargin)) c.stability_margin = *m;
+  // Usual bands (docs/config.md, "Plausibility warnings"): a limit 1000 times
+  // off is a unit slip (N for kN, um for mm), named rather than optimised.
+  warn_usual(*t, "max_force_n", c.max_force_n, {10.0, 1e5, "the 10 N to 100 kN of cutting forces", 1e3, "kN"});
+  warn_usual(*t, dim, c.max_dimensional_error_um, usual::kPartErrorUm);
+  warn_usual(*t, "max_roughness_um", c.max_roughness_um, {0.05, 50.0, "the 0.05 to 50 um Ra of machined surfaces", 1e3, "mm"});
+  warn_usual(*t, "min_removal_rate_mm3_per_s", c.min_removal_rate_mm3_per_s,
+             {1.0, 1e5, "the 1 to 100 000 mm^3/s of removal rates", 1e3, "cm^3/s"});
+  warn_usual(*t, "min_production_rate_per_h", c.min_production_rate_per_h,
+             {0.1, 1e4, "the 0.1 to 10 000 parts per hour of one operation"});
+  if (t->has("stability_margin"))
+    warn_usual(*t, "stability_margin", c.stability_margin, usual::kSafetyFactor);
   if (!c.stability && t->has("stability_margin"))
     t->doc().error_key(t->path_of("stability_margin"), "not with stability = false (no stability constraint)");
   return c;
@@ -220,7 +231,13 @@ std::optional<Economics> read_economics(const Table& opt) {
                                             "tool_change_time_min", "machine_rate_per_h", "tool_cost",
                                             "tooling_rate_per_h", "sharpening_time_min", "preset_time_min"};
   for (std::size_t i = 0; i < std::size(kOptional); ++i)
-    if (const auto v = t->number(kOptional[i], kNonNegative)) *optional_slots[i] = *v;
+    if (const auto v = t->number(kOptional[i], kNonNegative)) {
+      *optional_slots[i] = *v;
+      // The times of one part or one tool change: 0.3 s to an hour (money
+      // has no band: any currency).
+      if (kOptional[i].ends_with("_time_min") && *v > 0.0)
+        warn_usual(*t, kOptional[i], v, {0.005, 60.0, "the 0.005 to 60 min of one part's or one tool's times", 1.0 / 60.0, "s"});
+    }
   if (const auto u = t->number("tool_uses", kAtLeastOne)) e.tool_uses = *u;
   stop_if_errors_since(t->doc(), mark);
   if (!c || !n.si || !len) throw Skip{};
@@ -228,7 +245,46 @@ std::optional<Economics> read_economics(const Table& opt) {
   e.taylor_n = *n.si;
   e.cut_length_mm = *len;
   warn_band(*t, n, Quantity{kTaylorNKeys}, kTaylorNBand);
+  warn_usual(*t, "taylor_c_m_per_min", c, {10.0, 5000.0, "the 10 to 5 000 m/min of Taylor constants", 60.0, "m/s"});
+  warn_usual(*t, "cut_length_mm", len, {1.0, 1e4, "the 1 mm to 10 m of one cut's length", 1e3, "m"});
   return e;
+}
+
+// A fitted roughness model's coefficients carry the units of its variables
+// (um per m/min, per mm, ...), so no band holds the coefficient itself; the
+// size of its term over the optimisation's bounds can: a term under 0.01 um
+// or over 50 um (the Ra of machined surfaces) is a coefficient in another
+// unit. Also warned: a model that goes negative inside the bounds.
+void warn_roughness_fit(const Table& opt, const OptimizationSpec& s) {
+  if (!s.roughness || s.roughness->kind != RoughnessModel::Kind::kFit || !(s.diameter_m > 0.0)) return;
+  const auto t = opt.table("roughness");
+  const RoughnessModel& r = *s.roughness;
+  const Bounds v{cutting_speed_m_per_min(s.diameter_m, s.speed_rpm.lo), cutting_speed_m_per_min(s.diameter_m, s.speed_rpm.hi)};
+  const Bounds f{s.feed_m.lo * 1e3, s.feed_m.hi * 1e3}, d{s.depth_m.lo * 1e3, s.depth_m.hi * 1e3};
+  const double V = v.hi, F = f.hi, D = d.hi;  // the largest |x| of each (bounds > 0)
+  const std::pair<std::string_view, double> terms[] = {
+      {"constant", r.c0},           {"speed", r.cv * V},          {"feed", r.cf * F},
+      {"depth", r.cd * D},          {"speed_squared", r.cvv * V * V}, {"feed_squared", r.cff * F * F},
+      {"depth_squared", r.cdd * D * D}, {"speed_feed", r.cvf * V * F}, {"speed_depth", r.cvd * V * D},
+      {"feed_depth", r.cfd * F * D}};
+  const std::string box = "V " + number_text(v.lo) + "-" + number_text(v.hi) + " m/min, f " + number_text(f.lo) + "-" +
+                          number_text(f.hi) + " mm, d " + number_text(d.lo) + "-" + number_text(d.hi) + " mm";
+  for (const auto& [key, term] : terms) {
+    const double a = std::abs(term);
+    if (!t->has(key) || a == 0.0 || (a >= 0.01 && a <= 50.0)) continue;
+    t->doc().warn(t->path_of(key), *t->find(key),
+                  "its term reaches " + number_text(a) + " um of Ra over the bounds (" + box + "), " +
+                      (a < 0.01 ? "under 0.01 um" : "over the 50 um of machined surfaces") +
+                      ": is the coefficient in another unit (um, mm, m/s)?");
+  }
+  double lowest = kInf;
+  for (const double vv : {v.lo, v.hi})
+    for (const double ff : {s.feed_m.lo, s.feed_m.hi})
+      for (const double dd : {s.depth_m.lo, s.depth_m.hi}) lowest = std::min(lowest, r.roughness_um(vv, ff, dd));
+  if (lowest < 0.0)
+    t->doc().warn(t->path_of("model"), *t->find("model"),
+                  "the fit gives Ra = " + number_text(lowest) + " um at a corner of the bounds (" + box +
+                      "): negative, the model is used outside the tests it was fitted to");
 }
 
 Objective read_objective(const Table& t) {
@@ -291,7 +347,11 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   if (const auto f = read_bounds(*t, feed_key, 1e-3, kFeedBound)) s.feed_m = *f;
   else if (!t->has(feed_key))
     doc.error_key(t->path_of(feed_key), "missing (required: one number or [lower, upper], mm)");
-  if (const auto d = read_bounds(*t, "depth_mm", 1e-3, kDepthBound)) s.depth_m = *d;
+  if (const auto d = read_bounds(*t, "depth_mm", 1e-3, kDepthBound)) {
+    s.depth_m = *d;
+    for (const double v : d->hi > d->lo ? std::vector{d->lo, d->hi} : std::vector{d->lo})
+      warn_usual(*t, "depth_mm", v * 1e3, usual::kDepthOfCutMm);
+  }
   else if (!t->has("depth_mm"))
     doc.error_key(t->path_of("depth_mm"), "missing (required: one number (fixed) or [lower, upper], mm)");
   if (milling && t->has("cutting_coefficient_n_per_mm2"))
@@ -311,7 +371,11 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
     const Given g = a->quantity(Quantity{kGammaKeys}, kUnitInterval);
     if (g.si) s.adapt.gamma = *g.si;
     warn_band(*a, g, Quantity{kGammaKeys}, kGammaBand);
-    if (const auto m = a->number("max_step_percent", kStepPercent)) s.adapt.max_step = *m / 100.0;
+    if (const auto m = a->number("max_step_percent", kStepPercent)) {
+      s.adapt.max_step = *m / 100.0;
+      warn_usual(*a, "max_step_percent", m, {0.5, 100.0, "the 0.5 to 100 % of one adaptation step", 100.0,
+                                              "fractions, not percent"});
+    }
   }
   // What the models need, named by the key that needs it.
   const auto weight = [&](PerformanceIndex i) { return s.loss.weight[static_cast<std::size_t>(i)] > 0.0; };
@@ -331,6 +395,7 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
                   "specific cutting force K_c, N/mm^2)");
   stop_if_errors_since(doc, mark);
   warn_band(*t, kc, Quantity{kKcKeys}, kKcBand);
+  warn_roughness_fit(*t, s);
   if (const std::string why = s.validate(op); !why.empty()) doc.fail_key(t->path(), why);  // a rule above is missing
   return s;
 }

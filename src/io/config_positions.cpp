@@ -46,6 +46,7 @@ std::vector<PositionStation> read_positions(const Table& root, const StructuralM
                               " modes (the body that varies is given at every position, and only there)");
   }
   std::vector<PositionStation> stations;
+  std::vector<std::pair<Path, const toml::node*>> gaps;  // where each kept station's position is written
   for (std::size_t i = 0; i < entries->size(); ++i) {
     const Table t(doc, *entries->get(i)->as_table(), element(path, i));
     const std::size_t mark = doc.error_count();
@@ -99,8 +100,22 @@ std::vector<PositionStation> read_positions(const Table& root, const StructuralM
                           "differs from " + prev_at + ": a mode keeps its direction along the path");
       }
     }
+    if (st.position_m > 20.0)
+      doc.warn(t.path_of(x.unit->key), *t.find(x.unit->key),
+               "beyond the 20 m of a machine's travel; is it in um?");
     stations.push_back(std::move(st));
+    gaps.push_back({t.path_of(x.unit->key), t.find(x.unit->key)});
   }
+  // One station a unit slip moved: its gap to the previous one over 500
+  // times smaller than the widest gap of the path.
+  double widest = 0.0;
+  for (std::size_t i = 1; i < stations.size(); ++i)
+    widest = std::max(widest, stations[i].position_m - stations[i - 1].position_m);
+  for (std::size_t i = 1; i < stations.size(); ++i)
+    if (const double gap = stations[i].position_m - stations[i - 1].position_m; gap * 500.0 < widest)
+      doc.warn(gaps[i].first, *gaps[i].second,
+               number_text(gap * 1e3) + " mm from the previous position against " + number_text(widest * 1e3) +
+                   " mm between others: a value in m or um among mm?");
   return stations;
 }
 

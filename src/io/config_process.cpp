@@ -19,10 +19,10 @@ constexpr Plausible kCoefficientBound{0.0, 1e13, "must be <= 1e13 N/m^2 (steel c
 constexpr double kThinFeedMm = 1e-3;
 /// The usual lengths of the process (docs/config.md, "Plausibility warnings"),
 /// in mm as written; metres typed as mm fall below, micrometres above.
-const Usual kToolDiameterUsual{0.1, 500.0, "the 0.1 to 500 mm of milling cutters", 1e3, "m", 1e-3, "um"};
-const Usual kWorkpieceDiameterUsual{0.5, 5000.0, "the 0.5 to 5 000 mm of turned parts", 1e3, "m", 1e-3, "um"};
-const Usual kFluteLengthUsual{0.1, 500.0, "the 0.1 to 500 mm of cutting flutes", 1e3, "m", 1e-3, "um"};
-const Usual kImmersionUsual{1e-3, 1.0, "the 0.001 to 1 of milling (a_e/D, a ratio)"};
+constexpr const Usual& kToolDiameterUsual = usual::kToolDiameterMm;
+constexpr const Usual& kWorkpieceDiameterUsual = usual::kWorkpieceDiameterMm;
+constexpr const Usual& kFluteLengthUsual = usual::kFluteLengthMm;
+constexpr const Usual& kImmersionUsual = usual::kRadialImmersion;
 /// A nose radius below this (mm, but > 0: 0 is a sharp corner) is metres typed as mm.
 constexpr double kTinyNoseRadiusMm = 0.01;
 /// A radial depth thinner than this (mm) is a cut below a sharp edge's radius:

@@ -380,16 +380,8 @@ void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b)
 }
 
 void warn_usual(const Table& t, std::string_view key, std::optional<double> v, const Usual& u) {
-  if (!v || (*v >= u.lo && *v <= u.hi)) return;
-  std::string what = std::string("outside ") + u.what;
-  for (const auto& [factor, unit] : {std::pair{u.mixup_factor, u.mixup_unit}, std::pair{u.other_factor, u.other_unit}}) {
-    const double meant = *v * factor;
-    if (factor > 0.0 && meant >= u.lo && meant <= u.hi) {
-      what += "; is it in " + std::string(unit) + " (" + std::string(key) + " = " + number_text(meant) + ")?";
-      break;
-    }
-  }
-  t.doc().warn(t.path_of(key), *t.find(key), what);
+  if (!v) return;
+  if (const std::string what = unusual(key, *v, u); !what.empty()) t.doc().warn(t.path_of(key), *t.find(key), what);
 }
 
 }  // namespace chatter::config_detail

@@ -63,6 +63,7 @@
 #include <toml++/toml.h>
 
 #include "chatter/error.hpp"
+#include "chatter/usual_bands.hpp"
 
 namespace chatter::config_detail {
 
@@ -409,17 +410,9 @@ template <class Derive>
 /// warn_band on the value itself.
 void warn_band(const Table& t, const Given& g, const Quantity& q, const Band& b);
 
-/// A usual band in a key's own unit (as written, e.g. mm), and the unit
-/// mix-ups that most likely explain a value outside it: warned, never
-/// refused (docs/config.md, "Plausibility warnings").
-struct Usual {
-  double lo, hi;
-  const char* what;           ///< "the 25 to 600 mm of grinding wheels"
-  double mixup_factor = 0;    ///< written x factor is the value in the key's unit if the mix-up happened
-  const char* mixup_unit = "";
-  double other_factor = 0;    ///< a second mix-up (m below the band, um above it)
-  const char* other_unit = "";
-};
+/// A usual band in a key's own unit: chatter/usual_bands.hpp (shared with
+/// the command line's flags).
+using chatter::Usual;
 /// Warns "<key> = v: outside <what>; is it in <unit> (<key> = meant)?" when
 /// v (the key's value as written) lies outside u. Nothing when v is empty.
 void warn_usual(const Table& t, std::string_view key, std::optional<double> v, const Usual& u);

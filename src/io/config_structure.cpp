@@ -47,7 +47,7 @@ constexpr UnitKey kStiffnessMixups[] = {{"", 1e3, "N/mm"}};
 constexpr UnitKey kFrequencyMixups[] = {{"", 1.0 / (2 * kPi), "rad/s"}, {"", 1e3, "kHz"}};
 constexpr UnitKey kDampingMixups[] = {{"", 1e-2, "percent"}};
 
-const Band kStiffnessBand{1e5, 1e10, "k", "N/m", "the 1e5 to 1e10 N/m of machine-tool, tool and workpiece modes",
+const Band kStiffnessBand{1e5, 5e8, "k", "N/m", "the 1e5 to 5e8 N/m (0.1 to 500 N/um) of machine-tool, tool and workpiece modes",
                           kStiffnessMixups};
 const Band kFrequencyBand{10.0, 2e4, "f", "Hz", "the 10 Hz to 20 kHz of machining structures", kFrequencyMixups};
 const Band kDampingBand{1e-3, 0.2, "zeta", "", "the 0.001 to 0.2 of machine structures (0.01 to 0.05 is common)",

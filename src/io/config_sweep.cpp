@@ -36,11 +36,11 @@ SweepDefaults read_sweep(const Table& root) {
   s.depth_max_mm = sweep->number("depth_max_mm", kPositive);
   // Speeds and the searched depth a machine can have (docs/config.md,
   // "Plausibility warnings"): rev/s typed as rev/min falls below.
-  const Usual speed{10.0, 200000.0, "the 10 to 200 000 rev/min of machine spindles", 60.0, "rev/s"};
-  warn_usual(*sweep, "rpm_min", s.rpm_min, speed);
-  warn_usual(*sweep, "rpm_max", s.rpm_max, speed);
-  warn_usual(*sweep, "depth_max_mm", s.depth_max_mm,
-             {0.01, 1000.0, "the 0.01 to 1 000 mm a depth of cut can be", 1e-3, "um", 1e3, "m"});
+  warn_usual(*sweep, "rpm_min", s.rpm_min, usual::kSpindleSpeedRpm);
+  warn_usual(*sweep, "rpm_max", s.rpm_max, usual::kSpindleSpeedRpm);
+  warn_usual(*sweep, "depth_max_mm", s.depth_max_mm, usual::kSearchedDepthMm);
+  if (s.rpm_points)
+    warn_usual(*sweep, "rpm_points", static_cast<double>(*s.rpm_points), usual::kSweepPoints);
   return s;
 }
 

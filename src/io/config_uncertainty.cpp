@@ -32,9 +32,21 @@ std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const Stru
                              100.0 / kUncertaintyTruncationSigma, true};
   const std::size_t n_modes = model.tool.modes.size() + model.workpiece.modes.size();
   UncertaintySpreads s;
+  // A spread below 0.1 % is a fraction typed as percent (0.05 for 5 %).
+  const Usual kSpreadUsual{0.1, 100.0 / kUncertaintyTruncationSigma, "the 0.1 to 33 % of measured spreads", 100.0,
+                           "fractions, not percent"};
+  auto warn_spread = [&](std::string_view key, std::optional<double> p) {
+    if (p && *p > 0.0) warn_usual(*t, key, p, kSpreadUsual);
+  };
   auto mode_list = [&](std::string_view key, std::vector<double>* out) {
     const auto v = t->number_list(key, kSpreadPercent);
     if (!v) return;
+    // (Not the frequency: a modal fit gives it to 0.01 %, a real spread.)
+    for (const double p : *v)
+      if (key != "frequency_percent" && p > 0.0 && p < kSpreadUsual.lo) {
+        warn_spread(key, p);
+        break;
+      }
     const toml::node& n = *t->find(key);
     if (n.as_array() && v->size() != n_modes) {
       doc.error(t->path_of(key), n,
@@ -69,6 +81,9 @@ std::optional<UncertaintySpreads> read_uncertainty(const Table& root, const Stru
   const auto kt = t->number("tangential_coefficient_percent", kSpreadPercent);
   const auto kr = t->number("radial_coefficient_percent", kSpreadPercent);
   const auto kf = t->number("feed_force_coefficient_percent", kSpreadPercent);
+  warn_spread("tangential_coefficient_percent", kt);
+  warn_spread("radial_coefficient_percent", kr);
+  warn_spread("feed_force_coefficient_percent", kf);
   for (const std::string_view key : {"tangential_coefficient_percent", "radial_coefficient_percent"})
     if (!milling && t->has(key))
       doc.error(t->path_of(key), *t->find(key), "only for milling (turning: feed_force_coefficient_percent)");
