@@ -20,6 +20,7 @@
 #include "chatter/grinding_dynamics.hpp"
 #include "chatter/io/grinding_config.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/records/grinding.hpp"
 #include "module.hpp"
 
 namespace py = pybind11;
@@ -31,7 +32,6 @@ std::string fspath(const py::object& path) {
   return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
 }
 
-py::object json_loads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
 
 chatter::GrindingConfig load(const std::string& path, bool strict) {
   chatter::GrindingConfig c = chatter::load_grinding_config(path);
@@ -50,7 +50,7 @@ py::object grind_predict(const py::object& config, std::optional<double> power_w
     throw chatter::InputError("give exactly one of power_w, target_depth_mm, target_removal_mm3_per_s (" +
                               std::to_string(given) + " given)");
   const std::string path = fspath(config);
-  std::string json;
+  nlohmann::json json;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
@@ -58,9 +58,9 @@ py::object grind_predict(const py::object& config, std::optional<double> power_w
     if (power_w) p = chatter::grinding::predict_at_power(c.process, *power_w);
     else if (target_depth_mm) p = chatter::grinding::predict_for_depth(c.process, *target_depth_mm * 1e-3);
     else p = chatter::grinding::predict_for_removal(c.process, *target_removal_mm3_per_s * 1e-9);
-    json = chatter::grinding_prediction_json(p, c);
+    json = chatter::grinding_prediction_record(p, c);
   }
-  return json_loads(json);
+  return chatter_py::to_python(json);
 }
 
 py::object grind_fit(const py::object& tests, const std::string& model, const std::string& variable,
@@ -82,23 +82,20 @@ py::object grind_fit(const py::object& tests, const std::string& model, const st
   if (force_ratio && !(*force_ratio > 0.0 && *force_ratio <= 10.0))
     throw chatter::InputError("force_ratio: must be in (0, 10]");
   const std::string path = fspath(tests);
-  std::string json, fragment;
-  bool has_fragment = false;
+  nlohmann::json json;
   {
     py::gil_scoped_release release;
     const chatter::GrindingFitReport r =
         chatter::fit_grinding_tests(chatter::read_grinding_tests(path, d), model, variable, path);
-    json = chatter::grinding_fit_json(r);
+    std::optional<std::string> fragment;
     try {
       fragment = chatter::grinding_fit_fragment(r, force_ratio);
-      has_fragment = true;
     } catch (const chatter::InputError&) {
       // Not every fit makes a [grinding] table (no wheel, no force ratio): None.
     }
+    json = chatter::grinding_fit_record(r, fragment);
   }
-  py::object record = json_loads(json);
-  record["fragment"] = has_fragment ? py::object(py::str(fragment)) : py::object(py::none());
-  return record;
+  return chatter_py::to_python(json);
 }
 
 // A CSV table of the io layer (a header, then rows) as NumPy arrays by
@@ -204,15 +201,16 @@ py::object grind_plan(const py::object& config, double power_w, std::optional<do
   o.volume_m3 = by_volume ? *volume_mm3 * 1e-9 : *area_mm2 * *depth_mm * 1e-9;
   o.wheel_change_s = wheel_change_min * 60.0;
   const std::string path = fspath(config);
-  std::string json, csv;
+  nlohmann::json json;
+  std::string csv;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
     const chatter::grinding::Plan plan = prefixed("plan", [&] { return chatter::grinding::plan_repair(c.process, o); });
-    json = chatter::grinding_plan_json(plan, o, c);
+    json = chatter::grinding_plan_record(plan, o, c);
     csv = chatter::grinding_plan_csv(plan);
   }
-  py::object record = json_loads(json);
+  py::object record = chatter_py::to_python(json);
   record["wheel_life"] = csv_arrays(csv);
   return record;
 }
@@ -223,7 +221,8 @@ py::object grind_impacts(const py::object& record_file, double wheel_rpm, std::o
   positive(threshold_n, "threshold_n", "N");
   positive(threshold_rpm, "threshold_rpm", "rev/min");
   const std::string path = fspath(record_file);
-  std::string json, csv;
+  nlohmann::json json;
+  std::string csv;
   {
     py::gil_scoped_release release;
     const chatter::ImpactRecord rec = chatter::read_impact_record(path);
@@ -239,10 +238,10 @@ py::object grind_impacts(const py::object& record_file, double wheel_rpm, std::o
     chatter::grinding::ImpactCount c = prefixed(path.c_str(), [&] {
       return chatter::grinding::count_impacts(rec.time_s, rec.signal, rec.kind, o);
     });
-    json = chatter::grinding_impacts_json(c, rec, path, wheel_rpm);
+    json = chatter::grinding_impacts_record(c, rec, path, wheel_rpm);
     csv = chatter::grinding_impacts_csv(c, rec);
   }
-  py::object record = json_loads(json);
+  py::object record = chatter_py::to_python(json);
   record["turns_table"] = csv_arrays(csv);
   return record;
 }
@@ -255,7 +254,8 @@ py::object grind_simulate(const py::object& config, double power_w, int turns, i
   o.power_loop_turns = power_loop_turns;
   o.series_turns = series_turns;
   const std::string path = fspath(config);
-  std::string json, csv;
+  nlohmann::json json;
+  std::string csv;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
@@ -265,10 +265,10 @@ py::object grind_simulate(const py::object& config, double power_w, int turns, i
     } catch (const chatter::InputError& e) {
       throw chatter::InputError(c.source.string() + ": " + e.what());
     }
-    json = chatter::grinding_simulation_json(r, c);
+    json = chatter::grinding_simulation_record(r, c);
     csv = chatter::grinding_series_csv(r);
   }
-  py::object record = json_loads(json);
+  py::object record = chatter_py::to_python(json);
   record["series"] = csv_arrays(csv);
   return record;
 }

@@ -11,6 +11,7 @@
 #include "chatter/grinding.hpp"
 #include "chatter/io/grinding_config.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/records/grinding.hpp"
 
 namespace {
 
@@ -102,7 +103,7 @@ chatter_status chatter_grinding_predict_json(const char* config_path, chatter_gr
     return fail(CHATTER_NULL_ARGUMENT, "chatter_grinding_predict_json: buffer is NULL but size is not 0");
   return guarded([&] {
     const chatter::GrindingConfig c = chatter::load_grinding_config(config_path);
-    copy_out(chatter::grinding_prediction_json(predict(c, target, value), c), buffer, size, length);
+    copy_out(chatter::grinding_prediction_record(predict(c, target, value), c).dump(2) + "\n", buffer, size, length);
   });
 }
 
@@ -149,7 +150,7 @@ chatter_status chatter_grinding_fit_json(const char* tests_csv, const char* mode
     return fail(CHATTER_NULL_ARGUMENT, "chatter_grinding_fit_json: tests_csv and model must not be NULL");
   if (!buffer && size > 0)
     return fail(CHATTER_NULL_ARGUMENT, "chatter_grinding_fit_json: buffer is NULL but size is not 0");
-  return guarded([&] { copy_out(chatter::grinding_fit_json(fit(tests_csv, model, variable)), buffer, size, length); });
+  return guarded([&] { copy_out(chatter::grinding_fit_record(fit(tests_csv, model, variable), std::nullopt).dump(2) + "\n", buffer, size, length); });
 }
 
 }  // extern "C"

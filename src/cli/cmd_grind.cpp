@@ -17,6 +17,7 @@
 #include "chatter/grinding_dynamics.hpp"
 #include "chatter/io/grinding_config.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/records/grinding.hpp"
 #include "chatter/io/plot_grinding.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/kinematics.hpp"
@@ -151,7 +152,7 @@ int cmd_predict(const std::vector<std::string>& args) {
     p = with_flag("--target-removal-mm3-per-s", [&] {
       return grinding::predict_for_removal(c.process, vm["target-removal-mm3-per-s"].as<double>() * 1e-9);
     });
-  const std::string json = grinding_prediction_json(p, c);
+  const std::string json = grinding_prediction_record(p, c).dump(2) + "\n";
   if (!json_path.empty() && json_path != "-") write_text_file(json_path, json);
 
   std::ostream& os = json_path == "-" ? std::cerr : std::cout;
@@ -319,7 +320,7 @@ int cmd_simulate_grinding(const std::vector<std::string>& args) {
   } catch (const InputError& e) {
     throw InputError(c.source.string() + ": " + flagged(e.what()));
   }
-  const std::string json = grinding_simulation_json(r, c);
+  const std::string json = grinding_simulation_record(r, c).dump(2) + "\n";
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, json);
   if (!series_path.empty()) files.emplace_back(series_path, grinding_series_csv(r));
@@ -389,7 +390,7 @@ int cmd_plan(const std::vector<std::string>& args) {
   check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--table", table_path}});
   const GrindingConfig c = load_grinding_checked(config, vm.count("strict") > 0);
   const grinding::Plan plan = with_flag("plan", [&] { return grinding::plan_repair(c.process, o); });
-  const std::string json = grinding_plan_json(plan, o, c);
+  const std::string json = grinding_plan_record(plan, o, c).dump(2) + "\n";
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, json);
   if (!table_path.empty()) files.emplace_back(table_path, grinding_plan_csv(plan));

@@ -14,6 +14,7 @@
 #include "chatter/error.hpp"
 #include "chatter/grinding_data.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/records/grinding.hpp"
 #include "chatter/io/plot_grinding.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "cmd_grind.hpp"
@@ -138,10 +139,19 @@ int cmd_grind_fit(const std::vector<std::string>& args) {
                                                 vm.count("variable") ? variable : "", tests_path);
   const std::vector<GrindingTest>& tests = report.tests;
   // ---- records, then the report ----
-  const std::string json = grinding_fit_json(report);
+  // The [grinding] table the fit makes: required with --out (its refusal is
+  // the error), else in the record when the fit makes one (null otherwise).
+  std::optional<std::string> fragment;
+  if (!out_path.empty()) fragment = grinding_fit_fragment(report, force_ratio);
+  else
+    try {
+      fragment = grinding_fit_fragment(report, force_ratio);
+    } catch (const InputError&) {
+    }
+  const std::string json = grinding_fit_record(report, fragment).dump(2) + "\n";
   std::vector<std::pair<fs::path, std::string>> files;
   if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, json);
-  if (!out_path.empty()) files.emplace_back(out_path, grinding_fit_fragment(report, force_ratio));
+  if (!out_path.empty()) files.emplace_back(out_path, *fragment);
   write_text_files(files);
   std::ostream& os = json_path == "-" ? std::cerr : std::cout;
   os << tests_path << ": " << tests.size() << " tests, model " << model << (mech ? "" : " on " + report.variable) << "\n";
@@ -192,7 +202,7 @@ int cmd_grind_impacts(const std::vector<std::string>& args) {
   } catch (const InputError& e) {
     throw InputError(record_path + ": " + e.what());
   }
-  const std::string json = grinding_impacts_json(c, rec, record_path, o.wheel_rpm);
+  const std::string json = grinding_impacts_record(c, rec, record_path, o.wheel_rpm).dump(2) + "\n";
   std::vector<std::pair<fs::path, std::string>> files;
   if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, json);
   if (!table_path.empty()) files.emplace_back(table_path, grinding_impacts_csv(c, rec));

@@ -38,8 +38,10 @@ def test_predict_reproduces_seed_001():
 @pytest.mark.parametrize("tests,model", [(SYNTHETIC, "mechanistic"), (PRINTED, "poly11"), (PRINTED, "hahn_lindsay")])
 def test_fit_is_the_cli_record(tests, model):
     r = chatter.grind_fit(tests, model=model)
-    fragment = r.pop("fragment")
+    # The whole record, the fit's [grinding] fragment included: one builder
+    # (records/grinding.hpp) for both.
     assert r == cli_json("grind", "fit", tests, "--model", model, "--json", "-")
+    fragment = r["fragment"]
     assert fragment.startswith("# Fitted by `chatter grind fit")
     assert "[grinding]" in fragment
 

@@ -1,8 +1,8 @@
 // Files of the grinding commands (docs/grinding.md): the tests table of
-// `grind fit`, the force (or wheel-speed) record of `grind impacts`, and the
-// records every front end hands on unchanged: the JSON of predict, fit,
-// impacts, simulate and plan, the CSV tables (a unit in every column name)
-// and the [grinding] fragment a fit writes. The numerics are in
+// `grind fit`, the force (or wheel-speed) record of `grind impacts`, the
+// CSV tables every front end writes (a unit in every column name) and the
+// [grinding] fragment a fit writes. The JSON records of predict, fit,
+// impacts, simulate and plan: chatter/records/grinding.hpp. The numerics are in
 // chatter/grinding.hpp, grinding_data.hpp and grinding_dynamics.hpp.
 //
 // CSV files: a header line naming the columns (any order; a name not known
@@ -72,17 +72,10 @@ struct ImpactRecord {
 ///         cell that is not a number, fewer than 3 rows, neither column.
 ImpactRecord read_impact_record(const std::filesystem::path& csv);
 
-// ---------------------------------------------------------------- records
+// ------------------------------------------------------- fits and tables
 
-/// The JSON record of `chatter grind predict` (docs/grinding.md lists the
-/// keys): the prediction in shop units (mm, mm^3/s, N, W, s, m/s), the
-/// config's name and warnings; null where a quantity is not known (no
-/// mechanistic model, no density). Never NaN.
-std::string grinding_prediction_json(const grinding::Prediction& p, const GrindingConfig& config);
-
-/// The JSON of `chatter grind fit`: model, coefficients (names and values in
-/// the config's units), standard errors, 95 % intervals, R^2, RMSE, MAE,
-/// MAPE, per-test residuals and derived columns, warnings.
+/// A fit of a tests table (fit_grinding_tests): per target its statistics
+/// and the tests it used. Its JSON record: chatter/records/grinding.hpp.
 struct GrindingFitReport {
   std::string model;                 ///< "mechanistic", "poly11", ...
   std::string variable;              ///< "useful_power_w" or "normal_force_n" (empirical)
@@ -97,7 +90,6 @@ struct GrindingFitReport {
   std::vector<Target> targets;
   std::vector<GrindingTest> tests;
 };
-std::string grinding_fit_json(const GrindingFitReport& r);
 
 /// Fits `model` ("mechanistic", "poly11", "poly22", "poly33", "power_law",
 /// "hahn_lindsay") to the tests read from `tests_file`: the mechanistic model
@@ -122,10 +114,6 @@ GrindingFitReport fit_grinding_tests(const std::vector<GrindingTest>& tests, con
 /// power law's C <= 0).
 std::string grinding_fit_fragment(const GrindingFitReport& r, std::optional<double> force_ratio);
 
-std::string grinding_impacts_json(const grinding::ImpactCount& c, const ImpactRecord& record,
-                                  const std::string& file, double wheel_rpm);
-std::string grinding_simulation_json(const grinding::DynamicsResult& r, const GrindingConfig& config);
-std::string grinding_plan_json(const grinding::Plan& p, const grinding::PlanOptions& o, const GrindingConfig& config);
 
 /// The sweep table: one row per (feed, power), the prediction's quantities
 /// with their units in the column names; empirical columns when the config

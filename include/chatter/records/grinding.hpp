@@ -1,0 +1,40 @@
+// The JSON records of the grinding commands (docs/grinding.md lists the
+// keys): the one place they are built, for `chatter grind` (dumped), Python
+// (converted by the one converter) and the C API (dumped into the caller's
+// buffer). Shop units at this edge: mm, mm^3/s, N, W, J/mm^3, s, m/s,
+// rev/min; null where a quantity is not known, never NaN.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "chatter/grinding.hpp"
+#include "chatter/grinding_data.hpp"
+#include "chatter/grinding_dynamics.hpp"
+#include "chatter/io/grinding_config.hpp"
+#include "chatter/io/grinding_io.hpp"
+
+namespace chatter {
+
+/// `grind predict`: the prediction (mechanistic or empirical, at a power or
+/// inverted from a target), the config's wheel and name, and its warnings
+/// with the prediction's (format "chatter-grinding-prediction").
+nlohmann::json grinding_prediction_record(const grinding::Prediction& p, const GrindingConfig& config);
+/// `grind fit`: model, coefficients (names and values in the config's
+/// units), standard errors, 95 % intervals, R^2, RMSE, MAE, MAPE, per-test
+/// residuals and derived columns, warnings ("chatter-grinding-fit"), and
+/// `fragment`: the [grinding] table the fit makes (grinding_fit_fragment),
+/// null when it makes none or was not asked.
+nlohmann::json grinding_fit_record(const GrindingFitReport& r, const std::optional<std::string>& fragment);
+/// `grind impacts`: impacts per turn, histogram, peaks ("chatter-grinding-impacts").
+nlohmann::json grinding_impacts_record(const grinding::ImpactCount& c, const ImpactRecord& record,
+                                       const std::string& file, double wheel_rpm);
+/// `grind simulate`: the dynamics run and its quasi-static prediction ("chatter-grinding-simulation").
+nlohmann::json grinding_simulation_record(const grinding::DynamicsResult& r, const GrindingConfig& config);
+/// `grind plan`: wheels, times and the mean G-ratio of a repair ("chatter-grinding-plan").
+nlohmann::json grinding_plan_record(const grinding::Plan& p, const grinding::PlanOptions& o,
+                                    const GrindingConfig& config);
+
+}  // namespace chatter
