@@ -29,6 +29,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/table_writer.hpp"
+#include "chatter/records/lobes.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/transfer_function.hpp"
@@ -239,7 +240,12 @@ TEST(WriteLobeCsv, ByteIdenticalForIdenticalInput) {
   EXPECT_EQ(a.str(), b.str());
 }
 
-// ----------------------------------------------------------------- write_lobe_json
+// ---------------------------------------------------- lobe_table_record (JSON)
+
+// The record as `chatter lobes --json` writes it.
+void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const chatter::TableProvenance& p) {
+  os << chatter::lobe_table_record(rows, p).dump(2) << '\n';
+}
 
 chatter::Config small_config() {
   chatter::Config cfg;
@@ -263,14 +269,14 @@ chatter::TableProvenance provenance(const chatter::Config* cfg) {
   abs.chatter_frequency_hz = 97.0;
   abs.branch = 0;
   p.absolute_limit = abs;
-  p.options_json = R"({"depth_max_m": 0.02})";
+  p.options = {{"depth_max_m", 0.02}};
   return p;
 }
 
 TEST(WriteLobeJson, ParsesBackWithSameNumbers) {
   const chatter::Config cfg = small_config();
   std::ostringstream os;
-  chatter::write_lobe_json(os, {bounded_row(), unbounded_row()}, provenance(&cfg));
+  write_lobe_json(os, {bounded_row(), unbounded_row()}, provenance(&cfg));
   nlohmann::json j;
   ASSERT_NO_THROW(j = nlohmann::json::parse(os.str())) << os.str();
 
@@ -308,7 +314,7 @@ TEST(WriteLobeJson, SameNumbersAsCsv) {
   const std::vector<StabilityLimit> rows = {bounded_row(), unbounded_row()};
   std::ostringstream csv, js;
   chatter::write_lobe_csv(csv, rows);
-  chatter::write_lobe_json(js, rows, provenance(&cfg));
+  write_lobe_json(js, rows, provenance(&cfg));
   const auto j = nlohmann::json::parse(js.str());
   const auto fields = split_fields(split_lines(csv.str())[1]);
   // Both go through the same 10-digit rounding, so the values agree exactly.
@@ -320,7 +326,7 @@ TEST(WriteLobeJson, SameNumbersAsCsv) {
 
 TEST(WriteLobeJson, NoConfigWhenNoneGiven) {
   std::ostringstream os;
-  chatter::write_lobe_json(os, {bounded_row()}, provenance(nullptr));
+  write_lobe_json(os, {bounded_row()}, provenance(nullptr));
   const auto j = nlohmann::json::parse(os.str());
   EXPECT_FALSE(j.contains("config"));
   EXPECT_EQ(j.at("method"), "analytic");
@@ -331,7 +337,7 @@ TEST(WriteLobeJson, UnboundedAbsoluteLimitIsNull) {
   chatter::TableProvenance p = provenance(nullptr);
   p.absolute_limit = chatter::AbsoluteLimit{};  // +inf depth, NaN frequency
   std::ostringstream os;
-  chatter::write_lobe_json(os, {unbounded_row()}, p);
+  write_lobe_json(os, {unbounded_row()}, p);
   const auto j = nlohmann::json::parse(os.str());
   EXPECT_TRUE(j.at("absolute_limit").at("depth_mm").is_null());
   EXPECT_TRUE(j.at("absolute_limit").at("chatter_frequency_hz").is_null());

@@ -402,7 +402,7 @@ BuiltSolver build_solver(const std::string& requested, const Config& cfg, double
   b.solver = std::move(c.solver);
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
-  b.options_json = j.dump();
+  b.options = std::move(j);
   b.notes = std::move(c.notes);
   for (const std::string& n : b.notes) std::cerr << "note: " << n << "\n";
   return b;

@@ -180,7 +180,7 @@ struct BuiltSolver {
   std::string method;  ///< the method used ("auto" resolved: resolve_lobe_method)
   const SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<LobeSolver> solver;
-  std::string options_json;  ///< the solver's effective options, for the JSON provenance
+  nlohmann::json options;  ///< the solver's effective options (an object), for the JSON provenance
   /// What the method does not see of the cutter (ignored_feature_notes),
   /// printed as "note: ..." on stderr by build_solver and kept for the JSON.
   std::vector<std::string> notes;

@@ -2,6 +2,8 @@
 // (src/cli/cmd_lobes.hpp).
 #include "cmd_lobes.hpp"
 
+#include "chatter/records/lobes.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -240,13 +242,15 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     }
     p.depth_max_mm = s.depth_max_mm;
     p.absolute_limit = abs_lim;
-    p.options_json = built.options_json;
+    p.options = built.options;
     p.notes = built.notes;
     p.position_mm = common.position_mm;
-    std::ostringstream js;
-    write_lobe_json(js, rows, p, extra);
-    json_text = js.str();
-    if (mc) json_text = add_uncertainty_json(json_text, *uncertainty, cfg, *mc);
+    nlohmann::json record = lobe_table_record(rows, p, extra);
+    if (mc)
+      record["uncertainty"] = uncertainty_record(*cfg.uncertainty, cfg.process.rotating_edges(),
+                                                 {uncertainty->samples, uncertainty->seed, uncertainty->depth_points,
+                                                  mc->depth_grid_top_mm, mc->summary});
+    json_text = record.dump(2) + "\n";
   }
 
   // Summary for the person at the terminal.

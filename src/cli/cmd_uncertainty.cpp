@@ -19,12 +19,6 @@ namespace {
 constexpr long long kMaxMonteCarloSolves = 25'000'000;
 constexpr int kDefaultDepthPoints = 101;  // steps of 1 % of the grid's top
 
-std::vector<double> percents(const std::vector<double>& fractions) {
-  std::vector<double> out;
-  for (const double f : fractions) out.push_back(100.0 * f);
-  return out;
-}
-
 }  // namespace
 
 void add_uncertainty_options(po::options_description& d) {
@@ -151,35 +145,6 @@ UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double 
           << ")";
   out.summary = summary.str();
   return out;
-}
-
-std::string add_uncertainty_json(const std::string& lobe_json, const UncertaintyRequest& request, const Config& cfg,
-                                 const UncertaintyOutputs& out) {
-  nlohmann::json j = nlohmann::json::parse(lobe_json);
-  const UncertaintySpreads& s = *cfg.uncertainty;
-  const bool milling = cfg.process.rotating_edges();
-  nlohmann::json spreads = {{"frequency_percent", percents(s.frequency)},
-                            {"damping_percent", percents(s.damping)},
-                            {"stiffness_percent", percents(s.stiffness)}};
-  if (milling) {
-    spreads["tangential_coefficient_percent"] = 100.0 * s.tangential;
-    spreads["radial_coefficient_percent"] = 100.0 * s.radial;
-  } else {
-    spreads["feed_force_coefficient_percent"] = 100.0 * s.tangential;
-  }
-  j["uncertainty"] = {
-      {"samples", request.samples},
-      {"seed", request.seed},
-      {"spreads", spreads},
-      {"mode_order", "tool modes, then workpiece modes (one value: every mode)"},
-      {"distribution", "p (1 + s z), z standard normal truncated to |z| <= 3, every parameter independent"},
-      {"rng", "SplitMix64 hash of (seed, sample, parameter), inverse-CDF truncated normal"},
-      {"quantile_definition", "linear interpolation between order statistics (Hyndman-Fan type 7); null = inf"},
-      {"quantile_columns", {"depth_limit_p05_mm", "depth_limit_p50_mm", "depth_limit_p95_mm"}},
-      {"probability_depth_max_mm", out.depth_grid_top_mm},
-      {"probability_depth_points", request.depth_points},
-      {"summary", out.summary}};
-  return j.dump(2) + "\n";
 }
 
 }  // namespace chatter::cli

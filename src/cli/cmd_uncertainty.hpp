@@ -63,9 +63,4 @@ UncertaintyOutputs reduce_uncertainty(const UncertaintyRequest& request, double 
                                       const std::vector<StabilityLimit>& nominal,
                                       const std::vector<std::vector<StabilityLimit>>& rows);
 
-/// The lobe JSON with an "uncertainty" record added (samples, seed, spreads in
-/// percent, distribution, quantile definition).
-std::string add_uncertainty_json(const std::string& lobe_json, const UncertaintyRequest& request,
-                                 const Config& cfg, const UncertaintyOutputs& out);
-
 }  // namespace chatter::cli

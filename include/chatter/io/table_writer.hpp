@@ -1,13 +1,11 @@
-// Lobe tables as CSV and JSON (the contract CAM integrators parse).
+// Lobe tables as CSV (the contract CAM integrators parse; the JSON record:
+// chatter/records/lobes.hpp lobe_table_record).
 //
 // CSV: header `spindle_rpm,depth_limit_mm,chatter_frequency_hz,lobe` then one
 // row per speed; a speed with no instability below the searched depth has
 // `inf` as depth and empty frequency and lobe. Numbers use up to 10
 // significant digits; the output is byte-identical for identical input.
-//
-// JSON: {"format": "chatter-lobe-table", "version", "method", "config",
-// "warnings" (the config's plausibility warnings, [] if none), "options", "absolute_limit", "rows": [{spindle_rpm, depth_limit_mm,
-// chatter_frequency_hz, lobe}]}, with null where the CSV is `inf`/empty.
+
 #pragma once
 
 #include <filesystem>
@@ -31,29 +29,10 @@ struct ExtraColumn {
   bool numeric = false;
 };
 
-/// What produced a table, recorded in the JSON.
-struct TableProvenance {
-  std::string method;                 ///< "analytic", "coupled", ...
-  const Config* config = nullptr;     ///< model, process and file (may be null)
-  double rpm_min = 0.0, rpm_max = 0.0;
-  int rpm_points = 0;                 ///< even: the row count; adaptive: the most rows allowed
-  std::string rpm_spacing = "even";   ///< "even" or "adaptive" (speeds placed where the envelope bends)
-  double adaptive_depth_rel_tol = 0.0;  ///< adaptive only: the midpoint tolerance (relative depth)
-  bool adaptive_tolerance_met = false;  ///< adaptive only: met on every interval within rpm_points
-  double depth_max_mm = 0.0;
-  std::optional<AbsoluteLimit> absolute_limit;
-  std::string options_json = "{}";    ///< solver options as a JSON object text
-  std::vector<std::string> notes;     ///< what the method does not see of the cutter (ignored_feature_notes)
-  /// The tool position the table is for (`--position-mm`, mm; docs/position.md):
-  /// written as "position_mm" when set, absent otherwise.
-  std::optional<double> position_mm;
-};
 
 /// @pre every extra column has rows.size() values.
 void write_lobe_csv(std::ostream& os, const std::vector<StabilityLimit>& rows,
                     const std::vector<ExtraColumn>& extra = {});
-void write_lobe_json(std::ostream& os, const std::vector<StabilityLimit>& rows, const TableProvenance& p,
-                     const std::vector<ExtraColumn>& extra = {});
 
 /// A number as the tables print it (up to 10 significant digits; "inf").
 std::string table_number(double x);

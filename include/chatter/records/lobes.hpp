@@ -13,10 +13,12 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include "chatter/io/config.hpp"
 #include "chatter/io/plot.hpp"  // MethodLimits, StabilityMapGrid: plain data
+#include "chatter/io/table_writer.hpp"  // ExtraColumn
+#include "chatter/uncertainty.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/records.hpp"
 #include "chatter/solvers.hpp"
@@ -24,6 +26,49 @@
 namespace chatter {
 
 class SemiDiscretizationSolver;
+
+// --------------------------------------------------------------- lobe table
+
+/// What produced a table, recorded in the JSON.
+struct TableProvenance {
+  std::string method;                 ///< "analytic", "coupled", ...
+  const Config* config = nullptr;     ///< model, process and file (may be null)
+  double rpm_min = 0.0, rpm_max = 0.0;
+  int rpm_points = 0;                 ///< even: the row count; adaptive: the most rows allowed
+  std::string rpm_spacing = "even";   ///< "even" or "adaptive" (speeds placed where the envelope bends)
+  double adaptive_depth_rel_tol = 0.0;  ///< adaptive only: the midpoint tolerance (relative depth)
+  bool adaptive_tolerance_met = false;  ///< adaptive only: met on every interval within rpm_points
+  double depth_max_mm = 0.0;
+  std::optional<AbsoluteLimit> absolute_limit;
+  nlohmann::json options;             ///< the solver's effective options (an object; null: {})
+  std::vector<std::string> notes;     ///< what the method does not see of the cutter (ignored_feature_notes)
+  /// The tool position the table is for (`--position-mm`, mm; docs/position.md):
+  /// written as "position_mm" when set, absent otherwise.
+  std::optional<double> position_mm;
+};
+/// The JSON record of a lobe table ("chatter-lobe-table"): {"format",
+/// "version", "method", "config" (file, name, process as read with the
+/// [process] keys as written, tool and workpiece modes), "warnings" (the
+/// config's plausibility warnings, [] if none), "notes", ["position_mm"],
+/// "sweep", "options", ["absolute_limit"], "units", "null_means", "rows":
+/// [{spindle_rpm, depth_limit_mm, chatter_frequency_hz, lobe, extra
+/// columns}]}, null where the CSV is `inf`/empty; numbers rounded as the CSV.
+/// @pre every extra column has rows.size() values.
+nlohmann::json lobe_table_record(const std::vector<StabilityLimit>& rows, const TableProvenance& p,
+                                 const std::vector<ExtraColumn>& extra = {});
+
+/// What the uncertainty block of `lobes --samples` says besides the spreads.
+struct UncertaintyRecordInputs {
+  std::uint64_t samples = 0, seed = 1;
+  int depth_points = 0;
+  double depth_grid_top_mm = 0.0;
+  std::string summary;  ///< one line for the machinist
+};
+/// The "uncertainty" object of the lobe table's record (docs/uncertainty.md):
+/// samples, seed, spreads in percent (milling: K_t and K_r; turning: K_f),
+/// the distribution, the generator, the quantile definition and columns,
+/// the probability grid and the summary.
+nlohmann::json uncertainty_record(const UncertaintySpreads& s, bool milling, const UncertaintyRecordInputs& in);
 
 // ------------------------------------------------------------------ compare
 
