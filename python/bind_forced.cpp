@@ -20,6 +20,7 @@
 #include "chatter/forced.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/records/forced.hpp"
+#include "chatter/usual_bands.hpp"
 #include "module.hpp"
 #include "chatter/lobes.hpp"
 
@@ -123,6 +124,9 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
   chatter::ForcedRecordContext ctx;
   ctx.config = cfg.name;
   ctx.warnings = cfg.warnings;
+  for (std::string& w : chatter::unusual_arguments({{"rpm", rpm}, {"depth_mm", depth_mm},
+                                                     {feed_mm_per_rev ? "feed_mm_per_rev" : "feed_per_tooth_mm", feed_mm}}))
+    ctx.warnings.push_back(std::move(w));
   ctx.position_mm = position_mm;
   if (cfg.process.rotating_edges())
     ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;

@@ -11,6 +11,7 @@
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "chatter/uncertainty.hpp"
+#include "chatter/usual_bands.hpp"
 #include "module.hpp"
 
 namespace chatter_py {
@@ -143,6 +144,9 @@ py::dict point(const Job& job_in, double rpm, double depth_mm, const std::string
   }
   chatter::RecordSource source = chatter::record_source(cfg, position_mm);
   source.notes = built->notes;
+  // Keyword arguments outside their usual band, as the CLI's flags (docs/results.md, rule 2).
+  for (std::string& w : chatter::unusual_arguments({{"rpm", rpm}, {"depth_mm", depth_mm}}))
+    source.warnings.push_back(std::move(w));
   return chatter_py::to_python(chatter::point_record(report, source));
 }
 

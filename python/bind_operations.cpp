@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/records.hpp"
+#include "chatter/usual_bands.hpp"
 #include "module.hpp"
 
 namespace chatter_py {
@@ -149,7 +150,17 @@ py::dict recommend(const Job& job_in, double feed_per_tooth_mm, std::optional<do
     py::gil_scoped_release release;
     r = chatter::recommend(cfg.model, plan.process, plan.options);
   }
-  return to_python(chatter::recommend_record(r, plan.options, plan.process, chatter::record_source(cfg, position_mm)));
+  chatter::RecordSource source = chatter::record_source(cfg, position_mm);
+  std::vector<std::pair<std::string, double>> given{{"feed_per_tooth_mm", feed_per_tooth_mm}, {"safety", safety},
+                                                    {"speed_tolerance_pct", speed_tolerance_pct}};
+  for (const auto& [k, v] : {std::pair{"rpm_min", rpm_min}, {"rpm_max", rpm_max}, {"max_power_kw", max_power_kw},
+                             {"max_torque_nm", max_torque_nm}, {"depth_max_mm", depth_max_mm},
+                             {"tool_diameter_mm", tool_diameter_mm}, {"workpiece_diameter_mm", workpiece_diameter_mm},
+                             {"tangential_coefficient_n_per_m2", tangential_coefficient_n_per_m2},
+                             {"radial_immersion", radial_immersion}, {"max_sle_um", max_sle_um}})
+    if (v) given.emplace_back(k, *v);
+  for (std::string& w : chatter::unusual_arguments(given)) source.warnings.push_back(std::move(w));
+  return to_python(chatter::recommend_record(r, plan.options, plan.process, source));
 }
 
 }  // namespace

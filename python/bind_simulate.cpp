@@ -9,6 +9,7 @@
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "chatter/time_domain.hpp"
+#include "chatter/usual_bands.hpp"
 #include "module.hpp"
 
 namespace chatter_py {
@@ -84,8 +85,11 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
     r = sim.simulate(st);
   }
   // The record of chatter simulate (chatter/records.hpp), then the arrays.
+  chatter::RecordSource source = chatter::record_source(cfg, position_mm);
+  for (std::string& w : chatter::unusual_arguments({{"rpm", rpm}, {"depth_mm", depth_mm}, {"feed_per_tooth_mm", feed_mm}}))
+    source.warnings.push_back(std::move(w));
   py::dict j = chatter_py::to_python(chatter::simulation_record(
-      r, chatter::simulation_request(st, cfg.process, rtol, depth_mm, feed_mm), chatter::record_source(cfg, position_mm)));
+      r, chatter::simulation_request(st, cfg.process, rtol, depth_mm, feed_mm), source));
   j["series"] = series_dict(r.series);
   j["periodic"] = series_dict(r.once_per_period);
   // The spectrum of chatter simulate --spectrum (harmonic: 0 where not one).

@@ -8,6 +8,8 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "chatter/kinematics.hpp"
 
@@ -171,5 +173,13 @@ inline constexpr UnbandedFlag kUnbandedFlags[] = {
     {"threshold-rpm", "a speed drop on the record's own scale"},
     {"wheel-change-min", "a time, 0 (the default) for none"},
 };
+
+/// "<name> = v: outside <band>; is it in <unit> (<name> = meant)?" for each
+/// argument whose number lies outside its usual band: the one check of the
+/// command line's flags and of Python's keyword arguments. `name` as the
+/// user wrote it ("--depth-mm" or "depth_mm"; looked up in kFlagBands with
+/// the dashes stripped and underscores read as dashes); names without a band
+/// and the value 0 ("none": no feed, the exact speed) are skipped.
+std::vector<std::string> unusual_arguments(const std::vector<std::pair<std::string, double>>& arguments);
 
 }  // namespace chatter

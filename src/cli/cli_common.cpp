@@ -93,20 +93,14 @@ bool parse(const std::vector<std::string>& args, const std::string& usage, po::o
 }
 
 std::vector<std::string> flag_warnings(const po::variables_map& vm) {
-  std::vector<std::string> out;
-  for (const FlagBand& f : kFlagBands) {
-    const auto it = vm.find(f.flag);
-    if (it == vm.end() || it->second.defaulted()) continue;
-    const boost::any& v = it->second.value();
-    std::optional<double> x;
-    if (const double* d = boost::any_cast<double>(&v)) x = *d;
-    else if (const int* i = boost::any_cast<int>(&v)) x = *i;
-    if (!x || *x == 0.0) continue;  // 0 means "none" (no feed: the linear mode; tolerance 0: the exact speed)
-    const std::string name = std::string("--") + f.flag;
-    if (const std::string what = unusual(name, *x, *f.band); !what.empty())
-      out.push_back(name + " = " + fmt(*x) + ": " + what);
+  std::vector<std::pair<std::string, double>> given;
+  for (const auto& [name, value] : vm) {
+    if (value.defaulted()) continue;
+    const boost::any& v = value.value();
+    if (const double* d = boost::any_cast<double>(&v)) given.emplace_back("--" + name, *d);
+    else if (const int* i = boost::any_cast<int>(&v)) given.emplace_back("--" + name, *i);
   }
-  return out;
+  return unusual_arguments(given);
 }
 
 void print_flag_warnings(const po::variables_map& vm, bool strict) {

@@ -9,9 +9,9 @@
 namespace chatter {
 
 namespace {
-std::string number_text(double x) {
+std::string number_text(double x, int digits = 4) {
   std::ostringstream os;
-  os.precision(4);
+  os.precision(digits);
   os << x;
   return os.str();
 }
@@ -28,6 +28,21 @@ std::string unusual(std::string_view name, double v, const Usual& u) {
     }
   }
   return what;
+}
+
+std::vector<std::string> unusual_arguments(const std::vector<std::pair<std::string, double>>& arguments) {
+  std::vector<std::string> out;
+  for (const auto& [name, value] : arguments) {
+    std::string flag = name.substr(name.find_first_not_of('-'));
+    for (char& c : flag)
+      if (c == '_') c = '-';
+    for (const FlagBand& f : kFlagBands) {
+      if (flag != f.flag || value == 0.0) continue;
+      if (const std::string what = unusual(name, value, *f.band); !what.empty())
+        out.push_back(name + " = " + number_text(value, 10) + ": " + what);  // the value as typed
+    }
+  }
+  return out;
 }
 
 }  // namespace chatter

@@ -3,7 +3,7 @@
 import pytest
 
 import chatter
-from conftest import SOURCE_DIR, cli_error_lines, run_cli
+from conftest import SOURCE_DIR, cli_error_lines, cli_json, run_cli
 
 BAD_CONFIGS = {
     "negative_coefficient": '[process]\noperation = "turning"\nfeed_force_coefficient_n_per_m2 = -1\n'
@@ -153,3 +153,17 @@ def test_an_interpreter_without_numpy_is_told_which_one_the_build_targets():
     assert "chatter needs NumPy, which this Python (" + sys.executable + ") cannot find" in message, message
     assert "The module was built for /" in message, message
     assert "-DPython_EXECUTABLE=" + sys.executable in message, message
+
+
+def test_keyword_outside_its_band_is_warned_as_the_cli_flag():
+    """Rule 2 of docs/results.md: a keyword argument 1000 times off gets the
+    warning its CLI flag gets (chatter/usual_bands.hpp), in the record's
+    warnings, with the keyword's name."""
+    job = chatter.load(SOURCE_DIR / "configs" / "seed_turning_1dof.toml")
+    r = chatter.point(job, rpm=1200, depth_mm=0.0015)
+    assert ("depth_mm = 0.0015: outside the 0.01 to 100 mm of a depth of cut; is it in m (depth_mm = 1.5)?"
+            in r["warnings"]), r["warnings"]
+    cli = cli_json("point", SOURCE_DIR / "configs" / "seed_turning_1dof.toml", "--rpm", "1200",
+                   "--depth-mm", "0.0015")
+    assert [w.replace("--depth-mm", "depth_mm") for w in cli["warnings"]] == r["warnings"]
+    assert chatter.point(job, rpm=1200, depth_mm=1.5)["warnings"] == []
