@@ -5,9 +5,15 @@
 #        optimization.hpp, pitch_design.hpp and records.hpp):
 #        Eigen, SUNDIALS, the standard library, header-only Boost.Math (no
 #        link dependency) and other core headers only.
-#   io   (src/io, include/chatter/io): core data headers and the solver
-#        registry (chatter/solvers.hpp: descriptors, plot styles), toml++,
-#        nlohmann; no solver class header, no ops, no Boost.
+#   io   (src/config, src/formats, src/plots, include/chatter/io): core data
+#        headers and the solver registry (chatter/solvers.hpp: descriptors,
+#        plot styles), toml++, nlohmann; no solver class header, no ops, no
+#        Boost. Inside it, three rooms of one concern each:
+#          config  (src/config): the TOML config reader; no plot;
+#          formats (src/formats): file formats (FRF, tables, shop data,
+#                  the NC program's canon log); no plot, no config internals;
+#          plots   (src/plots): gnuplot scripts; no toml++, no config or
+#                  format internals.
 #   ops  (src/ops, include/chatter/operations.hpp, optimization.hpp, pitch_design.hpp): core only.
 #   records (src/records, include/chatter/records.hpp, include/chatter/records/):
 #        no Boost, toml++ or CLI header.
@@ -37,7 +43,12 @@ check "core includes io, ops, a file-format library or Boost (but header-only Bo
   $(find src/model src/solvers src/grinding src/shop src/toolpath -type f) $core_headers
 check "io includes a solver class header, ops, records or Boost" \
   'chatter/(semi_discretization|time_domain|transfer_function|grinding_dynamics)\.hpp|chatter/operations\.hpp|chatter/pitch_design\.hpp|chatter/records\.hpp|boost|(\.\./)+(solvers|ops|cli|records)/' \
-  src/io/* include/chatter/io/*
+  src/config/* src/formats/* src/plots/* include/chatter/io/*
+check "config (src/config) includes a plot" 'chatter/io/plot|plot_kit\.hpp|plot_files\.hpp|(\.\./)+plots/' src/config/*
+check "formats (src/formats) includes a plot or the config reader's internals" \
+  'chatter/io/plot|plot_kit\.hpp|plot_files\.hpp|config_read\.hpp|config_sections\.hpp|(\.\./)+(plots|config)/' src/formats/*
+check "plots (src/plots) includes toml++ or the config reader's or a format's internals" \
+  'toml\+\+|config_read\.hpp|config_sections\.hpp|text\.hpp|(\.\./)+(config|formats)/' src/plots/*
 check "ops includes io, records, a file-format library or Boost" \
   'chatter/io/|chatter/records\.hpp|toml\+\+|nlohmann|boost' \
   src/ops/* include/chatter/operations.hpp include/chatter/optimization.hpp include/chatter/pitch_design.hpp
@@ -47,7 +58,7 @@ check "gnuplot-iostream (and the Boost.Iostreams it pulls in) outside src/cli/li
   'gnuplot-iostream|boost/iostreams' $(ls src/*/*.cpp src/*/*.hpp include/chatter/*.hpp include/chatter/*/*.hpp python/*.cpp python/*.hpp | grep -v 'src/cli/live_plot\.cpp$')
 check "Boost outside the CLI" 'boost' src/capi/* include/chatter/chatter.h
 check "MPI outside src/mpi (the library and the chatter CLI link no MPI: docs/scaling.md)" 'mpi\.h|openmpi' \
-  src/model/* src/solvers/* src/grinding/* src/io/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
+  src/model/* src/solvers/* src/grinding/* src/config/* src/formats/* src/plots/* src/ops/* src/shop/* src/records/* src/capi/* src/cli/* include/chatter/*.hpp include/chatter/io/* \
   include/chatter/chatter.h
 if [[ $bad -ne 0 ]]; then
   echo "layer rules broken (docs/architecture.md)"

@@ -424,7 +424,7 @@ TEST_F(ShopCli, DetectBadInputExits2AndWritesNothing) {
   check("short.wav", "at least 5 revolutions");
 }
 
-// libsndfile is loaded on first use (src/io/shop_io.cpp, dlopen): a machine
+// libsndfile is loaded on first use (src/formats/shop_io.cpp, dlopen): a machine
 // without it gets a clear refusal naming the file, the reason and the way out,
 // not a crash at start-up. Shadowed here by a broken libsndfile.so.1 first on
 // LD_LIBRARY_PATH (searched before the system's), so dlopen fails for real.

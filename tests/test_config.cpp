@@ -1,4 +1,4 @@
-// Tests for the TOML config reader (src/io/config.cpp, docs/config.md):
+// Tests for the TOML config reader (src/config/config.cpp, docs/config.md):
 // every shipped config loads with the values of docs/physics.md §7, and every
 // bad-input rule throws chatter::InputError whose message names the origin,
 // the exact key path and the rule.

@@ -1,4 +1,4 @@
-// `include = [...]` in a config (src/io/config_include.cpp, docs/config.md
+// `include = [...]` in a config (src/config/config_include.cpp, docs/config.md
 // "Several files"): the merged config equals the one-file config, messages
 // name the file a key is in, and cycles, clashes and unreadable files are
 // refused with the files named.

@@ -1,4 +1,4 @@
-// `[optimization]` of the config (src/io/config_optimization.cpp,
+// `[optimization]` of the config (src/config/config_optimization.cpp,
 // docs/config.md "[optimization]"): read into SI with its defaults, and every
 // bad value refused with a message naming the file, the key and the rule;
 // then milling: the spindle speed, the feed per tooth and the stability limit

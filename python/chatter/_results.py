@@ -22,7 +22,7 @@ class _Numpy:
 
 np = _Numpy()
 
-# The CLI's plot colours (src/io/plot_kit.hpp).
+# The CLI's plot colours (src/plots/plot_kit.hpp).
 STABLE = "#8cc97e"    # stable region (drawn 40 % opaque)
 CHATTER = "#f08a7e"   # chatter region (30 % opaque)
 ENVELOPE = "#1a4d80"  # the stability limit

@@ -21,7 +21,7 @@
 #include "chatter/io/plot.hpp"
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
-#include "../io/text.hpp"
+#include "../formats/text.hpp"
 
 namespace chatter::cli {
 

@@ -16,7 +16,7 @@
 #include "chatter/error.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/report.hpp"
-#include "../io/text.hpp"
+#include "../formats/text.hpp"
 #include "ops_internal.hpp"
 
 namespace chatter {

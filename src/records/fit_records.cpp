@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../io/text.hpp"
+#include "../formats/text.hpp"
 #include "chatter/error.hpp"
 #include "chatter/io/frf.hpp"
 #include "chatter/io/modes_toml.hpp"

@@ -1,5 +1,5 @@
 // Internal (not installed): the section readers of the TOML config reader,
-// one file each, called by read_config (src/io/config.cpp) in this order:
+// one file each, called by read_config (src/config/config.cpp) in this order:
 // process, tool and workpiece, positions, sweep, then (only when everything
 // above read without errors) uncertainty and optimization; after the errors, the warnings
 // that need the whole config (warn_frequency_vs_speeds). Each reader records

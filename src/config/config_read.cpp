@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "text.hpp"
+#include "../formats/text.hpp"
 
 namespace chatter::config_detail {
 
@@ -52,7 +52,7 @@ Path element(const Path& parent, std::size_t index) { return parent + "[" + std:
 
 // ------------------------------------------------------ unknown-key advice
 
-// edit_distance and near_miss: src/io/text.hpp (shared with the CLI's
+// edit_distance and near_miss: src/formats/text.hpp (shared with the CLI's
 // option hints and the operations reader's header hints).
 using detail::text::near_miss;
 

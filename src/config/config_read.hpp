@@ -1,6 +1,6 @@
 // Internal (not installed): the reading primitives of the TOML config reader,
-// shared by its section readers (src/io/config_*.cpp; the top level,
-// read_config, is src/io/config.cpp). Key reference: docs/config.md.
+// shared by its section readers (src/config/config_*.cpp; the top level,
+// read_config, is src/config/config.cpp). Key reference: docs/config.md.
 //
 // How a section reader works
 // --------------------------
@@ -35,7 +35,7 @@
 //     return model_checked(*t, [&] { return Grinding(*v); });  // constructor's InputError named
 //   }
 // Then: declare it in config_sections.hpp, add the key to read_config's
-// allowed top-level keys and call it there (src/io/config.cpp), list the
+// allowed top-level keys and call it there (src/config/config.cpp), list the
 // file in CMakeLists.txt (CHATTER_IO_SOURCES) and scripts/fuzz.sh (config),
 // and document the keys in docs/config.md.
 //
