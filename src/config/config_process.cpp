@@ -189,6 +189,305 @@ std::vector<std::pair<double, double>> read_engaged_arcs(const Document& doc, co
   return out;
 }
 
+Process with_speed_variation(Process p, const std::optional<SpeedVariation>& ssv) {
+  if (ssv) p.set_speed_variation(*ssv);
+  return p;
+}
+
+// [process] of a turning operation: K_f, the insert (K_r, lead angle, nose
+// radius), the workpiece diameter and process damping.
+Process read_turning(const Table& t, std::size_t mark, std::optional<double>* feed_mm,
+                     const std::optional<SpeedVariation>& ssv) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  reject_keys_of(*process, kMillingKeys, "milling");
+  const Given kf = read_coefficient(*process, kFeedForce, kPositive);
+  *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
+  warn_feed(*process, "feed_per_rev_mm", *feed_mm, "per revolution");
+  const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+  const auto dw = process->number("workpiece_diameter_mm", kPositive);
+  double kr = 0.0;  // K_r of the insert, N/m² (absent: 0)
+  if (const Given g = process->quantity(kRadialForce, kNonNegative);
+      g.si && process->plausible(g.unit->key, *g.si, kCoefficientBound, g.unit)) {
+    kr = *g.si;
+    if (kr > 0.0) warn_band(*process, g, kRadialForce, kRadialBand);  // 0: an insert without radial force
+  }
+  const auto lead = process->number("lead_angle_deg", kLeadAngleDeg);
+  const auto nose = process->number("nose_radius_mm", kNoseRadiusMm);
+  if (lead && *lead < kRadianLikeLeadDeg)
+    doc.warn(process->path_of("lead_angle_deg"), *process->find("lead_angle_deg"),
+             "a lead angle of " + number_text(*lead) + " deg: a value in radians (" + number_text(*lead) +
+                 " rad = " + number_text(*lead * 180.0 / kPi) + " deg)? the key is in degrees, 90 = edge "
+                 "perpendicular to the feed");
+  if (nose && *nose > 0.0 && *nose < kTinyNoseRadiusMm)
+    doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
+             "a nose radius of " + number_text(*nose) + " mm is below the 0.1 to 2.4 mm of turning inserts (0 is a "
+             "sharp corner); is it in m (nose_radius_mm = " + number_text(*nose * 1e3) + ")?");
+  warn_usual(*process, "workpiece_diameter_mm", dw, kWorkpieceDiameterUsual);
+  if (nose && *nose > kLargeNoseRadiusMm)
+    doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
+             "a nose radius of " + number_text(*nose) + " mm is above the 0.1 to 2.4 mm of turning inserts (round "
+             "inserts excepted): the diameter, or another unit?");
+  if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
+    doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
+              "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
+  stop_if_errors_since(doc, mark);
+  if (!kf.si) throw Skip{};
+  TurningParameters p;
+  p.feed_force_coefficient_n_per_m2 = *kf.si;
+  p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
+  p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
+  p.radial_force_coefficient_n_per_m2 = kr;
+  if (lead) p.lead_angle_rad = *lead / 180.0 * kPi;  // 90 → π/2 exactly
+  if (nose) p.nose_radius_m = *nose * 1e-3;
+  Band band = kCoefficientBand;
+  band.symbol = "K_f";
+  warn_band(*process, kf, kFeedForce, band);
+  return model_checked(*process, [&] { return with_speed_variation(Process::turning(p), ssv); });
+}
+
+// K_r in N/m² (or N/mm²), or as the ratio K_r/K_t (`*ratio_given`): exactly one.
+Given read_radial_coefficient(const Table& t, const Given& kt, std::optional<double>* ratio_given) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  *ratio_given = process->number("radial_coefficient_ratio", kNonNegative);
+  Given kr;
+  if (process->has("radial_coefficient_ratio")) {
+    kr = process->quantity(kRadial, kNonNegative);
+    if (kr.present()) {
+      doc.error(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+                "not with radial_coefficient_ratio (give K_r once: " + std::string(kr.unit->key) +
+                    " or radial_coefficient_ratio = K_r/K_t)");
+      kr.si.reset();
+    } else if (*ratio_given && kt.si) {
+      kr.si = **ratio_given * *kt.si;
+      kr.unit = &kRadialKeys[0];
+    }
+  } else {
+    kr = process->quantity(kRadial, kNonNegative);
+    if (!kr.present() && !process->meant("radial_coefficient_n_per_m2"))
+      doc.error_key(process->path_of("radial_coefficient_n_per_m2"),
+                    "missing (required, N/m^2, >= 0); or give radial_coefficient_n_per_mm2 (N/mm^2) or "
+                    "radial_coefficient_ratio (K_r/K_t)");
+    if (kr.si && !process->plausible(kr.unit->key, *kr.si, kCoefficientBound, kr.unit)) kr.si.reset();
+  }
+  return kr;
+}
+
+// The radial engagement: a_e/D, a_e in mm with D, or engaged arcs (what
+// `chatter program` reads off a stock, into `*arcs_deg`). Empty on an error.
+std::optional<double> read_engagement(const Table& t, std::optional<double> diameter_mm,
+                                      std::vector<std::pair<double, double>>* arcs_deg) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  std::optional<double> immersion;
+  const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
+  // Engaged arcs instead of a wall (what `chatter program` reads off a stock).
+  if (process->has("engaged_arc_deg")) {
+    const auto* node = process->find("engaged_arc_deg");
+    if (has_ae || has_ratio || process->has("milling_direction"))
+      doc.error(process->path_of("engaged_arc_deg"), *node,
+                "not with radial_immersion, radial_depth_mm or milling_direction (the arc says both)");
+    else
+      *arcs_deg = read_engaged_arcs(doc, *process);
+    if (!arcs_deg->empty()) {
+      immersion = 0.0;
+      for (const auto& [en, ex] : *arcs_deg) *immersion += 0.5 * (std::cos(en * kPi / 180.0) - std::cos(ex * kPi / 180.0));
+    }
+  } else if (has_ae && has_ratio) {
+    doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+              "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
+              "radial_depth_mm with tool_diameter_mm)");
+  } else if (has_ae) {
+    const auto ae = process->number("radial_depth_mm", kPositive);
+    if (!process->has("tool_diameter_mm"))
+      doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                "needs process.tool_diameter_mm (a_e/D = radial_depth_mm / tool_diameter_mm)");
+    else if (ae && diameter_mm && *ae > *diameter_mm)
+      doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+                "must be <= tool_diameter_mm (" + number_text(*diameter_mm) + " mm): the cutter cannot engage more than its diameter");
+    else if (ae && diameter_mm)
+      immersion = *ae / *diameter_mm;
+    if (ae && *ae < kPlausibleRadialDepthMm)  // metres typed as mm (0.004 for 4 mm)
+      doc.warn(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+               "below " + number_text(kPlausibleRadialDepthMm) + " mm, a cut thinner than the edge's radius: a radial depth in m? (" +
+                   number_text(*ae) + " m is " + number_text(*ae * 1e3) + " mm)");
+  } else {
+    const toml::node* n = process->find("radial_immersion");
+    const double v = !n ? 0.0 : n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                              : n->is_floating_point() ? n->as_floating_point()->get() : 0.0;
+    if (!n && !process->meant("radial_immersion"))
+      doc.error_key(process->path_of("radial_immersion"),
+                    "missing (required, a_e/D, in (0, 1]); or give radial_depth_mm with tool_diameter_mm");
+    else if (v > 1.0 && v <= 100.0)  // a percentage typed as the ratio (25 for 25 %)
+      doc.error(process->path_of("radial_immersion"), *n,
+                "must be in (0, 1] (a_e/D, a ratio, not a percentage: " + doc.as_written(*n) + " % is " +
+                    number_text(v / 100.0) + ")");
+    else {
+      immersion = process->number("radial_immersion", kUnitInterval);
+      warn_usual(*process, "radial_immersion", immersion, kImmersionUsual);
+    }
+  }
+  return immersion;
+}
+
+// A helix beyond end mills (the lead angle given?) or one in radians.
+void warn_helix(const Table& t, const std::vector<double>& helix) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  // End mills have 0 to ~50 deg; a few rad look like degrees below 1.6.
+  const double top = *std::max_element(helix.begin(), helix.end());
+  double low = kInf;
+  for (const double b : helix)
+    if (b > 0.0) low = std::min(low, b);
+  const toml::node& node = *process->find("helix_angle_deg");
+  if (top >= kSteepHelixDeg)
+    doc.warn(process->path_of("helix_angle_deg"), node,
+             "a helix of " + number_text(top) + " deg (" + number_text(kSteepHelixDeg) +
+                 " or more) is beyond end mills (0 to about 50 deg); is it the helix angle, not the lead angle "
+                 "(90 - helix)?");
+  else if (low < kRadianLikeHelixDeg)
+    doc.warn(process->path_of("helix_angle_deg"), node,
+             "a helix of " + number_text(low) + " deg is hardly a helix: a value in radians (" + number_text(low) +
+                 " rad = " + number_text(low * 180.0 / kPi) + " deg)? the key is in degrees");
+}
+
+// One helix angle (or one per tooth), one pitch angle per tooth summing to
+// 360 deg, one runout per tooth smaller than the radius.
+void check_tooth_lists(const Table& t, std::size_t nt, const std::optional<std::vector<double>>& helix,
+                       const std::optional<std::vector<double>>& pitch, const std::optional<std::vector<double>>& runout,
+                       std::optional<double> diameter_mm) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  if (helix && helix->size() != 1 && helix->size() != nt)
+    doc.error(process->path_of("helix_angle_deg"), *process->find("helix_angle_deg"),
+              "has " + std::to_string(helix->size()) + " values: give one number (every tooth) or one per tooth (teeth = " +
+                  std::to_string(nt) + ")");
+  if (pitch) {
+    double sum = 0.0;
+    for (const double th : *pitch) sum += th;
+    if (pitch->size() != nt)
+      doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                "has " + std::to_string(pitch->size()) + " values: need one per tooth (teeth = " + std::to_string(nt) +
+                    "), the angle from the previous tooth to this one");
+    else if (std::abs(sum - 360.0) > kPitchSumToleranceDeg)
+      doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
+                "sums to " + number_text(sum) + " deg: the pitch angles must sum to 360 deg (one revolution)");
+  }
+  if (runout) {
+    if (runout->size() != nt)
+      doc.error(process->path_of("runout_um"), *process->find("runout_um"),
+                "has " + std::to_string(runout->size()) + " values: need one radial offset per tooth (teeth = " +
+                    std::to_string(nt) + "), in um");
+    else if (diameter_mm)
+      for (std::size_t j = 0; j < nt; ++j)
+        if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm) {
+          // `runout_um = 1e5` with one tooth is a list of one: no element to point at.
+          const auto [where, node] = process->list_item("runout_um", j);
+          doc.error(where, *node,
+                    "must be smaller than the tool radius (" + number_text(0.5 * *diameter_mm * 1e3) + " um)");
+        }
+  }
+}
+
+// K_t and K_r against metal cutting's bands, and their ratio.
+void warn_milling_coefficients(const Table& t, const Given& kt, const Given& kr, std::optional<double> ratio_given) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  Band band = kCoefficientBand;
+  band.symbol = "K_t";
+  warn_band(*process, kt, kTangential, band);
+  if (*kr.si > 0.0 && !process->has("radial_coefficient_ratio")) {  // K_r = 0 is a deliberate idealisation: no radial force
+    warn_band(*process, kr, kRadial, kRadialBand);
+    const double ratio = *kr.si / *kt.si;
+    if (ratio < kRatioLo || ratio > kRatioHi)
+      doc.warn(process->path_of(kr.unit->key), *process->find(kr.unit->key),
+               "K_r/K_t = " + number_text(ratio) +
+                   ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                   "titanium 0.3 to 0.8); are " +
+                   std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
+  } else if (ratio_given && *ratio_given > 0.0 && (*ratio_given < kRatioLo || *ratio_given > kRatioHi)) {
+    doc.warn(process->path_of("radial_coefficient_ratio"), *process->find("radial_coefficient_ratio"),
+             "K_r/K_t = " + number_text(*ratio_given) +
+                 ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
+                 "titanium 0.3 to 0.8)");
+  }
+}
+
+// [process] of a milling operation: teeth, K_t and K_r, the engagement, the
+// direction, the feed, the cutter (helix, pitch, runout, shape) and process
+// damping.
+Process read_milling(const Table& t, std::size_t mark, std::optional<double>* feed_mm,
+                     std::optional<double>* flute_length_m, const std::optional<SpeedVariation>& ssv) {
+  const Table* process = &t;
+  const Document& doc = t.doc();
+  reject_keys_of(*process, kTurningKeys, "turning");
+  MillingParameters p;
+  const auto teeth = process->integer("teeth", 1, kMaxTeeth);
+  if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
+  const Given kt = read_coefficient(*process, kTangential, kPositive);
+  std::optional<double> ratio_given;
+  const Given kr = read_radial_coefficient(*process, kt, &ratio_given);
+  // Tool diameter and radial engagement: a_e/D, or a_e in mm with D.
+  const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
+  warn_usual(*process, "tool_diameter_mm", diameter_mm, kToolDiameterUsual);
+  std::vector<std::pair<double, double>> arcs_deg;
+  const std::optional<double> immersion = read_engagement(*process, diameter_mm, &arcs_deg);
+  constexpr std::string_view kDirectionRuleMilling = R"(must be "down" (= "climb") or "up" (= "conventional"))";
+  const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
+  if (direction == "down" || direction == "climb")
+    p.direction = MillingDirection::kDown;
+  else if (direction == "up" || direction == "conventional")
+    p.direction = MillingDirection::kUp;
+  else
+    doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
+  *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
+  warn_feed(*process, "feed_per_tooth_mm", *feed_mm, "per tooth");
+  if (const auto flute = process->number("flute_length_mm", kPositive)) {
+    *flute_length_m = *flute * 1e-3;
+    warn_usual(*process, "flute_length_mm", flute, kFluteLengthUsual);
+  }
+  // The cutter (docs/config.md, "Real cutters").
+  const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
+  const auto pitch = process->number_list("pitch_angles_deg", kPositive);
+  const auto runout = process->number_list("runout_um", kAnyNumber);
+  const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+  auto need_diameter = [&](std::string_view key, std::string_view why) {
+    if (process->has(key) && !process->has("tool_diameter_mm"))
+      doc.error(process->path_of(key), *process->find(key), "needs process.tool_diameter_mm (" + std::string(why) + ")");
+  };
+  if (helix && std::any_of(helix->begin(), helix->end(), [](double b) { return b > 0.0; }))
+    need_diameter("helix_angle_deg", "the helix lag of a slice at height z is z tan(beta) / R");
+  if (helix) warn_helix(*process, *helix);
+  read_cutter(*process, diameter_mm, &p);  // the shape along the axis (config_cutter.cpp)
+  if (cpd && *cpd > 0.0)
+    need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
+  if (teeth) check_tooth_lists(*process, static_cast<std::size_t>(*teeth), helix, pitch, runout, diameter_mm);
+  stop_if_errors_since(doc, mark);
+  if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
+  p.teeth = *teeth;
+  p.tangential_coefficient_n_per_m2 = *kt.si;
+  p.radial_coefficient_n_per_m2 = *kr.si;
+  p.radial_immersion = *immersion;
+  for (const auto& [en, ex] : arcs_deg) p.engaged_arcs_rad.emplace_back(en * kPi / 180.0, ex * kPi / 180.0);
+  p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
+  constexpr double kDegToRad = kPi / 180.0;
+  if (helix) {
+    for (const double b : *helix) p.helix_angles_rad.push_back(b * kDegToRad);
+    if (std::all_of(helix->begin(), helix->end(), [](double b) { return b == 0.0; })) p.helix_angles_rad.clear();
+  }
+  if (pitch) {
+    double sum = 0.0;
+    for (const double th : *pitch) sum += th;
+    for (const double th : *pitch) p.pitch_angles_rad.push_back(th / sum * 2.0 * kPi);  // exactly one revolution
+  }
+  if (runout)
+    for (const double r : *runout) p.runout_m.push_back(r * 1e-6);
+  p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
+  warn_milling_coefficients(*process, kt, kr, ratio_given);
+  return model_checked(*process, [&] { return with_speed_variation(Process::milling(p), ssv); });
+}
+
 }  // namespace
 
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m) {
@@ -210,255 +509,8 @@ Process read_process(const Table& root, std::optional<double>* feed_mm, std::opt
   const std::size_t mark = doc.error_count();
   // Spindle speed variation, for either operation (docs/ssv.md).
   const std::optional<SpeedVariation> ssv = attempt([&] { return read_speed_variation(*process); }).value_or(std::nullopt);
-  auto with_ssv = [&](Process p) {
-    if (ssv) p.set_speed_variation(*ssv);
-    return p;
-  };
-
-  if (*operation == "turning") {
-    reject_keys_of(*process, kMillingKeys, "milling");
-    const Given kf = read_coefficient(*process, kFeedForce, kPositive);
-    *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
-    warn_feed(*process, "feed_per_rev_mm", *feed_mm, "per revolution");
-    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
-    const auto dw = process->number("workpiece_diameter_mm", kPositive);
-    double kr = 0.0;  // K_r of the insert, N/m² (absent: 0)
-    if (const Given g = process->quantity(kRadialForce, kNonNegative);
-        g.si && process->plausible(g.unit->key, *g.si, kCoefficientBound, g.unit)) {
-      kr = *g.si;
-      if (kr > 0.0) warn_band(*process, g, kRadialForce, kRadialBand);  // 0: an insert without radial force
-    }
-    const auto lead = process->number("lead_angle_deg", kLeadAngleDeg);
-    const auto nose = process->number("nose_radius_mm", kNoseRadiusMm);
-    if (lead && *lead < kRadianLikeLeadDeg)
-      doc.warn(process->path_of("lead_angle_deg"), *process->find("lead_angle_deg"),
-               "a lead angle of " + number_text(*lead) + " deg: a value in radians (" + number_text(*lead) +
-                   " rad = " + number_text(*lead * 180.0 / kPi) + " deg)? the key is in degrees, 90 = edge "
-                   "perpendicular to the feed");
-    if (nose && *nose > 0.0 && *nose < kTinyNoseRadiusMm)
-      doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
-               "a nose radius of " + number_text(*nose) + " mm is below the 0.1 to 2.4 mm of turning inserts (0 is a "
-               "sharp corner); is it in m (nose_radius_mm = " + number_text(*nose * 1e3) + ")?");
-    warn_usual(*process, "workpiece_diameter_mm", dw, kWorkpieceDiameterUsual);
-    if (nose && *nose > kLargeNoseRadiusMm)
-      doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
-               "a nose radius of " + number_text(*nose) + " mm is above the 0.1 to 2.4 mm of turning inserts (round "
-               "inserts excepted): the diameter, or another unit?");
-    if (cpd && *cpd > 0.0 && !process->has("workpiece_diameter_mm"))
-      doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
-                "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
-    stop_if_errors_since(doc, mark);
-    if (!kf.si) throw Skip{};
-    TurningParameters p;
-    p.feed_force_coefficient_n_per_m2 = *kf.si;
-    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
-    p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
-    p.radial_force_coefficient_n_per_m2 = kr;
-    if (lead) p.lead_angle_rad = *lead / 180.0 * kPi;  // 90 → π/2 exactly
-    if (nose) p.nose_radius_m = *nose * 1e-3;
-    Band band = kCoefficientBand;
-    band.symbol = "K_f";
-    warn_band(*process, kf, kFeedForce, band);
-    return model_checked(*process, [&] { return with_ssv(Process::turning(p)); });
-  }
-  if (*operation == "milling") {
-    reject_keys_of(*process, kTurningKeys, "turning");
-    MillingParameters p;
-    const auto teeth = process->integer("teeth", 1, kMaxTeeth);
-    if (!process->has("teeth") && !process->meant("teeth")) doc.error_key(process->path_of("teeth"), "missing (required, integer >= 1)");
-    const Given kt = read_coefficient(*process, kTangential, kPositive);
-    // K_r: in N/m² (or N/mm²), or as the ratio K_r/K_t; exactly one.
-    const auto ratio_given = process->number("radial_coefficient_ratio", kNonNegative);
-    Given kr;
-    if (process->has("radial_coefficient_ratio")) {
-      kr = process->quantity(kRadial, kNonNegative);
-      if (kr.present()) {
-        doc.error(process->path_of(kr.unit->key), *process->find(kr.unit->key),
-                  "not with radial_coefficient_ratio (give K_r once: " + std::string(kr.unit->key) +
-                      " or radial_coefficient_ratio = K_r/K_t)");
-        kr.si.reset();
-      } else if (ratio_given && kt.si) {
-        kr.si = *ratio_given * *kt.si;
-        kr.unit = &kRadialKeys[0];
-      }
-    } else {
-      kr = process->quantity(kRadial, kNonNegative);
-      if (!kr.present() && !process->meant("radial_coefficient_n_per_m2"))
-        doc.error_key(process->path_of("radial_coefficient_n_per_m2"),
-                      "missing (required, N/m^2, >= 0); or give radial_coefficient_n_per_mm2 (N/mm^2) or "
-                      "radial_coefficient_ratio (K_r/K_t)");
-      if (kr.si && !process->plausible(kr.unit->key, *kr.si, kCoefficientBound, kr.unit)) kr.si.reset();
-    }
-    // Tool diameter and radial engagement: a_e/D, or a_e in mm with D.
-    const auto diameter_mm = process->number("tool_diameter_mm", kPositive);
-    warn_usual(*process, "tool_diameter_mm", diameter_mm, kToolDiameterUsual);
-    std::optional<double> immersion;
-    const bool has_ae = process->has("radial_depth_mm"), has_ratio = process->has("radial_immersion");
-    // Engaged arcs instead of a wall (what `chatter program` reads off a stock).
-    std::vector<std::pair<double, double>> arcs_deg;
-    if (process->has("engaged_arc_deg")) {
-      const auto* node = process->find("engaged_arc_deg");
-      if (has_ae || has_ratio || process->has("milling_direction"))
-        doc.error(process->path_of("engaged_arc_deg"), *node,
-                  "not with radial_immersion, radial_depth_mm or milling_direction (the arc says both)");
-      else
-        arcs_deg = read_engaged_arcs(doc, *process);
-      if (!arcs_deg.empty()) {
-        immersion = 0.0;
-        for (const auto& [en, ex] : arcs_deg) *immersion += 0.5 * (std::cos(en * kPi / 180.0) - std::cos(ex * kPi / 180.0));
-      }
-    } else if (has_ae && has_ratio) {
-      doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
-                "not with radial_immersion (give the radial engagement once: radial_immersion = a_e/D, or "
-                "radial_depth_mm with tool_diameter_mm)");
-    } else if (has_ae) {
-      const auto ae = process->number("radial_depth_mm", kPositive);
-      if (!process->has("tool_diameter_mm"))
-        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
-                  "needs process.tool_diameter_mm (a_e/D = radial_depth_mm / tool_diameter_mm)");
-      else if (ae && diameter_mm && *ae > *diameter_mm)
-        doc.error(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
-                  "must be <= tool_diameter_mm (" + number_text(*diameter_mm) + " mm): the cutter cannot engage more than its diameter");
-      else if (ae && diameter_mm)
-        immersion = *ae / *diameter_mm;
-      if (ae && *ae < kPlausibleRadialDepthMm)  // metres typed as mm (0.004 for 4 mm)
-        doc.warn(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
-                 "below " + number_text(kPlausibleRadialDepthMm) + " mm, a cut thinner than the edge's radius: a radial depth in m? (" +
-                     number_text(*ae) + " m is " + number_text(*ae * 1e3) + " mm)");
-    } else {
-      const toml::node* n = process->find("radial_immersion");
-      const double v = !n ? 0.0 : n->is_integer() ? static_cast<double>(n->as_integer()->get())
-                                : n->is_floating_point() ? n->as_floating_point()->get() : 0.0;
-      if (!n && !process->meant("radial_immersion"))
-        doc.error_key(process->path_of("radial_immersion"),
-                      "missing (required, a_e/D, in (0, 1]); or give radial_depth_mm with tool_diameter_mm");
-      else if (v > 1.0 && v <= 100.0)  // a percentage typed as the ratio (25 for 25 %)
-        doc.error(process->path_of("radial_immersion"), *n,
-                  "must be in (0, 1] (a_e/D, a ratio, not a percentage: " + doc.as_written(*n) + " % is " +
-                      number_text(v / 100.0) + ")");
-      else {
-        immersion = process->number("radial_immersion", kUnitInterval);
-        warn_usual(*process, "radial_immersion", immersion, kImmersionUsual);
-      }
-    }
-    constexpr std::string_view kDirectionRuleMilling = R"(must be "down" (= "climb") or "up" (= "conventional"))";
-    const std::string direction = process->string("milling_direction", kDirectionRuleMilling).value_or("down");
-    if (direction == "down" || direction == "climb")
-      p.direction = MillingDirection::kDown;
-    else if (direction == "up" || direction == "conventional")
-      p.direction = MillingDirection::kUp;
-    else
-      doc.error(process->path_of("milling_direction"), *process->find("milling_direction"), kDirectionRuleMilling);
-    *feed_mm = process->number("feed_per_tooth_mm", kFeedMm);
-    warn_feed(*process, "feed_per_tooth_mm", *feed_mm, "per tooth");
-    if (const auto flute = process->number("flute_length_mm", kPositive)) {
-      *flute_length_m = *flute * 1e-3;
-      warn_usual(*process, "flute_length_mm", flute, kFluteLengthUsual);
-    }
-    // The cutter (docs/config.md, "Real cutters").
-    const auto helix = process->number_list("helix_angle_deg", kHelixDeg);
-    const auto pitch = process->number_list("pitch_angles_deg", kPositive);
-    const auto runout = process->number_list("runout_um", kAnyNumber);
-    const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
-    auto need_diameter = [&](std::string_view key, std::string_view why) {
-      if (process->has(key) && !process->has("tool_diameter_mm"))
-        doc.error(process->path_of(key), *process->find(key), "needs process.tool_diameter_mm (" + std::string(why) + ")");
-    };
-    if (helix && std::any_of(helix->begin(), helix->end(), [](double b) { return b > 0.0; }))
-      need_diameter("helix_angle_deg", "the helix lag of a slice at height z is z tan(beta) / R");
-    if (helix) {
-      // End mills have 0 to ~50 deg; a few rad look like degrees below 1.6.
-      const double top = *std::max_element(helix->begin(), helix->end());
-      double low = kInf;
-      for (const double b : *helix)
-        if (b > 0.0) low = std::min(low, b);
-      const toml::node& node = *process->find("helix_angle_deg");
-      if (top >= kSteepHelixDeg)
-        doc.warn(process->path_of("helix_angle_deg"), node,
-                 "a helix of " + number_text(top) + " deg (" + number_text(kSteepHelixDeg) +
-                     " or more) is beyond end mills (0 to about 50 deg); is it the helix angle, not the lead angle "
-                     "(90 - helix)?");
-      else if (low < kRadianLikeHelixDeg)
-        doc.warn(process->path_of("helix_angle_deg"), node,
-                 "a helix of " + number_text(low) + " deg is hardly a helix: a value in radians (" + number_text(low) +
-                     " rad = " + number_text(low * 180.0 / kPi) + " deg)? the key is in degrees");
-    }
-    read_cutter(*process, diameter_mm, &p);  // the shape along the axis (config_cutter.cpp)
-    if (cpd && *cpd > 0.0)
-      need_diameter("process_damping_coefficient_n_per_m", "the cutting speed V = pi D N / 60 sets the damping C a / V");
-    if (teeth) {
-      const auto nt = static_cast<std::size_t>(*teeth);
-      if (helix && helix->size() != 1 && helix->size() != nt)
-        doc.error(process->path_of("helix_angle_deg"), *process->find("helix_angle_deg"),
-                  "has " + std::to_string(helix->size()) + " values: give one number (every tooth) or one per tooth (teeth = " +
-                      std::to_string(nt) + ")");
-      if (pitch) {
-        double sum = 0.0;
-        for (const double th : *pitch) sum += th;
-        if (pitch->size() != nt)
-          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
-                    "has " + std::to_string(pitch->size()) + " values: need one per tooth (teeth = " + std::to_string(nt) +
-                        "), the angle from the previous tooth to this one");
-        else if (std::abs(sum - 360.0) > kPitchSumToleranceDeg)
-          doc.error(process->path_of("pitch_angles_deg"), *process->find("pitch_angles_deg"),
-                    "sums to " + number_text(sum) + " deg: the pitch angles must sum to 360 deg (one revolution)");
-      }
-      if (runout) {
-        if (runout->size() != nt)
-          doc.error(process->path_of("runout_um"), *process->find("runout_um"),
-                    "has " + std::to_string(runout->size()) + " values: need one radial offset per tooth (teeth = " +
-                        std::to_string(nt) + "), in um");
-        else if (diameter_mm)
-          for (std::size_t j = 0; j < nt; ++j)
-            if (std::abs((*runout)[j]) * 1e-3 >= 0.5 * *diameter_mm) {
-              // `runout_um = 1e5` with one tooth is a list of one: no element to point at.
-              const auto [where, node] = process->list_item("runout_um", j);
-              doc.error(where, *node,
-                        "must be smaller than the tool radius (" + number_text(0.5 * *diameter_mm * 1e3) + " um)");
-            }
-      }
-    }
-    stop_if_errors_since(doc, mark);
-    if (!(teeth && kt.si && kr.si && immersion)) throw Skip{};
-    p.teeth = *teeth;
-    p.tangential_coefficient_n_per_m2 = *kt.si;
-    p.radial_coefficient_n_per_m2 = *kr.si;
-    p.radial_immersion = *immersion;
-    for (const auto& [en, ex] : arcs_deg) p.engaged_arcs_rad.emplace_back(en * kPi / 180.0, ex * kPi / 180.0);
-    p.tool_diameter_m = diameter_mm.value_or(0.0) * 1e-3;
-    constexpr double kDegToRad = kPi / 180.0;
-    if (helix) {
-      for (const double b : *helix) p.helix_angles_rad.push_back(b * kDegToRad);
-      if (std::all_of(helix->begin(), helix->end(), [](double b) { return b == 0.0; })) p.helix_angles_rad.clear();
-    }
-    if (pitch) {
-      double sum = 0.0;
-      for (const double th : *pitch) sum += th;
-      for (const double th : *pitch) p.pitch_angles_rad.push_back(th / sum * 2.0 * kPi);  // exactly one revolution
-    }
-    if (runout)
-      for (const double r : *runout) p.runout_m.push_back(r * 1e-6);
-    p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
-    Band band = kCoefficientBand;
-    band.symbol = "K_t";
-    warn_band(*process, kt, kTangential, band);
-    if (*kr.si > 0.0 && !process->has("radial_coefficient_ratio")) {  // K_r = 0 is a deliberate idealisation: no radial force
-      warn_band(*process, kr, kRadial, kRadialBand);
-      const double ratio = *kr.si / *kt.si;
-      if (ratio < kRatioLo || ratio > kRatioHi)
-        doc.warn(process->path_of(kr.unit->key), *process->find(kr.unit->key),
-                 "K_r/K_t = " + number_text(ratio) +
-                     ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
-                     "titanium 0.3 to 0.8); are " +
-                     std::string(kt.unit->key) + " and " + std::string(kr.unit->key) + " both right?");
-    } else if (ratio_given && *ratio_given > 0.0 && (*ratio_given < kRatioLo || *ratio_given > kRatioHi)) {
-      doc.warn(process->path_of("radial_coefficient_ratio"), *process->find("radial_coefficient_ratio"),
-               "K_r/K_t = " + number_text(*ratio_given) +
-                   ", outside the 0.05 to 1.5 of metal cutting (usually 0.1 to 1: aluminium about 0.3, steel and "
-                   "titanium 0.3 to 0.8)");
-    }
-    return model_checked(*process, [&] { return with_ssv(Process::milling(p)); });
-  }
+  if (*operation == "turning") return read_turning(*process, mark, feed_mm, ssv);
+  if (*operation == "milling") return read_milling(*process, mark, feed_mm, flute_length_m, ssv);
   doc.fail(process->path_of("operation"), *process->find("operation"), kOperationRule);
 }
 
