@@ -159,188 +159,244 @@ void suggest_within_tolerance(SpeedSearch& s, const StructuralModel& model, cons
 
 }  // namespace
 
+namespace {
+
+// One solver and one speed search per distinct process (the rows' radial
+// immersion, teeth and direction).
+struct Group {
+  Process process = Process::turning({1.0});
+  std::string method;
+  double depth_max_m = 0.0;
+  std::vector<std::size_t> rows;
+};
+
+// One run of check_operations, in its steps: group the rows by process,
+// solve each group's speed search (in parallel), then the per-row additions
+// (unit-slip warnings, forced vibration, cutting load).
+class CheckRun {
+ public:
+  CheckRun(const StructuralModel& model, const Process& process, const std::vector<OperationRow>& rows,
+           const CheckOptions& options)
+      : model_(model), process_(process), rows_(rows), options_(options), judged_(rows.size(), 1),
+        checks_(rows.size()) {}
+
+  // Rows grouped by process; a row without a cutter or without a chip is
+  // not judged; the per-row plausibility warnings.
+  void group_rows() {
+    using Key = std::tuple<double, int, int>;
+    auto key_of = [&](const OperationRow& r) -> Key {
+      if (!process_.rotating_edges()) return {0.0, 0, 0};
+      const auto& m = process_.milling_parameters();
+      return {r.radial_immersion.value_or(m.radial_immersion), r.teeth.value_or(m.teeth),
+              static_cast<int>(r.direction.value_or(m.direction))};
+    };
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      const OperationRow& r = rows_[i];
+      if (!by_key_.count(key_of(r))) {
+        // A row whose overrides make no cutter (e.g. teeth that contradict
+        // the config's pitch angles) is that row's error, not the file's.
+        try {
+          (void)process_for(process_, r);
+        } catch (const InputError& e) {
+          not_judged(i, e.what());
+          continue;
+        }
+      }
+      Group& g = by_key_[key_of(r)];
+      if (g.method.empty()) start_group(g, r);
+      if (const std::string why = g.process.no_chip_reason(r.depth_m); !why.empty()) {
+        not_judged(i, why);  // no chip: refused, never judged (docs/results.md "No cut")
+        continue;
+      }
+      g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
+      g.rows.push_back(i);
+      warn_row(r);
+    }
+    for (auto& [key, g] : by_key_)
+      if (!g.rows.empty()) groups_.push_back(&g);
+    group_of_.assign(rows_.size(), groups_.size());
+    for (std::size_t gi = 0; gi < groups_.size(); ++gi)
+      for (const std::size_t i : groups_[gi]->rows) group_of_[i] = gi;
+  }
+
+  // Groups are independent: solved in parallel (each deterministic, so the
+  // report does not depend on the thread count); a lone group scans in
+  // parallel. A solver that fails on a process fails that group's rows only.
+  void solve_groups() {
+    const unsigned scan_threads = groups_.size() == 1 ? options_.threads : 1;
+    // Progress: exact solves against a rough estimate of the total (a scan
+    // of a few lobes plus the refinements), never reaching 1 before the end.
+    std::atomic<std::size_t> solves{0};
+    const double expected = static_cast<double>(kProgressSolvesPerProcess * groups_.size() +
+                                                kProgressSolvesPerRow * rows_.size());
+    auto tick = [&] {
+      const double f = static_cast<double>(++solves) / expected;
+      if (options_.progress) options_.progress(std::min(f, kProgressCeiling));
+    };
+    std::vector<std::vector<std::pair<std::size_t, std::string>>> failed(groups_.size());  // in row order
+    solvers_.resize(groups_.size());
+    searches_.resize(groups_.size());
+    parallel_for(groups_.size(), options_.threads, [&](std::size_t gi) {
+      const Group& g = *groups_[gi];
+      try {
+        solvers_[gi] = make_lobe_solver(g.method, model_, g.process, g.depth_max_m);
+        searches_[gi] = std::make_unique<SpeedSearch>(*solvers_[gi], options_.machine.rpm_min,
+                                                      options_.machine.rpm_max, options_.speed_tolerance, scan_threads);
+        searches_[gi]->on_solve = tick;
+        searches_[gi]->scan(true);
+      } catch (const std::exception& e) {
+        for (const std::size_t i : g.rows)
+          failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed on this row's process: " +
+                                         e.what());
+        searches_[gi].reset();
+        return;
+      }
+      for (const std::size_t i : g.rows) {
+        try {
+          checks_[i] = check_row(*searches_[gi], g.method, rows_[i], search_depth(rows_[i]));
+        } catch (const std::exception& e) {
+          failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed at this row: " + e.what());
+        }
+      }
+    });
+    for (const auto& f : failed)
+      for (const auto& [i, why] : f) not_judged(i, why);
+    std::sort(report_.not_judged.begin(), report_.not_judged.end(),
+              [](const RejectedRow& a, const RejectedRow& b) { return a.line < b.line; });
+  }
+
+  // Depths far beyond the limit are probably typed in the wrong unit.
+  void warn_implausible_depths() {
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      const OperationCheck& c = checks_[i];
+      if (judged_[i] && c.limit.bounded() && rows_[i].depth_m > kImplausibleMarginFactor * c.limit.depth_limit_m)
+        report_.warnings.push_back(at(rows_[i]) + "depth " + num(rows_[i].depth_m * 1e3) + " mm is over " +
+                                   num(kImplausibleMarginFactor) + " times the stability limit " +
+                                   num(c.limit.depth_limit_m * 1e3) + " mm at its speed: a depth in um?");
+    }
+  }
+
+  // The forced vibration of every judged row with a feed (issue 27): its
+  // surface location or diametral error and the part's tolerance, also at
+  // the suggested speed (moved when it breaks the tolerance). A solver that
+  // cannot give it (e.g. measured FRFs) leaves the row without it, said once.
+  void add_forced() {
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      if (!judged_[i]) continue;
+      OperationCheck& c = checks_[i];
+      try {
+        c.forced = forced_check(model_, process_, rows_[i]);
+        if (!c.suggestion || !c.forced) continue;
+        OperationRow at = rows_[i];
+        at.spindle_rpm = c.suggestion->spindle_rpm;
+        c.suggestion_forced = forced_check(model_, process_, at);
+        SpeedSearch* s = group_of_[i] < groups_.size() ? searches_[group_of_[i]].get() : nullptr;
+        if (c.suggestion_forced && c.suggestion_forced->within_tolerance == false && rows_[i].max_error_m && s)
+          suggest_within_tolerance(*s, model_, process_, rows_[i], c);
+      } catch (const std::exception& e) {
+        warn_once(std::string("forced vibration not computed: ") + e.what());
+      }
+    }
+  }
+
+  // The mean cutting load of every judged row with a feed, on its process,
+  // against the machine's power and torque (docs/cutting_law.md). (Turning's
+  // K_f-as-K_c warning only where power and torque are reported: with a
+  // diameter.)
+  void add_loads() {
+    std::vector<std::string> unreported;
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      if (!judged_[i] || !rows_[i].feed_per_tooth_m) continue;
+      const Process p = process_for(process_, rows_[i]);
+      const CuttingLawOptions lo = cutting_law_options(p, options_.cutting_coefficient_n_per_m2,
+                                                       options_.diameter_m > 0.0 ? report_.warnings : unreported);
+      const double d = options_.diameter_m > 0.0 ? options_.diameter_m : kNaN;
+      const MeanCut m =
+          CuttingLaw::of(p, lo)->mean({rows_[i].spindle_rpm, rows_[i].depth_m, *rows_[i].feed_per_tooth_m, d});
+      OperationLoad load;
+      load.mean_force_n = m.tangential_force_n;
+      load.torque_n_m = m.torque_n_m;
+      load.power_w = m.power_w;
+      load.removal_rate_m3_per_s = m.removal_rate_m3_per_s;
+      load.within_power = !(m.power_w > options_.machine.max_power_w);
+      load.within_torque = !(m.torque_n_m > options_.machine.max_torque_n_m);
+      checks_[i].load = load;
+    }
+  }
+
+  // The judged rows' checks, in file order.
+  CheckReport finish() {
+    if (options_.progress) options_.progress(1.0);
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      if (judged_[i]) report_.checks.push_back(std::move(checks_[i]));
+    return std::move(report_);
+  }
+
+ private:
+  double search_depth(const OperationRow& r) const {
+    return std::max(options_.search_depth_factor * r.depth_m, options_.search_depth_min_m);
+  }
+  void not_judged(std::size_t i, const std::string& why) {
+    judged_[i] = 0;
+    report_.not_judged.push_back({rows_[i].line, rows_[i].id, why});
+  }
+  void warn_once(const std::string& w) {
+    if (std::find(report_.warnings.begin(), report_.warnings.end(), w) == report_.warnings.end())
+      report_.warnings.push_back(w);
+  }
+  static std::string at(const OperationRow& r) {
+    return "operation '" + r.id + "' (line " + std::to_string(r.line) + "): ";
+  }
+  // A group's process, its method, and what the method does not see (once).
+  void start_group(Group& g, const OperationRow& r) {
+    g.process = process_for(process_, r);
+    std::string warning;
+    g.method = resolve_lobe_method(options_.method, model_, g.process, &warning);
+    std::vector<std::string> notes = ignored_feature_notes(find_lobe_method(g.method), g.process);
+    if (!warning.empty()) notes.insert(notes.begin(), warning);
+    for (const std::string& n : notes) warn_once(n);
+  }
+  // A row deeper than the flutes, a depth or a feed in another unit.
+  void warn_row(const OperationRow& r) {
+    if (options_.flute_length_m && r.depth_m > *options_.flute_length_m)
+      report_.warnings.push_back(at(r) + "depth " + num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
+                                 num(*options_.flute_length_m * 1e3) + " mm");
+    if (const std::string hint = depth_unit_hint(r.depth_m * 1e3); !hint.empty())
+      report_.warnings.push_back(at(r) + hint);
+    if (r.feed_per_tooth_m && *r.feed_per_tooth_m > kPlausibleFeedM)
+      report_.warnings.push_back(at(r) + "feed " + num(*r.feed_per_tooth_m * 1e3) + " mm per " +
+                                 std::string(process_.feed_basis()) +
+                                 " is above 1 mm: a feed in um, or per revolution?");
+  }
+
+  const StructuralModel& model_;
+  const Process& process_;
+  const std::vector<OperationRow>& rows_;
+  const CheckOptions& options_;
+  CheckReport report_;
+  std::vector<char> judged_;  // 0: the row could not be judged (report_.not_judged says why)
+  std::vector<OperationCheck> checks_;
+  std::map<std::tuple<double, int, int>, Group> by_key_;
+  std::vector<Group*> groups_;
+  std::vector<std::size_t> group_of_;  // row -> its group (groups_.size(): none)
+  // Each group's solver and speed search outlive the parallel solve: the
+  // tolerance search of a suggestion asks them again.
+  std::vector<std::unique_ptr<LobeSolver>> solvers_;
+  std::vector<std::unique_ptr<SpeedSearch>> searches_;
+};
+
+}  // namespace
+
 CheckReport check_operations(const StructuralModel& model, const Process& process,
                              const std::vector<OperationRow>& rows, const CheckOptions& options) {
   if (const std::string e = options.validate(); !e.empty()) throw InputError("check: " + e);
-  CheckReport report;
-  auto search_depth = [&](const OperationRow& r) {
-    return std::max(options.search_depth_factor * r.depth_m, options.search_depth_min_m);
-  };
-
-  // One solver and one speed search per distinct process.
-  struct Group {
-    Process process = Process::turning({1.0});
-    std::string method;
-    double depth_max_m = 0.0;
-    std::vector<std::size_t> rows;
-  };
-  using Key = std::tuple<double, int, int>;
-  auto key_of = [&](const OperationRow& r) -> Key {
-    if (!process.rotating_edges()) return {0.0, 0, 0};
-    const auto& m = process.milling_parameters();
-    return {r.radial_immersion.value_or(m.radial_immersion), r.teeth.value_or(m.teeth),
-            static_cast<int>(r.direction.value_or(m.direction))};
-  };
-  std::map<Key, Group> by_key;
-  std::vector<char> judged(rows.size(), 1);  // 0: the row could not be judged (report.not_judged says why)
-  auto not_judged = [&](std::size_t i, const std::string& why) {
-    judged[i] = 0;
-    report.not_judged.push_back({rows[i].line, rows[i].id, why});
-  };
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const OperationRow& r = rows[i];
-    if (!by_key.count(key_of(r))) {
-      // A row whose overrides make no cutter (e.g. teeth that contradict
-      // the config's pitch angles) is that row's error, not the file's.
-      try {
-        (void)process_for(process, r);
-      } catch (const InputError& e) {
-        not_judged(i, e.what());
-        continue;
-      }
-    }
-    Group& g = by_key[key_of(r)];
-    if (g.method.empty()) {
-      g.process = process_for(process, r);
-      std::string warning;
-      g.method = resolve_lobe_method(options.method, model, g.process, &warning);
-      std::vector<std::string> notes = ignored_feature_notes(find_lobe_method(g.method), g.process);
-      if (!warning.empty()) notes.insert(notes.begin(), warning);
-      for (const std::string& n : notes)
-        if (std::find(report.warnings.begin(), report.warnings.end(), n) == report.warnings.end())
-          report.warnings.push_back(n);
-    }
-    if (const std::string why = g.process.no_chip_reason(r.depth_m); !why.empty()) {
-      not_judged(i, why);  // no chip: refused, never judged (docs/results.md "No cut")
-      continue;
-    }
-    g.depth_max_m = std::max(g.depth_max_m, search_depth(r));
-    g.rows.push_back(i);
-    if (options.flute_length_m && r.depth_m > *options.flute_length_m)
-      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): depth " +
-                                num(r.depth_m * 1e3) + " mm exceeds the usable flute length " +
-                                num(*options.flute_length_m * 1e3) + " mm");
-    if (const std::string hint = depth_unit_hint(r.depth_m * 1e3); !hint.empty())
-      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): " + hint);
-    if (r.feed_per_tooth_m && *r.feed_per_tooth_m > kPlausibleFeedM)
-      report.warnings.push_back("operation '" + r.id + "' (line " + std::to_string(r.line) + "): feed " +
-                                num(*r.feed_per_tooth_m * 1e3) + " mm per " +
-                                std::string(process.feed_basis()) +
-                                " is above 1 mm: a feed in um, or per revolution?");
-  }
-  std::vector<Group*> groups;
-  for (auto& [key, g] : by_key)
-    if (!g.rows.empty()) groups.push_back(&g);
-
-  // Groups are independent: solved in parallel (each deterministic, so the
-  // report does not depend on the thread count); a lone group scans in parallel.
-  std::vector<OperationCheck> checks(rows.size());
-  const unsigned scan_threads = groups.size() == 1 ? options.threads : 1;
-  // Progress: exact solves against a rough estimate of the total (a scan of
-  // a few lobes plus the refinements), never reaching 1 before the end.
-  std::atomic<std::size_t> solves{0};
-  const double expected = static_cast<double>(kProgressSolvesPerProcess * groups.size() +
-                                              kProgressSolvesPerRow * rows.size());
-  auto tick = [&] {
-    const double f = static_cast<double>(++solves) / expected;
-    if (options.progress) options.progress(std::min(f, kProgressCeiling));
-  };
-  const double tol = options.speed_tolerance;
-  std::vector<std::vector<std::pair<std::size_t, std::string>>> failed(groups.size());  // per group, in row order
-  // Each group's solver and speed search outlive the loop: the tolerance
-  // search of a suggestion (below) asks them again.
-  std::vector<std::unique_ptr<LobeSolver>> solvers(groups.size());
-  std::vector<std::unique_ptr<SpeedSearch>> searches(groups.size());
-  std::vector<std::size_t> group_of(rows.size(), groups.size());
-  for (std::size_t gi = 0; gi < groups.size(); ++gi)
-    for (const std::size_t i : groups[gi]->rows) group_of[i] = gi;
-  parallel_for(groups.size(), options.threads, [&](std::size_t gi) {
-    const Group& g = *groups[gi];
-    std::unique_ptr<LobeSolver>& solver = solvers[gi];
-    std::unique_ptr<SpeedSearch>& search = searches[gi];
-    try {
-      solver = make_lobe_solver(g.method, model, g.process, g.depth_max_m);
-      search = std::make_unique<SpeedSearch>(*solver, options.machine.rpm_min, options.machine.rpm_max, tol,
-                                             scan_threads);
-      search->on_solve = tick;
-      search->scan(true);
-    } catch (const std::exception& e) {
-      // A solver that fails on this process fails every row of it; the
-      // other processes' rows are still checked.
-      for (const std::size_t i : g.rows)
-        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed on this row's process: " +
-                                       e.what());
-      return;
-    }
-    SpeedSearch& s = *search;
-    for (const std::size_t i : g.rows) {
-      try {
-        checks[i] = check_row(s, g.method, rows[i], search_depth(rows[i]));
-      } catch (const std::exception& e) {
-        failed[gi].emplace_back(i, std::string("the ") + g.method + " solver failed at this row: " + e.what());
-      }
-    }
-  });
-  for (const auto& f : failed)
-    for (const auto& [i, why] : f) not_judged(i, why);
-  std::sort(report.not_judged.begin(), report.not_judged.end(),
-            [](const RejectedRow& a, const RejectedRow& b) { return a.line < b.line; });
-  // Depths far beyond the limit are probably typed in the wrong unit.
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const OperationCheck& c = checks[i];
-    if (judged[i] && c.limit.bounded() && rows[i].depth_m > kImplausibleMarginFactor * c.limit.depth_limit_m)
-      report.warnings.push_back("operation '" + rows[i].id + "' (line " + std::to_string(rows[i].line) + "): depth " +
-                                num(rows[i].depth_m * 1e3) + " mm is over " + num(kImplausibleMarginFactor) +
-                                " times the stability limit " + num(c.limit.depth_limit_m * 1e3) +
-                                " mm at its speed: a depth in um?");
-  }
-  // The forced vibration of every judged row with a feed (issue 27): its
-  // surface location or diametral error and the part's tolerance. A solver
-  // that cannot give it (e.g. measured FRFs) leaves the row without it, said
-  // once in the warnings.
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!judged[i]) continue;
-    try {
-      checks[i].forced = forced_check(model, process, rows[i]);
-      if (checks[i].suggestion && checks[i].forced) {
-        OperationRow at = rows[i];
-        at.spindle_rpm = checks[i].suggestion->spindle_rpm;
-        checks[i].suggestion_forced = forced_check(model, process, at);
-        if (checks[i].suggestion_forced && checks[i].suggestion_forced->within_tolerance == false &&
-            rows[i].max_error_m && group_of[i] < groups.size() && searches[group_of[i]])
-          suggest_within_tolerance(*searches[group_of[i]], model, process, rows[i], checks[i]);
-      }
-    } catch (const std::exception& e) {
-      const std::string w = std::string("forced vibration not computed: ") + e.what();
-      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
-        report.warnings.push_back(w);
-    }
-  }
-  // The mean cutting load of every judged row with a feed, on its process,
-  // against the machine's power and torque (docs/cutting_law.md).
-  // (Turning's K_f-as-K_c warning only where power and torque are reported:
-  // with a diameter.)
-  std::vector<std::string> unreported;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!judged[i] || !rows[i].feed_per_tooth_m) continue;
-    const Process p = process_for(process, rows[i]);
-    const CuttingLawOptions lo = cutting_law_options(p, options.cutting_coefficient_n_per_m2,
-                                                     options.diameter_m > 0.0 ? report.warnings : unreported);
-    const double d = options.diameter_m > 0.0 ? options.diameter_m : kNaN;
-    const MeanCut m = CuttingLaw::of(p, lo)->mean({rows[i].spindle_rpm, rows[i].depth_m, *rows[i].feed_per_tooth_m, d});
-    OperationLoad load;
-    load.mean_force_n = m.tangential_force_n;
-    load.torque_n_m = m.torque_n_m;
-    load.power_w = m.power_w;
-    load.removal_rate_m3_per_s = m.removal_rate_m3_per_s;
-    load.within_power = !(m.power_w > options.machine.max_power_w);
-    load.within_torque = !(m.torque_n_m > options.machine.max_torque_n_m);
-    checks[i].load = load;
-  }
-  if (options.progress) options.progress(1.0);
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (judged[i]) report.checks.push_back(std::move(checks[i]));
-  return report;
+  CheckRun run(model, process, rows, options);
+  run.group_rows();
+  run.solve_groups();
+  run.warn_implausible_depths();
+  run.add_forced();
+  run.add_loads();
+  return run.finish();
 }
 
 }  // namespace chatter

@@ -107,7 +107,11 @@ std::vector<SpeedSuggestion> speed_corrections(double fc, int teeth, double curr
   return s;
 }
 
-ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, const DetectOptions& o) {
+namespace {
+
+// The recording's limits: a speed, teeth, sample rate and thresholds that
+// make sense, enough revolutions, tooth passing below Nyquist, finite samples.
+void check_recording(const std::vector<double>& samples, double fs, const DetectOptions& o) {
   if (!(o.spindle_rpm > 0 && std::isfinite(o.spindle_rpm)))
     throw InputError("spindle speed = " + num(o.spindle_rpm) + " rev/min: must be > 0");
   if (o.teeth < 1) throw InputError("teeth = " + std::to_string(o.teeth) + ": must be >= 1");
@@ -123,32 +127,65 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
                      num(revolutions) + " spindle revolutions at " + num(o.spindle_rpm) + " rev/min; at least " +
                      num(o.min_revolutions) +
                      " revolutions are needed to tell the spindle harmonics from chatter: record longer");
-  const double nyquist = 0.5 * fs;
-  if (f_sp0 * o.teeth >= nyquist)
+  if (f_sp0 * o.teeth >= 0.5 * fs)
     throw InputError("the tooth-passing frequency " + num(f_sp0 * o.teeth) + " Hz is above half the sample rate (" +
-                     num(nyquist) + " Hz): record at a higher sample rate");
-
-  ChatterDetection r;
-  r.duration_s = duration;
+                     num(0.5 * fs) + " Hz): record at a higher sample rate");
   for (double v : samples)
     if (!std::isfinite(v)) throw InputError("the recording holds a non-finite sample (NaN or inf)");
+}
 
-  // Clipping: many samples sitting at the extreme value.
-  {
-    double peak = 0;
-    for (double v : samples) peak = std::max(peak, std::abs(v));
-    if (peak > 0) {
-      std::size_t at = 0;
-      for (double v : samples)
-        if (std::abs(v) >= peak * (1 - 1e-6)) ++at;
-      if (static_cast<double>(at) > kClippedFraction * static_cast<double>(n))
-        r.warnings.push_back("the recording looks clipped (" + num(100.0 * static_cast<double>(at) / static_cast<double>(n)) +
-                             " % of the samples at the extreme value " + num(peak) +
-                             "): lower the input gain; clipping adds harmonics of every line");
-    }
+// Clipping: many samples sitting at the extreme value.
+void warn_clipping(const std::vector<double>& samples, std::vector<std::string>& warnings) {
+  double peak = 0;
+  for (double v : samples) peak = std::max(peak, std::abs(v));
+  if (!(peak > 0)) return;
+  std::size_t at = 0;
+  for (double v : samples)
+    if (std::abs(v) >= peak * (1 - 1e-6)) ++at;
+  const double n = static_cast<double>(samples.size());
+  if (static_cast<double>(at) > kClippedFraction * n)
+    warnings.push_back("the recording looks clipped (" + num(100.0 * static_cast<double>(at) / n) +
+                       " % of the samples at the extreme value " + num(peak) +
+                       "): lower the input gain; clipping adds harmonics of every line");
+}
+
+// The Hann-windowed amplitude spectrum of the recording (zero-padded to a
+// power of two) and the questions the detector asks of it.
+struct Spectrum {
+  std::vector<double> amp;  // single-sided amplitude per bin
+  double df = 0.0;          // bin spacing, Hz
+  double bin = 0.0;         // resolution of the record itself, fs / n
+  double floor0 = 0.0;      // first noise floor (set by the caller)
+
+  std::size_t index(double f) const {
+    return static_cast<std::size_t>(std::clamp(std::lround(f / df), 0L, static_cast<long>(amp.size()) - 1));
   }
+  std::size_t argmax(double lo, double hi) const {
+    std::size_t a = index(lo), b = index(hi), best = a;
+    for (std::size_t k = a; k <= b; ++k)
+      if (amp[k] > amp[best]) best = k;
+    return best;
+  }
+  // A line "stands" at bin k: a local maximum above the floor that also
+  // stands out of its own surroundings (kLineOverSkirt x the bins 3 away,
+  // beyond the Hann main lobe), so the skirt of a strong neighbouring line
+  // is not taken for one.
+  bool stands(std::size_t k) const {
+    if (k < 3 || k + 3 >= amp.size() || !(amp[k] > 0.0)) return false;
+    return amp[k] >= amp[k - 1] && amp[k] >= amp[k + 1] && amp[k] >= kLineOverFloor * floor0 &&
+           amp[k] >= kLineOverSkirt * std::max(amp[k - 3], amp[k + 3]);
+  }
+  // The median amplitude of the bins from frequency f up (most hold noise only).
+  double median_from(double f) const {
+    std::vector<double> v(amp.begin() + static_cast<std::ptrdiff_t>(std::min(index(f), amp.size() - 1)), amp.end());
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  }
+};
 
-  // Spectrum.
+Spectrum hann_spectrum(const std::vector<double>& samples, double fs) {
+  const std::size_t n = samples.size();
   double mean = 0;
   for (double v : samples) mean += v;
   mean /= static_cast<double>(n);
@@ -165,108 +202,130 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
   std::vector<std::complex<double>> X;
   fft.fwd(X, x);
-  const double df = fs / static_cast<double>(nfft);
-  const double bin = fs / static_cast<double>(n);  // resolution of the record itself
-  r.frequency_resolution_hz = bin;
-  std::vector<double> amp(X.size());
-  for (std::size_t k = 0; k < X.size(); ++k) amp[k] = 2 * std::abs(X[k]) / wsum;
-  r.spectrum_frequency_hz.resize(amp.size());
-  for (std::size_t k = 0; k < amp.size(); ++k) r.spectrum_frequency_hz[k] = static_cast<double>(k) * df;
-  auto index = [&](double f) { return static_cast<std::size_t>(std::clamp(std::lround(f / df), 0L, static_cast<long>(amp.size()) - 1)); };
-  auto argmax = [&](double lo, double hi) {
-    std::size_t a = index(lo), b = index(hi), best = a;
-    for (std::size_t k = a; k <= b; ++k)
-      if (amp[k] > amp[best]) best = k;
-    return best;
-  };
+  Spectrum sp;
+  sp.df = fs / static_cast<double>(nfft);
+  sp.bin = fs / static_cast<double>(n);
+  sp.amp.resize(X.size());
+  for (std::size_t k = 0; k < X.size(); ++k) sp.amp[k] = 2 * std::abs(X[k]) / wsum;
+  return sp;
+}
 
-  // A first noise floor: the median of the spectrum above the lowest chatter
-  // frequency (most bins hold noise only).
-  const double f_lo0 = std::max(kMinChatterHz, kMinChatterSpindleFraction * f_sp0);
-  double floor0 = 0.0;
-  {
-    std::vector<double> v(amp.begin() + static_cast<std::ptrdiff_t>(std::min(index(f_lo0), amp.size() - 1)), amp.end());
-    if (!v.empty()) {
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      floor0 = v[v.size() / 2];
-    }
-  }
-  // A line "stands" at bin k: a local maximum above the floor that also
-  // stands out of its own surroundings (kLineOverSkirt x the bins 3 away,
-  // beyond the Hann main lobe), so the skirt of a strong neighbouring line
-  // is not taken for one.
-  auto stands = [&](std::size_t k) {
-    if (k < 3 || k + 3 >= amp.size() || !(amp[k] > 0.0)) return false;
-    return amp[k] >= amp[k - 1] && amp[k] >= amp[k + 1] && amp[k] >= kLineOverFloor * floor0 &&
-           amp[k] >= kLineOverSkirt * std::max(amp[k - 3], amp[k + 3]);
-  };
-  // Does the recording hold the tooth-passing line of the given speed (or
-  // its second harmonic)? If not, the speed or the teeth are wrong.
-  const double ftp0 = f_sp0 * o.teeth;
+// The spindle and tooth-passing lines: whether the recording holds the
+// tooth-passing line of the given speed (or its second harmonic; if not, the
+// speed or the teeth are wrong), the speeds the strongest line implies, and
+// the spindle frequency refined from the tooth-passing line when it stands
+// out of the noise. Returns the relative accuracy of r.spindle_hz.
+double locate_spindle(const Spectrum& sp, double fs, const DetectOptions& o, double f_lo0, ChatterDetection& r) {
+  const double f_sp0 = revolutions_per_s(o.spindle_rpm), nyquist = 0.5 * fs, ftp0 = f_sp0 * o.teeth;
   for (int k = 1; k <= 2 && !r.tooth_passing_found; ++k) {
     const double fk = k * ftp0;
     if (fk * (1 + kToothPassingMatchRel) >= nyquist) break;
-    for (std::size_t b = index(fk * (1 - kToothPassingMatchRel)); b <= index(fk * (1 + kToothPassingMatchRel)); ++b)
-      if (stands(b)) {
+    for (std::size_t b = sp.index(fk * (1 - kToothPassingMatchRel)); b <= sp.index(fk * (1 + kToothPassingMatchRel)); ++b)
+      if (sp.stands(b)) {
         r.tooth_passing_found = true;
         break;
       }
   }
-  // The speeds the strongest line implies (for the message when it does not match).
-  {
-    const std::size_t top = argmax(f_lo0, std::min(0.95 * nyquist, static_cast<double>(amp.size() - 1) * df));
-    r.strongest_line_hz = interpolate(amp, top, df);
-    for (int k = 1; k <= 3; ++k) r.implied_rpm.push_back(rpm_from_tooth_passing_hz(r.strongest_line_hz, o.teeth * k));
-  }
-  // Spindle frequency refined from the tooth-passing line, when it stands
-  // out of the noise (else a noise bin near N N_t / 60 would "refine" it).
+  const std::size_t top = sp.argmax(f_lo0, std::min(0.95 * nyquist, static_cast<double>(sp.amp.size() - 1) * sp.df));
+  r.strongest_line_hz = interpolate(sp.amp, top, sp.df);
+  for (int k = 1; k <= 3; ++k) r.implied_rpm.push_back(rpm_from_tooth_passing_hz(r.strongest_line_hz, o.teeth * k));
   double f_sp = f_sp0, speed_rel = kSpeedSearchRel;
-  {
-    const double lo = ftp0 * (1 - kSpeedSearchRel), hi = ftp0 * (1 + kSpeedSearchRel);
-    const std::size_t k = argmax(lo - bin, hi + bin);
-    const double f = interpolate(amp, k, df);
-    if (k > index(lo - bin) && k < index(hi + bin) && f >= lo && f <= hi && stands(k)) {
-      f_sp = f / o.teeth;
-      speed_rel = kRefinedSpeedRel;
-    }
+  const double lo = ftp0 * (1 - kSpeedSearchRel), hi = ftp0 * (1 + kSpeedSearchRel);
+  const std::size_t k = sp.argmax(lo - sp.bin, hi + sp.bin);
+  const double f = interpolate(sp.amp, k, sp.df);
+  if (k > sp.index(lo - sp.bin) && k < sp.index(hi + sp.bin) && f >= lo && f <= hi && sp.stands(k)) {
+    f_sp = f / o.teeth;
+    speed_rel = kRefinedSpeedRel;
   }
   r.spindle_hz = f_sp;
   r.tooth_passing_hz = f_sp * o.teeth;
+  return speed_rel;
+}
 
-  // Mask of the forced lines; the strongest forced line.
-  const double f_top = std::min(0.95 * nyquist, r.spectrum_frequency_hz.back());
-  std::vector<char> masked(amp.size(), 0);
-  double forced_max = 0;
-  std::vector<DetectedPeak> forced;
+// The forced lines (spindle harmonics, tooth passing among them) masked,
+// with DC and the band below the chatter search; the strongest forced line.
+struct ForcedLines {
+  std::vector<char> masked;
+  std::vector<DetectedPeak> lines;
+  double strongest = 0.0;
+};
+ForcedLines mask_forced(const Spectrum& sp, double f_sp, double speed_rel, int teeth, double f_top) {
+  ForcedLines m;
+  m.masked.assign(sp.amp.size(), 0);
   for (int h = 1; h * f_sp <= f_top; ++h) {
     const double fh = h * f_sp;
-    const double hw = kMaskBins * bin + h * f_sp * speed_rel;
-    const std::size_t a = index(fh - hw), b = index(fh + hw);
+    const double hw = kMaskBins * sp.bin + h * f_sp * speed_rel;
+    const std::size_t a = sp.index(fh - hw), b = sp.index(fh + hw);
     std::size_t best = a;
     for (std::size_t k = a; k <= b; ++k) {
-      masked[k] = 1;
-      if (amp[k] > amp[best]) best = k;
+      m.masked[k] = 1;
+      if (sp.amp[k] > sp.amp[best]) best = k;
     }
-    forced_max = std::max(forced_max, amp[best]);
+    m.strongest = std::max(m.strongest, sp.amp[best]);
     DetectedPeak p;
-    p.frequency_hz = interpolate(amp, best, df);
-    p.amplitude = amp[best];
-    p.kind = h % o.teeth == 0 ? "tooth-passing" : "spindle";
-    p.harmonic = h % o.teeth == 0 ? h / o.teeth : h;
-    forced.push_back(p);
+    p.frequency_hz = interpolate(sp.amp, best, sp.df);
+    p.amplitude = sp.amp[best];
+    p.kind = h % teeth == 0 ? "tooth-passing" : "spindle";
+    p.harmonic = h % teeth == 0 ? h / teeth : h;
+    m.lines.push_back(p);
   }
-  // Also mask DC and the band below the chatter search.
   const double f_lo = std::max(kMinChatterHz, kMinChatterSpindleFraction * f_sp);
-  for (std::size_t k = 0; k < amp.size() && static_cast<double>(k) * df < f_lo; ++k) masked[k] = 1;
+  for (std::size_t k = 0; k < sp.amp.size() && static_cast<double>(k) * sp.df < f_lo; ++k) m.masked[k] = 1;
+  return m;
+}
+
+// Growth over time and onset at the candidate frequency fc (windows of the
+// recording), and the warning when a "chatter" line is there, steady, from
+// the start.
+void growth_and_onset(const std::vector<double>& samples, double fs, double fc, ChatterDetection& r) {
+  const std::size_t len = samples.size() / kGrowthWindows;
+  std::vector<double> a;
+  for (int w = 0; w < kGrowthWindows && len >= 16; ++w)
+    a.push_back(window_amplitude(samples, w * len, (w + 1) * len, fc, fs));
+  if (a.size() >= 2 && a.front() > 0) r.growth_ratio = a.back() / a.front();
+  if (r.chatter && !a.empty()) {
+    const double top = *std::max_element(a.begin(), a.end());
+    for (std::size_t w = 0; w < a.size(); ++w)
+      if (a[w] >= 0.5 * top) {
+        r.onset_s = static_cast<double>(w * len) / fs;
+        break;
+      }
+  }
+  if (r.chatter && r.onset_s == 0.0 && std::isfinite(r.growth_ratio) && r.growth_ratio < kSteadyGrowth &&
+      r.growth_ratio > 1.0 / kSteadyGrowth)
+    r.warnings.push_back("the chatter line at " + num(fc) + " Hz is there from t = 0 and steady (x" +
+                         num(r.growth_ratio) + " over the recording): chatter grows out of a stable cut; a line "
+                         "present from the start at a steady level is more likely forced, or an input error (--rpm, "
+                         "--teeth)?");
+}
+
+}  // namespace
+
+ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, const DetectOptions& o) {
+  check_recording(samples, fs, o);
+  ChatterDetection r;
+  r.duration_s = static_cast<double>(samples.size()) / fs;
+  warn_clipping(samples, r.warnings);
+  Spectrum sp = hann_spectrum(samples, fs);
+  r.frequency_resolution_hz = sp.bin;
+  r.spectrum_frequency_hz.resize(sp.amp.size());
+  for (std::size_t k = 0; k < sp.amp.size(); ++k) r.spectrum_frequency_hz[k] = static_cast<double>(k) * sp.df;
+  // A first noise floor: the median of the spectrum above the lowest chatter
+  // frequency (most bins hold noise only).
+  const double f_lo0 = std::max(kMinChatterHz, kMinChatterSpindleFraction * revolutions_per_s(o.spindle_rpm));
+  sp.floor0 = sp.median_from(f_lo0);
+  const double speed_rel = locate_spindle(sp, fs, o, f_lo0, r);
+  const double f_top = std::min(0.95 * 0.5 * fs, r.spectrum_frequency_hz.back());
+  const ForcedLines forced = mask_forced(sp, r.spindle_hz, speed_rel, o.teeth, f_top);
 
   // Strongest unmasked line and the noise floor (median of unmasked bins).
   std::vector<double> free;
   std::size_t cand = 0;
   bool have = false;
-  for (std::size_t k = 0; k < amp.size() && static_cast<double>(k) * df <= f_top; ++k) {
-    if (masked[k]) continue;
-    free.push_back(amp[k]);
-    if (!have || amp[k] > amp[cand]) {
+  for (std::size_t k = 0; k < sp.amp.size() && static_cast<double>(k) * sp.df <= f_top; ++k) {
+    if (forced.masked[k]) continue;
+    free.push_back(sp.amp[k]);
+    if (!have || sp.amp[k] > sp.amp[cand]) {
       cand = k;
       have = true;
     }
@@ -277,56 +336,34 @@ ChatterDetection detect_chatter(const std::vector<double>& samples, double fs, c
     std::nth_element(free.begin(), free.begin() + free.size() / 2, free.end());
     floor = free[free.size() / 2];
   }
-  for (const auto& p : forced)
+  for (const auto& p : forced.lines)
     if (p.amplitude > 10 * floor) r.peaks.push_back(p);
   std::stable_sort(r.peaks.begin(), r.peaks.end(),
                    [](const DetectedPeak& a, const DetectedPeak& b) { return a.amplitude > b.amplitude; });
   if (r.peaks.size() > 40) r.peaks.resize(40);
   if (!have) {
-    r.spectrum_amplitude = std::move(amp);
+    r.spectrum_amplitude = std::move(sp.amp);
     return r;
   }
 
-  const double fc = interpolate(amp, cand, df);
+  const double fc = interpolate(sp.amp, cand, sp.df);
   r.candidate_frequency_hz = fc;
-  r.peak_ratio = forced_max > 0 ? amp[cand] / forced_max : std::numeric_limits<double>::infinity();
-  r.prominence = floor > 0 ? amp[cand] / floor : std::numeric_limits<double>::infinity();
+  r.peak_ratio = forced.strongest > 0 ? sp.amp[cand] / forced.strongest : std::numeric_limits<double>::infinity();
+  r.prominence = floor > 0 ? sp.amp[cand] / floor : std::numeric_limits<double>::infinity();
   r.chatter = r.peak_ratio >= o.peak_ratio_threshold && r.prominence >= o.prominence_threshold;
-
-  // Growth over time and onset, at the candidate frequency.
-  {
-    const std::size_t len = n / kGrowthWindows;
-    std::vector<double> a;
-    for (int w = 0; w < kGrowthWindows && len >= 16; ++w)
-      a.push_back(window_amplitude(samples, w * len, (w + 1) * len, fc, fs));
-    if (a.size() >= 2 && a.front() > 0) r.growth_ratio = a.back() / a.front();
-    if (r.chatter && !a.empty()) {
-      const double top = *std::max_element(a.begin(), a.end());
-      for (std::size_t w = 0; w < a.size(); ++w)
-        if (a[w] >= 0.5 * top) {
-          r.onset_s = static_cast<double>(w * len) / fs;
-          break;
-        }
-    }
-  }
-  if (r.chatter && r.onset_s == 0.0 && std::isfinite(r.growth_ratio) && r.growth_ratio < kSteadyGrowth &&
-      r.growth_ratio > 1.0 / kSteadyGrowth)
-    r.warnings.push_back("the chatter line at " + num(fc) + " Hz is there from t = 0 and steady (x" +
-                         num(r.growth_ratio) + " over the recording): chatter grows out of a stable cut; a line "
-                         "present from the start at a steady level is more likely forced, or an input error (--rpm, "
-                         "--teeth)?");
+  growth_and_onset(samples, fs, fc, r);
   if (r.chatter) {
     r.chatter_frequency_hz = fc;
     DetectedPeak p;
     p.frequency_hz = fc;
-    p.amplitude = amp[cand];
+    p.amplitude = sp.amp[cand];
     p.kind = "chatter";
     r.peaks.push_back(p);
     const double lo = o.rpm_min > 0 ? o.rpm_min : 0.5 * o.spindle_rpm;
     const double hi = o.rpm_max > 0 ? o.rpm_max : 1.5 * o.spindle_rpm;
     r.suggestions = speed_corrections(fc, o.teeth, o.spindle_rpm, lo, hi, o.max_suggestions);
   }
-  r.spectrum_amplitude = std::move(amp);
+  r.spectrum_amplitude = std::move(sp.amp);
   return r;
 }
 
