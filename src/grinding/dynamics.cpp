@@ -96,23 +96,18 @@ void check_options(const DynamicsOptions& o) {
 
 }  // namespace
 
-DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot, double power_w,
-                                 const DynamicsOptions& o) {
-  check_options(o);
-  if (!p.mechanistic)
-    throw InputError("simulate needs the mechanistic model (grinding.edge_coefficient_n_per_mm, "
-                     "cutting_coefficient_n_per_mm2, impacts_per_turn): the contact force is built on it");
-  DynamicsResult res;
-  res.quasi_static = predict_at_power(p, power_w);  // checks the power
-  const Prediction& qs = res.quasi_static;
-  res.power_w = power_w;
-  res.wheel_rpm = rpm_from_revolutions_per_s(p.wheel.speed_rev_per_s);
+namespace {
 
-  // ---- the model ----
+// The robot's modes along the normal (+y into the part), the wheel and the
+// mechanistic force at the quasi-static point `qs`. Sets the robot's and the
+// contact's stiffness in `res`; `*tool_compliance` is the tool modes' share.
+Model make_model(const Process& p, const StructuralModel& robot, const Prediction& qs, const DynamicsOptions& o,
+                 double* tool_compliance, DynamicsResult& res) {
   Model m;
   const ModalMatrices mm = modal_matrices(robot);
   const std::size_t tool_modes = robot.tool.modes.size();
-  double compliance = 0.0, tool_compliance = 0.0;
+  double compliance = 0.0;
+  *tool_compliance = 0.0;
   for (Eigen::Index i = 0; i < mm.S.cols(); ++i) {
     const double s = mm.S(1, i);
     if (s == 0.0) continue;
@@ -123,10 +118,10 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     m.mass.push_back(mm.mass_kg(i));
     m.tool.push_back(static_cast<std::size_t>(i) < tool_modes ? 1 : 0);
     compliance += s * s / k;
-    if (static_cast<std::size_t>(i) < tool_modes) tool_compliance += s * s / k;
+    if (static_cast<std::size_t>(i) < tool_modes) *tool_compliance += s * s / k;
   }
   m.n = static_cast<int>(m.S.size());
-  if (tool_compliance == 0.0)
+  if (*tool_compliance == 0.0)
     throw InputError("simulate needs the robot's compliance along the normal: [[tool.modes]] with a direction "
                      "that has a y component (+y points into the part)");
   res.robot_stiffness_n_per_m = 1.0 / compliance;
@@ -143,12 +138,14 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
   m.target = qs.normal_force_n;
   const double T = 1.0 / m.N;
   m.tau = o.power_loop_turns * T;
-  const double h0 = qs.max_depth_m;
-  res.contact_stiffness_n_per_m = m.kc * 2.0 / 3.0 * m.width(h0) * m.vf / m.r / (m.mu * m.Vs);
+  res.contact_stiffness_n_per_m = m.kc * 2.0 / 3.0 * m.width(qs.max_depth_m) * m.vf / m.r / (m.mu * m.Vs);
+  return m;
+}
 
-  // Static equilibrium (push = contact force = target): tool modes at rest,
-  // workpiece modes pushed away; x0 puts the wheel at h0 there. Then the lift,
-  // shared by the tool modes in proportion to their compliance.
+// Static equilibrium (push = contact force = target): tool modes at rest,
+// workpiece modes pushed away; m.x0 puts the wheel at h0 there. Then the
+// lift, shared by the tool modes in proportion to their compliance.
+std::vector<double> initial_state(Model& m, double h0, double tool_compliance, const DynamicsOptions& o) {
   const int n = m.n;
   std::vector<double> y0(static_cast<std::size_t>(2 * n + 1), 0.0);
   double z_eq = 0.0;
@@ -165,11 +162,14 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     if (m.tool[k]) y0[k] += -lift * (m.S[k] / (m.mass[k] * m.omega[k] * m.omega[k])) / tool_compliance;
   }
   y0[static_cast<std::size_t>(2 * n)] = m.target;
+  return y0;
+}
 
-  // ---- the integrator ----
-  sundials::Context ctx;
-  sundials::SerialVector y(2 * n + 1, ctx), atol(2 * n + 1, ctx);
-  std::copy(y0.begin(), y0.end(), y.data());
+// CVODE (Adams, fixed point) on the model, absolute tolerances scaled to the
+// depth h0, at most one grid step dt per step, the contact switch as root.
+void configure_integrator(sundials::Cvode& cv, sundials::FixedPointSolver& nls, Model& m, sundials::SerialVector& y,
+                          sundials::SerialVector& atol, double h0, double dt, const DynamicsOptions& o) {
+  const int n = m.n;
   double smax = 0.0;
   for (double s : m.S) smax = std::max(smax, std::abs(s));
   const double qscale = std::max(h0, 1e-9) / smax;
@@ -178,49 +178,32 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     atol.data()[n + i] = o.relative_tolerance * qscale * m.omega[static_cast<std::size_t>(i)];
   }
   atol.data()[2 * n] = o.relative_tolerance * m.target;
-  sundials::Cvode cv(CV_ADAMS, ctx, "grinding simulate");
   void* mem = cv.get();
   cv.check(CVodeInit(mem, rhs_cb, 0.0, y), "CVodeInit");
   cv.check(CVodeSVtolerances(mem, o.relative_tolerance, atol), "CVodeSVtolerances");
-  sundials::FixedPointSolver nls(y, 0, ctx);
   cv.check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
   cv.check(CVodeSetUserData(mem, &m), "CVodeSetUserData");
   cv.check(CVodeSetMaxOrd(mem, kMaxAdamsOrder), "CVodeSetMaxOrd");
-  const int M = o.points_per_turn;
-  const double dt = T / M;
   cv.check(CVodeSetMaxStep(mem, dt), "CVodeSetMaxStep");
   cv.check(CVodeSetMaxNumSteps(mem, kMaxStepsPerInterval), "CVodeSetMaxNumSteps");
   cv.check(CVodeRootInit(mem, 1, root_cb), "CVodeRootInit");
   cv.check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
+}
 
-  // The groove memory: d at grid indices i - M .. i + 1 in a ring of M + 1.
-  std::vector<double> ring(static_cast<std::size_t>(M) + 1, h0);
-  auto slot = [&](long j) {
-    const long size = M + 1;
-    return static_cast<std::size_t>(((j % size) + size) % size);
-  };
-
-  const long total = static_cast<long>(o.turns) * M;
-  res.turns = o.turns;
-  res.analysed_from_turn = std::min(o.turns - 1, static_cast<int>(std::floor(o.turns * (1.0 - o.analysed_fraction))));
-  const double t_analysed = res.analysed_from_turn * T;
-  const double t_series = (o.turns - o.series_turns) * T;
-  std::vector<int> per_turn(static_cast<std::size_t>(o.turns), 0);
-
-  double t = 0.0;
-  m.t_a = 0.0;
-  m.t_b = dt;
-  m.s_a = (1.0 - m.r) * ring[slot(-M)];
-  m.s_b = (1.0 - m.r) * ring[slot(1 - M)];
-  m.contact = m.depth(y.data()) - m.surface(0.0) > 0.0;
-
+// What the run adds up: the contacts per turn (a contact counts once, in
+// the turn of its largest force, as a force peak per turn would; one lasting
+// a turn or more counts in every turn it spans: continuous contact, one per
+// turn), and over the analysed window the force and chip integrals, the
+// contact time, the peaks.
+struct Tally {
+  double T = 0.0, t_analysed = 0.0;
+  std::vector<int> per_turn;
   double force_integral = 0.0, chip_integral = 0.0, contact_time = 0.0;
   double peak = 0.0, contact_peak = 0.0, peak_sum = 0.0;
-  // A contact counts once, in the turn of its largest force (as a force
-  // peak per turn would); one lasting a turn or more counts in every turn it
-  // spans (continuous contact: one per turn).
   double contact_start = 0.0, contact_peak_t = 0.0;
-  auto count_contact = [&](double t_end) {
+  long peak_count = 0, switches_in_window = 0;
+
+  void count_contact(double t_end) {
     const auto turn_of = [&](double tt) {
       return std::min(static_cast<std::size_t>(std::max(tt, 0.0) / T), per_turn.size() - 1);
     };
@@ -228,8 +211,118 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
       for (std::size_t k = turn_of(contact_start); k <= turn_of(t_end - 1e-12 * T); ++k) ++per_turn[k];
     else
       ++per_turn[turn_of(contact_peak_t)];
+  }
+  // The piece [t0, t1] had one contact state, forces f0, f1 and chip rates z0, z1.
+  void piece(double t0, double t1, double f0, double f1, double z0, double z1, bool contact) {
+    if (0.5 * (t0 + t1) >= t_analysed) {
+      force_integral += 0.5 * (f0 + f1) * (t1 - t0);
+      chip_integral += 0.5 * (z0 + z1) * (t1 - t0);
+      if (contact) contact_time += t1 - t0;
+      peak = std::max(peak, f1);
+    }
+    if (contact && f1 > contact_peak) {
+      contact_peak = f1;
+      contact_peak_t = t1;
+    }
+  }
+  // The contact switched at t (it was `was`).
+  void switched(double t, bool was) {
+    if (t >= t_analysed) ++switches_in_window;
+    if (!was) {  // a contact starts
+      contact_peak = 0.0;
+      contact_start = contact_peak_t = t;
+    } else {  // a contact ends
+      count_contact(t);
+      if (t >= t_analysed) {
+        peak_sum += contact_peak;
+        ++peak_count;
+      }
+    }
+  }
+  // A contact still going at the end.
+  void finish(double t, bool contact) {
+    if (!contact) return;
+    count_contact(t);
+    if (contact_peak > 0.0) {
+      peak_sum += contact_peak;
+      ++peak_count;
+    }
+  }
+};
+
+// The record of the analysed turns from the tally.
+void summarise(const Tally& tl, const Model& m, const DynamicsOptions& o, DynamicsResult& res) {
+  const double window = (o.turns - res.analysed_from_turn) * tl.T;
+  res.per_turn.assign(tl.per_turn.begin() + res.analysed_from_turn, tl.per_turn.end());
+  int most = 0;
+  long sum = 0;
+  for (int k : res.per_turn) {
+    most = std::max(most, k);
+    sum += k;
+  }
+  res.histogram.assign(static_cast<std::size_t>(most) + 1, 0);
+  for (int k : res.per_turn) ++res.histogram[static_cast<std::size_t>(k)];
+  const double turns_analysed = static_cast<double>(res.per_turn.size());
+  res.impacts_per_turn = static_cast<double>(sum) / turns_analysed;
+  res.turns_without_contact = res.histogram[0] / turns_analysed;
+  res.contact_fraction = std::min(1.0, tl.contact_time / window);
+  res.continuous = tl.switches_in_window == 0 && m.contact;
+  res.mean_normal_force_n = tl.force_integral / window;
+  res.peak_normal_force_n = tl.peak;
+  res.mean_contact_peak_n = tl.peak_count > 0 ? tl.peak_sum / static_cast<double>(tl.peak_count) : tl.peak;
+  res.removal_rate_m3_per_s = tl.chip_integral / window;
+  res.mean_power_w = m.mu * m.Vs * res.mean_normal_force_n;
+}
+
+}  // namespace
+
+DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot, double power_w,
+                                 const DynamicsOptions& o) {
+  check_options(o);
+  if (!p.mechanistic)
+    throw InputError("simulate needs the mechanistic model (grinding.edge_coefficient_n_per_mm, "
+                     "cutting_coefficient_n_per_mm2, impacts_per_turn): the contact force is built on it");
+  DynamicsResult res;
+  res.quasi_static = predict_at_power(p, power_w);  // checks the power
+  const Prediction& qs = res.quasi_static;
+  res.power_w = power_w;
+  res.wheel_rpm = rpm_from_revolutions_per_s(p.wheel.speed_rev_per_s);
+  double tool_compliance = 0.0;
+  Model m = make_model(p, robot, qs, o, &tool_compliance, res);
+  const double T = 1.0 / m.N, h0 = qs.max_depth_m;
+  const std::vector<double> y0 = initial_state(m, h0, tool_compliance, o);
+  const int n = m.n, M = o.points_per_turn;
+  const double dt = T / M;
+
+  sundials::Context ctx;
+  sundials::SerialVector y(2 * n + 1, ctx), atol(2 * n + 1, ctx);
+  std::copy(y0.begin(), y0.end(), y.data());
+  sundials::Cvode cv(CV_ADAMS, ctx, "grinding simulate");
+  sundials::FixedPointSolver nls(y, 0, ctx);
+  configure_integrator(cv, nls, m, y, atol, h0, dt, o);
+  void* mem = cv.get();
+
+  // The groove memory: d at grid indices i - M .. i + 1 in a ring of M + 1.
+  std::vector<double> ring(static_cast<std::size_t>(M) + 1, h0);
+  auto slot = [&](long j) {
+    const long size = M + 1;
+    return static_cast<std::size_t>(((j % size) + size) % size);
   };
-  long peak_count = 0, switches_in_window = 0;
+  const long total = static_cast<long>(o.turns) * M;
+  res.turns = o.turns;
+  res.analysed_from_turn = std::min(o.turns - 1, static_cast<int>(std::floor(o.turns * (1.0 - o.analysed_fraction))));
+  Tally tl;
+  tl.T = T;
+  tl.t_analysed = res.analysed_from_turn * T;
+  tl.per_turn.assign(static_cast<std::size_t>(o.turns), 0);
+  const double t_series = (o.turns - o.series_turns) * T;
+
+  double t = 0.0;
+  m.t_a = 0.0;
+  m.t_b = dt;
+  m.s_a = (1.0 - m.r) * ring[slot(-M)];
+  m.s_b = (1.0 - m.r) * ring[slot(1 - M)];
+  m.contact = m.depth(y.data()) - m.surface(0.0) > 0.0;
   auto state_force = [&](double tt) {
     const double x = m.depth(y.data());
     return std::pair<double, double>{m.force(x, x - m.surface(tt), m.contact),
@@ -261,34 +354,13 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     for (;;) {
       const int flag = CVode(mem, t_next, y, &t, CV_NORMAL);
       cv.check(flag, "CVode");
-      // The piece [t_start, t] had one contact state: integrate it.
       const auto [f_end, z_end] = state_force(t);
-      if (0.5 * (t_start + t) >= t_analysed) {
-        force_integral += 0.5 * (f_start + f_end) * (t - t_start);
-        chip_integral += 0.5 * (z_start + z_end) * (t - t_start);
-        if (m.contact) contact_time += t - t_start;
-        peak = std::max(peak, f_end);
-      }
-      if (m.contact && f_end > contact_peak) {
-        contact_peak = f_end;
-        contact_peak_t = t;
-      }
+      tl.piece(t_start, t, f_start, f_end, z_start, z_end, m.contact);
       const bool at_grid = t >= t_next - 1e-9 * dt;
       if (flag == CV_ROOT_RETURN) {
         record(t);
-        const bool was = m.contact;
-        m.contact = !was;
-        if (t >= t_analysed) ++switches_in_window;
-        if (!was) {  // a contact starts
-          contact_peak = 0.0;
-          contact_start = contact_peak_t = t;
-        } else {  // a contact ends
-          count_contact(t);
-          if (t >= t_analysed) {
-            peak_sum += contact_peak;
-            ++peak_count;
-          }
-        }
+        tl.switched(t, m.contact);
+        m.contact = !m.contact;
         add_counts();
         cv.check(CVodeReInit(mem, t, y), "CVodeReInit");
         cv.check(CVodeSetStopTime(mem, t_next), "CVodeSetStopTime");
@@ -310,35 +382,8 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     record(t_next);
   }
   add_counts();
-  if (m.contact) {  // a contact still going at the end
-    count_contact(t);
-    if (contact_peak > 0.0) {
-      peak_sum += contact_peak;
-      ++peak_count;
-    }
-  }
-
-  // ---- the record ----
-  const double window = (o.turns - res.analysed_from_turn) * T;
-  res.per_turn.assign(per_turn.begin() + res.analysed_from_turn, per_turn.end());
-  int most = 0;
-  long sum = 0;
-  for (int k : res.per_turn) {
-    most = std::max(most, k);
-    sum += k;
-  }
-  res.histogram.assign(static_cast<std::size_t>(most) + 1, 0);
-  for (int k : res.per_turn) ++res.histogram[static_cast<std::size_t>(k)];
-  const double turns_analysed = static_cast<double>(res.per_turn.size());
-  res.impacts_per_turn = static_cast<double>(sum) / turns_analysed;
-  res.turns_without_contact = res.histogram[0] / turns_analysed;
-  res.contact_fraction = std::min(1.0, contact_time / window);
-  res.continuous = switches_in_window == 0 && m.contact;
-  res.mean_normal_force_n = force_integral / window;
-  res.peak_normal_force_n = peak;
-  res.mean_contact_peak_n = peak_count > 0 ? peak_sum / static_cast<double>(peak_count) : peak;
-  res.removal_rate_m3_per_s = chip_integral / window;
-  res.mean_power_w = m.mu * m.Vs * res.mean_normal_force_n;
+  tl.finish(t, m.contact);
+  summarise(tl, m, o, res);
   if (res.impacts_per_turn > 0.0) {
     Process q = p;
     q.mechanistic->impacts = ImpactsPerTurn(res.impacts_per_turn);
