@@ -159,8 +159,9 @@ double time_lobes_cpp(const Job& job, const std::string& method,
                       int threads) {
   const std::vector<double> speeds(rpm.data(), rpm.data() + rpm.size());
   const unsigned n = thread_count(threads);
+  const std::shared_ptr<const Built> built = build_solver(job, method, depth_max_mm * 1e-3, std::nullopt);
+  const chatter::LobeSolver* solver = built->solver.get();
   py::gil_scoped_release release;
-  const auto solver = chatter::make_lobe_solver(method, job.cfg->model, job.cfg->process, depth_max_mm * 1e-3);
   const auto t0 = std::chrono::steady_clock::now();
   if (solver->diagnostic_columns().empty()) {
     const auto rows = chatter::lobe_envelope(*solver, speeds, n);
@@ -199,10 +200,10 @@ py::tuple surface(const Job& job, const std::string& requested, std::optional<do
   {
     py::gil_scoped_release release;
     // The method checked at the first position before the sweep (as the CLI).
-    (void)chatter::make_lobe_solver(method, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m,
-                                    values);
+    const chatter::SolverRecipe recipe{method, values};
+    (void)recipe.build(chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m);
     const chatter::SolverFactory factory = [&](const chatter::StructuralModel& model) {
-      return chatter::make_lobe_solver(method, model, cfg.process, depth_max_m, values);
+      return recipe.build(model, cfg.process, depth_max_m);
     };
     rows = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory, nthreads);
   }
@@ -273,8 +274,6 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
     throw InputError("probability_depth_max_mm = " + fmt(*probability_depth_max_mm) + ": must be > 0 mm");
   const unsigned nthreads = thread_count(threads);
   const std::shared_ptr<const Built> built = build_solver(job, method, dmax * 1e-3, options);
-  const chatter::SolverValues& values = built->values;
-  const std::string used = built->solver->method();  // "auto" resolved
   const double depth_max_m = dmax * 1e-3;
   std::vector<chatter::StabilityLimit> nominal;
   chatter::UncertainLobes mc;
@@ -284,7 +283,7 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
     nominal = chatter::lobe_envelope(*built->solver, speeds, nthreads);
     const chatter::SampleSolverFactory factory = [&](const chatter::StructuralModel& model,
                                                      const chatter::Process& process) {
-      return chatter::make_lobe_solver(used, model, process, depth_max_m, values);
+      return built->recipe.build(model, process, depth_max_m);
     };
     const auto rows = chatter::monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty,
                                                   static_cast<std::uint64_t>(seed), 0,

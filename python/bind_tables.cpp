@@ -140,9 +140,8 @@ py::dict radial_map(const Job& job, const std::string& floquet, std::optional<do
   const std::vector<double> depths = chatter::map_depths_m(dmax, depth_points, immersions.size(), chatter::ArgStyle::kKeyword);
   const unsigned nthreads = thread_count(threads);
   const std::shared_ptr<const Built> built = build_solver(job, floquet, dmax * 1e-3, options);
-  const std::string method_name = floquet;
   const chatter::ProcessSolverFactory factory = [&](const chatter::Process& p) {
-    return chatter::make_lobe_solver(method_name, cfg.model, p, dmax * 1e-3, built->values);
+    return built->recipe.build(cfg.model, p, dmax * 1e-3);
   };
   chatter::RadialStabilityMapGrid grid;
   {

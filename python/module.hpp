@@ -21,6 +21,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/records.hpp"  // SolverRecipe
 #include "chatter/solvers.hpp"
 
 namespace chatter_py {
@@ -84,6 +85,7 @@ struct Built {
   std::unique_ptr<chatter::LobeSolver> solver;
   std::vector<std::string> notes;
   chatter::SolverValues values;  ///< the method's options it was built with (checked)
+  chatter::SolverRecipe recipe;  ///< method and values: the same solver on another structure or process
 };
 
 /// The method's options from the dict, checked, with the CLI's defaults.

@@ -117,6 +117,7 @@ std::shared_ptr<const Built> build_solver(const Job& job, const std::string& req
     py::gil_scoped_release release;
     c = chatter::configure_solver(requested, cfg, depth_max_m, values, chatter::ArgStyle::kKeyword);
   }
+  b->recipe = c.recipe();
   b->descriptor = c.descriptor;
   b->solver = std::move(c.solver);
   b->notes = std::move(c.notes);

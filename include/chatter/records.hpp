@@ -59,6 +59,19 @@ std::vector<std::string> method_notes(const std::string& requested, const Solver
 /// Monte Carlo).
 SolverValues with_config_defaults(const SolverDescriptor& descriptor, const Config& config, SolverValues given);
 
+/// A resolved method and its options as a front end completed them
+/// (with_config_defaults): builds the same solver on another structure or
+/// process — a position along the part (surface), a Monte Carlo sample, a
+/// map's radial immersion, each method of a comparison. With
+/// configure_solver, the only way a front end (CLI, Python, C API, records)
+/// makes a lobe solver; make_lobe_solver stays behind these two.
+struct SolverRecipe {
+  std::string method;  ///< a registry name ("auto" already resolved)
+  SolverValues values;
+  /// @throws InputError as make_lobe_solver. @pre depth_max_m > 0.
+  std::unique_ptr<LobeSolver> build(const StructuralModel& model, const Process& process, double depth_max_m) const;
+};
+
 /// A lobe solver built for a front end: the method ("auto" resolved by
 /// resolve_lobe_method), its descriptor, the solver, the options it was
 /// built with (with_config_defaults) and the notes of what it does not see
@@ -69,6 +82,8 @@ struct ConfiguredSolver {
   std::unique_ptr<LobeSolver> solver;
   SolverValues values;
   std::vector<std::string> notes;
+  /// The method and values, to build the same solver elsewhere.
+  SolverRecipe recipe() const { return {method, values}; }
 };
 /// @throws InputError on an unknown method or an input the method refuses
 ///         (make_lobe_solver). @pre depth_max_m > 0.

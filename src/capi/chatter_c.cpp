@@ -313,13 +313,12 @@ chatter_status chatter_lobe_surface(const chatter_model* model, const char* meth
                                                                      position_points);
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
     const std::string m = chatter::resolve_lobe_method(method ? method : chatter::kAutoMethod, cfg.model, cfg.process);
-    const chatter::SolverValues values = chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {});
+    const chatter::SolverRecipe recipe{m, chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {})};
     const double depth_max_m = depth_max_mm * 1e-3;
     // The method checked on the first position before the sweep (as the CLI).
-    (void)chatter::make_lobe_solver(m, chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m,
-                                    values);
+    (void)recipe.build(chatter::model_at_position(cfg, pos.m.front()), cfg.process, depth_max_m);
     const chatter::SolverFactory factory = [&](const chatter::StructuralModel& s) {
-      return chatter::make_lobe_solver(m, s, cfg.process, depth_max_m, values);
+      return recipe.build(s, cfg.process, depth_max_m);
     };
     const auto surface = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory,
                                                static_cast<unsigned>(threads));

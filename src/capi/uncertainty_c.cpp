@@ -47,16 +47,16 @@ std::string checked_method(const chatter::Config& cfg, const char* method, doubl
 }
 
 // The N samples' limits at `speeds` (rows[sample][speed]), each sample's
-// solver built as the nominal one: method `m` with `values` (the config's
+// solver built as the nominal one (`recipe`: the config's
 // defaults applied once, by the caller).
-std::vector<std::vector<chatter::StabilityLimit>> sample_rows(const chatter::Config& cfg, const std::string& m,
-                                                              const chatter::SolverValues& values, double depth_max_mm,
+std::vector<std::vector<chatter::StabilityLimit>> sample_rows(const chatter::Config& cfg,
+                                                              const chatter::SolverRecipe& recipe, double depth_max_mm,
                                                               const std::vector<double>& speeds, int samples,
                                                               unsigned long long seed, int threads) {
   const double depth_max_m = depth_max_mm * 1e-3;
   const chatter::SampleSolverFactory factory = [&](const chatter::StructuralModel& model,
                                                    const chatter::Process& process) {
-    return chatter::make_lobe_solver(m, model, process, depth_max_m, values);
+    return recipe.build(model, process, depth_max_m);
   };
   return chatter::monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty, static_cast<std::uint64_t>(seed), 0,
                                      static_cast<std::uint64_t>(samples), speeds, factory,
@@ -81,10 +81,10 @@ chatter_status chatter_uncertain_lobes(const chatter_model* model, const char* m
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, rpm_points);
     // The config's defaults once, for the nominal solver (built first: the
     // method is checked before any sampling) and every sample's.
-    const chatter::SolverValues values = chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {});
-    const auto nominal_solver = chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3, values);
+    const chatter::SolverRecipe recipe{m, chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {})};
+    const auto nominal_solver = recipe.build(cfg.model, cfg.process, depth_max_mm * 1e-3);
     const auto nominal = chatter::lobe_envelope(*nominal_solver, speeds, static_cast<unsigned>(threads));
-    const auto sampled = sample_rows(cfg, m, values, depth_max_mm, speeds, samples, seed, threads);
+    const auto sampled = sample_rows(cfg, recipe, depth_max_mm, speeds, samples, seed, threads);
     // No probability grid is asked: one depth (the reduction needs one).
     const chatter::UncertainLobes mc = chatter::reduce_monte_carlo(
         sampled, {0.0}, std::vector<double>(std::begin(chatter::kUncertaintyLevels), std::end(chatter::kUncertaintyLevels)));
@@ -110,10 +110,10 @@ chatter_status chatter_probability_stable(const chatter_model* model, const char
     chatter::check_spindle_rpm(spindle_rpm, fn + ": spindle_rpm");
     chatter::check_depth_mm(depth_mm, fn + ": depth_mm");
     const std::string m = checked_method(cfg, method, depth_max_mm, samples, 1, threads, fn);
-    const chatter::SolverValues values = chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {});
+    const chatter::SolverRecipe recipe{m, chatter::with_config_defaults(chatter::find_lobe_method(m), cfg, {})};
     // The method checked on the nominal model before any sampling.
-    (void)chatter::make_lobe_solver(m, cfg.model, cfg.process, depth_max_mm * 1e-3, values);
-    const auto sampled = sample_rows(cfg, m, values, depth_max_mm, {spindle_rpm}, samples, seed, threads);
+    (void)recipe.build(cfg.model, cfg.process, depth_max_mm * 1e-3);
+    const auto sampled = sample_rows(cfg, recipe, depth_max_mm, {spindle_rpm}, samples, seed, threads);
     const chatter::UncertainLobes mc = chatter::reduce_monte_carlo(sampled, {depth_mm * 1e-3}, {0.5});
     *probability = mc.probability_stable[0][0];
   });

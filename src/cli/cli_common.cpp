@@ -394,6 +394,7 @@ BuiltSolver build_solver(const std::string& requested, const Config& cfg, double
   b.method = c.method;
   b.descriptor = c.descriptor;
   b.solver = std::move(c.solver);
+  b.recipe = c.recipe();
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, v] : b.descriptor->effective_options(*b.solver)) j[k] = to_json(v);
   b.options = std::move(j);

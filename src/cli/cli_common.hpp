@@ -162,6 +162,7 @@ double plot_depth_max_mm(const po::variables_map& vm, bool plotting);
 #include <nlohmann/json.hpp>
 
 #include "chatter/io/table_writer.hpp"
+#include "chatter/records.hpp"  // SolverRecipe
 #include "chatter/lobes.hpp"
 #include "chatter/solvers.hpp"
 
@@ -180,6 +181,7 @@ struct BuiltSolver {
   std::string method;  ///< the method used ("auto" resolved: resolve_lobe_method)
   const SolverDescriptor* descriptor = nullptr;
   std::unique_ptr<LobeSolver> solver;
+  SolverRecipe recipe;     ///< the method and its values: the same solver on another structure or process
   nlohmann::json options;  ///< the solver's effective options (an object), for the JSON provenance
   /// What the method does not see of the cutter (ignored_feature_notes),
   /// printed as "note: ..." on stderr by build_solver and kept for the JSON.

@@ -81,9 +81,8 @@ int map_radial_axial(const Common& common, const std::string& floquet_method, co
   // The config's own solver: its notes and effective options for the record;
   // every immersion gets one built the same way.
   const BuiltSolver built = build_solver(floquet_method, cfg, depth_max_mm * 1e-3, vm);
-  const SolverValues options = solver_option_values(*built.descriptor, cfg, vm);
   const ProcessSolverFactory factory = [&](const Process& p) {
-    return make_lobe_solver(built.method, cfg.model, p, depth_max_mm * 1e-3, options);
+    return built.recipe.build(cfg.model, p, depth_max_mm * 1e-3);
   };
   RadialStabilityMapGrid grid;
   {

@@ -138,14 +138,14 @@ std::optional<SurfacePlan> plan_surface(const std::vector<std::string>& args, bo
   first.model = with_flag("--position-min-mm", [&] { return model_at_position(cfg, positions_m.front()); });
   const BuiltSolver built = build_solver(common.method, first, plan.depth_max_m, vm);
   plan.common.method = built.method;  // "auto" resolved
-  plan.solver_options = solver_option_values(*built.descriptor, cfg, vm);
+  plan.recipe = built.recipe;
   plan.method = built.solver->method();
   plan.threads = thread_count(vm);
   return plan;
 }
 
 std::unique_ptr<LobeSolver> surface_solver(const SurfacePlan& plan, const StructuralModel& model) {
-  return make_lobe_solver(plan.common.method, model, plan.cfg.process, plan.depth_max_m, plan.solver_options);
+  return plan.recipe.build(model, plan.cfg.process, plan.depth_max_m);
 }
 
 std::vector<std::vector<StabilityLimit>> surface_rows(const SurfacePlan& plan) {

@@ -38,7 +38,7 @@ struct SurfacePlan {
   std::vector<double> positions_m;    ///< the same positions for the model, m
   std::vector<double> speeds_rpm;
   std::string method;                 ///< the solver's method() name, for the summary and plot title
-  SolverValues solver_options;        ///< checked solver options of --method
+  SolverRecipe recipe;                ///< --method ("auto" resolved) and its checked options
   double depth_max_m = 0.0;
   unsigned threads = 0;               ///< --threads (0 = every core)
 };

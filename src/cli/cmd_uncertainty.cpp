@@ -90,9 +90,9 @@ std::vector<std::vector<StabilityLimit>> sample_limits(const UncertaintyRequest&
                                                        const std::function<void(std::size_t)>& per_sample) {
   check_uncertainty_config(cfg);
   const double depth_max_m = depth_max_mm * 1e-3;
-  const SolverValues options = solver_option_values(find_lobe_method(method), cfg, vm);
+  const SolverRecipe recipe{method, solver_option_values(find_lobe_method(method), cfg, vm)};
   const SampleSolverFactory factory = [&](const StructuralModel& model, const Process& process) {
-    return make_lobe_solver(method, model, process, depth_max_m, options);
+    return recipe.build(model, process, depth_max_m);
   };
   return with_flag("--samples", [&] {
     return monte_carlo_limits(cfg.model, cfg.process, *cfg.uncertainty, request.seed, begin, end, speeds, factory,

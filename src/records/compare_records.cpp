@@ -367,7 +367,7 @@ Comparison compare_methods(const Config& cfg, const CompareRequest& q) {
     ComparedMethod& r = c.methods[m];
     r.descriptor = &find_lobe_method(q.methods[m]);
     const SolverValues values = q.options ? q.options(*r.descriptor) : SolverValues{};
-    r.solver = make_lobe_solver(q.methods[m], cfg.model, cfg.process, q.depth_max_mm * 1e-3, values);
+    r.solver = SolverRecipe{q.methods[m], values}.build(cfg.model, cfg.process, q.depth_max_mm * 1e-3);
     r.options = r.descriptor->effective_options(*r.solver);
     r.notes = method_notes(q.methods[m], *r.descriptor, cfg.process, values, "", q.style);
     r.columns = r.solver->diagnostic_columns();

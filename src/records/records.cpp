@@ -45,6 +45,11 @@ SolverValues with_config_defaults(const SolverDescriptor& descriptor, const Conf
   return given;
 }
 
+std::unique_ptr<LobeSolver> SolverRecipe::build(const StructuralModel& model, const Process& process,
+                                                double depth_max_m) const {
+  return make_lobe_solver(method, model, process, depth_max_m, values);
+}
+
 ConfiguredSolver configure_solver(const std::string& requested, const Config& config, double depth_max_m,
                                   SolverValues given, ArgStyle style) {
   ConfiguredSolver c;
@@ -52,7 +57,7 @@ ConfiguredSolver configure_solver(const std::string& requested, const Config& co
   c.method = resolve_lobe_method(requested, config.model, config.process, &averaged_milling);
   c.descriptor = &find_lobe_method(c.method);
   c.values = with_config_defaults(*c.descriptor, config, std::move(given));
-  c.solver = make_lobe_solver(c.method, config.model, config.process, depth_max_m, c.values);
+  c.solver = c.recipe().build(config.model, config.process, depth_max_m);
   c.notes = method_notes(requested, *c.descriptor, config.process, c.values, averaged_milling, style);
   return c;
 }
