@@ -74,6 +74,146 @@ std::string parse_integer(std::string_view s, int& x) {
 
 }  // namespace
 
+namespace {
+
+// The header line: each column known (a ';'-separated export and a near miss
+// named), none twice, every required one present. @throws InputError.
+std::map<std::string, std::size_t> read_header(std::string_view line, const std::string& where,
+                                               std::vector<std::string>& header) {
+  std::map<std::string, std::size_t> column;  // name -> index
+  std::string err;
+  if (!split_csv(line, header, &err)) throw InputError(where + "header: " + err);
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    const std::string& h = header[i];
+    const bool known = std::find(kRequiredColumns.begin(), kRequiredColumns.end(), h) != kRequiredColumns.end() ||
+                       std::find(kOptionalColumns.begin(), kOptionalColumns.end(), h) != kOptionalColumns.end();
+    if (!known) {
+      // A spreadsheet exported with ';' (a decimal-comma locale): one
+      // unknown column holding the separators.
+      if (h.find(';') != std::string::npos)
+        throw InputError(where + "header " + in_quotes(trim(line)) +
+                         ": the file seems to use ';' as separator; chatter reads ',' (export as CSV with "
+                         "commas)");
+      std::string names;
+      std::vector<std::string_view> known_names;
+      for (const auto* list : {&kRequiredColumns, &kOptionalColumns})
+        for (const auto& c : *list) {
+          names += (names.empty() ? "" : ",") + c;
+          known_names.emplace_back(c);
+        }
+      const std::string_view meant = detail::text::near_miss(h, known_names);
+      throw InputError(where + "header column " + in_quotes(h) + ": unknown column (" +
+                       (meant.empty() ? "" : "did you mean " + std::string(meant) + "? ") + "known: " + names +
+                       "; a header line is required)");
+    }
+    if (column.count(h)) throw InputError(where + "header column " + in_quotes(h) + ": given twice");
+    column[h] = i;
+  }
+  for (const auto& c : kRequiredColumns)
+    if (!column.count(c)) {
+      std::string req;
+      for (const auto& r : kRequiredColumns) req += (req.empty() ? "" : ",") + r;
+      throw InputError(where + "header lacks column " + in_quotes(c) + " (required: " + req + ")");
+    }
+  return column;
+}
+
+// One row's fields: what a field holds, read into `row`; each problem a
+// reason (the row is rejected with all of them).
+struct RowFields {
+  const std::map<std::string, std::size_t>& column;
+  const std::vector<std::string>& f;
+  std::vector<std::string>& reasons;
+  std::string_view field(const std::string& name) const {
+    const auto it = column.find(name);
+    return it == column.end() ? std::string_view{} : std::string_view(f[it->second]);
+  }
+  bool number(const std::string& name, double& x) const {
+    const std::string_view s = field(name);
+    if (s.empty()) {  // only the required columns are read without a value
+      reasons.push_back(name + ": missing (required)");
+      return false;
+    }
+    if (const std::string e = parse_number(s, x); !e.empty()) {
+      reasons.push_back(name + " = " + in_quotes(s) + ": " + e);
+      return false;
+    }
+    return true;
+  }
+};
+
+void read_values(const RowFields& rf, bool milling, const MachineLimits& machine, OperationRow& row) {
+  std::vector<std::string>& reasons = rf.reasons;
+  auto field = [&](const std::string& name) { return rf.field(name); };
+  auto number = [&](const std::string& name, double& x) { return rf.number(name, x); };
+  double rpm = 0.0, depth_mm = 0.0;
+  if (number("spindle_rpm", rpm)) {
+    if (!(rpm > 0.0))
+      reasons.push_back("spindle_rpm = " + num(rpm) + ": must be > 0 rev/min");
+    else if (rpm < machine.rpm_min || rpm > machine.rpm_max)
+      reasons.push_back("spindle_rpm = " + num(rpm) + ": outside the machine range [" + num(machine.rpm_min) +
+                        ", " + num(machine.rpm_max) + "] rev/min");
+  }
+  if (number("depth_mm", depth_mm)) {
+    if (!(depth_mm > 0.0)) reasons.push_back("depth_mm = " + num(depth_mm) + ": must be > 0 mm");
+    else if (depth_mm > kMaxDepthMm)
+      reasons.push_back("depth_mm = " + num(depth_mm) + ": at most " + num(kMaxDepthMm) +
+                        " mm (no cut is a metre deep); a depth in um?");
+  }
+  row.spindle_rpm = rpm;
+  row.depth_m = depth_mm * 1e-3;
+  row.depth_mm = depth_mm;
+
+  if (const std::string_view s = field("radial_immersion"); !s.empty()) {
+    double ae = 0.0;
+    if (!milling)
+      reasons.push_back("radial_immersion = " + in_quotes(s) + ": only for milling (leave empty for turning)");
+    else if (number("radial_immersion", ae)) {
+      if (!(ae > 0.0 && ae <= 1.0)) reasons.push_back("radial_immersion = " + num(ae) + ": must be in (0, 1] (a_e/D)");
+      else row.radial_immersion = ae;
+    }
+  }
+  if (const std::string_view s = field("feed_per_tooth_mm"); !s.empty()) {
+    double fz = 0.0;
+    if (number("feed_per_tooth_mm", fz)) {
+      if (!(fz > 0.0)) reasons.push_back("feed_per_tooth_mm = " + num(fz) + ": must be > 0 mm");
+      else {
+        row.feed_per_tooth_m = fz * 1e-3;
+        row.feed_per_tooth_mm = fz;
+      }
+    }
+  }
+  if (const std::string_view s = field("teeth"); !s.empty()) {
+    int nt = 0;
+    if (!milling) reasons.push_back("teeth = " + in_quotes(s) + ": only for milling (leave empty for turning)");
+    else if (const std::string e = parse_integer(s, nt); !e.empty())
+      reasons.push_back("teeth = " + in_quotes(s) + ": " + e);
+    else if (nt < 1) reasons.push_back("teeth = " + std::to_string(nt) + ": must be >= 1");
+    else if (nt > kMaxTeeth) reasons.push_back("teeth = " + std::to_string(nt) + ": must be <= " + std::to_string(kMaxTeeth));
+    else row.teeth = nt;
+  }
+  // Issue 27: the part's tolerance on the surface location error (milling)
+  // or the diametral error (turning), µm; either name.
+  for (const char* name : {"max_sle_um", "tolerance_um"})
+    if (const std::string_view s = field(name); !s.empty()) {
+      double tol = 0.0;
+      if (number(name, tol)) {
+        if (!(tol > 0.0)) reasons.push_back(std::string(name) + " = " + num(tol) + ": must be > 0 um");
+        else if (row.max_error_m) reasons.push_back(std::string(name) + ": max_sle_um and tolerance_um both given");
+        else row.max_error_m = tol * 1e-6;
+      }
+    }
+  if (const std::string_view s = field("milling_direction"); !s.empty()) {
+    if (!milling)
+      reasons.push_back("milling_direction = " + in_quotes(s) + ": only for milling (leave empty for turning)");
+    else if (s == "down") row.direction = MillingDirection::kDown;
+    else if (s == "up") row.direction = MillingDirection::kUp;
+    else reasons.push_back("milling_direction = " + in_quotes(s) + ": must be \"down\" or \"up\"");
+  }
+}
+
+}  // namespace
+
 OperationsFile parse_operations(std::string_view text, const std::string& origin, Operation operation,
                                 const MachineLimits& machine) {
   if (const std::string e = machine.validate(); !e.empty()) throw InputError(origin + ": " + e);
@@ -103,39 +243,7 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
     std::string err;
     const std::string where = origin + ":" + std::to_string(line_no) + ": ";
     if (header.empty()) {  // ---- header
-      if (!split_csv(line, header, &err)) throw InputError(where + "header: " + err);
-      for (std::size_t i = 0; i < header.size(); ++i) {
-        const std::string& h = header[i];
-        const bool known = std::find(kRequiredColumns.begin(), kRequiredColumns.end(), h) != kRequiredColumns.end() ||
-                           std::find(kOptionalColumns.begin(), kOptionalColumns.end(), h) != kOptionalColumns.end();
-        if (!known) {
-          // A spreadsheet exported with ';' (a decimal-comma locale): one
-          // unknown column holding the separators.
-          if (h.find(';') != std::string::npos)
-            throw InputError(where + "header " + in_quotes(trim(line)) +
-                             ": the file seems to use ';' as separator; chatter reads ',' (export as CSV with "
-                             "commas)");
-          std::string names;
-          std::vector<std::string_view> known_names;
-          for (const auto* list : {&kRequiredColumns, &kOptionalColumns})
-            for (const auto& c : *list) {
-              names += (names.empty() ? "" : ",") + c;
-              known_names.emplace_back(c);
-            }
-          const std::string_view meant = detail::text::near_miss(h, known_names);
-          throw InputError(where + "header column " + in_quotes(h) + ": unknown column (" +
-                           (meant.empty() ? "" : "did you mean " + std::string(meant) + "? ") + "known: " + names +
-                           "; a header line is required)");
-        }
-        if (column.count(h)) throw InputError(where + "header column " + in_quotes(h) + ": given twice");
-        column[h] = i;
-      }
-      for (const auto& c : kRequiredColumns)
-        if (!column.count(c)) {
-          std::string req;
-          for (const auto& r : kRequiredColumns) req += (req.empty() ? "" : ",") + r;
-          throw InputError(where + "header lacks column " + in_quotes(c) + " (required: " + req + ")");
-        }
+      column = read_header(line, where, header);
       n_columns = header.size();
       if (end == text.size()) break;
       continue;
@@ -167,93 +275,15 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
       if (end == text.size()) break;
       continue;
     }
-    auto field = [&](const std::string& name) -> std::string_view {
-      const auto it = column.find(name);
-      return it == column.end() ? std::string_view{} : std::string_view(f[it->second]);
-    };
+    const RowFields rf{column, f, reasons};
 
     OperationRow row;
     row.line = line_no;
-    row.id = std::string(field("id"));
+    row.id = std::string(rf.field("id"));
     bad.id = row.id;
     if (row.id.empty()) reasons.push_back("id: missing (required)");
 
-    auto number = [&](const std::string& name, double& x) -> bool {
-      const std::string_view s = field(name);
-      if (s.empty()) {  // only the required columns are read without a value
-        reasons.push_back(name + ": missing (required)");
-        return false;
-      }
-      if (const std::string e = parse_number(s, x); !e.empty()) {
-        reasons.push_back(name + " = " + in_quotes(s) + ": " + e);
-        return false;
-      }
-      return true;
-    };
-    double rpm = 0.0, depth_mm = 0.0;
-    if (number("spindle_rpm", rpm)) {
-      if (!(rpm > 0.0))
-        reasons.push_back("spindle_rpm = " + num(rpm) + ": must be > 0 rev/min");
-      else if (rpm < machine.rpm_min || rpm > machine.rpm_max)
-        reasons.push_back("spindle_rpm = " + num(rpm) + ": outside the machine range [" + num(machine.rpm_min) +
-                          ", " + num(machine.rpm_max) + "] rev/min");
-    }
-    if (number("depth_mm", depth_mm)) {
-      if (!(depth_mm > 0.0)) reasons.push_back("depth_mm = " + num(depth_mm) + ": must be > 0 mm");
-      else if (depth_mm > kMaxDepthMm)
-        reasons.push_back("depth_mm = " + num(depth_mm) + ": at most " + num(kMaxDepthMm) +
-                          " mm (no cut is a metre deep); a depth in um?");
-    }
-    row.spindle_rpm = rpm;
-    row.depth_m = depth_mm * 1e-3;
-    row.depth_mm = depth_mm;
-
-    if (const std::string_view s = field("radial_immersion"); !s.empty()) {
-      double ae = 0.0;
-      if (!milling)
-        reasons.push_back("radial_immersion = " + in_quotes(s) + ": only for milling (leave empty for turning)");
-      else if (number("radial_immersion", ae)) {
-        if (!(ae > 0.0 && ae <= 1.0)) reasons.push_back("radial_immersion = " + num(ae) + ": must be in (0, 1] (a_e/D)");
-        else row.radial_immersion = ae;
-      }
-    }
-    if (const std::string_view s = field("feed_per_tooth_mm"); !s.empty()) {
-      double fz = 0.0;
-      if (number("feed_per_tooth_mm", fz)) {
-        if (!(fz > 0.0)) reasons.push_back("feed_per_tooth_mm = " + num(fz) + ": must be > 0 mm");
-        else {
-          row.feed_per_tooth_m = fz * 1e-3;
-          row.feed_per_tooth_mm = fz;
-        }
-      }
-    }
-    if (const std::string_view s = field("teeth"); !s.empty()) {
-      int nt = 0;
-      if (!milling) reasons.push_back("teeth = " + in_quotes(s) + ": only for milling (leave empty for turning)");
-      else if (const std::string e = parse_integer(s, nt); !e.empty())
-        reasons.push_back("teeth = " + in_quotes(s) + ": " + e);
-      else if (nt < 1) reasons.push_back("teeth = " + std::to_string(nt) + ": must be >= 1");
-      else if (nt > kMaxTeeth) reasons.push_back("teeth = " + std::to_string(nt) + ": must be <= " + std::to_string(kMaxTeeth));
-      else row.teeth = nt;
-    }
-    // Issue 27: the part's tolerance on the surface location error (milling)
-    // or the diametral error (turning), µm; either name.
-    for (const char* name : {"max_sle_um", "tolerance_um"})
-      if (const std::string_view s = field(name); !s.empty()) {
-        double tol = 0.0;
-        if (number(name, tol)) {
-          if (!(tol > 0.0)) reasons.push_back(std::string(name) + " = " + num(tol) + ": must be > 0 um");
-          else if (row.max_error_m) reasons.push_back(std::string(name) + ": max_sle_um and tolerance_um both given");
-          else row.max_error_m = tol * 1e-6;
-        }
-      }
-    if (const std::string_view s = field("milling_direction"); !s.empty()) {
-      if (!milling)
-        reasons.push_back("milling_direction = " + in_quotes(s) + ": only for milling (leave empty for turning)");
-      else if (s == "down") row.direction = MillingDirection::kDown;
-      else if (s == "up") row.direction = MillingDirection::kUp;
-      else reasons.push_back("milling_direction = " + in_quotes(s) + ": must be \"down\" or \"up\"");
-    }
+    read_values(rf, milling, machine, row);
     if (!row.id.empty()) {
       const auto [it, inserted] = first_line_of_id.emplace(row.id, line_no);
       if (!inserted)

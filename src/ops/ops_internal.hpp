@@ -48,7 +48,14 @@ inline std::string num(double x) {
 }
 
 /// `s` in single quotes, for messages.
-inline std::string in_quotes(std::string_view s) { return "'" + std::string(s) + "'"; }
+/// (Appended, not `"'" + std::string(s)`: GCC 12 reports a false
+/// -Wstringop-overflow on that operator+ once inlined.)
+inline std::string in_quotes(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 2);
+  out.append(1, '\'').append(s).append(1, '\'');
+  return out;
+}
 
 /// A limit above `search_depth` counts as "none below the searched depth".
 inline StabilityLimit clip(StabilityLimit lim, double search_depth_m) {
