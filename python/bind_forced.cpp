@@ -124,9 +124,11 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
   chatter::ForcedRecordContext ctx;
   ctx.config = cfg.name;
   ctx.warnings = cfg.warnings;
-  for (std::string& w : chatter::unusual_arguments({{"rpm", rpm}, {"depth_mm", depth_mm},
-                                                     {feed_mm_per_rev ? "feed_mm_per_rev" : "feed_per_tooth_mm", feed_mm}}))
-    ctx.warnings.push_back(std::move(w));
+  // The keywords given (a feed from the config has had its warning there).
+  std::vector<std::pair<std::string, double>> given{{"rpm", rpm}, {"depth_mm", depth_mm}};
+  if (feed_per_tooth_mm) given.emplace_back("feed_per_tooth_mm", *feed_per_tooth_mm);
+  if (feed_mm_per_rev) given.emplace_back("feed_mm_per_rev", *feed_mm_per_rev);
+  for (std::string& w : chatter::unusual_arguments(given)) ctx.warnings.push_back(std::move(w));
   ctx.position_mm = position_mm;
   if (cfg.process.rotating_edges())
     ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;

@@ -86,8 +86,10 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
   }
   // The record of chatter simulate (chatter/records.hpp), then the arrays.
   chatter::RecordSource source = chatter::record_source(cfg, position_mm);
-  for (std::string& w : chatter::unusual_arguments({{"rpm", rpm}, {"depth_mm", depth_mm}, {"feed_per_tooth_mm", feed_mm}}))
-    source.warnings.push_back(std::move(w));
+  // The keywords given (a feed from the config has had its warning there).
+  std::vector<std::pair<std::string, double>> given{{"rpm", rpm}, {"depth_mm", depth_mm}};
+  if (feed_per_tooth_mm) given.emplace_back("feed_per_tooth_mm", *feed_per_tooth_mm);
+  for (std::string& w : chatter::unusual_arguments(given)) source.warnings.push_back(std::move(w));
   py::dict j = chatter_py::to_python(chatter::simulation_record(
       r, chatter::simulation_request(st, cfg.process, rtol, depth_mm, feed_mm), source));
   j["series"] = series_dict(r.series);
