@@ -259,6 +259,10 @@ class CheckRun {
         }
       }
     });
+    // The progress counter is this step's: later questions (the tolerance
+    // search of a suggestion) must not call it.
+    for (auto& search : searches_)
+      if (search) search->on_solve = nullptr;
     for (const auto& f : failed)
       for (const auto& [i, why] : f) not_judged(i, why);
     std::sort(report_.not_judged.begin(), report_.not_judged.end(),
