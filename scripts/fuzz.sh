@@ -91,21 +91,52 @@ case "$sanitize" in
   *) echo "fuzz.sh: FUZZ_SANITIZE must be 'address,undefined' or 'undefined', got '$sanitize'" >&2; exit 2 ;;
 esac
 tag=${sanitize//,/-}
-mkdir -p "build-fuzz/$corpus" "build-fuzz/obj-$target-$tag"
+# Objects are shared by the targets built from the same sources (config, logs
+# and program all link CORE + IO) and rebuilt only when their source or a
+# header they include (clang's -MMD list) is newer: a second target or a
+# replay costs a link, not ~95 compiles.
+case "$target" in
+  config|logs|program) objdir="build-fuzz/obj-core-io-$tag" ;;
+  *) objdir="build-fuzz/obj-$target-$tag" ;;
+esac
+mkdir -p "build-fuzz/$corpus" "$objdir"
 # -O2 and EIGEN_NO_DEBUG: Eigen's range checks and un-inlined accessors were
 # most of the modal fit's time; chatter's own assert()s stay on. Coverage is
 # not traced in Eigen and the standard library (fuzz/coverage_ignorelist.txt).
 flags=(-std=c++20 -O2 -g -DEIGEN_NO_DEBUG -DCHATTER_VERSION=\"fuzz\" "-fsanitize=fuzzer-no-link,$sanitize" -fno-sanitize-recover=undefined
-       -fsanitize-coverage-ignorelist=fuzz/coverage_ignorelist.txt -Iinclude -Isrc/solvers -I/usr/include/eigen3)
-if [ -n "$target_flags" ]; then flags+=("$target_flags"); fi
+       -fsanitize-coverage-ignorelist=fuzz/coverage_ignorelist.txt -Iinclude -Isrc/solvers -I/usr/include/eigen3 -MMD)
 cc=clang++
 command -v ccache >/dev/null && cc="ccache clang++"
+# stale OBJECT: true when OBJECT is missing or older than anything its .d lists.
+stale() {
+  local obj=$1 dep="${1%.o}.d" f
+  [ -f "$obj" ] && [ -f "$dep" ] || return 0
+  for f in $(sed -e 's/^[^:]*://' -e 's/\\$//' "$dep"); do
+    [ "$f" -nt "$obj" ] && return 0
+  done
+  return 1
+}
 objs=()
+todo=()
 for src in $srcs "fuzz/fuzz_$target.cpp"; do
-  objs+=("build-fuzz/obj-$target-$tag/$(echo "$src" | tr / _).o")  # by path: model/ and grinding/ both hold a process.cpp
+  obj="$objdir/$(echo "$src" | tr / _).o"  # by path: model/ and grinding/ both hold a process.cpp
+  objs+=("$obj")
+  if stale "$obj"; then todo+=("$src"); fi
 done
-printf '%s\n' $srcs "fuzz/fuzz_$target.cpp" |
-  xargs -P "${FUZZ_JOBS:-2}" -I{} sh -c "$cc"' "$@" -c {} -o "build-fuzz/obj-'"$target-$tag"'/$(echo {} | tr / _).o"' _ "${flags[@]}"
+echo "fuzz.sh: ${#todo[@]} of ${#objs[@]} objects to compile in $objdir"
+# The target's own file gets its defines (program: where the tool configs are).
+compile() {
+  local src=$1 extra=()
+  if [ "$src" = "fuzz/fuzz_$target.cpp" ] && [ -n "$target_flags" ]; then extra=("$target_flags"); fi
+  $cc "${flags[@]}" "${extra[@]}" -c "$src" -o "$objdir/$(echo "$src" | tr / _).o"
+}
+running=0
+for src in "${todo[@]}"; do
+  if [ "$running" -ge "${FUZZ_JOBS:-2}" ]; then wait -n; running=$((running - 1)); fi
+  compile "$src" &
+  running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do wait -n; running=$((running - 1)); done  # set -e: a failed compile stops here
 # shellcheck disable=SC2086
 clang++ "-fsanitize=fuzzer,$sanitize" "${objs[@]}" -ltomlplusplus $libs -o "build-fuzz/fuzz_${target}_$tag"
 cp -n "fuzz/corpus/$target"/* "build-fuzz/$corpus/" 2>/dev/null || true
