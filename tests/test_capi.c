@@ -399,6 +399,53 @@ static void check_options(void) {
   chatter_model_free(model);
 }
 
+/* Numeric arguments outside their usual band are named as the CLI's flags
+ * and Python's keywords name them (one check, unusual_arguments): a depth
+ * typed in metres warns with the unit it meant, in chatter_last_warning and
+ * in the JSON record's warnings, with the band's text the CLI prints; every
+ * call clears them, a usual call has none, a failed call none. */
+static void check_argument_warnings(void) {
+  chatter_model* model = NULL;
+  chatter_solver* solver = NULL;
+  chatter_point_result pr;
+  chatter_limit lim;
+  chatter_cutting_load_result load;
+  const char* json = NULL;
+  char args[1024];
+  char* out;
+  size_t i;
+  int kf = 0;
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
+  CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
+  CHECK(chatter_last_warning_count() == 0);
+  CHECK(chatter_point(solver, 1800.0, 0.0015, &pr) == CHATTER_OK);
+  CHECK(chatter_last_warning_count() == 1);
+  CHECK(chatter_last_warning(0) != NULL &&
+        strcmp(chatter_last_warning(0),
+               "depth_mm = 0.0015: outside the 0.01 to 100 mm of a depth of cut; is it in m (depth_mm = 1.5)?") == 0);
+  CHECK(chatter_last_warning(1) == NULL);
+  CHECK(chatter_point_json(solver, 1800.0, 0.0015, &json) == CHATTER_OK);
+  CHECK(strstr(json, "\"depth_mm = 0.0015: outside the 0.01 to 100 mm of a depth of cut") != NULL);
+  snprintf(args, sizeof args, "point '%s' --rpm 1800 --depth-mm 0.0015", CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml");
+  out = run_cli(args);
+  CHECK(out != NULL && strstr(out, "0.0015: outside the 0.01 to 100 mm of a depth of cut; is it in m") != NULL);
+  free(out);
+  CHECK(chatter_limit_at(solver, 1800.0, &lim) == CHATTER_OK && chatter_last_warning_count() == 0);
+  CHECK(chatter_limit_at(solver, 300000.0, &lim) == CHATTER_OK && chatter_last_warning_count() == 1);
+  CHECK(strstr(chatter_last_warning(0), "rpm = 300000: outside the 10 to 200 000 rev/min") != NULL);
+  CHECK(chatter_point(solver, -5.0, 1.0, &pr) == CHATTER_INPUT_ERROR && chatter_last_warning_count() == 0);
+  /* cutting load: a feed typed in um, and the law's own warning (K_f as the
+     cutting pressure when turning gets no tangential coefficient) */
+  CHECK(chatter_cutting_load(model, 1800.0, 1.0, 200.0, NAN, NAN, &load) == CHATTER_OK);
+  CHECK(chatter_last_warning_count() == 2);
+  for (i = 0; i < chatter_last_warning_count(); ++i)
+    if (strstr(chatter_last_warning(i), "feed-force coefficient K_f")) ++kf;
+  CHECK(kf == 1);
+  CHECK(strstr(chatter_last_warning(0), "feed_mm_per_rev = 200: outside the 0.001 to 1 mm") != NULL);
+  chatter_solver_free(solver);
+  chatter_model_free(model);
+}
+
 int main(void) {
   chatter_model* model = NULL;
   chatter_solver* solver = NULL;
@@ -409,6 +456,7 @@ int main(void) {
   CHECK(strlen(chatter_version()) > 0);
   check_time_domain_feed();
   check_options();
+  check_argument_warnings();
   CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &model) == CHATTER_OK);
   CHECK(chatter_solver_create(model, "analytic", 20.0, &solver) == CHATTER_OK);
   CHECK(chatter_limit_at(solver, 1800.0, &lim) == CHATTER_OK);

@@ -73,6 +73,13 @@ int main(void) {
   CHECK(chatter_performance_json(opt, 200.0, 0.35, 1.5, measured, buffer, sizeof buffer, &length) == CHATTER_OK);
   CHECK(fabs(json_number(buffer, "loss") - 16.01) < 0.02);
   CHECK(strstr(buffer, "\"feasible\": false") != NULL);
+  CHECK(chatter_last_warning_count() == 0);
+  /* A cutting speed typed in m/s warns under the CLI's flag name, in
+     chatter_last_warning and in the record (chatter.h). */
+  CHECK(chatter_performance_json(opt, 3.3, 0.35, 1.5, NULL, buffer, sizeof buffer, &length) == CHATTER_OK);
+  CHECK(chatter_last_warning_count() == 1 &&
+        strstr(chatter_last_warning(0), "cutting_speed_m_per_min = 3.3: outside the 5 to 3 000 m/min") != NULL);
+  CHECK(strstr(buffer, "cutting_speed_m_per_min = 3.3: outside") != NULL);
 
   /* The optimum. */
   json = record(chatter_optimize_json, opt);

@@ -48,6 +48,20 @@ const char* chatter_version(void);
  * the next chatter_* call on the same thread. Never NULL. */
 const char* chatter_last_error(void);
 
+/* Plausibility warnings of the last call on this thread about its numeric
+ * arguments: a value that is accepted but lies outside what machining
+ * usually sees (docs/results.md, rule 2), e.g. a depth typed in metres:
+ * "depth_mm = 0.0015: outside the 0.01 to 100 mm of a depth of cut; is it in
+ * m (depth_mm = 1.5)?". The same bands and
+ * text as the CLI's flags and Python's keywords (arguments named as the CLI
+ * flags: rpm, depth_mm, feed_per_tooth_mm, ...). Every chatter_* call clears
+ * them; a call that fails has none. How many, and the i-th (valid until the
+ * next chatter_* call on the thread; NULL when i >= the count). The JSON
+ * records (chatter_point_json, chatter_performance_json) also carry them in
+ * their "warnings". */
+size_t chatter_last_warning_count(void);
+const char* chatter_last_warning(size_t i);
+
 /* Reads and validates a TOML config (docs/config.md). *out is set only on
  * success; free it with chatter_model_free. */
 chatter_status chatter_model_load(const char* config_path, chatter_model** out);

@@ -9,6 +9,7 @@
 #include <new>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "chatter/chatter.h"
 #include "chatter/error.hpp"
@@ -33,8 +34,18 @@ namespace chatter::capi {
 /// The message of the last failed call on this thread (chatter_last_error).
 std::string& last_error();
 
+/// The plausibility warnings of the last call's numeric arguments on this
+/// thread (chatter_last_warning): cleared by every call.
+std::vector<std::string>& last_warnings();
+
+/// Names each argument whose value lies outside its usual band (the bands of
+/// the CLI flags and Python keywords: `unusual_arguments`, usual_bands.hpp)
+/// in the thread's warnings; names as the CLI flag (`rpm`, `depth_mm`, ...).
+void warn_unusual(const std::vector<std::pair<std::string, double>>& arguments);
+
 inline chatter_status fail(chatter_status s, std::string message) {
   last_error() = std::move(message);
+  last_warnings().clear();
   return s;
 }
 
@@ -42,6 +53,7 @@ inline chatter_status fail(chatter_status s, std::string message) {
 template <class F>
 chatter_status guarded(F&& body) {
   last_error().clear();
+  last_warnings().clear();
   try {
     body();
     return CHATTER_OK;

@@ -20,6 +20,7 @@
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
 #include "chatter/transfer_function.hpp"
+#include "chatter/usual_bands.hpp"
 #include "capi_internal.hpp"
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,7 @@ namespace {
 
 using chatter::capi::fail;
 using chatter::capi::guarded;
+using chatter::capi::warn_unusual;
 
 // Static storage for a multiplier type's name ("" if unknown).
 const char* type_name(const std::string& t) {
@@ -109,6 +111,15 @@ std::string& chatter::capi::last_error() {
   return message;
 }
 
+std::vector<std::string>& chatter::capi::last_warnings() {
+  thread_local std::vector<std::string> warnings;
+  return warnings;
+}
+
+void chatter::capi::warn_unusual(const std::vector<std::pair<std::string, double>>& arguments) {
+  for (std::string& w : chatter::unusual_arguments(arguments)) last_warnings().push_back(std::move(w));
+}
+
 extern "C" {
 
 const char* chatter_version(void) {
@@ -117,6 +128,13 @@ const char* chatter_version(void) {
 }
 
 const char* chatter_last_error(void) { return chatter::capi::last_error().c_str(); }
+
+size_t chatter_last_warning_count(void) { return chatter::capi::last_warnings().size(); }
+
+const char* chatter_last_warning(size_t i) {
+  const auto& w = chatter::capi::last_warnings();
+  return i < w.size() ? w[i].c_str() : nullptr;
+}
 
 chatter_status chatter_model_load(const char* config_path, chatter_model** out) {
   if (!config_path || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_model_load: config_path and out must not be NULL");
@@ -151,6 +169,7 @@ chatter_status chatter_solver_create(const chatter_model* model, const char* met
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
       throw chatter::InputError("chatter_solver_create: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
+    warn_unusual({{"depth_max_mm", depth_max_mm}});
     const chatter::Config& cfg = model->config;
     // Built as the CLI and Python build it (the config's defaults, e.g. the
     // time-domain chip's feed, and the notes).
@@ -170,6 +189,7 @@ chatter_status chatter_solver_create_with_options(const chatter_model* model, co
     if (!(std::isfinite(depth_max_mm) && depth_max_mm > 0.0))
       throw chatter::InputError("chatter_solver_create_with_options: depth_max_mm = " + std::to_string(depth_max_mm) +
                                 ": must be > 0");
+    warn_unusual({{"depth_max_mm", depth_max_mm}});
     const chatter::Config& cfg = model->config;
     const std::string requested = method ? method : chatter::kAutoMethod;
     const std::string resolved = chatter::resolve_lobe_method(requested, cfg.model, cfg.process);
@@ -192,6 +212,7 @@ chatter_status chatter_point(const chatter_solver* solver, double spindle_rpm, d
   return guarded([&] {
     chatter::check_spindle_rpm(spindle_rpm, "chatter_point: spindle_rpm");
     chatter::check_depth_mm(depth_mm, "chatter_point: depth_mm");
+    warn_unusual({{"rpm", spindle_rpm}, {"depth_mm", depth_mm}});
     const chatter::PointReport r = chatter::report_point(*solver->solver, solver->process, spindle_rpm, depth_mm);
     chatter_point_result c{};
     c.limit = to_c(r.limit.limit);
@@ -223,15 +244,21 @@ chatter_status chatter_point_json(const chatter_solver* solver, double spindle_r
   return guarded([&] {
     chatter::check_spindle_rpm(spindle_rpm, "chatter_point_json: spindle_rpm");
     chatter::check_depth_mm(depth_mm, "chatter_point_json: depth_mm");
+    warn_unusual({{"rpm", spindle_rpm}, {"depth_mm", depth_mm}});
     const chatter::PointReport r = chatter::report_point(*solver->solver, solver->process, spindle_rpm, depth_mm);
-    text = chatter::point_record(r, solver->source).dump(2);
+    chatter::RecordSource source = solver->source;  // the record's warnings: the config's, then the arguments'
+    for (const std::string& w : chatter::capi::last_warnings()) source.warnings.push_back(w);
+    text = chatter::point_record(r, source).dump(2);
     *json = text.c_str();
   });
 }
 
 chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm, chatter_limit* out) {
   if (!solver || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_limit_at: solver and out must not be NULL");
-  return guarded([&] { *out = to_c(solver->solver->limit_at(spindle_rpm)); });
+  return guarded([&] {
+    warn_unusual({{"rpm", spindle_rpm}});
+    *out = to_c(solver->solver->limit_at(spindle_rpm));
+  });
 }
 
 chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, double rpm_max, int points,
@@ -240,6 +267,7 @@ chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, 
   return guarded([&] {
     if (points < 2) throw chatter::InputError("chatter_lobe_table: points = " + std::to_string(points) + ": must be >= 2");
     if (!(rpm_max > rpm_min)) throw chatter::InputError("chatter_lobe_table: rpm_max must be > rpm_min");
+    warn_unusual({{"rpm_min", rpm_min}, {"rpm_max", rpm_max}, {"rpm_points", points}});
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, points);
     for (std::size_t i = 0; i < speeds.size(); ++i) rows[i] = to_c(solver->solver->limit_at(speeds[i]));
   });
@@ -255,6 +283,8 @@ chatter_status chatter_find_robust_speed(const chatter_solver* solver, double rp
                                                                 "chatter_find_robust_speed: speed_tolerance_pct");
         !e.empty())
       throw chatter::InputError(e);
+    warn_unusual({{"rpm_min", rpm_min}, {"rpm_max", rpm_max}, {"depth_mm", depth_mm},
+                  {"speed_tolerance_pct", speed_tolerance_pct}});
     const auto p = chatter::robust_speed(*solver->solver, rpm_min, rpm_max, depth_mm * 1e-3,
                                          speed_tolerance_pct / 100.0);
     chatter_robust_speed r{};

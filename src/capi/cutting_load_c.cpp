@@ -37,6 +37,11 @@ chatter_status chatter_cutting_load(const chatter_model* model, double spindle_r
     if (!std::isnan(kc)) require_positive(kc, "tangential_coefficient_n_per_m2");
     const chatter::Process& process = model->config.process;
     const bool milling = process.rotating_edges();
+    chatter::capi::warn_unusual({{"rpm", spindle_rpm},
+                                 {"depth_mm", depth_mm},
+                                 {milling ? "feed_per_tooth_mm" : "feed_mm_per_rev", feed_mm},
+                                 {milling ? "tool_diameter_mm" : "workpiece_diameter_mm", std::isnan(diameter_mm) ? 0.0 : diameter_mm},
+                                 {"tangential_coefficient_n_per_m2", std::isnan(kc) ? 0.0 : kc}});
     if (milling && !std::isnan(kc))
       throw chatter::InputError("chatter_cutting_load: tangential_coefficient_n_per_m2: only for turning (milling's "
                                 "K_t is the config's)");
@@ -44,7 +49,7 @@ chatter_status chatter_cutting_load(const chatter_model* model, double spindle_r
                                            : process.turning_parameters().workpiece_diameter_m;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double d = !std::isnan(diameter_mm) ? diameter_mm * 1e-3 : config_diameter > 0.0 ? config_diameter : nan;
-    std::vector<std::string> warnings;
+    std::vector<std::string>& warnings = chatter::capi::last_warnings();  // the law's (K_f as pressure) too
     const auto law = chatter::CuttingLaw::of(
         process, chatter::cutting_law_options(process, std::isnan(kc) ? std::nullopt : std::optional<double>(kc),
                                               warnings));

@@ -34,6 +34,9 @@ chatter_status chatter_forced_response(const chatter_model* model, double spindl
     if (!(std::isfinite(feed_mm) && feed_mm > 0.0))
       throw chatter::InputError(where + "feed_mm = " + std::to_string(feed_mm) + ": must be > 0");
     const chatter::Config& cfg = model->config;
+    chatter::capi::warn_unusual({{"rpm", spindle_rpm},
+                                 {"depth_mm", depth_mm},
+                                 {cfg.process.rotating_edges() ? "feed_per_tooth_mm" : "feed_mm_per_rev", feed_mm}});
     chatter::ForcedOptions o;
     o.sdm.depth_max_m = std::max(cfg.sweep.depth_max_mm.value_or(kDefaultDepthMaxMm), 2.0 * depth_mm) * 1e-3;
     const chatter::ForcedResponseSolver solver(cfg.model, cfg.process, o);

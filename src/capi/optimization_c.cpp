@@ -44,6 +44,16 @@ double positive(double x, const char* where, const char* name) {
 }
 
 // The speed argument in rev/min: cutting speed (m/min) in turning.
+// The set point's plausibility, named as the CLI's flags of the operation
+// (NaN: not given, the bounds' middle).
+void warn_set_point(const chatter::OptimizationModel& m, double speed, double feed_mm, double depth_mm) {
+  std::vector<std::pair<std::string, double>> given;
+  if (!std::isnan(speed)) given.emplace_back(m.milling() ? "rpm" : "cutting_speed_m_per_min", speed);
+  if (!std::isnan(feed_mm)) given.emplace_back(m.milling() ? "feed_per_tooth_mm" : "feed_mm_per_rev", feed_mm);
+  if (!std::isnan(depth_mm)) given.emplace_back("depth_mm", depth_mm);
+  chatter::capi::warn_unusual(given);
+}
+
 double rpm_of(const chatter::OptimizationModel& m, double speed) {
   return m.milling() ? speed : chatter::spindle_rpm_of(m.spec().diameter_m, speed);
 }
@@ -124,8 +134,11 @@ chatter_status chatter_performance_json(const chatter_optimizer* optimizer, doub
     const chatter::OptimizationModel& m = *optimizer->model;
     const chatter::SetPoint p{rpm_of(m, positive(speed, where, "speed")), positive(feed_mm, where, "feed_mm") * 1e-3,
                               positive(depth_mm, where, "depth_mm") * 1e-3};
+    warn_set_point(m, speed, feed_mm, depth_mm);
     const chatter::Performance r = m.evaluate(p, chatter::no_corrections(), values_of(measured));
-    copy_out(chatter::performance_record(r, m, optimizer->source).dump(2), buffer, size, length);
+    chatter::RecordSource source = optimizer->source;  // the record's warnings: the config's, then the arguments'
+    for (const std::string& w : chatter::capi::last_warnings()) source.warnings.push_back(w);
+    copy_out(chatter::performance_record(r, m, source).dump(2), buffer, size, length);
   });
 }
 
@@ -149,6 +162,7 @@ chatter_status chatter_adapt_start(const chatter_optimizer* optimizer, double sp
     a.point = {std::isnan(speed) ? (s.speed_rpm.lo + s.speed_rpm.hi) / 2.0 : rpm_of(m, positive(speed, where, "speed")),
                std::isnan(feed_mm) ? (s.feed_m.lo + s.feed_m.hi) / 2.0 : positive(feed_mm, where, "feed_mm") * 1e-3,
                std::isnan(depth_mm) ? (s.depth_m.lo + s.depth_m.hi) / 2.0 : positive(depth_mm, where, "depth_mm") * 1e-3};
+    warn_set_point(m, speed, feed_mm, depth_mm);
     *out = c_state(m, a);
   });
 }
