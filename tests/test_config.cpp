@@ -1026,7 +1026,7 @@ rpm_max = 100
             "mem/case.toml: nmae: unknown key (did you mean name?)\n"
             "mem/case.toml: process.colour: unknown key (expected one of: operation, feed_force_coefficient_n_per_m2, "
             "feed_force_coefficient_n_per_mm2, radial_force_coefficient_n_per_m2, radial_force_coefficient_n_per_mm2, "
-            "lead_angle_deg, nose_radius_mm, feed_per_rev_mm, workpiece_diameter_mm, teeth, "
+            "lead_angle_deg, nose_radius_mm, feed_per_rev_mm, workpiece_diameter_mm, force_law, specific_force_n_per_mm2, exponent, teeth, "
             "tangential_coefficient_n_per_m2, tangential_coefficient_n_per_mm2, radial_coefficient_n_per_m2, "
             "radial_coefficient_n_per_mm2, radial_immersion, milling_direction, feed_per_tooth_mm, flute_length_mm, "
             "tool_diameter_mm, radial_depth_mm, engaged_arc_deg, helix_angle_deg, pitch_angles_deg, runout_um, radial_coefficient_ratio, "

@@ -24,7 +24,8 @@ struct CuttingLoad {
 /// The load at `spindle_rpm` (> 0), depth (m, >= 0) and feed (m per
 /// revolution in turning, per tooth in milling, >= 0). `diameter_m`: the
 /// workpiece's (turning) or the tool's (milling), > 0. Turning needs the
-/// tangential coefficient K_c (N/m², > 0); milling ignores it.
+/// tangential coefficient K_c (N/m², > 0), or Kienzle's law in the process
+/// and K_c = 0 (its tangential term is the force); milling ignores it.
 /// @throws InputError on a violated precondition.
 CuttingLoad cutting_load(const Process& process, double spindle_rpm, double depth_m, double feed_m, double diameter_m,
                          double turning_tangential_coefficient_n_per_m2);

@@ -37,7 +37,9 @@
 // Turning (docs/turning_inserts.md): the in-plane force on the tool is
 // −b h d = −a f d (b h = a f for any insert), the tangential (cutting)
 // force F_c = K_c a f, torque F_c D_w/2, power F_c V, V = π D_w N / 60,
-// removal rate a f V.
+// removal rate a f V. With Kienzle's size effect (chatter/kienzle.hpp) each
+// coefficient is its secant k(h) = k_1.1 h^(−m) at the point's chip
+// h = f sin κ_eq.
 //
 // Units: SI (N, N·m, W, m³/s, m/s); spindle speeds in rev/min.
 #pragma once
@@ -112,12 +114,19 @@ struct MeanCut {
   double cutting_speed_m_per_s = 0.0;    ///< V = π D N / 60, m/s
 };
 
+/// Why a tangential coefficient K_c beside Kienzle's law is refused (the
+/// law's tangential term is the cutting force; two would disagree).
+inline constexpr const char* kKienzleTakesTheTangential =
+    "a tangential coefficient K_c is given, but the process follows Kienzle's law ([process] force_law = "
+    "\"kienzle\"), whose tangential term k_c1.1, m_c gives the cutting force: give one of them";
+
 /// What the law needs beyond the Process.
 struct CuttingLawOptions {
   /// K_c, N/m² (> 0): turning's tangential (cutting) coefficient, out of
   /// the model's plane; 0 = not given (tangential force, torque and power
-  /// are NaN and peak_force_n refuses). Milling ignores it (K_t is the
-  /// process's).
+  /// are NaN and peak_force_n refuses). Must be 0 when the process follows
+  /// Kienzle's law (its tangential term gives the force). Milling ignores
+  /// it (K_t is the process's).
   double turning_tangential_coefficient_n_per_m2 = 0.0;
   /// Milling edge coefficients (flat cutter only).
   EdgeCoefficients edge{};

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "chatter/cutting_law.hpp"
+#include "chatter/error.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/process.hpp"
 #include "chatter/results.hpp"
@@ -303,7 +304,9 @@ OperationsFile parse_operations(std::string_view text, const std::string& origin
 OperationsFile read_operations(const std::filesystem::path& file, Operation operation, const MachineLimits& machine);
 
 /// The process of one row: `base` with the row's immersion, teeth and
-/// direction overrides. @throws InputError if the result is invalid.
+/// direction overrides (milling), linearised at the row's feed when the
+/// turning process follows Kienzle's law (Process::at_feed).
+/// @throws InputError if the result is invalid.
 Process process_for(const Process& base, const OperationRow& row);
 
 /// The forced vibration of one operation (issue 27, docs/forced.md;
@@ -335,6 +338,10 @@ inline CuttingLawOptions cutting_law_options(const Process& process, std::option
                                              std::vector<std::string>& warnings) {
   CuttingLawOptions o;
   if (process.operation() != Operation::kTurning) return o;
+  if (process.has_size_effect()) {  // Kienzle's tangential term is the cutting force
+    if (kc) throw InputError(kKienzleTakesTheTangential);
+    return o;
+  }
   o.turning_tangential_coefficient_n_per_m2 = kc.value_or(process.turning_parameters().feed_force_coefficient_n_per_m2);
   if (!kc) {
     const std::string w = "turning power and torque use the feed-force coefficient K_f as cutting pressure (no "

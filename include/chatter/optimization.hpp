@@ -123,8 +123,11 @@ class OptimizationModel {
   Performance evaluate(const SetPoint& p) const { return evaluate(p, no_corrections(), unknown_indices()); }
 
   /// The smallest depth limit over the positions at `rpm`, m (+inf when
-  /// none below the searched depth). Cached: each speed is solved once.
-  double depth_limit_m(double rpm) const;
+  /// none below the searched depth), and the index of the weakest position.
+  /// `feed_m`: the set-point's feed; with Kienzle's law the regenerative
+  /// coefficient is the tangent at its chip (Process::at_feed), so the limit
+  /// depends on it (ignored otherwise). Cached: each (speed, feed) is solved once.
+  std::pair<double, std::size_t> depth_limit_m(double rpm, double feed_m) const;
 
   const OptimizationSpec& spec() const { return spec_; }
   const Process& process() const { return process_; }
@@ -155,7 +158,12 @@ class OptimizationModel {
   std::vector<double> positions_m_;
   bool position_given_ = false;
   std::vector<StructuralModel> models_;
-  std::vector<std::unique_ptr<LobeSolver>> solvers_;
+  // The lobe solvers per position, for the process at a feed (one entry,
+  // key 0, without Kienzle's law: the limit does not depend on the feed);
+  // built on first use, guarded by cache_mutex_.
+  const std::vector<std::unique_ptr<LobeSolver>>& solvers_at(double feed_m) const;
+  double feed_key(double feed_m) const { return process_.has_size_effect() ? feed_m : 0.0; }
+  mutable std::map<double, std::vector<std::unique_ptr<LobeSolver>>> solvers_;
   std::vector<std::unique_ptr<ForcedResponseSolver>> forced_;
   std::array<double, kLossIndexCount> alpha_{};
   double depth_search_m_ = 0.0;
@@ -164,7 +172,7 @@ class OptimizationModel {
   // (position, speed, depth) (the forced response is linear in the feed
   // without runout).
   mutable std::mutex cache_mutex_;
-  mutable std::map<double, std::pair<double, std::size_t>> limit_cache_;
+  mutable std::map<std::pair<double, double>, std::pair<double, std::size_t>> limit_cache_;  // (feed key, rpm)
   mutable std::map<std::tuple<std::size_t, double, double>, double> sle_cache_;
 };
 

@@ -174,7 +174,9 @@ struct OptimizationSpec {
   /// Workpiece (turning) or tool (milling) diameter, m (> 0): from [process].
   double diameter_m = 0.0;
   /// Turning: the tangential specific cutting force K_c, N/m² (0 = not given:
-  /// no force, power or torque). Milling uses the process's K_t and K_r.
+  /// no force, power or torque; must be 0 when the process follows Kienzle's
+  /// law, whose tangential term gives them). Milling uses the process's K_t
+  /// and K_r.
   double cutting_coefficient_n_per_m2 = 0.0;
   LossSpec loss;
   ConstraintLimits constraints;
@@ -186,10 +188,11 @@ struct OptimizationSpec {
   int position_points = 9;
   AdaptSettings adapt;
 
-  /// Empty when the spec is usable for `operation`, else the first violated
-  /// rule naming the field ("OptimizationSpec::feed_m: lo = 0: must be > 0").
-  /// The config reader checks every rule with its key first.
-  std::string validate(Operation operation) const;
+  /// Empty when the spec is usable for `process` (its operation, and
+  /// whether its cutting law gives the turning force), else the first
+  /// violated rule naming the field ("OptimizationSpec::feed_m: lo = 0: must
+  /// be > 0"). The config reader checks every rule with its key first.
+  std::string validate(const Process& process) const;
 };
 
 // ============================================== what the io layer draws

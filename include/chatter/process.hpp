@@ -39,6 +39,7 @@
 #include <Eigen/Core>
 
 #include "chatter/cutter_profile.hpp"
+#include "chatter/kienzle.hpp"
 #include "chatter/spindle_speed.hpp"
 
 namespace chatter {
@@ -93,6 +94,14 @@ struct TurningParameters {
   double lead_angle_rad = 0.5 * std::numbers::pi;
   /// r_ε >= 0, m: nose radius. 0 = a sharp corner.
   double nose_radius_m = 0.0;
+  /// Kienzle's size effect (chatter/kienzle.hpp), or none (the linear law).
+  /// When set, Process::turning derives K_f and K_r from it: the tangents
+  /// (1 − m) k(h₀) at the mean chip h₀ = f sin κ_r of its feed, so that
+  /// every linear stability method reads the regenerative coefficient in
+  /// the two fields above (K_f given here is ignored); the static side
+  /// (CuttingLaw, the static deflection) reads the secants k(h) at each
+  /// point's own feed, and the time-domain simulation the force itself.
+  std::optional<KienzleLaw> kienzle{};
 };
 
 /// Largest nose radius accepted, m: round inserts reach 16 mm (32 mm
@@ -328,7 +337,20 @@ class Process {
   /// exactly (1, 0) for the orthogonal cut. @pre turning.
   Eigen::Vector2d chip_direction(double depth_m) const;
   /// d = K_f n + K_r e (N/m²): the force on the tool is −b h d. @pre turning.
+  /// With Kienzle's law the regenerative (tangent) coefficients at the mean
+  /// chip h₀ = f sin κ_eq(a).
   Eigen::Vector2d edge_force(double depth_m) const;
+  /// d of the static force at chip thickness h (m, > 0): K_f and K_r as
+  /// edge_force without Kienzle's law, its secants k(h) with it (the mean
+  /// force on the tool is −b h d). @pre turning.
+  Eigen::Vector2d secant_edge_force(double depth_m, double chip_m) const;
+  /// True when a turning process follows Kienzle's law (turning_parameters().kienzle).
+  bool has_size_effect() const;
+  /// This process with its regenerative coefficients linearised at the mean
+  /// chip of `feed_per_rev_m` (m, > 0): itself without Kienzle's law. What a
+  /// command calls for a row's, block's or set-point's own feed.
+  /// @throws InputError if the feed is not > 0 (with Kienzle's law).
+  Process at_feed(double feed_per_rev_m) const;
   /// H(a) = (b/a) d nᵀ = d nᵀ / sin κ_eq, N/m²: the turning directional
   /// matrix at depth a (m; > 0 with a nose radius, any otherwise, where it
   /// does not depend on a). @pre turning.

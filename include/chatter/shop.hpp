@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/kienzle.hpp"
 #include "chatter/process.hpp"
 
 namespace chatter {
@@ -114,6 +115,45 @@ CoefficientFit fit_coefficients_from_forces(const std::vector<ForceTest>& tests,
 /// fewer than 2 distinct feeds. Cost O(n).
 CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, const MillingEngagement& e,
                                            double tool_diameter_m);
+
+// ------------------------------------------------- Kienzle's law (turning)
+
+/// One turning test: the average forces of a cut at one feed and depth
+/// (dynamometer components: tangential = cutting force F_c, feed = along
+/// the feed F_f, radial = passive F_p; NaN = not measured).
+struct TurningForceTest {
+  double feed_per_rev_m = 0.0;  ///< f > 0
+  double depth_m = 0.0;         ///< a > 0
+  double tangential_n = 0.0;    ///< F_c > 0
+  double feed_n = 0.0;          ///< F_f > 0
+  double radial_n = std::numeric_limits<double>::quiet_NaN();  ///< F_p > 0, or NaN
+};
+
+/// Kienzle's law fitted per direction (chatter/kienzle.hpp): ln(F / b) =
+/// ln k_1.1 + (1 − m) ln h with h = f sin κ_r, b = a / sin κ_r (mm),
+/// ordinary least squares in (ln k_1.1, 1 − m).
+struct KienzleDirectionFit {
+  KienzleTerm term;                  ///< k_1.1 (N/m²) and m; k_1.1 = 0 when not measured
+  double k_standard_error_n_per_m2 = std::numeric_limits<double>::quiet_NaN();  ///< k_1.1 × se(ln k_1.1)
+  double m_standard_error = std::numeric_limits<double>::quiet_NaN();
+  double k_confidence_95_n_per_m2 = std::numeric_limits<double>::quiet_NaN();   ///< half-widths, Student t
+  double m_confidence_95 = std::numeric_limits<double>::quiet_NaN();
+  double r_squared = std::numeric_limits<double>::quiet_NaN();  ///< of ln F (NaN with no degree of freedom)
+  std::vector<double> residual_n;    ///< per test: measured − fitted force, N
+};
+struct KienzleFit {
+  KienzleDirectionFit tangential, feed, radial;  ///< radial: only when every test measured it
+  double lead_angle_rad = 0.0;
+  int degrees_of_freedom = 0;  ///< tests − 2 (0: the law passes through two tests exactly; no errors)
+  std::vector<std::string> warnings;
+};
+
+/// Fits Kienzle's law to turning tests at lead angle κ_r (rad, in (0, π/2]).
+/// @throws InputError with fewer than 2 tests, fewer than 2 distinct chip
+/// thicknesses, or a force <= 0 (messages without a file: the caller
+/// prefixes it). Warns (by name) on an exponent outside [0, 1), R² < 0.9,
+/// and two tests only. Cost O(n).
+KienzleFit fit_kienzle(const std::vector<TurningForceTest>& tests, double lead_angle_rad);
 
 /// Averages of a dynamometer series over the largest whole number of spindle
 /// revolutions from the first sample (trapezoidal rule; the end point

@@ -67,6 +67,13 @@ inline constexpr Usual kWheelWidthMm{1.0, 100.0, "the 1 to 100 mm of grinding wh
 inline constexpr Usual kWheelRpm{500.0, 30000.0, "the 500 to 30 000 rev/min of grinding wheels",
                                  rpm_from_revolutions_per_s(1.0), "rev/s"};
 inline constexpr Usual kGrindingFeedMmPerS{1.0, 500.0, "the 1 to 500 mm/s of robotic grinding feeds", 1e3, "m/s"};
+inline constexpr Usual kKienzleSpecificForceNPerMm2{200.0, 6000.0,
+                                                   "the 200 to 6 000 N/mm^2 of k_1.1 (aluminium about 700, steels "
+                                                   "1 500 to 2 500, nickel alloys about 3 000)",
+                                                   1e-6, "N/m^2"};
+inline constexpr Usual kLeadAngleDeg{15.0, 90.0, "the 15 to 90 deg of turning inserts' lead angles",
+                                    57.29577951308232, "rad"};
+inline constexpr Usual kKienzleExponent{0.05, 0.6, "the 0.05 to 0.6 of Kienzle exponents m (steels about 0.25)"};
 inline constexpr Usual kGrindingForceRatio{0.1, 1.5, "the 0.1 to 1.5 of grinding force ratios F_T/F_N (seed 001: 0.26)"};
 inline constexpr Usual kImpactsPerTurn{0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"};
 }  // namespace usual
@@ -120,6 +127,7 @@ inline constexpr FlagBand kFlagBands[] = {
     {"feed-mm-per-s", &usual::kGrindingFeedMmPerS, 80.0},
     {"force-ratio", &usual::kGrindingForceRatio, 0.26},
     {"impacts-per-turn", &usual::kImpactsPerTurn, 1.3},
+    {"lead-angle-deg", &usual::kLeadAngleDeg, 75.0},
 };
 
 /// Numeric flags with no usual band, and why (a test requires every numeric

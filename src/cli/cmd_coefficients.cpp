@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const char* const kUsage = R"(Usage: chatter coefficients TESTS.csv --teeth N --radial-immersion R --milling-direction down|up [options]
+       chatter coefficients TURNING_TESTS.csv [--lead-angle-deg K] [options]
 
 Works out the cutting coefficients of a tool and material from a few test
 cuts, for the [process] table of a config. Cut with the same tool, radial
@@ -51,25 +52,61 @@ zero feed the edge (rubbing) coefficients (N/mm). The report gives each with
 a 95 % interval, R^2 (1 = perfect; below 0.9 something is off) and each cut's
 residual; negative coefficients or a poor R^2 are warned about by name.
 
+Turning (Kienzle's law F = k_1.1 b h^(1-m) per direction, the size effect):
+cut at two or more feeds (three or more give standard errors), same insert,
+and name the columns
+    feed_mm_per_rev,depth_mm,tangential_force_n,feed_force_n[,radial_force_n]
+No --teeth, --radial-immersion or --milling-direction then; --lead-angle-deg
+if the edge is not perpendicular to the feed. --out writes force_law,
+specific_force_n_per_mm2 and exponent for the [process] of a turning config.
+
 Examples:
   chatter coefficients tests.csv --teeth 3 --radial-immersion 0.5 --milling-direction down \
       --out coefficients.toml --plot fit.png
   chatter coefficients power.csv --teeth 4 --radial-immersion 1 --milling-direction down \
       --diameter-mm 16 --json -
+  chatter coefficients turning_tests.csv --out kienzle.toml
 )";
+
+// The turning route: Kienzle's law from a table with feed_mm_per_rev.
+int kienzle_route(const po::variables_map& vm, const std::string& tests_path, double lead_angle_deg,
+                  const std::string& json_path, const std::string& out_path, const std::string& plot_path) {
+  for (const char* milling : {"teeth", "radial-immersion", "milling-direction", "diameter-mm"})
+    if (vm.count(milling))
+      throw InputError(std::string("--") + milling + ": for milling tests; " + tests_path +
+                       " holds turning tests (feed_mm_per_rev): Kienzle's law takes --lead-angle-deg only");
+  if (!plot_path.empty())
+    throw InputError("--plot: drawn for milling tests only; the turning fit's residuals are in the report and --json");
+  check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--out", out_path}});
+  const KienzleResult r = fit_kienzle_tests(tests_path, lead_angle_deg, ArgStyle::kFlag);
+  const json j = kienzle_record(r);
+  std::vector<std::pair<fs::path, std::string>> files;
+  if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, j.dump(2) + "\n");
+  if (!out_path.empty()) files.emplace_back(out_path, kienzle_fragment(r, ArgStyle::kFlag));
+  write_text_files(files);
+  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
+  os << kienzle_report(r);
+  for (const auto& w : r.fit.warnings) os << "warning: " << w << "\n";
+  if (json_path == "-") std::cout << j.dump(2) << "\n";
+  if (!out_path.empty()) os << "wrote [process] keys: " << out_path << "\n";
+  return 0;
+}
 
 }  // namespace
 
 int cmd_coefficients(const std::vector<std::string>& args) {
   std::string tests_path, direction, json_path, out_path, plot_path;
   int teeth = 0;
-  double immersion = 0.0, diameter_mm = 0.0;
+  double immersion = 0.0, diameter_mm = 0.0, lead_angle_deg = 90.0;
   po::options_description d("Options");
   d.add_options()
-      ("teeth", po::value<int>(&teeth)->required(), "number of teeth (flutes) of the test cutter (required)")
-      ("radial-immersion", po::value<double>(&immersion)->required(),
-       "radial width of cut / tool diameter, in (0, 1]; 1 = slot (required)")
-      ("milling-direction", po::value<std::string>(&direction)->required(), "down (climb) or up (conventional) (required)")
+      ("teeth", po::value<int>(&teeth), "number of teeth (flutes) of the test cutter (required for milling tests)")
+      ("radial-immersion", po::value<double>(&immersion),
+       "radial width of cut / tool diameter, in (0, 1]; 1 = slot (required for milling tests)")
+      ("milling-direction", po::value<std::string>(&direction),
+       "down (climb) or up (conventional) (required for milling tests)")
+      ("lead-angle-deg", po::value<double>(&lead_angle_deg),
+       "turning tests: the insert's lead angle, deg, in (0, 90]; 90 = edge perpendicular to the feed (default 90)")
       ("diameter-mm", po::value<double>(&diameter_mm), "tool diameter, mm (needed for power tests)")
       ("json", po::value<std::string>(&json_path), "write the result as JSON to this file ('-': standard output, "
                                                   "the report then goes to standard error)")
@@ -92,6 +129,15 @@ int cmd_coefficients(const std::vector<std::string>& args) {
   if (!vm.count("tests")) throw po::error("missing TESTS.csv (one cutting test per line)");
   po::notify(vm);
   print_flag_warnings(vm, false);
+  if (is_turning_tests_table(tests_path))
+    return kienzle_route(vm, tests_path, lead_angle_deg, json_path, out_path, plot_path);
+  if (vm.count("lead-angle-deg"))
+    throw InputError("--lead-angle-deg: for turning tests (a table with feed_mm_per_rev); " + tests_path +
+                     " holds milling tests");
+  for (const char* needed : {"teeth", "radial-immersion", "milling-direction"})
+    if (!vm.count(needed))
+      throw po::error(std::string("the option '--") + needed + "' is required but missing (milling tests; a turning "
+                      "table names feed_mm_per_rev)");
 
   // ---- options, all checked before anything is read or written ----
   CoefficientArgs a;

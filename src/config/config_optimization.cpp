@@ -357,6 +357,10 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   if (milling && t->has("cutting_coefficient_n_per_mm2"))
     doc.error(t->path_of("cutting_coefficient_n_per_mm2"), *t->find("cutting_coefficient_n_per_mm2"),
               "turning only (milling takes K_t and K_r from [process])");
+  if (process.has_size_effect() && t->has("cutting_coefficient_n_per_mm2"))
+    doc.error(t->path_of("cutting_coefficient_n_per_mm2"), *t->find("cutting_coefficient_n_per_mm2"),
+              "not with [process] force_law = \"kienzle\": its tangential term k_c1.1, m_c gives the cutting force "
+              "at each feed (drop this key)");
   const Given kc = t->quantity(Quantity{kKcKeys}, kPositive);
   if (kc.si) s.cutting_coefficient_n_per_m2 = *kc.si;
   if (const auto n = t->integer("position_points", 2, 1000)) s.position_points = *n;
@@ -388,7 +392,8 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   if (money && !t->has("economics"))
     doc.error_key(t->path_of("economics"), "missing (required by the cost or production rate: weight, limit or "
                                            "objective; taylor_c_m_per_min, taylor_n, cut_length_mm, ...)");
-  if (!milling && !(s.cutting_coefficient_n_per_m2 > 0.0) && !t->has("cutting_coefficient_n_per_mm2") &&
+  if (!milling && !process.has_size_effect() && !(s.cutting_coefficient_n_per_m2 > 0.0) &&
+      !t->has("cutting_coefficient_n_per_mm2") &&
       (s.constraints.max_force_n || s.constraints.max_power_w || s.constraints.max_torque_n_m))
     doc.error_key(t->path_of("cutting_coefficient_n_per_mm2"),
                   "missing (required by max_force_n, max_power_kw or max_torque_nm in turning: the tangential "
@@ -396,7 +401,7 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   stop_if_errors_since(doc, mark);
   warn_band(*t, kc, Quantity{kKcKeys}, kKcBand);
   warn_roughness_fit(*t, s);
-  if (const std::string why = s.validate(op); !why.empty()) doc.fail_key(t->path(), why);  // a rule above is missing
+  if (const std::string why = s.validate(process); !why.empty()) doc.fail_key(t->path(), why);  // a rule above is missing
   return s;
 }
 

@@ -65,7 +65,10 @@ constexpr std::string_view kTurningKeys[] = {"feed_force_coefficient_n_per_m2",
                                              "lead_angle_deg",
                                              "nose_radius_mm",
                                              "feed_per_rev_mm",
-                                             "workpiece_diameter_mm"};
+                                             "workpiece_diameter_mm",
+                                             "force_law",
+                                             "specific_force_n_per_mm2",
+                                             "exponent"};
 constexpr std::string_view kMillingKeys[] = {"teeth",
                                              "tangential_coefficient_n_per_m2",
                                              "tangential_coefficient_n_per_mm2",
@@ -201,9 +204,14 @@ Process read_turning(const Table& t, std::size_t mark, std::optional<double>* fe
   const Table* process = &t;
   const Document& doc = t.doc();
   reject_keys_of(*process, kMillingKeys, "milling");
-  const Given kf = read_coefficient(*process, kFeedForce, kPositive);
   *feed_mm = process->number("feed_per_rev_mm", kFeedMm);
   warn_feed(*process, "feed_per_rev_mm", *feed_mm, "per revolution");
+  // Kienzle's law gives K_f and K_r (config_kienzle.cpp); else K_f is required.
+  const toml::node* law = process->find("force_law");
+  const bool kienzle = law && law->value<std::string>() == "kienzle";
+  const std::optional<KienzleLaw> size_effect =
+      attempt([&] { return read_kienzle(*process, *feed_mm); }).value_or(std::nullopt);
+  const Given kf = kienzle ? Given{} : read_coefficient(*process, kFeedForce, kPositive);
   const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
   const auto dw = process->number("workpiece_diameter_mm", kPositive);
   double kr = 0.0;  // K_r of the insert, N/m² (absent: 0)
@@ -232,9 +240,10 @@ Process read_turning(const Table& t, std::size_t mark, std::optional<double>* fe
     doc.error(process->path_of("process_damping_coefficient_n_per_m"), *process->find("process_damping_coefficient_n_per_m"),
               "needs process.workpiece_diameter_mm (the cutting speed V = pi D N / 60 sets the damping C a / V)");
   stop_if_errors_since(doc, mark);
-  if (!kf.si) throw Skip{};
+  if (!kf.si && !size_effect) throw Skip{};
   TurningParameters p;
-  p.feed_force_coefficient_n_per_m2 = *kf.si;
+  p.feed_force_coefficient_n_per_m2 = kf.si.value_or(0.0);  // with Kienzle's law: derived by Process::turning
+  p.kienzle = size_effect;
   p.process_damping_coefficient_n_per_m = cpd.value_or(0.0);
   p.workpiece_diameter_m = dw.value_or(0.0) * 1e-3;
   p.radial_force_coefficient_n_per_m2 = kr;
@@ -242,7 +251,7 @@ Process read_turning(const Table& t, std::size_t mark, std::optional<double>* fe
   if (nose) p.nose_radius_m = *nose * 1e-3;
   Band band = kCoefficientBand;
   band.symbol = "K_f";
-  warn_band(*process, kf, kFeedForce, band);
+  if (kf.si) warn_band(*process, kf, kFeedForce, band);
   return model_checked(*process, [&] { return with_speed_variation(Process::turning(p), ssv); });
 }
 

@@ -69,6 +69,13 @@ JobText read_job(const toml::table& root_table, const Document& doc);
 /// feed (`feed_per_rev_mm` / `feed_per_tooth_mm`) and the flute length when given.
 Process read_process(const Table& root, std::optional<double>* feed_mm, std::optional<double>* flute_length_m);
 
+// config_kienzle.cpp
+/// `[process] force_law` of turning: nullopt for "linear" (the default; the
+/// Kienzle keys refused), else Kienzle's law from specific_force_n_per_mm2
+/// and exponent, linearised at `feed_mm` (required with it). Errors recorded;
+/// Skip when the law is asked for but cannot be built.
+std::optional<KienzleLaw> read_kienzle(const Table& process, std::optional<double> feed_mm);
+
 // config_cutter.cpp
 /// The milling cutter's shape along its axis (cutter_geometry,
 /// corner_radius_mm, [[process.profile]], profile_slices) and K_a

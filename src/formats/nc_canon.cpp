@@ -4,6 +4,7 @@
 // (call number, the block's N word or "N.....", the call). The state the
 // calls set (units, plane, tool, spindle, feed) is carried to every move.
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -51,6 +52,13 @@ bool parse_call(const std::string& l, CanonCall& c) {
   return true;
 }
 
+// The largest number a canonical call may carry: the interpreter's own
+// "no cap" sentinel is 1e30 (SET_SPINDLE_MODE without D); beyond it the log
+// is not the interpreter's.
+constexpr double kMaxCanonNumber = 1e31;
+// The largest tool number or count of arc turns.
+constexpr double kMaxCanonCount = 1e9;
+
 }  // namespace
 
 Toolpath parse_canon_log(const std::string& log, const std::string& source) {
@@ -69,6 +77,26 @@ Toolpath parse_canon_log(const std::string& log, const std::string& source) {
     if (c.args.size() < n)
       throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name + " with " +
                        std::to_string(c.args.size()) + " numbers, expected " + std::to_string(n));
+    // The interpreter writes finite numbers; "nan" or "1e400" (strtod reads
+    // both) is not a coordinate, a feed or a speed (found by fuzzing).
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(std::isfinite(c.args[i]) && std::abs(c.args[i]) <= kMaxCanonNumber))
+        throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
+                         " argument " + std::to_string(i + 1) + " is not a finite number (" + c.raw_args + ")");
+  };
+  // A feed or speed: the interpreter writes magnitudes (the spindle's sense
+  // comes from START_SPINDLE_*).
+  auto nonnegative = [&](const CanonCall& c, std::size_t i) {
+    if (!(c.args[i] >= 0.0))
+      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
+                       " argument " + std::to_string(i + 1) + " is negative (" + c.raw_args + ")");
+  };
+  // A count the log gives as a number (a tool number, an arc's turns): an int.
+  auto count = [&](const CanonCall& c, std::size_t i) {
+    if (!(std::abs(c.args[i]) < kMaxCanonCount))
+      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
+                       " argument " + std::to_string(i + 1) + " is not a count below 1e9 (" + c.raw_args + ")");
+    return static_cast<int>(c.args[i]);
   };
   CanonCall c;
   while (std::getline(in, l)) {
@@ -85,7 +113,7 @@ Toolpath parse_canon_log(const std::string& log, const std::string& source) {
       if (path.moves.empty()) path.lathe_plane = plane == ArcPlane::kXZ;
     } else if (n == "SELECT_TOOL") {
       need(c, 1);
-      selected_tool = static_cast<int>(c.args[0]);
+      selected_tool = count(c, 0);
     } else if (n == "CHANGE_TOOL") {
       state.tool = selected_tool;  // CHANGE_TOOL's argument is the table's index, not the number
     } else if (n == "SET_SPINDLE_MODE") {
@@ -99,6 +127,7 @@ Toolpath parse_canon_log(const std::string& log, const std::string& source) {
       if (!css) state.surface_speed_m_per_min = 0.0;
     } else if (n == "SET_SPINDLE_SPEED") {
       need(c, 2);
+      nonnegative(c, 1);
       if (css) {
         // G96 S: m/min with G21, ft/min with G20.
         state.surface_speed_m_per_min = c.args[1] * (scale == 25.4 ? 0.3048 : 1.0);
@@ -117,6 +146,7 @@ Toolpath parse_canon_log(const std::string& log, const std::string& source) {
       state.feed_per_rev = c.args[1] != 0.0;
     } else if (n == "SET_FEED_RATE") {
       need(c, 1);
+      nonnegative(c, 0);
       state.feed = c.args[0] * scale;
     } else if (n == "STRAIGHT_TRAVERSE" || n == "STRAIGHT_PROBE") {
       need(c, 3);
@@ -133,7 +163,7 @@ Toolpath parse_canon_log(const std::string& log, const std::string& source) {
         need(c, 6);
         m.arc = true;
         m.plane = plane;
-        m.turns = static_cast<int>(c.args[4]);
+        m.turns = count(c, 4);
         const int first = plane == ArcPlane::kXY ? 0 : plane == ArcPlane::kXZ ? 2 : 1;
         const int second = plane == ArcPlane::kXY ? 1 : plane == ArcPlane::kXZ ? 0 : 2;
         const int axis = 3 - first - second;

@@ -279,6 +279,42 @@ CoefficientTests read_coefficient_tests(const fs::path& file) {
   return t;
 }
 
+bool is_turning_tests_table(const fs::path& file) {
+  const Lines l = read_lines(file, "a cutting-tests table");
+  return parse_header(file, l.rows.front()).has("feed_mm_per_rev");
+}
+
+TurningTests read_turning_tests(const fs::path& file) {
+  const Lines l = read_lines(file, "a turning cutting-tests table");
+  const Header h = parse_header(file, l.rows.front());
+  require(file, l.rows.front().first, h, {"feed_mm_per_rev", "depth_mm", "tangential_force_n", "feed_force_n"},
+          "turning tests for Kienzle's law need feed_mm_per_rev, depth_mm, tangential_force_n, feed_force_n "
+          "[, radial_force_n]");
+  const bool radial = h.has("radial_force_n");
+  TurningTests t;
+  for (std::size_t r = 1; r < l.rows.size(); ++r) {
+    const int line = l.rows[r].first;
+    const auto cells = split(l.rows[r].second);
+    TurningForceTest x;
+    const double f = cell(file, line, cells, h, "feed_mm_per_rev");
+    rule(f > 0 && f < 100, file, line, "feed_mm_per_rev", f, "must be in (0, 100) mm");
+    const double a = cell(file, line, cells, h, "depth_mm");
+    rule(a > 0 && a < 1000, file, line, "depth_mm", a, "must be in (0, 1000) mm");
+    x.feed_per_rev_m = f * 1e-3;
+    x.depth_m = a * 1e-3;
+    for (const auto& [column, out] : {std::pair{"tangential_force_n", &x.tangential_n}, {"feed_force_n", &x.feed_n},
+                                      {"radial_force_n", &x.radial_n}}) {
+      if (std::string(column) == "radial_force_n" && !radial) continue;
+      *out = force_cell(file, line, cells, h, column);
+      rule(*out > 0, file, line, column, *out, "must be > 0 N (a force's magnitude: Kienzle's law takes its log)");
+    }
+    t.tests.push_back(x);
+    t.line.push_back(line);
+  }
+  if (t.line.empty()) throw InputError(file.string() + ": no tests after the header line");
+  return t;
+}
+
 Recording read_recording(const fs::path& file, int channel) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(file.string() + ": no such file (the recording)");

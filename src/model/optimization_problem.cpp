@@ -3,6 +3,8 @@
 // production rate (docs/optimization.md; seed 003 eq. 0.2–0.9 and 1.13–1.18).
 #include "chatter/optimization_problem.hpp"
 
+#include "chatter/cutting_law.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -112,7 +114,8 @@ OperationEconomics operation_economics(const Economics& e, double v, double feed
   return o;
 }
 
-std::string OptimizationSpec::validate(Operation operation) const {
+std::string OptimizationSpec::validate(const Process& process) const {
+  const Operation operation = process.operation();
   const std::string w = "OptimizationSpec::";
   auto bounds = [&](const Bounds& b, const char* name) -> std::string {
     if (!(std::isfinite(b.lo) && std::isfinite(b.hi) && b.lo > 0.0))
@@ -160,7 +163,9 @@ std::string OptimizationSpec::validate(Operation operation) const {
       if (!(std::isfinite(x) && x >= 0.0)) return w + "economics: times, rates and costs must be >= 0";
   }
   const bool load_limit = constraints.max_force_n || constraints.max_power_w || constraints.max_torque_n_m;
-  if (operation == Operation::kTurning && load_limit && !(cutting_coefficient_n_per_m2 > 0.0))
+  if (operation == Operation::kTurning && process.has_size_effect() && cutting_coefficient_n_per_m2 > 0.0)
+    return w + "cutting_coefficient_n_per_m2: " + kKienzleTakesTheTangential;
+  if (operation == Operation::kTurning && !process.has_size_effect() && load_limit && !(cutting_coefficient_n_per_m2 > 0.0))
     return w + "cutting_coefficient_n_per_m2: needed by a force, power or torque limit (turning)";
   return {};
 }

@@ -49,6 +49,17 @@ typename Windowed<T>::Value arcs_integral(const T& trig, const std::vector<std::
   return sum;
 }
 
+// With Kienzle's law, K_f and K_r are its tangents at the mean chip
+// h₀ = f sin κ (kienzle.hpp): what the regenerative side reads.
+void linearise_kienzle(TurningParameters& p) {
+  if (!p.kienzle) return;
+  const std::string why = p.kienzle->validate();
+  require(why.empty(), why);
+  const double h0 = p.kienzle->feed_m * std::sin(p.lead_angle_rad);
+  p.feed_force_coefficient_n_per_m2 = p.kienzle->feed.tangent_n_per_m2(h0);
+  p.radial_force_coefficient_n_per_m2 = p.kienzle->has_radial() ? p.kienzle->radial.tangent_n_per_m2(h0) : 0.0;
+}
+
 }  // namespace
 
 InsertChord insert_chord(double kappa_r, double r, double a) {
@@ -81,6 +92,9 @@ InsertChord insert_chord(double kappa_r, double r, double a) {
 }
 
 Process Process::turning(TurningParameters p) {
+  require(std::isfinite(p.lead_angle_rad) && p.lead_angle_rad > 0.0 && p.lead_angle_rad <= kHalfPi,
+          "lead angle " + deg_text(p.lead_angle_rad) + ": must be in (0, 90] deg");
+  linearise_kienzle(p);
   require(std::isfinite(p.feed_force_coefficient_n_per_m2) && p.feed_force_coefficient_n_per_m2 > 0.0,
           "feed force coefficient K_f must be > 0 N/m^2");
   require(std::isfinite(p.radial_force_coefficient_n_per_m2) && p.radial_force_coefficient_n_per_m2 >= 0.0,
@@ -220,12 +234,42 @@ Eigen::Vector2d Process::chip_direction(double depth_m) const {
   return {lead_sin(k), lead_cos(k)};
 }
 
+namespace {
+// K_f n + K_r e at the chord's lead angle κ, e = (−cos κ, sin κ).
+Eigen::Vector2d edge_force_of(double k, double kf, double kr) {
+  const double s = lead_sin(k), c = lead_cos(k);
+  if (kr == 0.0) return {kf * s, kf * c};
+  return {kf * s - kr * c, kf * c + kr * s};
+}
+}  // namespace
+
 Eigen::Vector2d Process::edge_force(double depth_m) const {
   const double k = chord(depth_m).lead_angle_rad;
-  const double s = lead_sin(k), c = lead_cos(k);
-  const double kf = turning_.feed_force_coefficient_n_per_m2, kr = turning_.radial_force_coefficient_n_per_m2;
-  if (kr == 0.0) return {kf * s, kf * c};
-  return {kf * s - kr * c, kf * c + kr * s};  // K_f n + K_r e, e = (−cos κ, sin κ)
+  const std::optional<KienzleLaw>& law = turning_.kienzle;
+  if (!law || !has_nose_radius())  // sharp: the fields hold the tangents at f sin κ_r = f sin κ_eq
+    return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
+  const double h0 = law->feed_m * lead_sin(k);
+  return edge_force_of(k, law->feed.tangent_n_per_m2(h0), law->has_radial() ? law->radial.tangent_n_per_m2(h0) : 0.0);
+}
+
+Eigen::Vector2d Process::secant_edge_force(double depth_m, double chip_m) const {
+  const double k = chord(depth_m).lead_angle_rad;
+  const std::optional<KienzleLaw>& law = turning_.kienzle;
+  if (!law)
+    return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
+  return edge_force_of(k, law->feed.secant_n_per_m2(chip_m),
+                       law->has_radial() ? law->radial.secant_n_per_m2(chip_m) : 0.0);
+}
+
+bool Process::has_size_effect() const { return operation_ == Operation::kTurning && turning_.kienzle.has_value(); }
+
+Process Process::at_feed(double feed_per_rev_m) const {
+  if (!has_size_effect() || feed_per_rev_m == turning_.kienzle->feed_m) return *this;
+  TurningParameters p = turning_;
+  p.kienzle->feed_m = feed_per_rev_m;
+  Process out = Process::turning(p);
+  out.set_speed_variation(speed_variation());
+  return out;
 }
 
 Eigen::Matrix2d Process::turning_matrix(double depth_m) const {
@@ -256,6 +300,7 @@ Process Process::with_chord_at(double depth_m) const {
   Process p = *this;
   p.turning_.lead_angle_rad = chord(depth_m).lead_angle_rad;
   p.turning_.nose_radius_m = 0.0;
+  linearise_kienzle(p.turning_);  // the tangents at f sin κ_eq, as edge_force(a) takes them
   return p;
 }
 

@@ -324,7 +324,8 @@ Process process_for(const Process& base, const OperationRow& row) {
   if (!base.rotating_edges()) {
     if (row.radial_immersion || row.teeth || row.direction)
       throw InputError("operation " + in_quotes(row.id) + ": immersion, teeth and direction are for milling only");
-    return base;
+    // Kienzle's law: the regenerative coefficient at the row's own chip.
+    return row.feed_per_tooth_m ? base.at_feed(*row.feed_per_tooth_m) : base;
   }
   MillingParameters p = base.milling_parameters();
   if (row.radial_immersion) p.radial_immersion = *row.radial_immersion;

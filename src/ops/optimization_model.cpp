@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 #include "chatter/cutting_force.hpp"
 #include "chatter/cutting_law.hpp"
@@ -53,7 +54,7 @@ Corrections no_corrections() {
 OptimizationModel::OptimizationModel(const StructuralModel& base, const PositionDependence& dependence,
                                      const Process& process, OptimizationSpec spec, ModelOptions options)
     : spec_(std::move(spec)), process_(process), threads_(options.threads) {
-  if (const std::string why = spec_.validate(process_.operation()); !why.empty()) throw InputError("optimization: " + why);
+  if (const std::string why = spec_.validate(process_); !why.empty()) throw InputError("optimization: " + why);
   if (options.position_m) {
     models_.push_back(dependence.empty() ? base : model_at_position(base, dependence, *options.position_m));
     if (!dependence.empty()) positions_m_.push_back(*options.position_m);
@@ -71,7 +72,7 @@ OptimizationModel::OptimizationModel(const StructuralModel& base, const Position
     method_ = resolve_lobe_method(options.method, models_.front(), process_, &warning);
     if (!warning.empty()) notes_.push_back(warning);
     for (const std::string& n : ignored_feature_notes(find_lobe_method(method_), process_)) notes_.push_back(n);
-    for (const StructuralModel& m : models_) solvers_.push_back(make_lobe_solver(method_, m, process_, depth_search_m_));
+    (void)solvers_at(0.0);  // the method's refusals now, not at the first set-point
   }
   if (milling()) {
     ForcedOptions fo;
@@ -84,22 +85,37 @@ double OptimizationModel::cutting_speed_m_per_min(double rpm) const {
   return chatter::cutting_speed_m_per_min(spec_.diameter_m, rpm);
 }
 
-double OptimizationModel::depth_limit_m(double rpm) const {
-  if (solvers_.empty()) return kNaN;
+const std::vector<std::unique_ptr<LobeSolver>>& OptimizationModel::solvers_at(double feed_m) const {
+  const double key = feed_key(feed_m);
+  const std::lock_guard lock(cache_mutex_);
+  auto it = solvers_.find(key);
+  if (it == solvers_.end()) {
+    std::vector<std::unique_ptr<LobeSolver>> built;
+    const Process process = key > 0.0 ? process_.at_feed(key) : process_;
+    for (const StructuralModel& m : models_) built.push_back(make_lobe_solver(method_, m, process, depth_search_m_));
+    it = solvers_.emplace(key, std::move(built)).first;
+  }
+  return it->second;  // a map's nodes stay where they are
+}
+
+std::pair<double, std::size_t> OptimizationModel::depth_limit_m(double rpm, double feed_m) const {
+  if (!spec_.constraints.stability) return {kNaN, 0};
+  const auto key = std::pair{feed_key(feed_m), rpm};
   {
     const std::lock_guard lock(cache_mutex_);
-    if (const auto it = limit_cache_.find(rpm); it != limit_cache_.end()) return it->second.first;
+    if (const auto it = limit_cache_.find(key); it != limit_cache_.end()) return it->second;
   }
+  const auto& solvers = solvers_at(feed_m);
   double best = kInf;
   std::size_t where = 0;
-  for (std::size_t i = 0; i < solvers_.size(); ++i) {
-    const StabilityLimit l = solvers_[i]->limit_at(rpm);
+  for (std::size_t i = 0; i < solvers.size(); ++i) {
+    const StabilityLimit l = solvers[i]->limit_at(rpm);
     const double d = l.bounded() ? l.depth_limit_m : kInf;
     if (d < best) best = d, where = i;
   }
   const std::lock_guard lock(cache_mutex_);
-  limit_cache_.emplace(rpm, std::pair{best, where});
-  return best;
+  limit_cache_.emplace(key, std::pair{best, where});
+  return {best, where};
 }
 
 double OptimizationModel::sle_um(std::size_t position, const SetPoint& p) const {
@@ -173,7 +189,7 @@ Performance OptimizationModel::evaluate(const SetPoint& p, const Corrections& co
     m[4] = r.economics->production_rate_per_h;
   }
   r.power_w = r.torque_n_m = kNaN;
-  if (mill || spec_.cutting_coefficient_n_per_m2 > 0.0) {
+  if (mill || spec_.cutting_coefficient_n_per_m2 > 0.0 || process_.has_size_effect()) {
     const CuttingLoad load = cutting_load(process_, p.spindle_rpm, p.depth_m, p.feed_m, spec_.diameter_m,
                                           spec_.cutting_coefficient_n_per_m2);
     m[5] = load.force_n;
@@ -190,13 +206,9 @@ Performance OptimizationModel::evaluate(const SetPoint& p, const Corrections& co
 
   r.depth_limit_m = r.weakest_position_m = r.stability_margin = kNaN;
   if (spec_.constraints.stability) {
-    r.depth_limit_m = depth_limit_m(p.spindle_rpm);
-    double where = kNaN;
-    {
-      const std::lock_guard lock(cache_mutex_);
-      where = static_cast<double>(limit_cache_.at(p.spindle_rpm).second);
-    }
-    if (!positions_m_.empty()) r.weakest_position_m = positions_m_[static_cast<std::size_t>(where)];
+    std::size_t where = 0;
+    std::tie(r.depth_limit_m, where) = depth_limit_m(p.spindle_rpm, p.feed_m);
+    if (!positions_m_.empty()) r.weakest_position_m = positions_m_[where];
     r.stability_margin = r.depth_limit_m / p.depth_m;
     // No limit below the searched depth proves the margin only up to it: a
     // depth beyond the search over the margin is not judged (NaN: fails).

@@ -32,13 +32,21 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The feed (mm per revolution) a turning block's regenerative side is
+// linearised at: its own with Kienzle's law (Process::at_feed), else none (0:
+// the limit does not depend on it).
+double linearising_feed_mm(const ToolSetup& t, const Engaged& eng, const Sample& s) {
+  return t.turning && t.tool->config.process.has_size_effect() ? eng.rows[s.row].feed : 0.0;
+}
+
 // The config of one cut: the tool's, with the engaged arc (milling) or the
-// structure at the position (turning).
-Config cut_config(const ToolSetup& t, const Sample& s) {
+// structure at the position and the block's feed (turning).
+Config cut_config(const ToolSetup& t, const Sample& s, double feed_mm) {
   const Config& base = t.tool->config;
   if (t.turning) {
-    if (base.position.empty()) return base;
-    return config_at_position(base, s.position_mm, "position_mm");
+    Config c = base.position.empty() ? base : config_at_position(base, s.position_mm, "position_mm");
+    if (feed_mm > 0.0) c.process = c.process.at_feed(feed_mm * 1e-3);
+    return c;
   }
   Config c = base;
   MillingParameters mp = base.process.milling_parameters();
@@ -87,13 +95,15 @@ std::map<int, double> search_depths_mm(const Engaged& eng, const std::map<int, T
   return depth_max_mm;
 }
 
-Solves key_samples(const Engaged& eng, bool cache) {
+Solves key_samples(const Engaged& eng, const std::map<int, ToolSetup>& tools, bool cache) {
   Solves out;
   out.key_of.resize(eng.samples.size());
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < eng.samples.size(); ++i) {
     const Sample& s = eng.samples[i];
-    const std::string k = cut_key(eng.rows[s.row].tool, s.rpm, s.arcs, s.position_mm);
+    const int tool = eng.rows[s.row].tool;
+    const double feed = linearising_feed_mm(tools.at(tool), eng, s);
+    const std::string k = cut_key(tool, s.rpm, s.arcs, s.position_mm) + (feed > 0.0 ? "|f" + std::to_string(feed) : "");
     const auto [it, fresh] = cache ? index.try_emplace(k, out.first_sample.size()) : std::pair{index.end(), true};
     out.key_of[i] = fresh ? out.first_sample.size() : it->second;
     if (fresh) out.first_sample.push_back(i);
@@ -108,7 +118,7 @@ void solve_keys(Solves& out, const Engaged& eng, const std::map<int, ToolSetup>&
     const Sample& s = eng.samples[out.first_sample[k]];
     const ToolSetup& t = tools.at(eng.rows[s.row].tool);
     Solved& sv = out.solved[k];
-    sv.config = cut_config(t, s);
+    sv.config = cut_config(t, s, linearising_feed_mm(t, eng, s));
     ConfiguredSolver c =
         configure_solver(kAutoMethod, sv.config, depth_max_mm.at(t.tool->number) * 1e-3, {}, ArgStyle::kFlag);
     sv.method = c.method;
@@ -288,7 +298,7 @@ ProgramReport check_program(const Job& job, const Toolpath& path, const ProgramO
   const bool cache = options.cache.value_or(job.cache);
   const std::map<int, double> depth_max_mm = search_depths_mm(eng, tools);
   for (const auto& [tool, d] : depth_max_mm) report.depth_max_mm.emplace_back(tool, d);
-  Solves sv = key_samples(eng, cache);
+  Solves sv = key_samples(eng, tools, cache);
   std::atomic<std::size_t> done{0};
   // The work: the solves, then at most one verdict per row.
   const double total_work = static_cast<double>(sv.first_sample.size() + eng.rows.size());

@@ -67,11 +67,14 @@ void fix_feed(ProgramRow& row, const ToolpathMove& m, const Solved& cut, const J
   double f = m.feed;
   MeanCut c = load(f);
   if (!over(c)) return;  // the speed's fix alone relieved it, or it is over the speed range only
-  // Power and torque are linear in the feed (plus a constant edge force):
-  // the ratio first, then 1 % steps until both are under.
+  // Power and torque are linear in the feed (plus a constant edge force), or
+  // with Kienzle's law go as f^(1 − m_c): the ratio first, then 1 % steps
+  // until both are under.
   double ratio = 1.0;
   if (job.machine.max_power_kw) ratio = std::min(ratio, kFeedFixShare * *job.machine.max_power_kw / (c.power_w * 1e-3));
   if (job.machine.max_torque_nm) ratio = std::min(ratio, kFeedFixShare * *job.machine.max_torque_nm / c.torque_n_m);
+  if (const auto& k = cut.config.process.turning_parameters().kienzle; cut.config.process.has_size_effect())
+    ratio = std::pow(ratio, 1.0 / (1.0 - k->tangential.exponent));
   f *= ratio * (1.0 - 1e-9);  // just under: the share itself compares as over
   for (int i = 0; i < 100 && over(load(f)); ++i) f *= 0.99;
   if (over(load(f))) {

@@ -59,6 +59,7 @@ Model::Model(const StructuralModel& model, const Process& process, const Simulat
   } else {
     kf_ = process.turning_parameters().feed_force_coefficient_n_per_m2;
     orthogonal_ = process.orthogonal_turning();
+    if (!s.linear) kienzle_ = process.turning_parameters().kienzle;
     if (!orthogonal_) {  // the chord at this run's depth: exact for the nonlinear chip too
       const InsertChord c = process.chord(s.depth_m);
       const Eigen::Vector2d n = process.chip_direction(s.depth_m), d = process.edge_force(s.depth_m);
@@ -207,7 +208,7 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
       F[0] -= a * v[0] * hc;
       F[1] -= a * v[1] * hc;
     } else if (orthogonal_) {
-      F[0] += -a * kf_ * hc;
+      turning_force(hc, F);
       if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
         // Process damping (turning, n = x): −C_pd (a/V) ṙ_x while cutting.
         double rv[2];
@@ -215,8 +216,7 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
         F[0] -= process_damping_now(t) * a * rv[0];
       }
     } else {  // an insert: F = −b h d, process damping −C_pd (b/V) (n·ṙ) n
-      F[0] += -width_m_ * d_[0] * hc;
-      F[1] += -width_m_ * d_[1] * hc;
+      turning_force(hc, F);
       if (pd_per_depth_ > 0.0 && (settings_.linear || h > 0.0)) {
         double rv[2];
         relative(qd, rv);
@@ -229,6 +229,29 @@ void Model::rhs(double t, const double* y, double* ydot, Diagnostics* diag) cons
   }
   modal_accelerations(q, qd, F, ydot);
   if (diag) *diag = diagnostics(F, chip_max, any_arc, cutting, touching);
+}
+
+void Model::turning_force(double hc, double F[2]) const {
+  const double a = settings_.depth_m;
+  if (!kienzle_) {
+    if (orthogonal_) {
+      F[0] += -a * kf_ * hc;
+    } else {
+      F[0] += -width_m_ * d_[0] * hc;
+      F[1] += -width_m_ * d_[1] * hc;
+    }
+    return;
+  }
+  // k(h) h per unit width (0 without a chip); an insert's directions are the
+  // chord's normal n and its edge e = (−n_y, n_x) (K_f n + K_r e).
+  const double ff = kienzle_->feed.force_per_width_n_per_m(hc);
+  if (orthogonal_) {
+    F[0] += -a * ff;
+    return;
+  }
+  const double fr = kienzle_->has_radial() ? kienzle_->radial.force_per_width_n_per_m(hc) : 0.0;
+  F[0] += -width_m_ * (ff * chip_n_[0] - fr * chip_n_[1]);
+  F[1] += -width_m_ * (ff * chip_n_[1] + fr * chip_n_[0]);
 }
 
 void Model::modal_accelerations(const double* q, const double* qd, const double F[2], double* ydot) const {

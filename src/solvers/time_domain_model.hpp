@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "chatter/process.hpp"
@@ -279,6 +280,13 @@ class Model {
   bool orthogonal_ = true;
   double chip_n_[2] = {1.0, 0.0}, d_[2] = {0.0, 0.0};
   double width_m_ = 0.0, chip_per_feed_ = 1.0;
+  // Kienzle's size effect in the nonlinear run (chatter/kienzle.hpp): the
+  // force of the chip itself, k(h) h per unit width in each direction (the
+  // linear run keeps the tangents the other methods read in kf_ and d_).
+  std::optional<KienzleLaw> kienzle_;
+  // F = −b h d(h) (an insert) or −a h K_f(h) (orthogonal): with Kienzle's law
+  // in a nonlinear run the secants at the chip h >= 0, else the constants.
+  void turning_force(double hc, double F[2]) const;
   bool general_ = false;
   bool profile_ = false;  // a cutter profile: per-element arcs, coefficients and lags
   int slices_ = 1;

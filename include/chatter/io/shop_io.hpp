@@ -40,6 +40,21 @@ struct CoefficientTests {
 ///   "<file>: line 1: missing column <name>", or on an unreadable file.
 CoefficientTests read_coefficient_tests(const std::filesystem::path& csv);
 
+/// True when TESTS.csv's header names feed_mm_per_rev: turning tests for
+/// Kienzle's law (read_turning_tests), not a milling table.
+/// @throws InputError on an unreadable or empty file.
+bool is_turning_tests_table(const std::filesystem::path& csv);
+
+/// Turning tests: columns feed_mm_per_rev, depth_mm, tangential_force_n,
+/// feed_force_n [, radial_force_n] (any order, extra columns ignored), each
+/// force > 0 and within 1e6 N, feed in (0, 100) mm, depth in (0, 1000) mm.
+struct TurningTests {
+  std::vector<TurningForceTest> tests;
+  std::vector<int> line;  ///< 1-based line in the file, per test
+};
+/// @throws InputError "<file>: line <n>: <column> = <value>: <rule>".
+TurningTests read_turning_tests(const std::filesystem::path& csv);
+
 /// A dynamometer series: columns time_s, fx_n, fy_n [, fz_n] (header line
 /// required), time strictly increasing. @throws InputError naming file and line.
 struct ForceSeries {

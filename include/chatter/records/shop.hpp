@@ -29,6 +29,26 @@ namespace chatter {
 
 // ------------------------------------------------------------------ coefficients
 
+/// `chatter coefficients` on turning tests (a table with feed_mm_per_rev):
+/// Kienzle's law per direction (fit_kienzle, docs/shop_data.md "Kienzle's law").
+struct KienzleResult {
+  std::filesystem::path tests_path;
+  TurningTests tests;
+  KienzleFit fit;
+};
+/// Reads the table and fits the law at lead angle κ_r (deg, in (0, 90]).
+/// @throws InputError naming the file (and the flag for a bad lead angle).
+KienzleResult fit_kienzle_tests(const std::filesystem::path& tests, double lead_angle_deg, ArgStyle style);
+/// The record: per direction k_1.1 (N/mm²) and m with standard errors and 95 %
+/// half-widths, R², and every test with its residuals.
+nlohmann::json kienzle_record(const KienzleResult& r);
+/// The report the CLI prints.
+std::string kienzle_report(const KienzleResult& r);
+/// The [process] keys of the law (TOML: force_law, specific_force_n_per_mm2,
+/// exponent, lead_angle_deg) for a turning config.
+/// @throws InputError naming `out` when an exponent lies outside [0, 1).
+std::string kienzle_fragment(const KienzleResult& r, ArgStyle style);
+
 /// The arguments of `chatter coefficients`.
 struct CoefficientArgs {
   std::filesystem::path tests;  ///< TESTS.csv

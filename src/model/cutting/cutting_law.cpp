@@ -80,6 +80,8 @@ std::unique_ptr<const CuttingLaw> CuttingLaw::of(const Process& process, const C
   const bool edge = o.edge.tangential_n_per_m > 0.0 || o.edge.radial_n_per_m > 0.0;
   if (process.operation() == Operation::kTurning) {
     if (edge) throw InputError(where + "edge coefficients are a milling law's (turning takes K_c only)");
+    if (kc > 0.0 && process.has_size_effect())
+      throw InputError(where + std::string(kKienzleTakesTheTangential));
     return cutting_detail::turning_law(process, kc);
   }
   if (edge && process.has_profile())

@@ -14,10 +14,12 @@ CuttingLoad cutting_load(const Process& process, double rpm, double depth_m, dou
                          double kc) {
   const std::string where = "cutting_load: ";
   if (!(std::isfinite(diameter_m) && diameter_m > 0.0)) throw InputError(where + "diameter must be > 0");
-  if (process.operation() == Operation::kTurning && !(std::isfinite(kc) && kc > 0.0))
+  const bool kienzle = process.has_size_effect();
+  if (process.operation() == Operation::kTurning && !kienzle && !(std::isfinite(kc) && kc > 0.0))
     throw InputError(where + "turning needs the tangential coefficient K_c > 0");
   CuttingLawOptions o;
-  if (process.operation() == Operation::kTurning) o.turning_tangential_coefficient_n_per_m2 = kc;
+  if (process.operation() == Operation::kTurning && !kienzle) o.turning_tangential_coefficient_n_per_m2 = kc;
+  if (kienzle && kc > 0.0) throw InputError(where + kKienzleTakesTheTangential);
   const auto law = CuttingLaw::of(process, o);
   const CutPoint p{rpm, depth_m, feed_m, diameter_m};
   const MeanCut mean = law->mean(p);
