@@ -175,6 +175,34 @@ TEST(Kienzle, OptimisationReadsTheSecantForceAndTheTangentLimitAtEachFeed) {
   EXPECT_NEAR(pk2.depth_limit_m / pl.depth_limit_m, 954e6 / law.feed.tangent_n_per_m2(0.3e-3), 1e-3);
 }
 
+TEST(Kienzle, ForcedResponseAndRecommendJudgeStabilityAtTheirOwnFeed) {
+  const Config c = seed003("kienzle");
+  const double rpm = 3654.0;
+  const double thin = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.01)->limit_at(rpm).depth_limit_m;
+  const double thick = make_lobe_solver("analytic", c.model, c.process.at_feed(0.35e-3), 0.01)->limit_at(rpm).depth_limit_m;
+  ASSERT_LT(thin, thick);  // the thin chip's tangent is the larger
+  const ForcedResponseSolver forced(c.model, c.process);
+  ForcedSettings st;
+  st.spindle_rpm = rpm;
+  st.depth_m = 0.5 * (thin + thick);
+  st.record_path = false;
+  st.feed_m = 0.35e-3;
+  EXPECT_TRUE(forced.response(st).stable);
+  st.feed_m = 0.089e-3;
+  EXPECT_FALSE(forced.response(st).stable);
+  // recommend: the limit it reports at its speed is the one at its feed.
+  RecommendOptions o;
+  o.machine.rpm_min = 600;
+  o.machine.rpm_max = 4500;
+  o.feed_per_tooth_m = 0.089e-3;
+  o.diameter_m = 0.025;
+  o.depth_max_m = 0.01;
+  const Recommendation r = recommend(c.model, c.process, o);
+  const double at = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.05)->limit_at(r.spindle_rpm).depth_limit_m;
+  ASSERT_TRUE(r.limit.bounded());
+  EXPECT_NEAR(r.limit.depth_limit_m, at, 1e-6 * at);
+}
+
 TEST(Kienzle, ATangentialCoefficientBesideTheLawIsRefused) {
   const Config c = seed003("kienzle");
   std::vector<std::string> warnings;

@@ -212,8 +212,10 @@ class PartErrorCap {
 
 }  // namespace
 
-Recommendation recommend(const StructuralModel& model, const Process& process, const RecommendOptions& options) {
+Recommendation recommend(const StructuralModel& model, const Process& given, const RecommendOptions& options) {
   if (const std::string e = options.validate(); !e.empty()) throw InputError("recommend: " + e);
+  // Kienzle's law: the regenerative coefficient at the plan's own feed.
+  const Process process = given.at_feed(options.feed_per_tooth_m);
   const MachineLimits& mc = options.machine;
   const bool limits = std::isfinite(mc.max_power_w) || std::isfinite(mc.max_torque_n_m);
   if (limits && !(options.diameter_m > 0.0))

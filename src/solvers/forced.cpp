@@ -120,7 +120,11 @@ ForcedResponse ForcedResponseSolver::response(const ForcedSettings& s) const {
   out.milling = milling;
   const bool fourier = tooth_periodic(p) && !(milling && options_.periodic_solve_always);
   out.method = fourier ? "fourier" : "periodic-solve";
-  const FloquetResult fr = sdm_.analyse(rpm, a);
+  // Kienzle's law: the regenerative coefficient at this response's own chip
+  // (Process::at_feed); the solver's process otherwise.
+  const FloquetResult fr = p.has_size_effect() && s.feed_m > 0.0
+                               ? SemiDiscretizationSolver(model_, p.at_feed(s.feed_m), options_.sdm).analyse(rpm, a)
+                               : sdm_.analyse(rpm, a);
   out.spectral_radius = fr.spectral_radius;
   out.stable = fr.stable();
   if (!out.stable) return out;  // no forced response: the vibration grows
