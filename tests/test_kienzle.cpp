@@ -173,6 +173,15 @@ TEST(Kienzle, OptimisationReadsTheSecantForceAndTheTangentLimitAtEachFeed) {
   // And at another feed another limit (the cache is per feed).
   const Performance pk2 = mk.evaluate(SetPoint{sp.spindle_rpm, 0.3e-3, 1.5e-3});
   EXPECT_NEAR(pk2.depth_limit_m / pl.depth_limit_m, 954e6 / law.feed.tangent_n_per_m2(0.3e-3), 1e-3);
+  // The orthogonal cut's limits are scaled from one solve per speed: equal to
+  // a solve of the process at that feed (at the free end, the weakest place).
+  ModelOptions at_end;
+  at_end.position_m = 0.08;
+  const OptimizationModel me(k.model, k.position, k.process, *k.optimization, at_end);
+  const auto solve = make_lobe_solver(me.method(), model_at_position(k, 0.08), k.process.at_feed(0.089e-3),
+                                      me.depth_search_m());
+  EXPECT_NEAR(me.evaluate(sp).depth_limit_m, solve->limit_at(sp.spindle_rpm).depth_limit_m,
+              1e-6 * pk.depth_limit_m);
 }
 
 TEST(Kienzle, ForcedResponseAndRecommendJudgeStabilityAtTheirOwnFeed) {

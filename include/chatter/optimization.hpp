@@ -162,7 +162,10 @@ class OptimizationModel {
   // key 0, without Kienzle's law: the limit does not depend on the feed);
   // built on first use, guarded by cache_mutex_.
   const std::vector<std::unique_ptr<LobeSolver>>& solvers_at(double feed_m) const;
-  double feed_key(double feed_m) const { return process_.has_size_effect() ? feed_m : 0.0; }
+  // The process's own feed is key 0 (the solvers built first).
+  double feed_key(double feed_m) const {
+    return process_.has_size_effect() && feed_m != process_.turning_parameters().kienzle->feed_m ? feed_m : 0.0;
+  }
   mutable std::map<double, std::vector<std::unique_ptr<LobeSolver>>> solvers_;
   std::vector<std::unique_ptr<ForcedResponseSolver>> forced_;
   std::array<double, kLossIndexCount> alpha_{};

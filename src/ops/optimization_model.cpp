@@ -100,6 +100,20 @@ const std::vector<std::unique_ptr<LobeSolver>>& OptimizationModel::solvers_at(do
 
 std::pair<double, std::size_t> OptimizationModel::depth_limit_m(double rpm, double feed_m) const {
   if (!spec_.constraints.stability) return {kNaN, 0};
+  // The orthogonal cut without process damping: the characteristic equation
+  // holds a and K_f only as their product (1 + a K_f (1 − e^{−iωτ}) G_xx = 0,
+  // every method), so the limit at another feed's tangent K_f is the
+  // process's limit scaled by their ratio, at the same frequency: one solve
+  // per speed, not per (speed, feed) (tests/test_kienzle.cpp checks the
+  // ratio on analytic and sdm solves).
+  if (feed_key(feed_m) > 0.0 && process_.orthogonal_turning() && !process_.has_process_damping() &&
+      !process_.has_speed_variation()) {
+    const auto [base, where] = depth_limit_m(rpm, process_.turning_parameters().kienzle->feed_m);
+    const double ratio = process_.turning_parameters().feed_force_coefficient_n_per_m2 /
+                         process_.at_feed(feed_m).turning_parameters().feed_force_coefficient_n_per_m2;
+    // None below the searched depth says nothing below it × ratio < 1: solve then.
+    if (std::isfinite(base) || ratio >= 1.0) return {base * ratio, where};
+  }
   const auto key = std::pair{feed_key(feed_m), rpm};
   {
     const std::lock_guard lock(cache_mutex_);
