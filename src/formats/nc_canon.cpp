@@ -23,6 +23,9 @@ struct CanonCall {
   std::vector<double> args;    // the numeric arguments
 };
 
+// The largest N word taken as the program's line number.
+constexpr long kMaxBlockLine = 1'000'000'000;
+
 // One log line; false when it is not a call (the interpreter's banner).
 bool parse_call(const std::string& l, CanonCall& c) {
   std::istringstream is(l);
@@ -30,7 +33,12 @@ bool parse_call(const std::string& l, CanonCall& c) {
   if (!(is >> count >> nword)) return false;
   if (count.empty() || !std::isdigit(static_cast<unsigned char>(count[0])) || nword.empty() || nword[0] != 'N')
     return false;
-  c.block_line = std::isdigit(static_cast<unsigned char>(nword.size() > 1 ? nword[1] : '.')) ? std::atoi(nword.c_str() + 1) : 0;
+  // The N word's number: 0 when absent or beyond any program's length
+  // (strtol saturates where atoi overflowed: a negative line, found by fuzzing).
+  const long n = std::isdigit(static_cast<unsigned char>(nword.size() > 1 ? nword[1] : '.'))
+                     ? std::strtol(nword.c_str() + 1, nullptr, 10)
+                     : 0;
+  c.block_line = n >= 0 && n <= kMaxBlockLine ? static_cast<int>(n) : 0;
   std::string rest;
   std::getline(is, rest);
   const auto b = rest.find_first_not_of(' ');
