@@ -30,13 +30,44 @@ py::array_t<std::complex<double>> complex_array(const std::vector<std::complex<d
 
 // ------------------------------------------------------------------ coefficients
 
-py::dict coefficients(const py::object& tests, int teeth, double radial_immersion, const std::string& milling_direction,
-                      std::optional<double> diameter_mm) {
+// Kienzle's law from turning tests (a table with feed_mm_per_rev), as the CLI.
+py::dict kienzle(const std::string& path, std::optional<double> lead_angle_deg) {
+  chatter::KienzleResult r;
+  {
+    py::gil_scoped_release release;
+    r = chatter::fit_kienzle_tests(path, lead_angle_deg.value_or(90.0), chatter::ArgStyle::kKeyword);
+  }
+  py::dict out = to_python(chatter::kienzle_record(r));
+  try {
+    out["fragment"] = chatter::kienzle_fragment(r, chatter::ArgStyle::kKeyword);
+  } catch (const InputError&) {
+    out["fragment"] = py::none();
+  }
+  return out;
+}
+
+py::dict coefficients(const py::object& tests, std::optional<int> teeth, std::optional<double> radial_immersion,
+                      std::optional<std::string> milling_direction, std::optional<double> diameter_mm,
+                      std::optional<double> lead_angle_deg) {
+  const std::string path = fspath(tests);
+  if (chatter::is_turning_tests_table(path)) {
+    for (const auto& [given, name] : {std::pair{teeth.has_value(), "teeth"}, {radial_immersion.has_value(), "radial_immersion"},
+                                      {milling_direction.has_value(), "milling_direction"}, {diameter_mm.has_value(), "diameter_mm"}})
+      if (given)
+        throw InputError(std::string(name) + ": for milling tests; " + path +
+                         " holds turning tests (feed_mm_per_rev): Kienzle's law takes lead_angle_deg only");
+    return kienzle(path, lead_angle_deg);
+  }
+  if (lead_angle_deg)
+    throw InputError("lead_angle_deg: for turning tests (a table with feed_mm_per_rev); " + path + " holds milling tests");
+  for (const auto& [given, name] : {std::pair{teeth.has_value(), "teeth"}, {radial_immersion.has_value(), "radial_immersion"},
+                                    {milling_direction.has_value(), "milling_direction"}})
+    if (!given) throw InputError(std::string(name) + ": required for milling tests (a turning table names feed_mm_per_rev)");
   chatter::CoefficientArgs a;
-  a.tests = fspath(tests);
-  a.teeth = teeth;
-  a.radial_immersion = radial_immersion;
-  a.milling_direction = milling_direction;
+  a.tests = path;
+  a.teeth = *teeth;
+  a.radial_immersion = *radial_immersion;
+  a.milling_direction = *milling_direction;
   a.diameter_mm = diameter_mm;
   chatter::CoefficientResult r;
   {
@@ -137,10 +168,12 @@ py::dict fit(const py::object& file, const std::string& format, const std::strin
 }  // namespace
 
 void bind_shop(py::module_& m) {
-  m.def("coefficients", &coefficients, "tests"_a, py::kw_only(), "teeth"_a, "radial_immersion"_a,
-        "milling_direction"_a, "diameter_mm"_a = py::none(),
+  m.def("coefficients", &coefficients, "tests"_a, py::kw_only(), "teeth"_a = py::none(),
+        "radial_immersion"_a = py::none(), "milling_direction"_a = py::none(), "diameter_mm"_a = py::none(),
+        "lead_angle_deg"_a = py::none(),
         "Cutting coefficients from test cuts (chatter coefficients --json), plus 'fragment': the [process] table "
-        "of --out, or None.");
+        "of --out, or None. Milling tests need teeth, radial_immersion and milling_direction; turning tests (a "
+        "table with feed_mm_per_rev) give Kienzle's law (k_1.1 and m per direction) and take lead_angle_deg.");
   m.def("detect", &detect, "recording"_a, py::kw_only(), "rpm"_a, "teeth"_a, "rpm_min"_a = py::none(),
         "rpm_max"_a = py::none(), "channel"_a = 1, "peak_ratio"_a = 0.25, "config"_a = py::none(),
         "depth_mm"_a = py::none(), "force"_a = false,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import chatter
-from conftest import SOURCE_DIR, run_cli
+from conftest import SOURCE_DIR, cli_json, run_cli
 
 CONFIGS = SOURCE_DIR / "configs"
 CASE_A = CONFIGS / "seed_turning_1dof.toml"
@@ -203,6 +203,27 @@ def test_coefficients_find_the_known_coefficients(tmp_path):
         chatter.coefficients(tests, teeth=2, radial_immersion=1, milling_direction="sideways")
     with pytest.raises(chatter.InputError, match=r"^radial_immersion = 2: must be in \(0, 1\]"):
         chatter.coefficients(tests, teeth=2, radial_immersion=2, milling_direction="up")
+
+
+def test_coefficients_on_turning_tests_give_kienzle_law_as_the_cli(tmp_path):
+    # Seed 003's table 14 and a third cut: Kienzle's law per direction, the
+    # CLI's --json record number for number, and the fragment.
+    tests = tmp_path / "turning.csv"
+    tests.write_text("feed_mm_per_rev,depth_mm,tangential_force_n,feed_force_n\n"
+                     "0.35,1.5,736,501\n0.089,1.5,342,175\n0.2,1.5,560,330\n")
+    r = chatter.coefficients(tests)
+    cli = cli_json("coefficients", tests, "--json", "-")
+    assert r["force_law"] == "kienzle" and r["degrees_of_freedom"] == 1
+    for key in ("specific_force_n_per_mm2", "exponent", "standard_error", "r_squared"):
+        assert r[key] == cli[key], key
+    # Through the seed's two points only: 1 - m = ln(736/342) / ln(0.35/0.089).
+    two = tmp_path / "two.csv"
+    two.write_text("feed_mm_per_rev,depth_mm,tangential_force_n,feed_force_n\n0.35,1.5,736,501\n0.089,1.5,342,175\n")
+    m = 1 - math.log(736 / 342) / math.log(0.35 / 0.089)
+    assert chatter.coefficients(two)["exponent"]["tangential"] == pytest.approx(m, rel=1e-12)
+    assert 'force_law = "kienzle"' in r["fragment"]
+    with pytest.raises(chatter.InputError, match=r"^teeth: for milling tests"):
+        chatter.coefficients(tests, teeth=3)
 
 
 def test_detect_hears_the_chatter_line_and_suggests_speeds(tmp_path):
