@@ -196,6 +196,30 @@ TEST_F(GrindCli, FitWritesATableThatLoads) {
   bad({"grind", "fit", path("bad.csv").string(), "--model", "poly11"}, "bad.csv: line 2: removal_mm3_per_s = 'x'");
 }
 
+TEST_F(GrindCli, FitReportListsEachTestsSpecificEnergyAndRatios) {
+  // Seed 000's table 6.3, test 1 (line 7 of the file): P = 1106.2 W, Z =
+  // 40.3 mm^3/s, wear 28.9 mm^3/s, F_N = 169.5 N, V_c = 13.6 m/s, 50 mm/s over
+  // 25.4 mm: u = P/Z, G = Z/wear, mu = P/(V_c F_N), depth per pass Z/(v_f b).
+  const auto r = run({"grind", "fit", kSource + "/examples/grinding/underwater_tests_seed000.csv", "--model", "poly11"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(contains(r.out, "per test: line  specific energy J/mm^3  G-ratio  friction mu  depth per pass mm")) << r.out;
+  std::istringstream lines(r.out);
+  std::string l;
+  bool seen = false;
+  while (std::getline(lines, l)) {
+    std::istringstream in(l);
+    int line = 0;
+    double u = 0, g = 0, mu = 0, depth = 0;
+    if (!(in >> line >> u >> g >> mu >> depth) || line != 7) continue;
+    seen = true;
+    EXPECT_NEAR(u, 1106.2 / 40.3, 5e-3);
+    EXPECT_NEAR(g, 40.3 / 28.9, 5e-4);
+    EXPECT_NEAR(mu, 1106.2 / (13.6 * 169.5), 5e-5);
+    EXPECT_NEAR(depth, 40.3 / (50.0 * 25.4), 5e-6);
+  }
+  EXPECT_TRUE(seen) << r.out;
+}
+
 TEST_F(GrindCli, ImpactsOfASimulatedRecordMatchTheSimulation) {
   // simulate's force series, read back as a force record by `grind impacts`:
   // two counts of the same contacts (one per contact, in the turn of its peak).

@@ -95,6 +95,21 @@ void print_stats(std::ostream& os, const std::string& title, const grinding::Fit
   os << "\n";
 }
 
+// Per test, what its columns give (docs/grinding.md "grind fit"; the JSON
+// record's `tests`): specific energy P/Z (seed 000's tables list it), G-ratio,
+// friction coefficient, depth per pass; "-" where a column is missing.
+void print_derived(std::ostream& os, const std::vector<GrindingTest>& tests) {
+  auto cell = [](const std::optional<double>& v) { return v ? f4(*v) : std::string("-"); };
+  os << "  per test: line  specific energy J/mm^3  G-ratio  friction mu  depth per pass mm\n";
+  for (const GrindingTest& t : tests) {
+    char line[160];
+    std::snprintf(line, sizeof line, "            %4d  %22s  %7s  %11s  %17s\n", t.line,
+                  cell(t.specific_energy_j_per_mm3).c_str(), cell(t.g_ratio).c_str(),
+                  cell(t.friction_coefficient).c_str(), cell(t.depth_per_pass_mm).c_str());
+    os << line;
+  }
+}
+
 }  // namespace
 
 int cmd_grind_fit(const std::vector<std::string>& args) {
@@ -155,6 +170,7 @@ int cmd_grind_fit(const std::vector<std::string>& args) {
   write_text_files(files);
   std::ostream& os = json_path == "-" ? std::cerr : std::cout;
   os << tests_path << ": " << tests.size() << " tests, model " << model << (mech ? "" : " on " + report.variable) << "\n";
+  print_derived(os, tests);
   for (const auto& t : report.targets) {
     if (mech)
       print_stats(os, "power = friction + chip", t.fit, {"edge_coefficient_n_per_mm", "cutting_coefficient_n_per_mm2"},
