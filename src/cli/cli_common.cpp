@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 
+#include "chatter/number_text.hpp"
 #include "chatter/usual_bands.hpp"
 
 #include <cmath>
@@ -26,10 +27,7 @@
 namespace chatter::cli {
 
 std::string fmt(double x, int digits) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
+  return number_text(x, digits);
 }
 
 void add_common(po::options_description& d, Common& c) {

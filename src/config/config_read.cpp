@@ -1,6 +1,7 @@
 // The reading primitives of the TOML config reader (config_read.hpp): key
 // paths, the Document (messages, errors, warnings) and Table (typed,
 // validated getters), and the plausibility-warning helpers.
+#include "chatter/number_text.hpp"
 #include "config_read.hpp"
 
 #include <algorithm>
@@ -361,10 +362,7 @@ bool Table::plausible(std::string_view key, double si_value, const Plausible& b,
 // ------------------------------------------------------ plausibility warnings
 
 std::string number_text(double x) {
-  std::ostringstream os;
-  os.precision(4);
-  os << x;
-  return os.str();
+  return chatter::number_text(x, 4);
 }
 
 std::string how_far(double v, const Band& b) {

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/io/frf.hpp"
 #include "text.hpp"
 
@@ -65,13 +66,6 @@ std::string shown(std::string_view s) {
   }
   if (s.size() > 40) out += "...";
   return out;
-}
-
-std::string number_text(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
 }
 
 /// Parses a whole field as a number: C / Fortran forms, `D` exponents and the
@@ -161,7 +155,7 @@ class LineReader {
 
 void check_scale(const std::string& whole, double scale) {
   if (!std::isfinite(scale) || scale == 0.0)
-    throw InputError(whole + ": scale = " + number_text(scale) + ": must be a finite, non-zero factor");
+    throw InputError(whole + ": scale = " + number_text(scale, 10) + ": must be a finite, non-zero factor");
 }
 
 /// Scale, drop 0 Hz if asked, convert to receptance.
@@ -547,10 +541,10 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
   if (!r7[0] || !r7[1] || !r7[2]) ctx.fail(ln7, "header record 7: expected ordinate data type, number of points and abscissa spacing, found '" + shown(trim(l7)) + "'");
   const double ot = *r7[0], np = *r7[1], sp = *r7[2];
   if (ot != 2 && ot != 4 && ot != 5 && ot != 6)
-    ctx.fail(ln7, "header record 7: ordinate data type " + number_text(ot) +
+    ctx.fail(ln7, "header record 7: ordinate data type " + number_text(ot, 10) +
                       " is not supported (2 real single, 4 real double, 5 complex single, 6 complex double)");
-  if (np != std::floor(np) || np < 1 || np > 1e9) ctx.fail(ln7, "header record 7: number of points " + number_text(np) + " must be an integer >= 1");
-  if (sp != 0 && sp != 1) ctx.fail(ln7, "header record 7: abscissa spacing " + number_text(sp) + " must be 1 (even) or 0 (uneven)");
+  if (np != std::floor(np) || np < 1 || np > 1e9) ctx.fail(ln7, "header record 7: number of points " + number_text(np, 10) + " must be an integer >= 1");
+  if (sp != 0 && sp != 1) ctx.fail(ln7, "header record 7: abscissa spacing " + number_text(sp, 10) + " must be 1 (even) or 0 (uneven)");
   rec.ordinate_data_type = static_cast<int>(ot);
   rec.even_abscissa = sp == 1;
   const auto n_points = static_cast<std::size_t>(np);
@@ -559,8 +553,8 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
     if (!r7[3] || !r7[4]) ctx.fail(ln7, "header record 7: even abscissa needs its minimum and increment");
     x_min = *r7[3];
     x_inc = *r7[4];
-    if (!std::isfinite(x_inc) || x_inc <= 0.0) ctx.fail(ln7, "header record 7: abscissa increment " + number_text(x_inc) + " Hz must be > 0");
-    if (!std::isfinite(x_min) || x_min < 0.0) ctx.fail(ln7, "header record 7: abscissa minimum " + number_text(x_min) + " Hz must be >= 0");
+    if (!std::isfinite(x_inc) || x_inc <= 0.0) ctx.fail(ln7, "header record 7: abscissa increment " + number_text(x_inc, 10) + " Hz must be > 0");
+    if (!std::isfinite(x_min) || x_min < 0.0) ctx.fail(ln7, "header record 7: abscissa minimum " + number_text(x_min, 10) + " Hz must be >= 0");
   }
   const bool complex_data = ot == 5 || ot == 6;
   const bool dbl = ot == 4 || ot == 6;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/grinding_data.hpp"
 #include "chatter/io/grinding_io.hpp"
 #include "chatter/kinematics.hpp"
@@ -24,12 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace text = detail::text;
-
-std::string num(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
 
 // A CSV as (line number, cells) rows after the header.
 struct Csv {
@@ -151,7 +146,7 @@ std::vector<GrindingTest> read_grinding_tests(const fs::path& path, const Grindi
         throw InputError(at + "the wear from the diameters needs wheel_diameter_before_mm, wheel_diameter_after_mm, "
                               "grinding_time_s and the wheel width");
       if (*after > *before)
-        throw InputError(at + "wheel_diameter_after_mm = " + num(*after) + ": larger than before (" + num(*before) +
+        throw InputError(at + "wheel_diameter_after_mm = " + number_text(*after) + ": larger than before (" + number_text(*before) +
                          " mm): the wheel cannot grow");
       t.wear_mm3_per_s = std::numbers::pi * *t.wheel_width_mm * (*before * *before - *after * *after) / 4.0 / *time;
     }
@@ -183,7 +178,7 @@ ImpactRecord read_impact_record(const fs::path& path) {
     const std::string at = c.file + ": line " + std::to_string(row.first) + ": ";
     if (!t || !v) throw InputError(at + "time_s and " + r.column + " must both be numbers");
     if (!r.time_s.empty() && !(*t > r.time_s.back()))
-      throw InputError(at + "time_s = " + num(*t) + ": must increase (previous " + num(r.time_s.back()) + " s)");
+      throw InputError(at + "time_s = " + number_text(*t) + ": must increase (previous " + number_text(r.time_s.back()) + " s)");
     r.time_s.push_back(*t);
     r.signal.push_back(*v);
   }

@@ -1,6 +1,7 @@
 // Readers of shop data: tests tables, force series, recordings
 // (include/chatter/io/shop_io.hpp). Audio through libsndfile.
 #include "chatter/io/shop_io.hpp"
+#include "chatter/number_text.hpp"
 
 #include <dlfcn.h>
 #include <sndfile.h>
@@ -26,12 +27,6 @@ namespace fs = std::filesystem;
 // Uniform sampling tolerance of a CSV recording: a step may differ from the
 // mean step by this fraction (timestamps printed with few digits jitter).
 constexpr double kUniformStepRel = 0.01;
-
-std::string num(double x) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
 
 std::string trim(const std::string& s) {
   std::size_t a = 0, b = s.size();
@@ -125,7 +120,7 @@ double cell(const fs::path& file, int line, const std::vector<std::string>& cell
 }
 
 void rule(bool ok, const fs::path& file, int line, const std::string& c, double v, const char* r) {
-  if (!ok) throw InputError(file.string() + ": line " + std::to_string(line) + ": " + c + " = " + num(v) + ": " + r);
+  if (!ok) throw InputError(file.string() + ": line " + std::to_string(line) + ": " + c + " = " + number_text(v) + ": " + r);
 }
 
 /// Largest force magnitude a cutting test can measure, N (about 100 tonnes-force):
@@ -190,8 +185,8 @@ ForceSeries read_force_series(const fs::path& file) {
     const auto cells = split(l.rows[r].second);
     const double t = cell(file, line, cells, h, "time_s");
     if (!s.time_s.empty() && !(t > s.time_s.back()))
-      throw InputError(file.string() + ": line " + std::to_string(line) + ": time_s = " + num(t) +
-                       " is not after the previous time " + num(s.time_s.back()) +
+      throw InputError(file.string() + ": line " + std::to_string(line) + ": time_s = " + number_text(t) +
+                       " is not after the previous time " + number_text(s.time_s.back()) +
                        " s: time must increase strictly");
     s.time_s.push_back(t);
     s.fx_n.push_back(force_cell(file, line, cells, h, "fx_n"));
@@ -342,8 +337,8 @@ Recording read_recording(const fs::path& file, int channel) {
       if (!tv) throw InputError(file.string() + ": line " + std::to_string(line) + ": time_s = '" + c[0] + "': not a number");
       if (!v) throw InputError(file.string() + ": line " + std::to_string(line) + ": value = '" + c[1] + "': not a number");
       if (!t.empty() && !(*tv > t.back()))
-        throw InputError(file.string() + ": line " + std::to_string(line) + ": time_s = " + num(*tv) +
-                         " is not after the previous time " + num(t.back()) + " s: time must increase strictly");
+        throw InputError(file.string() + ": line " + std::to_string(line) + ": time_s = " + number_text(*tv) +
+                         " is not after the previous time " + number_text(t.back()) + " s: time must increase strictly");
       t.push_back(*tv);
       r.samples.push_back(*v);
     }
@@ -352,7 +347,7 @@ Recording read_recording(const fs::path& file, int channel) {
     for (std::size_t i = 1; i < t.size(); ++i)
       if (std::abs(t[i] - t[i - 1] - dt) > kUniformStepRel * dt)
         throw InputError(file.string() + ": line " + std::to_string(l.rows[first + i].first) + ": time step " +
-                         num(t[i] - t[i - 1]) + " s differs from the mean step " + num(dt) +
+                         number_text(t[i] - t[i - 1]) + " s differs from the mean step " + number_text(dt) +
                          " s by more than 1 %: the recording must be uniformly sampled (resample it)");
     r.sample_rate_hz = 1.0 / dt;
     r.format = "CSV";

@@ -2,15 +2,14 @@
 // as the CLI prints numbers). Header-only.
 #pragma once
 
-#include <cstdio>
 #include <string>
+
+#include "chatter/number_text.hpp"
 
 namespace chatter::grinding::detail {
 
 inline std::string num(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
+  return number_text(x);
 }
 
 }  // namespace chatter::grinding::detail

@@ -1,4 +1,5 @@
 #include "chatter/frf_data.hpp"
+#include "chatter/number_text.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -7,13 +8,6 @@
 
 namespace chatter {
 namespace {
-
-std::string number_text(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
 
 }  // namespace
 
@@ -26,14 +20,14 @@ void validate(const FrfTable& t, const std::string& whole, const std::function<s
                      " frequency line(s), an FRF needs at least 2");
   for (std::size_t i = 0; i < t.frequency_hz.size(); ++i) {
     const double f = t.frequency_hz[i];
-    if (!std::isfinite(f)) throw InputError(where(i) + ": frequency " + number_text(f) + " Hz is not finite");
-    if (f < 0.0) throw InputError(where(i) + ": negative frequency " + number_text(f) + " Hz (must be >= 0)");
+    if (!std::isfinite(f)) throw InputError(where(i) + ": frequency " + number_text(f, 10) + " Hz is not finite");
+    if (f < 0.0) throw InputError(where(i) + ": negative frequency " + number_text(f, 10) + " Hz (must be >= 0)");
     if (!std::isfinite(t.value[i].real()) || !std::isfinite(t.value[i].imag()))
-      throw InputError(where(i) + ": value (" + number_text(t.value[i].real()) + ", " +
-                       number_text(t.value[i].imag()) + ") at " + number_text(f) + " Hz is not finite");
+      throw InputError(where(i) + ": value (" + number_text(t.value[i].real(), 10) + ", " +
+                       number_text(t.value[i].imag(), 10) + ") at " + number_text(f, 10) + " Hz is not finite");
     if (i > 0 && f <= t.frequency_hz[i - 1]) {
       const std::string what = f < t.frequency_hz[i - 1] ? "decreasing frequency " : "repeated frequency ";
-      throw InputError(where(i) + ": " + what + number_text(f) + " Hz after " + number_text(t.frequency_hz[i - 1]) +
+      throw InputError(where(i) + ": " + what + number_text(f, 10) + " Hz after " + number_text(t.frequency_hz[i - 1], 10) +
                        " Hz (frequencies must increase strictly)");
     }
   }

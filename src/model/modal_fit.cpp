@@ -1,6 +1,7 @@
 // Modal fit: peak picking, then Levenberg–Marquardt on the complex
 // residual. See include/chatter/modal_fit.hpp for the method.
 #include "chatter/modal_fit.hpp"
+#include "chatter/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,26 +35,19 @@ constexpr double kStepTolerance = 1e-10;
 // the answer, so the first steps stay local (another peak is not reached).
 constexpr double kInitialStepBound = 1.0;
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
 void check_options(const FrfTable& t, const ModalFitOptions& o) {
   const std::string p = t.source + ": modal fit: ";
   if (o.modes < 0) throw InputError(p + "modes = " + std::to_string(o.modes) + ": must be >= 0 (0 = auto)");
   if (!std::isfinite(o.f_min_hz) || o.f_min_hz < 0.0)
-    throw InputError(p + "band minimum " + num(o.f_min_hz) + " Hz: must be finite and >= 0");
+    throw InputError(p + "band minimum " + number_text(o.f_min_hz, 10) + " Hz: must be finite and >= 0");
   if (std::isnan(o.f_max_hz) || o.f_max_hz <= o.f_min_hz)
-    throw InputError(p + "band maximum " + num(o.f_max_hz) + " Hz: must be > band minimum " + num(o.f_min_hz) + " Hz");
+    throw InputError(p + "band maximum " + number_text(o.f_max_hz, 10) + " Hz: must be > band minimum " + number_text(o.f_min_hz, 10) + " Hz");
   if (!(o.peak_threshold >= 0.0 && o.peak_threshold < 1.0))
-    throw InputError(p + "peak_threshold = " + num(o.peak_threshold) + ": must be in [0, 1)");
+    throw InputError(p + "peak_threshold = " + number_text(o.peak_threshold, 10) + ": must be in [0, 1)");
   if (!o.direction.allFinite() || o.direction.norm() == 0.0)
     throw InputError(p + "direction must be a finite, non-zero vector");
   if (o.max_iterations < 1) throw InputError(p + "max_iterations = " + std::to_string(o.max_iterations) + ": must be >= 1");
-  if (!(o.tolerance >= 0.0)) throw InputError(p + "tolerance = " + num(o.tolerance) + ": must be >= 0");
+  if (!(o.tolerance >= 0.0)) throw InputError(p + "tolerance = " + number_text(o.tolerance, 10) + ": must be >= 0");
 }
 
 /// Indices of the lines in the band.
@@ -134,11 +128,11 @@ std::vector<Peak> find_peaks(const FrfTable& t, const std::vector<std::size_t>& 
 
 std::vector<Peak> select_peaks(const FrfTable& t, const ModalFitOptions& o, const std::vector<std::size_t>& band) {
   if (band.size() < 3)
-    throw InputError(t.source + ": modal fit: band [" + num(o.f_min_hz) + ", " + num(o.f_max_hz) + "] Hz holds " +
+    throw InputError(t.source + ": modal fit: band [" + number_text(o.f_min_hz, 10) + ", " + number_text(o.f_max_hz, 10) + "] Hz holds " +
                      std::to_string(band.size()) + " line(s), need at least 3");
   std::vector<Peak> peaks = find_peaks(t, band);
   std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.height > b.height; });
-  const std::string band_text = "band " + num(t.frequency_hz[band.front()]) + "–" + num(t.frequency_hz[band.back()]) + " Hz";
+  const std::string band_text = "band " + number_text(t.frequency_hz[band.front()], 10) + "–" + number_text(t.frequency_hz[band.back()], 10) + " Hz";
   if (o.modes == 0) {
     if (peaks.empty())
       throw InputError(t.source + ": modal fit: no resonance peak in " + band_text +
@@ -158,7 +152,7 @@ std::vector<Peak> select_peaks(const FrfTable& t, const ModalFitOptions& o, cons
         std::count_if(peaks.begin(), peaks.end(), [&](const Peak& p) { return p.height >= cut; }));
     if (significant < static_cast<std::size_t>(o.modes))
       throw InputError(t.source + ": modal fit: " + std::to_string(o.modes) + " mode(s) asked, " + band_text + " holds " +
-                       std::to_string(significant) + " resonance peak(s) at least " + num(100.0 * o.peak_threshold) +
+                       std::to_string(significant) + " resonance peak(s) at least " + number_text(100.0 * o.peak_threshold, 10) +
                        " % of the highest (and " + std::to_string(peaks.size() - significant) +
                        " smaller maxima: noise or modes too weak to fit): ask for " + std::to_string(significant));
     peaks.resize(static_cast<std::size_t>(o.modes));
@@ -171,8 +165,8 @@ Mode make_mode(double f, double zeta, double k, const Eigen::Vector2d& u, const 
   try {
     return Mode::from_stiffness(f, zeta, k, u);
   } catch (const InputError& e) {
-    throw NumericalError(source + ": modal fit left the physical range (f = " + num(f) + " Hz, zeta = " + num(zeta) +
-                         ", k = " + num(k) + " N/m): " + e.what());
+    throw NumericalError(source + ": modal fit left the physical range (f = " + number_text(f, 10) + " Hz, zeta = " + number_text(zeta, 10) +
+                         ", k = " + number_text(k, 10) + " N/m): " + e.what());
   }
 }
 

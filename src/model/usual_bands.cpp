@@ -1,6 +1,7 @@
 // unusual(): the one text of a value outside its usual band
 // (chatter/usual_bands.hpp).
 #include "chatter/usual_bands.hpp"
+#include "chatter/number_text.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -9,12 +10,6 @@
 namespace chatter {
 
 namespace {
-std::string number_text(double x, int digits = 4) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
 }  // namespace
 
 std::string unusual(std::string_view name, double v, const Usual& u) {
@@ -23,7 +18,7 @@ std::string unusual(std::string_view name, double v, const Usual& u) {
   for (const auto& [factor, unit] : {std::pair{u.mixup_factor, u.mixup_unit}, std::pair{u.other_factor, u.other_unit}}) {
     const double meant = v * factor;
     if (factor > 0.0 && u.contains(meant)) {
-      what += "; is it in " + std::string(unit) + " (" + std::string(name) + " = " + number_text(meant) + ")?";
+      what += "; is it in " + std::string(unit) + " (" + std::string(name) + " = " + number_text(meant, 4) + ")?";
       break;
     }
   }

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "chatter/number_text.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/results.hpp"  // ForcedResponse
 
@@ -41,10 +42,7 @@ inline constexpr double kProgressCeiling = 0.99;
 
 /// A number with 10 significant digits, for messages.
 inline std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
+  return number_text(x, 10);
 }
 
 /// `s` in single quotes, for messages.

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/forced.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/lobes.hpp"
@@ -21,13 +22,6 @@ namespace chatter {
 using nlohmann::json;
 
 namespace {
-
-std::string fmt(double x, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
 
 bool has(const std::vector<std::string>& v, const std::string& x) { return std::find(v.begin(), v.end(), x) != v.end(); }
 
@@ -178,14 +172,14 @@ void explain_averaging(const ComparedMethod& first, const ComparedMethod& second
   const bool below = averaged.rows[at].depth_limit_m < b.depth_limit_m;
   report << "  at " << speeds_word(count) << " where " << f.descriptor->name << "'s limit is a Hopf one, "
          << first.descriptor->name << " and " << second.descriptor->name << " differ by more than "
-         << fmt(100.0 * kAveragingGapRel, 3) << " % (largest " << fmt(worst, 3) << ", " << averaged.descriptor->name
-         << (below ? " below " : " above ") << f.descriptor->name << ", at " << fmt(b.spindle_rpm) << " rev/min, lobe "
+         << number_text(100.0 * kAveragingGapRel, 3) << " % (largest " << number_text(worst, 3) << ", " << averaged.descriptor->name
+         << (below ? " below " : " above ") << f.descriptor->name << ", at " << number_text(b.spindle_rpm) << " rev/min, lobe "
          << b.lobe << "):\n"
          << "  the averaged method keeps only the mean of the cutting force's directional matrix over the tooth\n"
          << "  period (the zeroth-order approximation); the harmonics it drops shift the Hopf lobes";
   std::vector<std::string> where;
   if (b.lobe >= kHighLobe) where.push_back("the lobe number is high (low speed: many vibration cycles per tooth period)");
-  if (ae_d < kLowImmersion) where.push_back("the arc is short (a_e/D = " + fmt(ae_d, 3) + ")");
+  if (ae_d < kLowImmersion) where.push_back("the arc is short (a_e/D = " + number_text(ae_d, 3) + ")");
   for (std::size_t i = 0; i < where.size(); ++i) report << (i == 0 ? ",\n  most where " : " and ") << where[i];
   report << ". " << f.descriptor->name << " keeps them (so does a simulation: chatter simulate --linear).\n";
 }
@@ -205,7 +199,7 @@ std::size_t explain_floquet(const ComparedMethod& f, const ComparedMethod* avera
         ++flips_deeper_tf;
     }
   const double ae_d = immersion(cfg);
-  const std::string why_flip = ae_d < kLowImmersion ? " (low radial immersion, a_e/D = " + fmt(ae_d, 3) + ")" : "";
+  const std::string why_flip = ae_d < kLowImmersion ? " (low radial immersion, a_e/D = " + number_text(ae_d, 3) + ")" : "";
   if (flips > 0 && averaged && flips_deeper_tf > 0) {
     report << "  " << name << " finds period-doubling (flip) chatter at " << speeds_word(flips) << "; at "
            << flips_deeper_tf << " of them the " << averaged->descriptor->name
@@ -237,7 +231,7 @@ void explain_simulation(const ComparedMethod& r, bool turning, std::size_t flips
   const double tol = std::get<double>(get("depth_tolerance"));
   const int periods = std::get<int>(get("periods"));
   const bool linear = std::get<bool>(get("linear"));
-  report << "  " << r.descriptor->name << ": each limit is the middle of a depth bracket " << fmt(tol * 100, 3)
+  report << "  " << r.descriptor->name << ": each limit is the middle of a depth bracket " << number_text(tol * 100, 3)
          << " % wide, every depth judged by simulating\n  " << periods << " delay periods"
          << (linear ? " of the linear equation" : " with the nonlinear chip (the tool may leave the cut)");
   if (turning)
@@ -300,33 +294,33 @@ void explain_forced(const Config& cfg, const Comparison& c, std::ostream& report
     return;  // e.g. measured FRFs: no forced response to explain with
   }
   if (!f.stable) return;
-  report << "  " << sim->descriptor->name << " is " << fmt(100.0 * worst, 3) << " % deeper than "
-         << lin->descriptor->name << " at " << fmt(speeds[at]) << " rev/min. ";
+  report << "  " << sim->descriptor->name << " is " << number_text(100.0 * worst, 3) << " % deeper than "
+         << lin->descriptor->name << " at " << number_text(speeds[at]) << " rev/min. ";
   if (f.teeth_leave_cut)
-    report << "There the forced vibration at " << fmt(100.0 * kBelowLinearLimit, 3) << " % of the\n  "
-           << lin->descriptor->name << " limit (" << fmt(f.depth_m * 1e3, 4) << " mm, feed " << fmt(feed_m * 1e3, 4)
-           << " mm) is " << fmt(1e6 * std::max(f.peak_to_peak_x_m, f.peak_to_peak_y_m), 3)
+    report << "There the forced vibration at " << number_text(100.0 * kBelowLinearLimit, 3) << " % of the\n  "
+           << lin->descriptor->name << " limit (" << number_text(f.depth_m * 1e3, 4) << " mm, feed " << number_text(feed_m * 1e3, 4)
+           << " mm) is " << number_text(1e6 * std::max(f.peak_to_peak_x_m, f.peak_to_peak_y_m), 3)
            << " um peak to peak and the teeth leave the cut (linear chip negative over "
-           << fmt(f.negative_chip_arc_deg, 3) << " deg,\n  " << fmt(100.0 * f.negative_chip_fraction, 3)
+           << number_text(f.negative_chip_arc_deg, 3) << " deg,\n  " << number_text(100.0 * f.negative_chip_fraction, 3)
            << " % of the arc): below its limit the linear model no longer holds, and the simulation with the real "
               "chip\n  finds the cut stable deeper (check the part with chatter forced / chatter sle; "
               "docs/forced.md).\n";
   else
     report << "The forced vibration there stays inside the chip (no tooth leaves the cut at\n  "
-           << fmt(100.0 * kBelowLinearLimit, 3) << " % of the " << lin->descriptor->name
+           << number_text(100.0 * kBelowLinearLimit, 3) << " % of the " << lin->descriptor->name
            << " limit): the difference is not the forced vibration.\n";
 }
 
 std::string explanation(const Config& cfg, const Comparison& c) {
   std::ostringstream report;
   const std::vector<double>& speeds = c.speeds_rpm;
-  report << cfg.name << ": " << speeds.size() << " speeds " << fmt(speeds.front()) << "-" << fmt(speeds.back())
-         << " rev/min, depth searched to " << fmt(c.depth_max_mm) << " mm\n";
+  report << cfg.name << ": " << speeds.size() << " speeds " << number_text(speeds.front()) << "-" << number_text(speeds.back())
+         << " rev/min, depth searched to " << number_text(c.depth_max_mm) << " mm\n";
   for (const ComparedPair& p : c.pairs) {
     report << "  " << p.first << " vs " << p.second << ": largest relative difference "
-           << fmt(p.largest_relative_difference, 3) << " (at " << fmt(p.at_spindle_rpm) << " rev/min)";
+           << number_text(p.largest_relative_difference, 3) << " (at " << number_text(p.at_spindle_rpm) << " rev/min)";
     if (p.bounded_only_by_first + p.bounded_only_by_second > 0)
-      report << "; a limit below " << fmt(c.depth_max_mm) << " mm found only by " << p.first << " at "
+      report << "; a limit below " << number_text(c.depth_max_mm) << " mm found only by " << p.first << " at "
              << p.bounded_only_by_first << " speeds, only by " << p.second << " at " << p.bounded_only_by_second;
     report << '\n';
   }

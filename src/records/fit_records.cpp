@@ -15,6 +15,7 @@
 
 #include "../formats/text.hpp"
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/io/frf.hpp"
 #include "chatter/io/modes_toml.hpp"
 #include "chatter/io/table_writer.hpp"
@@ -27,13 +28,6 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string fmt(double x, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
 
 std::string g(double x, int digits) {
   char buf[64];
@@ -166,7 +160,7 @@ std::vector<FittedRecord> read_records(const FitArgs& a, ArgStyle style, std::ve
                        "': use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s^2)/N)");
   }
   if (!(std::isfinite(a.scale) && a.scale > 0.0))
-    throw InputError(name("scale") + " = " + fmt(a.scale) + ": must be > 0 (the factor to SI: 1e-6 for um/N, 1e-3 for mm/N)");
+    throw InputError(name("scale") + " = " + number_text(a.scale) + ": must be > 0 (the factor to SI: 1e-6 for um/N, 1e-3 for mm/N)");
   opt.scale = a.scale;
   opt.drop_zero_hz = true;
   const bool given = !a.direction.empty();
@@ -250,8 +244,8 @@ ModalFitResult fit_record_of(const FittedRecord& j, const FitArgs& a, ArgStyle s
     o.f_max_hz = a.band->second;
     const double lo = t.frequency_hz.front(), hi = t.frequency_hz.back();
     if (o.f_max_hz < lo || o.f_min_hz > hi)
-      throw InputError(j.label + ": " + arg_name(style, "band") + " " + fmt(o.f_min_hz) + " " + fmt(o.f_max_hz) +
-                       " Hz lies outside the measured lines (" + fmt(lo) + "-" + fmt(hi) + " Hz)");
+      throw InputError(j.label + ": " + arg_name(style, "band") + " " + number_text(o.f_min_hz) + " " + number_text(o.f_max_hz) +
+                       " Hz lies outside the measured lines (" + number_text(lo) + "-" + number_text(hi) + " Hz)");
   }
   ModalFitResult res;
   try {
@@ -261,9 +255,9 @@ ModalFitResult fit_record_of(const FittedRecord& j, const FitArgs& a, ArgStyle s
                      "; the data do not look like lightly damped modes in this band: narrow " + arg_name(style, "band") +
                      " around the resonances, give " + arg_name(style, "modes") + ", or check " + arg_name(style, "quantity"));
   }
-  report << j.label << ": " << t.size() << " lines " << fmt(t.frequency_hz.front()) << "-"
-         << fmt(t.frequency_hz.back()) << " Hz; fitted " << res.lines << " lines " << fmt(res.f_min_hz) << "-"
-         << fmt(res.f_max_hz) << " Hz, direction " << direction_text(j.direction) << "\n";
+  report << j.label << ": " << t.size() << " lines " << number_text(t.frequency_hz.front()) << "-"
+         << number_text(t.frequency_hz.back()) << " Hz; fitted " << res.lines << " lines " << number_text(res.f_min_hz) << "-"
+         << number_text(res.f_max_hz) << " Hz, direction " << direction_text(j.direction) << "\n";
   report << "  mode  frequency_hz  damping_ratio  stiffness_n_per_m\n";
   for (std::size_t m = 0; m < res.modes.size(); ++m) {
     const Mode& md = res.modes[m];
@@ -294,8 +288,8 @@ ModalFitResult fit_record_of(const FittedRecord& j, const FitArgs& a, ArgStyle s
                        " %: the modes do not describe this FRF well; try " + arg_name(style, "band") + " around the resonances, " +
                        arg_name(style, "modes") + ", or " + arg_name(style, "residuals"));
   std::ostringstream comment;
-  comment << j.label << ": " << res.modes.size() << " mode(s), band " << fmt(res.f_min_hz) << "-"
-          << fmt(res.f_max_hz) << " Hz (" << res.lines << " lines), fit error " << g(res.fit_error, 3)
+  comment << j.label << ": " << res.modes.size() << " mode(s), band " << number_text(res.f_min_hz) << "-"
+          << number_text(res.f_max_hz) << " Hz (" << res.lines << " lines), fit error " << g(res.fit_error, 3)
           << " (relative RMS), " << res.iterations << " iterations" << (res.converged ? "" : ", not converged");
   toml << "\n" << modes_to_toml(res.modes, a.body, comment.str());
   return res;
@@ -355,7 +349,7 @@ std::string direction_text(const Eigen::Vector2d& u) {
   if (u.x() == 1.0 && u.y() == 0.0) return "x";
   if (u.x() == 0.0 && u.y() == 1.0) return "y";
   std::string s = "[";  // appended piecewise: `"literal" + std::string` trips a GCC 12 -Wrestrict false positive
-  s.append(fmt(u.x(), 6)).append(", ").append(fmt(u.y(), 6)).append("]");
+  s.append(number_text(u.x(), 6)).append(", ").append(number_text(u.y(), 6)).append("]");
   return s;
 }
 
@@ -366,9 +360,9 @@ void check_fit_args(const FitArgs& a, ArgStyle style) {
                      (style == ArgStyle::kFlag ? " (or --auto)" : " (or None: every peak)"));
   if (a.band) {
     const auto [lo, hi] = *a.band;
-    if (!(std::isfinite(lo) && lo >= 0.0)) throw InputError(name("band") + ": FMIN = " + fmt(lo) + " Hz: must be >= 0");
+    if (!(std::isfinite(lo) && lo >= 0.0)) throw InputError(name("band") + ": FMIN = " + number_text(lo) + " Hz: must be >= 0");
     if (!(std::isfinite(hi) && hi > lo))
-      throw InputError(name("band") + ": FMAX = " + fmt(hi) + " Hz: must be > FMIN (" + fmt(lo) + " Hz)");
+      throw InputError(name("band") + ": FMAX = " + number_text(hi) + " Hz: must be > FMIN (" + number_text(lo) + " Hz)");
   }
   const std::string body = lower(a.body);
   if (body != "tool" && body != "workpiece") throw InputError(name("body") + " '" + a.body + "': use tool or workpiece");

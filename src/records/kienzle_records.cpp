@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/shop.hpp"
 
@@ -16,12 +17,6 @@ namespace chatter {
 namespace {
 
 using nlohmann::json;
-
-std::string fmt(double x, int digits = 4) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", digits, x);
-  return b;
-}
 
 // The directions the tests measured, in the law's order.
 std::vector<std::pair<const char*, const KienzleDirectionFit*>> measured(const KienzleFit& f) {
@@ -34,7 +29,7 @@ std::vector<std::pair<const char*, const KienzleDirectionFit*>> measured(const K
 
 KienzleResult fit_kienzle_tests(const std::filesystem::path& tests, double lead_angle_deg, ArgStyle style) {
   if (!(std::isfinite(lead_angle_deg) && lead_angle_deg > 0.0 && lead_angle_deg <= 90.0))
-    throw InputError(arg_name(style, "lead_angle_deg") + " = " + fmt(lead_angle_deg) +
+    throw InputError(arg_name(style, "lead_angle_deg") + " = " + number_text(lead_angle_deg, 4) +
                      ": must be in (0, 90] deg (90 = the edge perpendicular to the feed)");
   KienzleResult r;
   r.tests_path = tests;
@@ -81,18 +76,18 @@ std::string kienzle_report(const KienzleResult& r) {
   const KienzleFit& f = r.fit;
   std::ostringstream os;
   os << "Kienzle's law F = k_1.1 b h^(1-m) from " << r.tests.tests.size() << " turning tests ("
-     << r.tests_path.filename().string() << ", lead angle " << fmt(f.lead_angle_rad * 180.0 / std::numbers::pi)
+     << r.tests_path.filename().string() << ", lead angle " << number_text(f.lead_angle_rad * 180.0 / std::numbers::pi, 4)
      << " deg; h = f sin(lead), b = a / sin(lead)):\n";
   const bool errors = f.degrees_of_freedom > 0;
   os << "  direction    k_1.1 (N/mm^2)      m           R^2" << (errors ? "     (+- standard error; 95 %: x "
                                                                               "Student t)"
                                                                             : "") << "\n";
   for (const auto& [name, d] : measured(f)) {
-    os << "  " << name << std::string(12 - std::string(name).size(), ' ') << fmt(d->term.specific_force_n_per_m2 * 1e-6, 5);
-    if (errors) os << " +- " << fmt(d->k_standard_error_n_per_m2 * 1e-6, 3);
-    os << "   " << fmt(d->term.exponent, 4);
-    if (errors) os << " +- " << fmt(d->m_standard_error, 2);
-    os << "   " << (std::isfinite(d->r_squared) ? fmt(d->r_squared, 4) : std::string("-")) << "\n";
+    os << "  " << name << std::string(12 - std::string(name).size(), ' ') << number_text(d->term.specific_force_n_per_m2 * 1e-6, 5);
+    if (errors) os << " +- " << number_text(d->k_standard_error_n_per_m2 * 1e-6, 3);
+    os << "   " << number_text(d->term.exponent, 4);
+    if (errors) os << " +- " << number_text(d->m_standard_error, 2);
+    os << "   " << (std::isfinite(d->r_squared) ? number_text(d->r_squared, 4) : std::string("-")) << "\n";
   }
   os << "  line  feed mm/rev  depth mm  k_c N/mm^2  residual F_c N  residual F_f N\n";
   for (std::size_t i = 0; i < r.tests.tests.size(); ++i) {
@@ -110,7 +105,7 @@ std::string kienzle_fragment(const KienzleResult& r, ArgStyle style) {
   const KienzleFit& f = r.fit;
   for (const auto& [name, d] : measured(f))
     if (!(d->term.exponent >= 0.0 && d->term.exponent < 1.0))
-      throw InputError(arg_name(style, "out") + ": the fitted " + name + " exponent m = " + fmt(d->term.exponent) +
+      throw InputError(arg_name(style, "out") + ": the fitted " + name + " exponent m = " + number_text(d->term.exponent, 4) +
                        " is not a valid law (0 <= m < 1): check the tests");
   auto inline_table = [&](auto value) {
     std::string s = "{ ";
@@ -127,8 +122,8 @@ std::string kienzle_fragment(const KienzleResult& r, ArgStyle style) {
   if (f.degrees_of_freedom > 0) {
     t << "; standard errors:";
     for (const auto& [name, d] : measured(f))
-      t << " " << name << " k_1.1 +- " << fmt(d->k_standard_error_n_per_m2 * 1e-6, 3) << ", m +- "
-        << fmt(d->m_standard_error, 2) << ";";
+      t << " " << name << " k_1.1 +- " << number_text(d->k_standard_error_n_per_m2 * 1e-6, 3) << ", m +- "
+        << number_text(d->m_standard_error, 2) << ";";
   }
   t << "\n# Add feed_per_rev_mm (the chip the regenerative side is linearised at) and the modes.\n"
     << "[process]\noperation = \"turning\"\nforce_law = \"kienzle\"\n"

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/records.hpp"
 #include "chatter/records/forced.hpp"  // forced_check_record
 #include "chatter/io/table_writer.hpp"    // version()
@@ -36,13 +37,6 @@ json limit_json(const StabilityLimit& l) {
 const char* direction_name(MillingDirection d) { return d == MillingDirection::kDown ? "down" : "up"; }
 
 // A number for messages (6 significant digits, as the CLI prints them).
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
-
 }  // namespace
 
 MachineLimits machine_range(const Config& cfg, std::optional<double> rpm_min, std::optional<double> rpm_max,
@@ -58,10 +52,10 @@ MachineLimits machine_range(const Config& cfg, std::optional<double> rpm_min, st
   m.rpm_min = pick(rpm_min, cfg.sweep.rpm_min, "rpm_min", "sweep.rpm_min");
   m.rpm_max = pick(rpm_max, cfg.sweep.rpm_max, "rpm_max", "sweep.rpm_max");
   if (!(std::isfinite(m.rpm_min) && m.rpm_min > 0.0))
-    throw InputError(arg_name(style, "rpm_min") + " = " + fmt(m.rpm_min) + ": must be > 0 rev/min");
+    throw InputError(arg_name(style, "rpm_min") + " = " + number_text(m.rpm_min) + ": must be > 0 rev/min");
   if (!(std::isfinite(m.rpm_max) && m.rpm_max > m.rpm_min))
-    throw InputError(arg_name(style, "rpm_max") + " = " + fmt(m.rpm_max) + ": must be > " +
-                     arg_name(style, "rpm_min") + " (" + fmt(m.rpm_min) + ")");
+    throw InputError(arg_name(style, "rpm_max") + " = " + number_text(m.rpm_max) + ": must be > " +
+                     arg_name(style, "rpm_min") + " (" + number_text(m.rpm_min) + ")");
   return m;
 }
 
@@ -86,7 +80,7 @@ void check_method(const std::string& method, const Config& cfg, ArgStyle style) 
 
 // x itself when finite and > 0. @throws InputError "<arg> = x: must be > 0".
 double positive_arg(ArgStyle style, const char* key, double x) {
-  if (!(std::isfinite(x) && x > 0.0)) throw InputError(arg_name(style, key) + " = " + fmt(x) + ": must be > 0");
+  if (!(std::isfinite(x) && x > 0.0)) throw InputError(arg_name(style, key) + " = " + number_text(x) + ": must be > 0");
   return x;
 }
 
@@ -167,7 +161,7 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
   opt.diameter_m = load.diameter_m;
   opt.cutting_coefficient_n_per_m2 = load.kc;
   opt.feed_per_tooth_m = positive("feed_per_tooth_mm", a.feed_per_tooth_mm) * 1e-3;
-  if (!(a.safety > 0.0 && a.safety <= 1.0)) throw InputError(name("safety") + " = " + fmt(a.safety) + ": must be in (0, 1]");
+  if (!(a.safety > 0.0 && a.safety <= 1.0)) throw InputError(name("safety") + " = " + number_text(a.safety) + ": must be in (0, 1]");
   opt.safety = a.safety;
   opt.depth_max_m =
       (a.depth_max_mm ? positive("depth_max_mm", *a.depth_max_mm) : cfg.sweep.depth_max_mm.value_or(kDefaultSearchDepthMm)) * 1e-3;
@@ -184,7 +178,7 @@ RecommendPlan recommend_plan(const Config& cfg, const RecommendArgs& a, ArgStyle
     row.id = "recommend";
     if (a.radial_immersion) {
       const double ae = *a.radial_immersion;
-      if (!(ae > 0.0 && ae <= 1.0)) throw InputError(name("radial_immersion") + " = " + fmt(ae) + ": must be in (0, 1]");
+      if (!(ae > 0.0 && ae <= 1.0)) throw InputError(name("radial_immersion") + " = " + number_text(ae) + ": must be in (0, 1]");
       row.radial_immersion = ae;
     }
     if (a.teeth) {

@@ -2,6 +2,7 @@
 // docs/design_pitch.md): the arguments checked once, the design, its JSON,
 // its band table, its config fragment and its summary.
 #include "chatter/records/pitch.hpp"
+#include "chatter/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,13 +26,6 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-std::string fmt(double x, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
-
 // Limits in mm for the record: null where there is none below the searched depth.
 json limit_mm(double m) { return std::isfinite(m) ? json(m * 1e3) : json(nullptr); }
 
@@ -44,7 +38,7 @@ json candidate_json(const PitchCandidate& c) {
           {"worst_rpm", c.worst_rpm}};
 }
 
-std::string depth_text(double m) { return std::isfinite(m) ? fmt(m * 1e3, 4) + " mm" : "none below the searched depth"; }
+std::string depth_text(double m) { return std::isfinite(m) ? number_text(m * 1e3, 4) + " mm" : "none below the searched depth"; }
 
 }  // namespace
 
@@ -58,8 +52,8 @@ PitchDesignOptions pitch_design_options(const Config& cfg, const PitchDesignArgs
   check_spindle_rpm(*a.rpm_min, name("rpm_min"));
   check_spindle_rpm(*a.rpm_max, name("rpm_max"));
   if (!(*a.rpm_max > *a.rpm_min))
-    throw InputError(name("rpm_max") + " = " + fmt(*a.rpm_max) + ": must be > " + name("rpm_min") + " = " +
-                     fmt(*a.rpm_min) + " (the band is empty or inverted)");
+    throw InputError(name("rpm_max") + " = " + number_text(*a.rpm_max) + ": must be > " + name("rpm_min") + " = " +
+                     number_text(*a.rpm_min) + " (the band is empty or inverted)");
   o.rpm_min = *a.rpm_min;
   o.rpm_max = *a.rpm_max;
   if (a.rpm_points < 2 || a.rpm_points > 100000)
@@ -73,7 +67,7 @@ PitchDesignOptions pitch_design_options(const Config& cfg, const PitchDesignArgs
     throw InputError(name("family") + " = '" + a.family + "': must be 'linear' or 'alternating'");
   o.family = *family;
   if (!(a.min_pitch_ratio >= 0.1 && a.min_pitch_ratio < 1.0))
-    throw InputError(name("min_pitch_ratio") + " = " + fmt(a.min_pitch_ratio) +
+    throw InputError(name("min_pitch_ratio") + " = " + number_text(a.min_pitch_ratio) +
                      ": must be in [0.1, 1) (each pitch angle >= ratio x 360/teeth)");
   o.min_pitch_ratio = a.min_pitch_ratio;
   if (a.scan_points < 0 || a.scan_points > 200)
@@ -129,7 +123,7 @@ PitchDesign run_pitch_design(const Config& cfg, const PitchDesignOptions& o, Arg
   } catch (const InputError& e) {
     const std::string what = e.what();
     if (what.rfind("depth_max_m = ", 0) == 0 && what.find(": ") != std::string::npos)
-      throw InputError(arg_name(style, "depth_max_mm") + " = " + fmt(o.depth_max_m * 1e3) + " mm" +
+      throw InputError(arg_name(style, "depth_max_mm") + " = " + number_text(o.depth_max_m * 1e3) + " mm" +
                        what.substr(what.find(": ")));
     throw InputError(what);
   }
@@ -207,8 +201,8 @@ std::string pitch_design_csv(const PitchDesign& d) {
 std::string pitch_design_fragment(const PitchDesign& d, const std::string& config_name) {
   std::ostringstream os;
   os << "# Pitch designed by chatter design-pitch " << version() << " for '" << config_name << "'\n"
-     << "# (" << to_string(d.family) << " family, step " << fmt(d.designed.step_rad * kDegPerRad, 6) << " deg; "
-     << "worst limit over " << fmt(d.speeds_rpm.front()) << "-" << fmt(d.speeds_rpm.back())
+     << "# (" << to_string(d.family) << " family, step " << number_text(d.designed.step_rad * kDegPerRad, 6) << " deg; "
+     << "worst limit over " << number_text(d.speeds_rpm.front()) << "-" << number_text(d.speeds_rpm.back())
      << " rev/min: " << depth_text(d.designed.worst_limit_m) << " vs " << depth_text(d.equal.worst_limit_m)
      << " equal pitch, " << d.method << ").\n"
      << "# Put this line in [process]:\n"
@@ -227,23 +221,23 @@ std::string pitch_design_summary(const PitchDesign& d) {
   std::ostringstream os;
   os << "designed pitch (" << to_string(d.family) << ", " << d.method << "): ";
   for (std::size_t j = 0; j < d.designed.angles_rad.size(); ++j)
-    os << (j ? " / " : "") << fmt(d.designed.angles_rad[j] * kDegPerRad, 5);
-  os << " deg (step " << fmt(d.designed.step_rad * kDegPerRad, 4) << " deg)\n"
-     << "worst limit over " << fmt(d.speeds_rpm.front()) << "-" << fmt(d.speeds_rpm.back()) << " rev/min ("
+    os << (j ? " / " : "") << number_text(d.designed.angles_rad[j] * kDegPerRad, 5);
+  os << " deg (step " << number_text(d.designed.step_rad * kDegPerRad, 4) << " deg)\n"
+     << "worst limit over " << number_text(d.speeds_rpm.front()) << "-" << number_text(d.speeds_rpm.back()) << " rev/min ("
      << d.speeds_rpm.size() << " speeds):\n"
-     << "  equal pitch:    " << depth_text(d.equal.worst_limit_m) << " at " << fmt(d.equal.worst_rpm) << " rev/min\n"
+     << "  equal pitch:    " << depth_text(d.equal.worst_limit_m) << " at " << number_text(d.equal.worst_rpm) << " rev/min\n"
      << "  designed pitch: " << depth_text(d.designed.worst_limit_m);
-  if (std::isfinite(d.designed.worst_limit_m)) os << " at " << fmt(d.designed.worst_rpm) << " rev/min";
-  os << "\ngain: " << (d.gain_is_lower_bound ? ">= " : "") << fmt(d.gain, 4) << " x equal pitch\n"
-     << "start (Budak's rule at " << fmt(d.rule_rpm) << " rev/min, chatter " << fmt(d.rule_chatter_frequency_hz)
-     << " Hz): step " << fmt(d.rule_step_rad * kDegPerRad, 4) << " deg"
-     << (d.rule_clipped ? " (beyond the largest step " + fmt(d.step_max_rad * kDegPerRad, 4) + " deg: started there)"
+  if (std::isfinite(d.designed.worst_limit_m)) os << " at " << number_text(d.designed.worst_rpm) << " rev/min";
+  os << "\ngain: " << (d.gain_is_lower_bound ? ">= " : "") << number_text(d.gain, 4) << " x equal pitch\n"
+     << "start (Budak's rule at " << number_text(d.rule_rpm) << " rev/min, chatter " << number_text(d.rule_chatter_frequency_hz)
+     << " Hz): step " << number_text(d.rule_step_rad * kDegPerRad, 4) << " deg"
+     << (d.rule_clipped ? " (beyond the largest step " + number_text(d.step_max_rad * kDegPerRad, 4) + " deg: started there)"
                         : "")
      << ", worst limit " << depth_text(d.start.worst_limit_m) << "\n";
   if (on_min_pitch_bound(d))
-    os << "on the bound: the smallest pitch is " << fmt(kDegPerRad * *std::min_element(d.designed.angles_rad.begin(), d.designed.angles_rad.end()), 5)
+    os << "on the bound: the smallest pitch is " << number_text(kDegPerRad * *std::min_element(d.designed.angles_rad.begin(), d.designed.angles_rad.end()), 5)
        << " deg, the minimum-pitch ratio times the equal pitch (--min-pitch-ratio); the best design may lie beyond it\n";
-  os << "chip loads: the largest " << fmt(chip_load_ratio(d), 3)
+  os << "chip loads: the largest " << number_text(chip_load_ratio(d), 3)
      << " x the smallest (a tooth's chip grows with the pitch in front of it)\n";
   return os.str();
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/io/modes_toml.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/shop.hpp"
@@ -21,13 +22,6 @@ namespace chatter {
 using nlohmann::json;
 
 namespace {
-
-std::string fmt(double x, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << x;
-  return os.str();
-}
 
 json num_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
@@ -56,14 +50,14 @@ MillingEngagement coefficient_engagement(const CoefficientArgs& a, ArgStyle styl
   if (a.teeth < 1 || a.teeth > 1000)
     throw InputError(arg_name(style, "teeth") + " = " + std::to_string(a.teeth) + ": must be in [1, 1000]");
   if (!(a.radial_immersion > 0.0 && a.radial_immersion <= 1.0))
-    throw InputError(arg_name(style, "radial_immersion") + " = " + fmt(a.radial_immersion) +
+    throw InputError(arg_name(style, "radial_immersion") + " = " + number_text(a.radial_immersion) +
                      ": must be in (0, 1] (width of cut / diameter)");
   e.radial_immersion = a.radial_immersion;
   if (a.milling_direction == "down" || a.milling_direction == "climb") e.direction = MillingDirection::kDown;
   else if (a.milling_direction == "up" || a.milling_direction == "conventional") e.direction = MillingDirection::kUp;
   else throw InputError(arg_name(style, "milling_direction") + " '" + a.milling_direction + "': use down or up");
   if (a.diameter_mm && !(std::isfinite(*a.diameter_mm) && *a.diameter_mm > 0.0))
-    throw InputError(arg_name(style, "diameter_mm") + " = " + fmt(*a.diameter_mm) + ": must be > 0 mm");
+    throw InputError(arg_name(style, "diameter_mm") + " = " + number_text(*a.diameter_mm) + ": must be > 0 mm");
   return e;
 }
 
@@ -96,7 +90,7 @@ std::string coefficients_report(const CoefficientResult& r) {
   const double to_shop[4] = {1e-6, 1e-6, 1e-3, 1e-3};  // N/m^2 -> N/mm^2, N/m -> N/mm
   const char* shop_unit[4] = {"N/mm^2", "N/mm^2", "N/mm", "N/mm"};
   rep << r.tests_path.string() << ": " << r.tests.line.size() << " tests (" << route_name(r.tests.route) << "), "
-      << r.engagement.teeth << " teeth, radial immersion " << fmt(r.radial_immersion) << ", "
+      << r.engagement.teeth << " teeth, radial immersion " << number_text(r.radial_immersion) << ", "
       << direction_word(r.engagement.direction) << "-milling\n";
   for (int i = 0; i < 4; ++i) {
     if (!std::isfinite(vals[i])) continue;
@@ -105,13 +99,13 @@ std::string coefficients_report(const CoefficientResult& r) {
                   shop_unit[i], fit.confidence_95[static_cast<std::size_t>(i)] * to_shop[i]);
     rep << line;
   }
-  rep << "  R^2 = " << fmt(fit.r_squared, 6);
-  if (!power) rep << " (fx " << fmt(fit.r_squared_x, 6) << ", fy " << fmt(fit.r_squared_y, 6) << ")";
+  rep << "  R^2 = " << number_text(fit.r_squared, 6);
+  if (!power) rep << " (fx " << number_text(fit.r_squared_x, 6) << ", fy " << number_text(fit.r_squared_y, 6) << ")";
   rep << ", " << fit.degrees_of_freedom << " degrees of freedom\n  residuals (measured - fitted) per test:\n";
   for (std::size_t i = 0; i < r.tests.line.size(); ++i) {
     rep << "    line " << r.tests.line[i] << ": ";
-    if (power) rep << fmt(fit.residual_x_n[i], 4) << " W\n";
-    else rep << "fx " << fmt(fit.residual_x_n[i], 4) << " N, fy " << fmt(fit.residual_y_n[i], 4) << " N\n";
+    if (power) rep << number_text(fit.residual_x_n[i], 4) << " W\n";
+    else rep << "fx " << number_text(fit.residual_x_n[i], 4) << " N, fy " << number_text(fit.residual_y_n[i], 4) << " N\n";
   }
   return rep.str();
 }
@@ -176,12 +170,12 @@ std::string coefficients_fragment(const CoefficientResult& r, ArgStyle style) {
                      " holds power tests, which give the tangential coefficients only; a [process] table needs the "
                      "radial coefficient too: measure forces, or write the table by hand");
   if (!(fit.tangential_coefficient_n_per_m2 > 0.0) || fit.radial_coefficient_n_per_m2 < 0.0)
-    throw InputError(out + ": the fitted coefficients (K_tc = " + fmt(fit.tangential_coefficient_n_per_m2) +
-                     ", K_rc = " + fmt(fit.radial_coefficient_n_per_m2) +
+    throw InputError(out + ": the fitted coefficients (K_tc = " + number_text(fit.tangential_coefficient_n_per_m2) +
+                     ", K_rc = " + number_text(fit.radial_coefficient_n_per_m2) +
                      " N/m^2) are not a valid [process] table (K_tc > 0, K_rc >= 0): check the tests");
   std::ostringstream t;
   t << "# Cutting coefficients fitted by `chatter coefficients` (chatter " << version() << ") from "
-    << r.tests_path.string() << ":\n# " << r.tests.line.size() << " tests, R^2 = " << fmt(fit.r_squared, 6)
+    << r.tests_path.string() << ":\n# " << r.tests.line.size() << " tests, R^2 = " << number_text(fit.r_squared, 6)
     << ". Append modes ([[tool.modes]], e.g. from `chatter fit`) to make a config.\n"
     << "# Edge (rubbing) coefficients, not used by the stability model:\n"
     << "#   tangential_edge_coefficient_n_per_m = " << table_number(fit.tangential_edge_coefficient_n_per_m)
@@ -209,7 +203,7 @@ std::string coefficients_fragment(const CoefficientResult& r, ArgStyle style) {
                                   {"radial_coefficient_percent", {allowed_spread_percent(se_r)}, false}};
   for (const auto& [k, raw] : {std::pair{&keys[0], se_t}, std::pair{&keys[1], se_r}})
     if (k->percent[0] < raw)
-      notes += "\n" + k->key + ": the standard error is " + fmt(raw, 4) + " %, capped to " + fmt(k->percent[0], 4) +
+      notes += "\n" + k->key + ": the standard error is " + number_text(raw, 4) + " %, capped to " + number_text(k->percent[0], 4) +
                " % (the most [uncertainty] accepts)";
   t << commented_uncertainty_toml(
       {keys[0], keys[1]},
@@ -228,15 +222,15 @@ void check_detect_args(const DetectArgs& a, ArgStyle style) {
   if (a.teeth < 1 || a.teeth > 1000)
     throw InputError(name("teeth") + " = " + std::to_string(a.teeth) + ": must be in [1, 1000]");
   if (a.rpm_min && !(std::isfinite(*a.rpm_min) && *a.rpm_min > 0.0))
-    throw InputError(name("rpm_min") + " = " + fmt(*a.rpm_min) + ": must be > 0 rev/min");
+    throw InputError(name("rpm_min") + " = " + number_text(*a.rpm_min) + ": must be > 0 rev/min");
   if (!(std::isfinite(a.peak_ratio) && a.peak_ratio > 0.0))
-    throw InputError(name("peak_ratio") + " = " + fmt(a.peak_ratio) + ": must be > 0");
+    throw InputError(name("peak_ratio") + " = " + number_text(a.peak_ratio) + ": must be > 0");
   if ((a.config != nullptr) != a.depth_mm.has_value())
     throw InputError(a.config ? name("config") + ": give " + name("depth_mm") + " too (the depth to check the speeds at)"
                               : name("depth_mm") + ": give " + name("config") +
                                     " too (the model to check the speeds against)");
   if (a.depth_mm && !(std::isfinite(*a.depth_mm) && *a.depth_mm > 0.0 && *a.depth_mm <= 1000.0))
-    throw InputError(name("depth_mm") + " = " + fmt(*a.depth_mm) + ": must be in (0, 1000] mm");
+    throw InputError(name("depth_mm") + " = " + number_text(*a.depth_mm) + ": must be in (0, 1000] mm");
 }
 
 DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
@@ -257,8 +251,8 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
   r.rpm_min = a.rpm_min ? *a.rpm_min : cfg && cfg->sweep.rpm_min ? *cfg->sweep.rpm_min : 0.5 * a.rpm;
   r.rpm_max = a.rpm_max ? *a.rpm_max : cfg && cfg->sweep.rpm_max ? *cfg->sweep.rpm_max : 1.5 * a.rpm;
   if (!(std::isfinite(r.rpm_max) && r.rpm_max > r.rpm_min))
-    throw InputError(name("rpm_max") + " = " + fmt(r.rpm_max) + ": must be > " + name("rpm_min") + " (" +
-                     fmt(r.rpm_min) + ")");
+    throw InputError(name("rpm_max") + " = " + number_text(r.rpm_max) + ": must be > " + name("rpm_min") + " (" +
+                     number_text(r.rpm_min) + ")");
 
   r.recording = read_recording(a.recording, a.channel);
   DetectOptions o;
@@ -280,11 +274,11 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
     std::string implied;
     for (std::size_t k = 0; k < det.implied_rpm.size(); ++k)
       implied += (k == 0 ? "the tooth passing at " : k == 1 ? ", its 2nd harmonic at " : ", its 3rd at ") +
-                 fmt(std::round(det.implied_rpm[k])) + " rev/min";
+                 number_text(std::round(det.implied_rpm[k])) + " rev/min";
     throw InputError(a.recording.string() + ": no line stands within +/-2 % of the tooth-passing frequency " +
-                     fmt(tooth_passing_hz(a.rpm, a.teeth)) + " Hz (" + name("rpm") + " " + fmt(a.rpm) + " x " + name("teeth") +
+                     number_text(tooth_passing_hz(a.rpm, a.teeth)) + " Hz (" + name("rpm") + " " + number_text(a.rpm) + " x " + name("teeth") +
                      " " + std::to_string(a.teeth) + " / 60) or its second harmonic: is " + name("rpm") + " (or " +
-                     name("teeth") + ") right? The strongest line, " + fmt(det.strongest_line_hz) + " Hz, would be " +
+                     name("teeth") + ") right? The strongest line, " + number_text(det.strongest_line_hz) + " Hz, would be " +
                      implied + ". " + (style == ArgStyle::kFlag ? "--force" : "force=True") +
                      " analyses the recording anyway.");
   }
@@ -314,31 +308,31 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
 std::string detect_report(const DetectResult& r) {
   const ChatterDetection& det = r.detection;
   std::ostringstream rep;
-  rep << r.recording_path.string() << ": " << r.recording.format << ", " << fmt(r.recording.sample_rate_hz) << " Hz, "
-      << fmt(det.duration_s) << " s, channel " << r.recording.channel << " of " << r.recording.channels << "\n"
-      << "  tooth passing " << fmt(det.tooth_passing_hz) << " Hz (spindle " << fmt(det.spindle_hz)
-      << " Hz), resolution " << fmt(det.frequency_resolution_hz, 3) << " Hz\n";
+  rep << r.recording_path.string() << ": " << r.recording.format << ", " << number_text(r.recording.sample_rate_hz) << " Hz, "
+      << number_text(det.duration_s) << " s, channel " << r.recording.channel << " of " << r.recording.channels << "\n"
+      << "  tooth passing " << number_text(det.tooth_passing_hz) << " Hz (spindle " << number_text(det.spindle_hz)
+      << " Hz), resolution " << number_text(det.frequency_resolution_hz, 3) << " Hz\n";
   if (std::isfinite(det.candidate_frequency_hz))
-    rep << "  strongest other line " << fmt(det.candidate_frequency_hz) << " Hz: " << fmt(det.peak_ratio, 3)
-        << " x the strongest forced line (chatter from " << fmt(r.peak_ratio, 3) << "), " << fmt(det.prominence, 3)
-        << " x the noise floor (from 20), grew " << fmt(det.growth_ratio, 3) << " x over the recording\n";
+    rep << "  strongest other line " << number_text(det.candidate_frequency_hz) << " Hz: " << number_text(det.peak_ratio, 3)
+        << " x the strongest forced line (chatter from " << number_text(r.peak_ratio, 3) << "), " << number_text(det.prominence, 3)
+        << " x the noise floor (from 20), grew " << number_text(det.growth_ratio, 3) << " x over the recording\n";
   if (det.chatter) {
-    rep << "CHATTER at " << fmt(det.chatter_frequency_hz) << " Hz";
-    if (std::isfinite(det.onset_s)) rep << ", from about " << fmt(det.onset_s, 3) << " s";
+    rep << "CHATTER at " << number_text(det.chatter_frequency_hz) << " Hz";
+    if (std::isfinite(det.onset_s)) rep << ", from about " << number_text(det.onset_s, 3) << " s";
     rep << "\n";
     if (det.suggestions.empty())
-      rep << "  no speed N_k = 60 f_c / (teeth k) lies in " << fmt(r.rpm_min) << "-" << fmt(r.rpm_max) << " rev/min\n";
+      rep << "  no speed N_k = 60 f_c / (teeth k) lies in " << number_text(r.rpm_min) << "-" << number_text(r.rpm_max) << " rev/min\n";
     else
       rep << "  try (nearest first), rev/min:\n";
     for (std::size_t i = 0; i < det.suggestions.size(); ++i) {
-      rep << "    " << fmt(std::round(det.suggestions[i].spindle_rpm)) << "  (k = " << det.suggestions[i].k << ")";
+      rep << "    " << number_text(std::round(det.suggestions[i].spindle_rpm)) << "  (k = " << det.suggestions[i].k << ")";
       if (i < r.checks.size()) {
         const SuggestionCheck& c = r.checks[i];
         if (c.bounded)
-          rep << "  model: depth limit " << fmt(c.depth_limit_mm, 4) << " mm, margin " << fmt(c.margin, 3)
+          rep << "  model: depth limit " << number_text(c.depth_limit_mm, 4) << " mm, margin " << number_text(c.margin, 3)
               << (c.margin > 1 ? "" : "  (chatters in the model at this depth)");
         else
-          rep << "  model: stable to " << fmt(r.check_depth_max_mm, 4) << " mm, margin > " << fmt(kCheckDepthFactor, 3);
+          rep << "  model: stable to " << number_text(r.check_depth_max_mm, 4) << " mm, margin > " << number_text(kCheckDepthFactor, 3);
       }
       rep << "\n";
     }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/lobes.hpp"
 #include "chatter/semi_discretization.hpp"
@@ -19,13 +20,6 @@ namespace chatter {
 using nlohmann::json;
 
 namespace {
-
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
 
 // The largest map: speeds x depths (memory and time: ~1e6 sdm solves is hours).
 constexpr long long kMaxMapPoints = 4'000'000;
@@ -152,10 +146,10 @@ MapAxes parse_map_axes(const std::string& text, ArgStyle style) {
 std::vector<double> map_immersions(double min, double max, int points, std::size_t depths, ArgStyle style) {
   const std::string lo = arg_name(style, "immersion_min"), hi = arg_name(style, "immersion_max");
   if (!(std::isfinite(min) && min > 0.0 && min <= 1.0))
-    throw InputError(lo + " = " + fmt(min) + ": must be in (0, 1] (radial immersion a_e/D)");
+    throw InputError(lo + " = " + number_text(min) + ": must be in (0, 1] (radial immersion a_e/D)");
   if (!(std::isfinite(max) && max > 0.0 && max <= 1.0))
-    throw InputError(hi + " = " + fmt(max) + ": must be in (0, 1] (radial immersion a_e/D; 1 = slot)");
-  if (!(max > min)) throw InputError(hi + " = " + fmt(max) + ": must be > " + lo + " (" + fmt(min) + ")");
+    throw InputError(hi + " = " + number_text(max) + ": must be in (0, 1] (radial immersion a_e/D; 1 = slot)");
+  if (!(max > min)) throw InputError(hi + " = " + number_text(max) + ": must be > " + lo + " (" + number_text(min) + ")");
   if (points < 2)
     throw InputError(arg_name(style, "immersion_points") + " = " + std::to_string(points) + ": must be >= 2");
   if (static_cast<long long>(points) * static_cast<long long>(depths) > kMaxMapPoints)
@@ -300,10 +294,10 @@ FrfGrid frf_grid(const StructuralModel& model, std::optional<double> fmin_hz, st
   g.log = log;
   const std::string lo = arg_name(style, "fmin"), hi = arg_name(style, "fmax");
   if (!(std::isfinite(g.fmin_hz) && (log ? g.fmin_hz > 0.0 : g.fmin_hz >= 0.0)))
-    throw InputError(lo + " = " + fmt(g.fmin_hz) +
+    throw InputError(lo + " = " + number_text(g.fmin_hz) +
                      (log ? ": must be > 0 Hz with " + arg_name(style, "log") : std::string(": must be >= 0 Hz")));
   if (!(std::isfinite(g.fmax_hz) && g.fmax_hz > g.fmin_hz))
-    throw InputError(hi + " = " + fmt(g.fmax_hz) + ": must be > " + lo + " (" + fmt(g.fmin_hz) + ")");
+    throw InputError(hi + " = " + number_text(g.fmax_hz) + ": must be > " + lo + " (" + number_text(g.fmin_hz) + ")");
   if (points < 2) throw InputError(arg_name(style, "points") + " = " + std::to_string(points) + ": must be >= 2");
   return g;
 }

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "chatter/cutting_law.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/error.hpp"
 #include "chatter/shop.hpp"
 #include "chatter/kinematics.hpp"
@@ -26,12 +27,6 @@ constexpr double kMinGoodRSquared = 0.9;
 
 // Relative spread below which two feeds count as equal.
 constexpr double kSameFeedRel = 1e-9;
-
-std::string num(double x) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
 
 // Two-sided 95 % Student t quantile t(0.975, dof).
 double student_t95(int dof) {
@@ -54,7 +49,7 @@ ArcIntegrals integrals(const MillingEngagement& e) {
 void check_engagement(const MillingEngagement& e) {
   if (e.teeth < 1) throw InputError("teeth = " + std::to_string(e.teeth) + ": must be >= 1");
   if (!(e.radial_immersion > 0.0 && e.radial_immersion <= 1.0))
-    throw InputError("radial immersion = " + num(e.radial_immersion) + ": must be in (0, 1]");
+    throw InputError("radial immersion = " + number_text(e.radial_immersion) + ": must be in (0, 1]");
 }
 
 void check_feeds(const std::vector<double>& feeds, std::size_t needed, const char* route) {
@@ -63,7 +58,7 @@ void check_feeds(const std::vector<double>& feeds, std::size_t needed, const cha
                      std::to_string(needed) + " are needed (more tests than unknowns, so the error can be estimated)");
   const auto [lo, hi] = std::minmax_element(feeds.begin(), feeds.end());
   if (!(*hi - *lo > kSameFeedRel * *hi))
-    throw InputError(std::string(route) + ": every test has the same feed per tooth (" + num(*lo * 1e3) +
+    throw InputError(std::string(route) + ": every test has the same feed per tooth (" + number_text(*lo * 1e3) +
                      " mm): cutting and edge coefficients cannot be told apart; cut at two or more feeds");
 }
 
@@ -97,7 +92,7 @@ double r_squared(const std::vector<double>& measured, const std::vector<double>&
 void plausibility(CoefficientFit& f) {
   auto neg = [&](const char* key, double v, const char* unit) {
     if (std::isfinite(v) && v < 0)
-      f.warnings.push_back(std::string(key) + " = " + num(v) + " " + unit +
+      f.warnings.push_back(std::string(key) + " = " + number_text(v) + " " + unit +
                            " is negative: check the force signs and axes (X along the feed, Y normal to it), "
                            "the milling direction and the radial immersion");
   };
@@ -107,7 +102,7 @@ void plausibility(CoefficientFit& f) {
   neg("radial_edge_coefficient_n_per_m", f.radial_edge_coefficient_n_per_m, "N/m");
   auto low = [&](const char* what, double r2) {
     if (std::isfinite(r2) && r2 < kMinGoodRSquared)
-      f.warnings.push_back(std::string(what) + " = " + num(r2) + " < " + num(kMinGoodRSquared) +
+      f.warnings.push_back(std::string(what) + " = " + number_text(r2) + " < " + number_text(kMinGoodRSquared) +
                            ": the straight-line model explains the averages poorly (scatter, wear, a bad test?); "
                            "look at the residuals");
   };
@@ -194,7 +189,7 @@ CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, 
                                            double tool_diameter_m) {
   check_engagement(e);
   if (!(tool_diameter_m > 0.0 && std::isfinite(tool_diameter_m)))
-    throw InputError("tool diameter = " + num(tool_diameter_m) + " m: must be > 0");
+    throw InputError("tool diameter = " + number_text(tool_diameter_m) + " m: must be > 0");
   std::vector<double> feeds;
   for (const auto& t : tests) feeds.push_back(t.feed_per_tooth_m);
   check_feeds(feeds, 3, "power tests");
@@ -231,7 +226,7 @@ CoefficientFit fit_coefficients_from_power(const std::vector<PowerTest>& tests, 
 
 RevolutionAverage average_whole_revolutions(const std::vector<double>& t, const std::vector<double>& fx,
                                             const std::vector<double>& fy, double rpm) {
-  if (!(rpm > 0.0 && std::isfinite(rpm))) throw InputError("spindle_rpm = " + num(rpm) + ": must be > 0");
+  if (!(rpm > 0.0 && std::isfinite(rpm))) throw InputError("spindle_rpm = " + number_text(rpm) + ": must be > 0");
   if (t.size() < 2 || fx.size() != t.size() || fy.size() != t.size())
     throw InputError("a force series needs at least 2 samples of time, fx and fy");
   const double period = revolution_s(rpm);
@@ -241,12 +236,12 @@ RevolutionAverage average_whole_revolutions(const std::vector<double>& t, const 
   // wrong unit, and would not fit the int count (found by fuzzing).
   constexpr double kMaxRevolutions = 1e7;
   if (!(whole <= kMaxRevolutions))
-    throw InputError("the series spans " + num(span) + " s = " + num(span / period) + " revolutions at " + num(rpm) +
+    throw InputError("the series spans " + number_text(span) + " s = " + number_text(span / period) + " revolutions at " + number_text(rpm) +
                      " rev/min, more than 1e7: time_s must be in seconds");
   const int revs = static_cast<int>(whole);
   if (revs < 1)
-    throw InputError("the series spans " + num(span) + " s, shorter than one revolution (" + num(period) +
-                     " s at " + num(rpm) + " rev/min): record at least one whole revolution, better several");
+    throw InputError("the series spans " + number_text(span) + " s, shorter than one revolution (" + number_text(period) +
+                     " s at " + number_text(rpm) + " rev/min): record at least one whole revolution, better several");
   const double t_end = t.front() + revs * period;
   double sx = 0, sy = 0;
   for (std::size_t i = 0; i + 1 < t.size() && t[i] < t_end; ++i) {

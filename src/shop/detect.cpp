@@ -13,6 +13,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/shop.hpp"
 #include "chatter/kinematics.hpp"
 
@@ -54,12 +55,6 @@ constexpr double kLineOverSkirt = 3.0;
 // recording, present from its first window, is steady: a forced line or a
 // wrong speed, more likely than chatter (which grows from the stable cut).
 constexpr double kSteadyGrowth = 1.5;
-
-std::string num(double x) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
 
 // Peak position refined by a parabola through the log amplitudes of the
 // three bins around `k` (exact for a Gaussian; for the Hann window the error
@@ -113,9 +108,9 @@ namespace {
 // make sense, enough revolutions, tooth passing below Nyquist, finite samples.
 void check_recording(const std::vector<double>& samples, double fs, const DetectOptions& o) {
   if (!(o.spindle_rpm > 0 && std::isfinite(o.spindle_rpm)))
-    throw InputError("spindle speed = " + num(o.spindle_rpm) + " rev/min: must be > 0");
+    throw InputError("spindle speed = " + number_text(o.spindle_rpm) + " rev/min: must be > 0");
   if (o.teeth < 1) throw InputError("teeth = " + std::to_string(o.teeth) + ": must be >= 1");
-  if (!(fs > 0 && std::isfinite(fs))) throw InputError("sample rate = " + num(fs) + " Hz: must be > 0");
+  if (!(fs > 0 && std::isfinite(fs))) throw InputError("sample rate = " + number_text(fs) + " Hz: must be > 0");
   if (!(o.peak_ratio_threshold > 0) || !(o.prominence_threshold > 1) || !(o.min_revolutions >= 1))
     throw InputError("detector thresholds: peak ratio must be > 0, prominence > 1, minimum revolutions >= 1");
   const std::size_t n = samples.size();
@@ -123,13 +118,13 @@ void check_recording(const std::vector<double>& samples, double fs, const Detect
   const double f_sp0 = revolutions_per_s(o.spindle_rpm);
   const double revolutions = duration * f_sp0;
   if (n < 64 || revolutions < o.min_revolutions)
-    throw InputError("the recording lasts " + num(duration) + " s (" + std::to_string(n) + " samples) = " +
-                     num(revolutions) + " spindle revolutions at " + num(o.spindle_rpm) + " rev/min; at least " +
-                     num(o.min_revolutions) +
+    throw InputError("the recording lasts " + number_text(duration) + " s (" + std::to_string(n) + " samples) = " +
+                     number_text(revolutions) + " spindle revolutions at " + number_text(o.spindle_rpm) + " rev/min; at least " +
+                     number_text(o.min_revolutions) +
                      " revolutions are needed to tell the spindle harmonics from chatter: record longer");
   if (f_sp0 * o.teeth >= 0.5 * fs)
-    throw InputError("the tooth-passing frequency " + num(f_sp0 * o.teeth) + " Hz is above half the sample rate (" +
-                     num(0.5 * fs) + " Hz): record at a higher sample rate");
+    throw InputError("the tooth-passing frequency " + number_text(f_sp0 * o.teeth) + " Hz is above half the sample rate (" +
+                     number_text(0.5 * fs) + " Hz): record at a higher sample rate");
   for (double v : samples)
     if (!std::isfinite(v)) throw InputError("the recording holds a non-finite sample (NaN or inf)");
 }
@@ -144,8 +139,8 @@ void warn_clipping(const std::vector<double>& samples, std::vector<std::string>&
     if (std::abs(v) >= peak * (1 - 1e-6)) ++at;
   const double n = static_cast<double>(samples.size());
   if (static_cast<double>(at) > kClippedFraction * n)
-    warnings.push_back("the recording looks clipped (" + num(100.0 * static_cast<double>(at) / n) +
-                       " % of the samples at the extreme value " + num(peak) +
+    warnings.push_back("the recording looks clipped (" + number_text(100.0 * static_cast<double>(at) / n) +
+                       " % of the samples at the extreme value " + number_text(peak) +
                        "): lower the input gain; clipping adds harmonics of every line");
 }
 
@@ -293,8 +288,8 @@ void growth_and_onset(const std::vector<double>& samples, double fs, double fc, 
   }
   if (r.chatter && r.onset_s == 0.0 && std::isfinite(r.growth_ratio) && r.growth_ratio < kSteadyGrowth &&
       r.growth_ratio > 1.0 / kSteadyGrowth)
-    r.warnings.push_back("the chatter line at " + num(fc) + " Hz is there from t = 0 and steady (x" +
-                         num(r.growth_ratio) + " over the recording): chatter grows out of a stable cut; a line "
+    r.warnings.push_back("the chatter line at " + number_text(fc) + " Hz is there from t = 0 and steady (x" +
+                         number_text(r.growth_ratio) + " over the recording): chatter grows out of a stable cut; a line "
                          "present from the start at a steady level is more likely forced, or an input error (--rpm, "
                          "--teeth)?");
 }

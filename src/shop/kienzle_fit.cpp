@@ -11,18 +11,13 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/shop.hpp"
 
 namespace chatter {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string num(double x) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.4g", x);
-  return b;
-}
 
 // y = c + s x by least squares; the fit's direction.
 KienzleDirectionFit fit_line(const std::vector<double>& x, const std::vector<double>& y,
@@ -77,7 +72,7 @@ KienzleFit fit_kienzle(const std::vector<TurningForceTest>& tests, double lead_a
     x.push_back(std::log(chip.back()));
     chips.insert(chip.back());
     for (const double f : {t.tangential_n, t.feed_n})
-      if (!(std::isfinite(f) && f > 0.0)) throw InputError("forces must be > 0 N (got " + num(f) + ")");
+      if (!(std::isfinite(f) && f > 0.0)) throw InputError("forces must be > 0 N (got " + number_text(f, 4) + ")");
     if (!(t.radial_n > 0.0)) radial = false;
   }
   if (chips.size() < 2)
@@ -93,11 +88,11 @@ KienzleFit fit_kienzle(const std::vector<TurningForceTest>& tests, double lead_a
     }
     KienzleDirectionFit d = fit_line(x, y, width, chip, f);
     if (!(d.term.exponent >= 0.0 && d.term.exponent < 1.0))
-      out.warnings.push_back(std::string(name) + " exponent m = " + num(d.term.exponent) +
+      out.warnings.push_back(std::string(name) + " exponent m = " + number_text(d.term.exponent, 4) +
                              ": outside [0, 1) (the force should grow with the chip, less than in proportion); "
                              "check the feeds and the force columns");
     if (d.r_squared < 0.9)
-      out.warnings.push_back(std::string(name) + ": R^2 = " + num(d.r_squared) +
+      out.warnings.push_back(std::string(name) + ": R^2 = " + number_text(d.r_squared, 4) +
                              " < 0.9 in log-log: the tests do not follow one power law (a built-up edge, a "
                              "changed insert?)");
     return d;
@@ -105,9 +100,11 @@ KienzleFit fit_kienzle(const std::vector<TurningForceTest>& tests, double lead_a
   out.tangential = direction(&TurningForceTest::tangential_n, "tangential");
   out.feed = direction(&TurningForceTest::feed_n, "feed");
   if (radial) out.radial = direction(&TurningForceTest::radial_n, "radial");
-  if (out.degrees_of_freedom == 0)
-    out.warnings.push_back("two tests: the law passes through both exactly, with no error estimate; a third feed "
-                           "gives standard errors and R^2");
+  // (a named string: GCC 12 warns falsely on push_back of this literal inlined)
+  static const std::string kTwoTests =
+      "two tests: the law passes through both exactly, with no error estimate; a third feed gives standard errors "
+      "and R^2";
+  if (out.degrees_of_freedom == 0) out.warnings.push_back(kTwoTests);
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/stock.hpp"
 
 namespace chatter {
@@ -15,25 +16,19 @@ namespace {
 
 constexpr double kMaxCells = 1e7;
 
-std::string num(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
-
 }  // namespace
 
 BarStock::BarStock(double diameter_mm, double length_mm, double face_z_mm, double resolution_mm) {
   if (!(std::isfinite(diameter_mm) && diameter_mm > 0.0))
-    throw InputError("stock.diameter_mm = " + num(diameter_mm) + ": must be > 0");
+    throw InputError("stock.diameter_mm = " + number_text(diameter_mm) + ": must be > 0");
   if (!(std::isfinite(length_mm) && length_mm > 0.0))
-    throw InputError("stock.length_mm = " + num(length_mm) + ": must be > 0");
+    throw InputError("stock.length_mm = " + number_text(length_mm) + ": must be > 0");
   if (!std::isfinite(face_z_mm)) throw InputError("stock.face_z_mm: must be finite");
   if (!(std::isfinite(resolution_mm) && resolution_mm > 0.0))
-    throw InputError("stock.resolution_mm = " + num(resolution_mm) + ": must be > 0");
+    throw InputError("stock.resolution_mm = " + number_text(resolution_mm) + ": must be > 0");
   const double cells = std::ceil(length_mm / resolution_mm - 1e-9);
   if (cells > kMaxCells)
-    throw InputError("stock.resolution_mm = " + num(resolution_mm) + ": " + num(cells) +
+    throw InputError("stock.resolution_mm = " + number_text(resolution_mm) + ": " + number_text(cells) +
                      " cells along the bar, more than 10^7: use a coarser resolution");
   const auto n = static_cast<std::size_t>(std::max(1.0, cells));
   z0_ = face_z_mm - length_mm;

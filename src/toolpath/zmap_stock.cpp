@@ -9,6 +9,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 #include "chatter/stock.hpp"
 
 namespace chatter {
@@ -63,12 +64,6 @@ struct ArcBins {
   }
 };
 
-std::string num(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
-
 }  // namespace
 
 double MillShape::envelope_mm(double rho) const {
@@ -84,13 +79,13 @@ ZMapStock::ZMapStock(const Eigen::Vector3d& min_mm, const Eigen::Vector3d& max_m
     : min_(min_mm), max_(max_mm), h_(resolution_mm) {
   for (int k = 0; k < 3; ++k)
     if (!(std::isfinite(min_mm[k]) && std::isfinite(max_mm[k]) && max_mm[k] > min_mm[k]))
-      throw InputError("stock: max_mm[" + std::to_string(k) + "] = " + num(max_mm[k]) + ": must be > min_mm[" +
-                       std::to_string(k) + "] (" + num(min_mm[k]) + ")");
+      throw InputError("stock: max_mm[" + std::to_string(k) + "] = " + number_text(max_mm[k]) + ": must be > min_mm[" +
+                       std::to_string(k) + "] (" + number_text(min_mm[k]) + ")");
   if (!(std::isfinite(resolution_mm) && resolution_mm > 0.0))
-    throw InputError("stock.resolution_mm = " + num(resolution_mm) + ": must be > 0");
+    throw InputError("stock.resolution_mm = " + number_text(resolution_mm) + ": must be > 0");
   const double cx = std::ceil((max_mm.x() - min_mm.x()) / h_ - 1e-9), cy = std::ceil((max_mm.y() - min_mm.y()) / h_ - 1e-9);
   if (cx * cy > kMaxCells)
-    throw InputError("stock.resolution_mm = " + num(resolution_mm) + ": " + num(cx * cy) +
+    throw InputError("stock.resolution_mm = " + number_text(resolution_mm) + ": " + number_text(cx * cy) +
                      " cells, more than 4e8: use a coarser resolution");
   nx_ = static_cast<int>(std::max(1.0, cx));
   ny_ = static_cast<int>(std::max(1.0, cy));

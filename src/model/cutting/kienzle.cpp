@@ -1,6 +1,7 @@
 // Kienzle's law (include/chatter/kienzle.hpp): the secant and tangent specific
 // forces of one direction and the law's rules.
 #include "chatter/kienzle.hpp"
+#include "chatter/number_text.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -10,12 +11,6 @@ namespace chatter {
 namespace {
 constexpr double kReferenceChipM = 1e-3;  // k_1.1 is the specific force at h = 1 mm
 
-std::string number_text(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
 }  // namespace
 
 double KienzleTerm::secant_n_per_m2(double chip_m) const {
