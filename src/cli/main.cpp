@@ -62,7 +62,7 @@ const Command kCommands[] = {
     {"fit", "modes (frequency, damping, stiffness) fitted to a measured FRF (tap test)", "docs/frf.md",
      chatter::cli::cmd_fit},
     {"frf", "receptance of the tool, the workpiece and the relative motion", "docs/frf.md", chatter::cli::cmd_frf},
-    {"coefficients", "cutting coefficients from test cuts (forces or spindle power)", "docs/shop_data.md",
+    {"coefficients", "cutting coefficients from test cuts (milling: forces or spindle power; turning: Kienzle's k_1.1 and m from forces at several feeds)", "docs/shop_data.md",
      chatter::cli::cmd_coefficients},
     {"detect", "chatter in a recording of the cut, and the spindle speeds to try", "docs/shop_data.md",
      chatter::cli::cmd_detect},
