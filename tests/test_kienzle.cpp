@@ -119,6 +119,27 @@ TEST(Kienzle, RegenerativeCoefficientIsTheTangentAtTheProcessFeed) {
             make_lobe_solver("analytic", c.model, c.process, 0.01)->limit_at(3654.0).depth_limit_m);
 }
 
+TEST(Kienzle, InsertWithNoseRadiusTakesTheTangentAtTheChordsChip) {
+  // A 75° insert with a 0.8 mm nose: at depth a the chip is f sin κ_eq(a),
+  // and the regenerative d is the law's tangents there; at a = 0 nothing cuts.
+  TurningParameters p;
+  p.lead_angle_rad = 75.0 * std::numbers::pi / 180.0;
+  p.nose_radius_m = 0.8e-3;
+  p.kienzle = KienzleLaw{{1700e6, 0.25}, {600e6, 0.3}, {400e6, 0.35}, 0.2e-3};
+  const Process pr = Process::turning(p);
+  for (const double a : {0.1e-3, 0.5e-3, 2e-3}) {
+    const InsertChord c = pr.chord(a);
+    const double h0 = 0.2e-3 * std::sin(c.lead_angle_rad), s = std::sin(c.lead_angle_rad), co = std::cos(c.lead_angle_rad);
+    const double kf = 0.7 * 600e6 * std::pow(h0 * 1e3, -0.3), kr = 0.65 * 400e6 * std::pow(h0 * 1e3, -0.35);
+    const Eigen::Vector2d d = pr.edge_force(a);
+    EXPECT_NEAR(d.x(), kf * s - kr * co, 1e-9 * kf) << a;
+    EXPECT_NEAR(d.y(), kf * co + kr * s, 1e-9 * kf) << a;
+  }
+  const Eigen::Matrix2d at_zero = pr.turning_force_matrix(0.0);
+  EXPECT_TRUE(at_zero.allFinite());
+  EXPECT_EQ(at_zero.norm(), 0.0);
+}
+
 TEST(Kienzle, NonlinearSimulationFeelsTheSecantStaticallyAndTheTangentDynamically) {
   const Config c = seed003("kienzle");
   const double rpm = 3654.0, feed = 0.2e-3;

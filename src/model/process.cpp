@@ -249,6 +249,8 @@ Eigen::Vector2d Process::edge_force(double depth_m) const {
   if (!law || !has_nose_radius())  // sharp: the fields hold the tangents at f sin κ_r = f sin κ_eq
     return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
   const double h0 = law->feed_m * lead_sin(k);
+  if (!(h0 > 0.0))  // a → 0 on the nose (κ_eq → 0): no chip; the straight edge's tangents keep b d finite (→ 0)
+    return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
   return edge_force_of(k, law->feed.tangent_n_per_m2(h0), law->has_radial() ? law->radial.tangent_n_per_m2(h0) : 0.0);
 }
 
