@@ -30,6 +30,19 @@ py::array_t<std::complex<double>> complex_array(const std::vector<std::complex<d
 
 // ------------------------------------------------------------------ coefficients
 
+// The record with 'fragment': the [process] text of --out, or None when the
+// tests give none (power tests; coefficients or exponents that are no valid
+// table: see warnings).
+template <class Fragment>
+py::dict with_fragment(py::dict out, Fragment&& fragment) {
+  try {
+    out["fragment"] = fragment();
+  } catch (const InputError&) {
+    out["fragment"] = py::none();
+  }
+  return out;
+}
+
 // Kienzle's law from turning tests (a table with feed_mm_per_rev), as the CLI.
 py::dict kienzle(const std::string& path, std::optional<double> lead_angle_deg) {
   chatter::KienzleResult r;
@@ -37,13 +50,8 @@ py::dict kienzle(const std::string& path, std::optional<double> lead_angle_deg) 
     py::gil_scoped_release release;
     r = chatter::fit_kienzle_tests(path, lead_angle_deg.value_or(90.0), chatter::ArgStyle::kKeyword);
   }
-  py::dict out = to_python(chatter::kienzle_record(r));
-  try {
-    out["fragment"] = chatter::kienzle_fragment(r, chatter::ArgStyle::kKeyword);
-  } catch (const InputError&) {
-    out["fragment"] = py::none();
-  }
-  return out;
+  return with_fragment(to_python(chatter::kienzle_record(r)),
+                       [&] { return chatter::kienzle_fragment(r, chatter::ArgStyle::kKeyword); });
 }
 
 py::dict coefficients(const py::object& tests, std::optional<int> teeth, std::optional<double> radial_immersion,
@@ -74,15 +82,8 @@ py::dict coefficients(const py::object& tests, std::optional<int> teeth, std::op
     py::gil_scoped_release release;
     r = chatter::fit_cutting_coefficients(a, chatter::ArgStyle::kKeyword);
   }
-  py::dict out = to_python(chatter::coefficients_record(r));
-  // The [process] table of --out, or None when the tests do not give one
-  // (power tests; coefficients that are no valid table: see warnings).
-  try {
-    out["fragment"] = chatter::coefficients_fragment(r, chatter::ArgStyle::kKeyword);
-  } catch (const InputError&) {
-    out["fragment"] = py::none();
-  }
-  return out;
+  return with_fragment(to_python(chatter::coefficients_record(r)),
+                       [&] { return chatter::coefficients_fragment(r, chatter::ArgStyle::kKeyword); });
 }
 
 // ------------------------------------------------------------------ detect

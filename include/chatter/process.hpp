@@ -344,6 +344,10 @@ class Process {
   /// edge_force without Kienzle's law, its secants k(h) with it (the mean
   /// force on the tool is −b h d). @pre turning.
   Eigen::Vector2d secant_edge_force(double depth_m, double chip_m) const;
+  /// h = f sin κ_eq(a), m: the chip the insert cuts at depth a (m) and feed f
+  /// (m per revolution), what Kienzle's law reads (the orthogonal cut: f).
+  /// @pre turning.
+  double chip_thickness_m(double depth_m, double feed_per_rev_m) const;
   /// True when a turning process follows Kienzle's law (turning_parameters().kienzle).
   bool has_size_effect() const;
   /// This process with its regenerative coefficients linearised at the mean

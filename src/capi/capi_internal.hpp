@@ -43,6 +43,13 @@ std::vector<std::string>& last_warnings();
 /// in the thread's warnings; names as the CLI flag (`rpm`, `depth_mm`, ...).
 void warn_unusual(const std::vector<std::pair<std::string, double>>& arguments);
 
+/// A record's source with the thread's argument warnings after the config's
+/// (what the JSON records of the C API carry in `warnings`).
+inline chatter::RecordSource with_argument_warnings(chatter::RecordSource source) {
+  for (const std::string& w : last_warnings()) source.warnings.push_back(w);
+  return source;
+}
+
 inline chatter_status fail(chatter_status s, std::string message) {
   last_error() = std::move(message);
   last_warnings().clear();

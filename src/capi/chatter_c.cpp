@@ -246,9 +246,7 @@ chatter_status chatter_point_json(const chatter_solver* solver, double spindle_r
     chatter::check_depth_mm(depth_mm, "chatter_point_json: depth_mm");
     warn_unusual({{"rpm", spindle_rpm}, {"depth_mm", depth_mm}});
     const chatter::PointReport r = chatter::report_point(*solver->solver, solver->process, spindle_rpm, depth_mm);
-    chatter::RecordSource source = solver->source;  // the record's warnings: the config's, then the arguments'
-    for (const std::string& w : chatter::capi::last_warnings()) source.warnings.push_back(w);
-    text = chatter::point_record(r, source).dump(2);
+    text = chatter::point_record(r, chatter::capi::with_argument_warnings(solver->source)).dump(2);
     *json = text.c_str();
   });
 }

@@ -136,9 +136,8 @@ chatter_status chatter_performance_json(const chatter_optimizer* optimizer, doub
                               positive(depth_mm, where, "depth_mm") * 1e-3};
     warn_set_point(m, speed, feed_mm, depth_mm);
     const chatter::Performance r = m.evaluate(p, chatter::no_corrections(), values_of(measured));
-    chatter::RecordSource source = optimizer->source;  // the record's warnings: the config's, then the arguments'
-    for (const std::string& w : chatter::capi::last_warnings()) source.warnings.push_back(w);
-    copy_out(chatter::performance_record(r, m, source).dump(2), buffer, size, length);
+    copy_out(chatter::performance_record(r, m, chatter::capi::with_argument_warnings(optimizer->source)).dump(2), buffer,
+             size, length);
   });
 }
 

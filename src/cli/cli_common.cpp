@@ -6,7 +6,6 @@
 #include <cmath>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -5,6 +5,7 @@
 // plot. Reference: docs/shop_data.md.
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -68,6 +69,25 @@ Examples:
   chatter coefficients turning_tests.csv --out kienzle.toml
 )";
 
+// Both routes' outputs: the record and the fragment written all or nothing
+// (`fragment` is built first: it may refuse), then the report and warnings
+// (to standard error when the record goes to standard output). Returns the
+// report's stream.
+std::ostream& write_fit(const json& j, const std::string& json_path, const std::string& out_path,
+                        const std::function<std::string()>& fragment, const std::string& report,
+                        const std::vector<std::string>& warnings, const char* wrote) {
+  std::vector<std::pair<fs::path, std::string>> files;
+  if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, j.dump(2) + "\n");
+  if (!out_path.empty()) files.emplace_back(out_path, fragment());
+  write_text_files(files);
+  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
+  os << report;
+  for (const auto& w : warnings) os << "warning: " << w << "\n";
+  if (json_path == "-") std::cout << j.dump(2) << "\n";
+  if (!out_path.empty()) os << "wrote " << wrote << ": " << out_path << "\n";
+  return os;
+}
+
 // The turning route: Kienzle's law from a table with feed_mm_per_rev.
 int kienzle_route(const po::variables_map& vm, const std::string& tests_path, double lead_angle_deg,
                   const std::string& json_path, const std::string& out_path, const std::string& plot_path) {
@@ -79,16 +99,8 @@ int kienzle_route(const po::variables_map& vm, const std::string& tests_path, do
     throw InputError("--plot: drawn for milling tests only; the turning fit's residuals are in the report and --json");
   check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--out", out_path}});
   const KienzleResult r = fit_kienzle_tests(tests_path, lead_angle_deg, ArgStyle::kFlag);
-  const json j = kienzle_record(r);
-  std::vector<std::pair<fs::path, std::string>> files;
-  if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, j.dump(2) + "\n");
-  if (!out_path.empty()) files.emplace_back(out_path, kienzle_fragment(r, ArgStyle::kFlag));
-  write_text_files(files);
-  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
-  os << kienzle_report(r);
-  for (const auto& w : r.fit.warnings) os << "warning: " << w << "\n";
-  if (json_path == "-") std::cout << j.dump(2) << "\n";
-  if (!out_path.empty()) os << "wrote [process] keys: " << out_path << "\n";
+  write_fit(kienzle_record(r), json_path, out_path, [&] { return kienzle_fragment(r, ArgStyle::kFlag); },
+            kienzle_report(r), r.fit.warnings, "[process] keys");
   return 0;
 }
 
@@ -151,18 +163,11 @@ int cmd_coefficients(const std::vector<std::string>& args) {
 
   // ---- read and fit ----
   const CoefficientResult r = fit_cutting_coefficients(a, ArgStyle::kFlag);
-  const json j = coefficients_record(r);
 
   // ---- write (all or nothing), then render ----
-  std::vector<std::pair<fs::path, std::string>> files;
-  if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, j.dump(2) + "\n");
-  if (!out_path.empty()) files.emplace_back(out_path, coefficients_fragment(r, ArgStyle::kFlag));
-  write_text_files(files);
-  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
-  os << coefficients_report(r);
-  for (const auto& w : r.fit.warnings) os << "warning: " << w << "\n";
-  if (json_path == "-") std::cout << j.dump(2) << "\n";
-  if (!out_path.empty()) os << "wrote [process] table: " << out_path << "\n";
+  std::ostream& os = write_fit(coefficients_record(r), json_path, out_path,
+                               [&] { return coefficients_fragment(r, ArgStyle::kFlag); }, coefficients_report(r),
+                               r.fit.warnings, "[process] table");
   if (!plot_path.empty()) {
     const PlotFiles pf = plot_coefficient_fit(plot_path, "Cutting coefficients: " + fs::path(tests_path).filename().string(),
                                               r.tests, r.fit, r.engagement, r.diameter_mm * 1e-3);

@@ -20,7 +20,6 @@
 #include <iterator>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>

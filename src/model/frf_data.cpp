@@ -2,7 +2,6 @@
 #include "chatter/number_text.hpp"
 
 #include <cmath>
-#include <sstream>
 
 #include "chatter/error.hpp"
 

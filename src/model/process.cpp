@@ -99,8 +99,6 @@ Process Process::turning(TurningParameters p) {
           "feed force coefficient K_f must be > 0 N/m^2");
   require(std::isfinite(p.radial_force_coefficient_n_per_m2) && p.radial_force_coefficient_n_per_m2 >= 0.0,
           "radial force coefficient K_r must be >= 0 N/m^2");
-  require(std::isfinite(p.lead_angle_rad) && p.lead_angle_rad > 0.0 && p.lead_angle_rad <= kHalfPi,
-          "lead angle " + deg_text(p.lead_angle_rad) + ": must be in (0, 90] deg");
   require(std::isfinite(p.nose_radius_m) && p.nose_radius_m >= 0.0 && p.nose_radius_m <= kMaxNoseRadiusM,
           "nose radius must be in [0, 25] mm (round inserts reach 16 mm)");
   require(std::isfinite(p.process_damping_coefficient_n_per_m) && p.process_damping_coefficient_n_per_m >= 0.0,
@@ -246,12 +244,16 @@ Eigen::Vector2d edge_force_of(double k, double kf, double kr) {
 Eigen::Vector2d Process::edge_force(double depth_m) const {
   const double k = chord(depth_m).lead_angle_rad;
   const std::optional<KienzleLaw>& law = turning_.kienzle;
-  if (!law || !has_nose_radius())  // sharp: the fields hold the tangents at f sin κ_r = f sin κ_eq
-    return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
-  const double h0 = law->feed_m * lead_sin(k);
-  if (!(h0 > 0.0))  // a → 0 on the nose (κ_eq → 0): no chip; the straight edge's tangents keep b d finite (→ 0)
+  const double h0 = law ? chip_thickness_m(depth_m, law->feed_m) : 0.0;
+  // Sharp: the fields hold the tangents at f sin κ_r = f sin κ_eq. On the
+  // nose at a → 0 (κ_eq → 0, no chip) they keep b d finite (→ 0).
+  if (!law || !has_nose_radius() || !(h0 > 0.0))
     return edge_force_of(k, turning_.feed_force_coefficient_n_per_m2, turning_.radial_force_coefficient_n_per_m2);
   return edge_force_of(k, law->feed.tangent_n_per_m2(h0), law->has_radial() ? law->radial.tangent_n_per_m2(h0) : 0.0);
+}
+
+double Process::chip_thickness_m(double depth_m, double feed_per_rev_m) const {
+  return feed_per_rev_m * lead_sin(chord(depth_m).lead_angle_rad);
 }
 
 Eigen::Vector2d Process::secant_edge_force(double depth_m, double chip_m) const {

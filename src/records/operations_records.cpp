@@ -3,7 +3,6 @@
 // chatter.check / chatter.recommend and the C API.
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 

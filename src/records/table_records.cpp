@@ -3,7 +3,6 @@
 // once for the CLI and Python.
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <sstream>
 

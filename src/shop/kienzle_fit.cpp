@@ -2,7 +2,6 @@
 // docs/shop_data.md "Kienzle's law"): a straight line in log-log per force
 // direction, its standard errors from the residual variance.
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <set>

@@ -2,7 +2,6 @@
 // "Turning: the bar").
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>

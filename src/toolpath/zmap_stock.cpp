@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <cstdio>
 #include <numbers>
 #include <string>
 

@@ -14,12 +14,10 @@ CuttingLoad cutting_load(const Process& process, double rpm, double depth_m, dou
                          double kc) {
   const std::string where = "cutting_load: ";
   if (!(std::isfinite(diameter_m) && diameter_m > 0.0)) throw InputError(where + "diameter must be > 0");
-  const bool kienzle = process.has_size_effect();
-  if (process.operation() == Operation::kTurning && !kienzle && !(std::isfinite(kc) && kc > 0.0))
+  if (process.operation() == Operation::kTurning && !process.has_size_effect() && !(std::isfinite(kc) && kc > 0.0))
     throw InputError(where + "turning needs the tangential coefficient K_c > 0");
-  CuttingLawOptions o;
-  if (process.operation() == Operation::kTurning && !kienzle) o.turning_tangential_coefficient_n_per_m2 = kc;
-  if (kienzle && kc > 0.0) throw InputError(where + kKienzleTakesTheTangential);
+  CuttingLawOptions o;  // K_c beside Kienzle's law: refused by CuttingLaw::of
+  if (process.operation() == Operation::kTurning && kc > 0.0) o.turning_tangential_coefficient_n_per_m2 = kc;
   const auto law = CuttingLaw::of(process, o);
   const CutPoint p{rpm, depth_m, feed_m, diameter_m};
   const MeanCut mean = law->mean(p);

@@ -4,7 +4,6 @@
 #include "chatter/number_text.hpp"
 
 #include <cmath>
-#include <sstream>
 
 namespace chatter {
 

@@ -24,8 +24,8 @@ class TurningLaw final : public CuttingLaw {
     // In the plane: −b h d with b h = a f whatever the insert (the chord's
     // width b times its chip f sin κ_eq); the orthogonal cut: −a K_f f along X.
     // With Kienzle's law the secants at the chip h = f sin κ_eq (kienzle.hpp).
-    const double h = p.feed_m * std::sin(process_.chord(p.depth_m).lead_angle_rad);
-    m.force_n = process_.orthogonal_turning() && !law_
+    const double h = process_.chip_thickness_m(p.depth_m, p.feed_m);
+    m.force_n = process_.orthogonal_turning() && !law()
                     ? Eigen::Vector2d(-p.depth_m * process_.turning_parameters().feed_force_coefficient_n_per_m2 * p.feed_m, 0.0)
                     : Eigen::Vector2d(-p.depth_m * p.feed_m * static_edge_force(p.depth_m, h));
     const double fc = tangential_force_n(p, h);
@@ -39,8 +39,8 @@ class TurningLaw final : public CuttingLaw {
 
   double peak_force_n(const CutPoint& p) const override {
     check_point(p);
-    if (!(kc_ > 0.0) && !law_) throw InputError("cutting law: turning needs the tangential coefficient K_c > 0");
-    const double h = p.feed_m * std::sin(process_.chord(p.depth_m).lead_angle_rad);
+    if (!(kc_ > 0.0) && !law()) throw InputError("cutting law: turning needs the tangential coefficient K_c > 0");
+    const double h = process_.chip_thickness_m(p.depth_m, p.feed_m);
     const double fc = tangential_force_n(p, h);
     // |d| = |(K_f, K_r)| (n and e are orthonormal).
     const double ff = static_edge_force(p.depth_m, h).norm() * p.depth_m * p.feed_m;
@@ -50,18 +50,19 @@ class TurningLaw final : public CuttingLaw {
  private:
   // d of the static force at chip h; no chip, no force (Kienzle's k(h) grows without bound as h → 0).
   Eigen::Vector2d static_edge_force(double depth_m, double chip_m) const {
-    if (law_ && !(chip_m > 0.0)) return Eigen::Vector2d::Zero();
+    if (law() && !(chip_m > 0.0)) return Eigen::Vector2d::Zero();
     return process_.secant_edge_force(depth_m, chip_m);
   }
   // F_c = k_c(h) a f: K_c, or Kienzle's tangential secant at h; NaN without either.
   double tangential_force_n(const CutPoint& p, double chip_m) const {
-    if (law_) return chip_m > 0.0 ? law_->tangential.secant_n_per_m2(chip_m) * p.depth_m * p.feed_m : 0.0;
+    if (law()) return chip_m > 0.0 ? law()->tangential.secant_n_per_m2(chip_m) * p.depth_m * p.feed_m : 0.0;
     return kc_ > 0.0 ? kc_ * p.depth_m * p.feed_m : kNaN;
   }
 
+  const std::optional<KienzleLaw>& law() const { return process_.turning_parameters().kienzle; }
+
   Process process_;
   double kc_;
-  std::optional<KienzleLaw> law_ = process_.turning_parameters().kienzle;
 };
 
 // The regenerative side (chatter/regenerative_cut.hpp): one edge, the insert,
