@@ -184,6 +184,32 @@ TEST(GrindingConfig, EmpiricalModelRules) {
                   "it needs the mechanistic model"));
 }
 
+// Seed 001 table 2.2 as a config reads it, and its rules.
+TEST(GrindingConfig, BetaTableByPowerAndFeed) {
+  const GrindingConfig c = load_grinding_config(kSource / "configs/grinding_scompi_power_partition.toml");
+  ASSERT_TRUE(c.process.partition && c.process.partition->beta_table);
+  const auto& rows = c.process.partition->beta_table->rows();
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_DOUBLE_EQ(rows[0].feed_m_per_s, 0.040);
+  EXPECT_EQ(rows[2].beta, (std::vector<double>{0.27, 0.17, 0.09, 0.05, 0.03}));
+  EXPECT_EQ(c.process.partition->beta_at(1500, 0.060, nullptr), 0.13);
+  const std::string power = "[grinding.energy_partition]\nmodel = \"power\"\nalpha = 0.76\n";
+  const std::string row = "[[grinding.energy_partition.beta_table]]\nfeed_mm_per_s = 80\n";
+  EXPECT_TRUE(has(error_of(minimal(power + "beta = 0.2\n" + row + "power_w = [1000]\nbeta = [0.2]\n")),
+                  "grinding.energy_partition.beta_table"))
+      << error_of(minimal(power + "beta = 0.2\n" + row + "power_w = [1000]\nbeta = [0.2]\n"));
+  const std::string short_row = error_of(minimal(power + row + "power_w = [1000, 1500]\nbeta = [0.2]\n"));
+  EXPECT_TRUE(has(short_row, "grinding.energy_partition.beta_table[0].beta = [0.2]: must hold one beta per power"))
+      << short_row;
+  const std::string down = error_of(minimal(power + row + "power_w = [1500, 1000]\nbeta = [0.2, 0.1]\n"));
+  EXPECT_TRUE(has(down, "grinding.energy_partition.beta_table[0].power_w[1] = 1000: the powers must increase")) << down;
+  const std::string feeds =
+      error_of(minimal(power + row + "power_w = [1000]\nbeta = [0.2]\n" + row + "power_w = [1000]\nbeta = [0.2]\n"));
+  EXPECT_TRUE(has(feeds, "beta_table[1].feed_mm_per_s = 80: must increase from row to row")) << feeds;
+  EXPECT_TRUE(has(error_of(minimal(power + row + "power_w = [1000]\nbeta = [1.5]\n")), "in [0, 1]"));
+  EXPECT_TRUE(has(error_of(minimal(power)), "grinding.energy_partition.beta: missing"));
+}
+
 // ------------------------------------------------------------- tests tables
 
 class GrindingFiles : public ::testing::Test {

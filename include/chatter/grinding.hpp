@@ -88,11 +88,43 @@ enum class PartitionModel {
   kModified,  ///< eps = (u - 0.6 u_ch) / u   (eq. 2.17, the flexible robot)
   kPower,     ///< eps = (alpha P_friction + beta P_chip) / P  (eq. 2.18)
 };
+/// beta of the power model as a table over power and feed (seed 001 table
+/// 2.2: one row per feed, beta against power; 0.49 ... 0.03 falling with
+/// both). At a feed between two rows, each row is interpolated linearly in
+/// power (held at its end values outside its powers) and the two results
+/// linearly in feed; outside the feeds the nearest row is used. Either is
+/// said in the notes at().
+class BetaTable {
+ public:
+  struct Row {
+    double feed_m_per_s = 0.0;
+    std::vector<double> power_w, beta;
+  };
+  BetaTable() = default;
+  /// @throws InputError unless every feed is > 0 and the feeds strictly
+  ///         increase, each row has >= 1 power, the powers are > 0 and
+  ///         strictly increase, and every beta is in [0, 1].
+  explicit BetaTable(std::vector<Row> rows);
+  /// beta at (P, v_f); each row or feed held at an end value adds a sentence
+  /// to `notes` (may be null). Cost O(rows + log powers).
+  double at(double power_w, double feed_m_per_s, std::vector<std::string>* notes) const;
+  const std::vector<Row>& rows() const { return rows_; }
+
+ private:
+  std::vector<Row> rows_;
+};
+
 struct EnergyPartitionModel {
   PartitionModel model = PartitionModel::kModified;
   double chip_energy_j_per_m3 = 13.8e9;  ///< u_ch > 0 (13.8 J/mm^3 for steel); malkin, modified.
   double alpha = 0.76;                   ///< in [0, 1]; power model.
   double beta = 0.27;                    ///< in [0, 1]; power model (seed 001 table 4.1 at 1000 W).
+  /// Power model: beta by power and feed instead of the one `beta`.
+  std::optional<BetaTable> beta_table;
+  /// beta at (P, v_f): the table's, else `beta`.
+  double beta_at(double power_w, double feed_m_per_s, std::vector<std::string>* notes) const {
+    return beta_table ? beta_table->at(power_w, feed_m_per_s, notes) : beta;
+  }
 };
 const char* partition_model_name(PartitionModel m);  ///< "malkin", "modified", "power"
 
@@ -215,6 +247,7 @@ double impact_tangential_force_n(const Process& p, double max_depth_m, double im
 
 struct EnergyPartition {
   PartitionModel model = PartitionModel::kModified;
+  std::optional<double> alpha, beta;  ///< the power model's alpha and beta at this point (beta from its table)
   double fraction = 0.0;          ///< eps, clamped to [0, 1]
   double heat_into_part_w = 0.0;  ///< eps P
   bool clamped = false;           ///< the model's formula left [0, 1] (then a warning says so)

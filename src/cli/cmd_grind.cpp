@@ -167,10 +167,13 @@ int cmd_predict(const std::vector<std::string>& args) {
   if (p.friction_power_w)
     os << "  power split        friction " << f6(*p.friction_power_w) << " W + chip " << f6(*p.chip_power_w) << " W\n";
   os << "  specific energy    " << f6(p.specific_energy_j_per_m3 * 1e-9) << " J/mm^3\n";
-  if (p.energy_partition)
+  if (p.energy_partition) {
     os << "  into the part      " << f6(p.energy_partition->fraction) << " ("
-       << grinding::partition_model_name(p.energy_partition->model) << "): " << f6(p.energy_partition->heat_into_part_w)
-       << " W\n";
+       << grinding::partition_model_name(p.energy_partition->model);
+    if (p.energy_partition->beta)
+      os << ", alpha " << f6(*p.energy_partition->alpha) << ", beta " << f6(*p.energy_partition->beta);
+    os << "): " << f6(p.energy_partition->heat_into_part_w) << " W\n";
+  }
   if (p.impacts_per_turn) os << "  impacts per turn   " << f6(*p.impacts_per_turn) << "\n";
   os << "  contact            half-angle " << f6(p.contact_half_angle_rad * 180 / 3.14159265358979) << " deg, "
      << f6(p.contact_duration_s * 1e3) << " ms per impact; cutting speed " << f6(p.cutting_speed_m_per_s) << " m/s\n";

@@ -93,12 +93,67 @@ std::optional<grinding::ImpactsPerTurn> read_impacts(const Table& g) {
 
 // --------------------------------------------------------- energy partition
 
+// [[grinding.energy_partition.beta_table]]: one row per feed (increasing),
+// its powers (increasing) and betas (seed 001 table 2.2).
+std::optional<grinding::BetaTable> read_beta_table(const Table& t) {
+  const Document& doc = t.doc();
+  const Path path = t.path_of("beta_table");
+  const toml::array* rows = t.find("beta_table")->as_array();
+  if (!rows || rows->empty() || !rows->is_array_of_tables()) {
+    doc.error(path, *t.find("beta_table"),
+              "must be an array of tables ([[grinding.energy_partition.beta_table]] feed_mm_per_s = ..., "
+              "power_w = [...], beta = [...])");
+    return std::nullopt;
+  }
+  std::vector<grinding::BetaTable::Row> out;
+  bool ok = true;
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const Table row(doc, *rows->get(i)->as_table(), element(path, i));
+    constexpr std::string_view kRowKeys[] = {"feed_mm_per_s", "power_w", "beta"};
+    row.reject_unknown(kRowKeys);
+    const auto f = bounded(row, "feed_mm_per_s", row.required_number("feed_mm_per_s", kPositive, "mm/s"), kFeedBound);
+    const auto p = row.number_list("power_w", kPositive);
+    const auto b = row.number_list("beta", kFraction);
+    for (const char* k : {"power_w", "beta"})
+      if (!row.has(k)) doc.error_key(row.path_of(k), "missing (required: a list, one per power)");
+    if (f && !out.empty() && !(*f * 1e-3 > out.back().feed_m_per_s)) {
+      doc.error(row.path_of("feed_mm_per_s"), *row.find("feed_mm_per_s"),
+                "must increase from row to row (the previous row has " + number_text(out.back().feed_m_per_s * 1e3) +
+                    " mm/s)");
+      ok = false;
+    }
+    if (p && b && p->size() != b->size()) {
+      doc.error(row.path_of("beta"), *row.find("beta"),
+                "must hold one beta per power (" + std::to_string(p->size()) + " powers, " + std::to_string(b->size()) +
+                    " betas)");
+      ok = false;
+    }
+    if (p)
+      for (std::size_t k = 1; k < p->size(); ++k)
+        if (!((*p)[k] > (*p)[k - 1])) {
+          const auto [ip, node] = row.list_item("power_w", k);
+          doc.error(ip, *node, "the powers must increase along the row");
+          ok = false;
+          break;
+        }
+    if (!f || !p || !b) {
+      ok = false;
+      continue;
+    }
+    warn_usual(row, "feed_mm_per_s", f, usual::kGrindingFeedMmPerS);
+    for (const double w : *p) warn_usual(row, "power_w", std::optional<double>(w), usual::kGrindingPowerW);
+    out.push_back({*f * 1e-3, *p, *b});
+  }
+  if (!ok) return std::nullopt;
+  return model_checked(t, [&] { return grinding::BetaTable(out); });
+}
+
 std::optional<grinding::EnergyPartitionModel> read_partition(const Table& g, bool mechanistic) {
   const auto t = g.table("energy_partition");
   if (!t) return std::nullopt;
   const Document& doc = g.doc();
   const std::size_t mark = doc.error_count();
-  constexpr std::string_view kKeys[] = {"model", "u_ch_j_per_mm3", "alpha", "beta"};
+  constexpr std::string_view kKeys[] = {"model", "u_ch_j_per_mm3", "alpha", "beta", "beta_table"};
   t->reject_unknown(kKeys);
   constexpr std::string_view kRule = R"(must be "malkin", "modified" or "power")";
   grinding::EnergyPartitionModel e;
@@ -115,15 +170,22 @@ std::optional<grinding::EnergyPartitionModel> read_partition(const Table& g, boo
       doc.error_key(t->path_of("model"), "\"power\" splits the power into friction and chip: it needs the mechanistic "
                                          "model (edge_coefficient_n_per_mm, cutting_coefficient_n_per_mm2)");
     const auto a = t->required_number("alpha", kFraction, "");
-    const auto b = t->required_number("beta", kFraction, "");
+    std::optional<double> b;
+    if (t->has("beta") && t->has("beta_table"))
+      doc.error(t->path_of("beta_table"), *t->find("beta_table"),
+                "not with beta (give one: a number, or the table [[grinding.energy_partition.beta_table]])");
+    else if (t->has("beta_table"))
+      e.beta_table = read_beta_table(*t);
+    else
+      b = t->required_number("beta", kFraction, "");
     if (t->has("u_ch_j_per_mm3"))
       doc.error(t->path_of("u_ch_j_per_mm3"), *t->find("u_ch_j_per_mm3"), "only for model = \"malkin\" or \"modified\"");
     stop_if_errors_since(doc, mark);
     e.alpha = *a;
-    e.beta = *b;
+    if (b) e.beta = *b;
   } else {
     const auto u = t->required_number("u_ch_j_per_mm3", kPositive, "J/mm^3");
-    for (const char* k : {"alpha", "beta"})
+    for (const char* k : {"alpha", "beta", "beta_table"})
       if (t->has(k)) doc.error(t->path_of(k), *t->find(k), "only for model = \"power\"");
     stop_if_errors_since(doc, mark);
     warn_usual(*t, "u_ch_j_per_mm3", u, {1.0, 100.0, "the 1 to 100 J/mm^3 of chip formation (steel 13.8)", 1e-9, "J/m^3"});

@@ -10,6 +10,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/grinding.hpp"
+#include "grinding_internal.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -107,28 +108,7 @@ Prediction complete(const Process& p, double power_w, double removal, const char
                            detail::num(t.power_w().front()) + " to " + detail::num(t.power_w().back()) +
                            " W): n_c held at " + detail::num(nc));
   }
-  if (p.partition) {
-    EnergyPartition e;
-    e.model = p.partition->model;
-    double eps = 0.0;
-    const double u = r.specific_energy_j_per_m3;
-    switch (e.model) {
-      case PartitionModel::kMalkin: eps = (u - 0.45 * p.partition->chip_energy_j_per_m3) / u; break;
-      case PartitionModel::kModified: eps = (u - 0.6 * p.partition->chip_energy_j_per_m3) / u; break;
-      case PartitionModel::kPower:
-        eps = (p.partition->alpha * r.friction_power_w.value_or(0.0) + p.partition->beta * r.chip_power_w.value_or(0.0)) /
-              power_w;
-        break;
-    }
-    e.fraction = std::clamp(eps, 0.0, 1.0);
-    e.clamped = eps != e.fraction;
-    if (e.clamped)
-      r.warnings.push_back(std::string("energy partition (") + partition_model_name(e.model) + ") gives " +
-                           detail::num(eps) + ", outside [0, 1] (specific energy " + detail::num(u * 1e-9) +
-                           " J/mm^3): clamped to " + detail::num(e.fraction));
-    e.heat_into_part_w = e.fraction * power_w;
-    r.energy_partition = e;
-  }
+  if (p.partition) r.energy_partition = detail::energy_partition(p, r, r.warnings);
   if (p.no_load_loss) {
     r.no_load_loss_w = p.no_load_loss->loss_w(p.wheel);
     r.motor_power_w = power_w + *r.no_load_loss_w;
@@ -202,15 +182,6 @@ double ImpactsPerTurn::at(double power_w) const {
 // ------------------------------------------------------------------- Process
 
 double Wheel::cutting_speed_m_per_s() const { return kPi * diameter_m * speed_rev_per_s; }
-
-const char* partition_model_name(PartitionModel m) {
-  switch (m) {
-    case PartitionModel::kMalkin: return "malkin";
-    case PartitionModel::kModified: return "modified";
-    case PartitionModel::kPower: return "power";
-  }
-  return "?";
-}
 
 double NoLoadLoss::loss_w(const Wheel& wheel) const {
   return c0 * std::pow(2.0 * kPi * wheel.speed_rev_per_s, speed_exponent) *

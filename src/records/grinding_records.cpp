@@ -65,7 +65,9 @@ json prediction_json(const g::Prediction& r) {
     j["energy_partition"] = {{"model", g::partition_model_name(r.energy_partition->model)},
                              {"fraction", num(r.energy_partition->fraction)},
                              {"heat_into_part_w", num(r.energy_partition->heat_into_part_w)},
-                             {"clamped", r.energy_partition->clamped}};
+                             {"clamped", r.energy_partition->clamped},
+                             {"alpha", opt(r.energy_partition->alpha)},
+                             {"beta", opt(r.energy_partition->beta)}};
   else
     j["energy_partition"] = nullptr;
   j["impacts_per_turn"] = opt(r.impacts_per_turn);

@@ -1,0 +1,18 @@
+// Internal to src/grinding: what one file of the grinding model computes for
+// another (include/chatter/grinding.hpp has the public side).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "chatter/grinding.hpp"
+
+namespace chatter::grinding::detail {
+
+/// The energy partition of prediction `r` (its power, specific energy and,
+/// with the mechanistic model, friction and chip power already set) under
+/// p.partition; a clamped fraction or a beta held at a table's end adds a
+/// sentence to `warnings`. @pre p.partition. (partition.cpp)
+EnergyPartition energy_partition(const Process& p, const Prediction& r, std::vector<std::string>& warnings);
+
+}  // namespace chatter::grinding::detail
