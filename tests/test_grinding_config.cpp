@@ -314,6 +314,35 @@ TEST_F(GrindingFiles, FitFragmentLoadsBack) {
     EXPECT_NEAR(c.process.empirical.removal->coefficients[i], r.targets[0].fit.coefficients[i],
                 1e-9 * std::abs(r.targets[0].fit.coefficients[i]));
   EXPECT_TRUE(c.process.empirical.removal->domain.useful_power_w.has_value());
+  // The fit's statistics travel with the model: the intervals of a
+  // prediction from the loaded config are the fit's own.
+  ASSERT_TRUE(c.process.empirical.removal->uncertainty);
+  const grinding::FitUncertainty& u = *c.process.empirical.removal->uncertainty;
+  EXPECT_EQ(u.degrees_of_freedom, 9);
+  EXPECT_NEAR(u.residual_variance, r.targets[0].fit.uncertainty.residual_variance,
+              1e-9 * r.targets[0].fit.uncertainty.residual_variance);
+  for (std::size_t i = 0; i < 9; ++i)
+    EXPECT_NEAR(u.covariance[i], r.targets[0].fit.uncertainty.covariance[i],
+                1e-9 * std::abs(r.targets[0].fit.uncertainty.covariance[i]));
+  // Seed 000's printed tests at the annex VI point (155.33 mm, 2250 rev/min,
+  // 2021 W): the confidence of the mean, by hand from the covariance.
+  {
+    grinding::Process q = c.process;
+    q.wheel.diameter_m = 0.15533;
+    q.wheel.speed_rev_per_s = 2250.0 / 60.0;
+    const grinding::Prediction pr = grinding::predict_at_power(q, 2021.0);
+    ASSERT_TRUE(pr.empirical && pr.empirical->removal_interval);
+    const double g[3] = {1.0, pr.cutting_speed_m_per_s, 2021.0};
+    double var = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) var += g[i] * u.covariance[static_cast<std::size_t>(3 * i + j)] * g[j];
+    EXPECT_NEAR(pr.empirical->removal_interval->standard_error_mean, std::sqrt(var), 1e-9 * std::sqrt(var));
+  }
+  // A covariance of the wrong shape is refused with its key.
+  const std::string bad = error_of(minimal("[grinding.models.removal]\nform = \"poly11\"\ncoefficients = [1, 2, 3]\n"
+                                           "[grinding.models.removal.fit]\nresidual_variance = 1\n"
+                                           "degrees_of_freedom = 5\ncovariance = [[1, 0], [0, 1]]\n"));
+  EXPECT_TRUE(has(bad, "grinding.models.removal.fit.covariance = [[1, 0], [0, 1]]: must be 3 rows of 3 numbers")) << bad;
   // The annex IV removal model (fitted to all 82 tests) lies inside the 95 %
   // intervals of the fit to the 12 tests the thesis prints.
   const double annex[] = {63.1, -5.05, 0.0439};

@@ -178,11 +178,41 @@ struct EmpiricalInputs {
   double wheel_diameter_mm = 0.0;
 };
 
+/// What a least-squares fit knows of its own error, for intervals on the
+/// model's predictions (`grind fit --out` writes it). The model is linear in
+/// its parameters theta along the design row g(x): poly forms theta = the
+/// coefficients, g = the terms (1, x, y, x^2, ...); power_law is linear on
+/// logarithms, theta = (ln C, b1, b2, b3), g = (1, ln n, ln y, ln D);
+/// hahn_lindsay theta = (K_p, -K_p F_th), g = (F_N V_c, V_c).
+struct FitUncertainty {
+  std::vector<double> covariance;  ///< s^2 (X'X)^-1 of theta, p x p row-major (symmetric, diagonal >= 0)
+  double residual_variance = 0.0;  ///< s^2 = RSS / (m - p) (power_law: of ln y), >= 0
+  int degrees_of_freedom = 0;      ///< m - p >= 1
+};
+
+/// A prediction with its uncertainty (ordinary least squares, Student t with
+/// the fit's degrees of freedom): the fitted mean's standard error
+/// se_m = sqrt(g C g'), one new test's se_t = sqrt(s^2 + se_m^2), and their
+/// 95 % intervals value -+ t(0.975) se. power_law: both on ln y, the
+/// intervals exp of ln y's (not symmetric). In the model's units.
+struct PredictionInterval {
+  double value = 0.0;
+  double standard_error_mean = 0.0;  ///< of the fitted mean (power_law: of ln value)
+  double standard_error_test = 0.0;  ///< of one new test (power_law: of ln value)
+  Interval mean_95, test_95;         ///< 95 % confidence of the mean; 95 % prediction of one test
+  int degrees_of_freedom = 0;
+  bool log_scale = false;            ///< power_law: the standard errors are of ln value
+  /// The same interval for a quantity `factor` times this one (factor > 0).
+  PredictionInterval scaled(double factor) const;
+};
+
 struct EmpiricalModel {
   EmpiricalForm form = EmpiricalForm::kPoly11;
   EmpiricalVariable variable = EmpiricalVariable::kUsefulPower;
   std::vector<double> coefficients;
   TestedDomain domain;
+  /// The fit's statistics; absent: no intervals.
+  std::optional<FitUncertainty> uncertainty;
 
   /// Empty when valid, else the violated rule (coefficient count, a
   /// Hahn-Lindsay model on power, a non-positive power-law constant).
@@ -193,6 +223,11 @@ struct EmpiricalModel {
   /// "cutting speed 36 m/s outside the tested 10 to 31 m/s", one per
   /// variable of the domain outside its interval.
   std::vector<std::string> outside_domain(const EmpiricalInputs& in) const;
+  /// The design row g(x) of the fit's linear parameters (see FitUncertainty).
+  std::vector<double> design_row(const EmpiricalInputs& in) const;
+  /// The value at `in` with its intervals; nullopt without `uncertainty`.
+  /// @pre validate().empty(). Cost O(p^2).
+  std::optional<PredictionInterval> interval(const EmpiricalInputs& in) const;
 };
 
 /// Seed 000's models: removal rate (mm^3/s), wheel wear rate (mm^3/s),
@@ -257,6 +292,10 @@ struct EnergyPartition {
 struct EmpiricalPrediction {
   std::optional<double> removal_rate_m3_per_s, normal_force_n, wear_rate_m3_per_s;
   std::optional<double> g_ratio;  ///< removal / wear, when both models are given
+  /// Each model's intervals when its config carries the fit's statistics, in
+  /// the model's units (mm^3/s, N); the depth per pass's (mm) follows from
+  /// the removal's (removal / (v_f E)).
+  std::optional<PredictionInterval> removal_interval, wear_interval, normal_force_interval, depth_per_pass_interval;
 };
 
 /// What a power set-point gives: the record of `chatter grind predict`.

@@ -34,6 +34,10 @@ struct FitStatistics {
   int tests = 0;
   int degrees_of_freedom = 0;          ///< m - p
   double r_squared = 0.0, rmse = 0.0, mae = 0.0, mape_percent = 0.0;
+  /// The covariance of the fit's linear parameters, s^2 and m - p (the
+  /// parameters: FitUncertainty's; mechanistic: k_e, k_c in SI), for the
+  /// intervals of predictions (`grind fit --out` writes it into the model).
+  FitUncertainty uncertainty;
   std::vector<double> fitted;          ///< per test, the model's value
   std::vector<double> residuals;       ///< per test, measured - fitted
   /// A negative coefficient that must be positive, R^2 below 0.9, no degree

@@ -214,12 +214,55 @@ std::optional<grinding::NoLoadLoss> read_no_load(const Table& g) {
 
 // ---------------------------------------------------------- empirical models
 
+// [grinding.models.<name>.fit]: the fit's statistics (grind fit --out writes
+// them): covariance p x p of its linear parameters, residual variance, dof.
+std::optional<grinding::FitUncertainty> read_fit_statistics(const Table& f, std::size_t p) {
+  const Document& doc = f.doc();
+  const std::size_t mark = doc.error_count();
+  constexpr std::string_view kKeys[] = {"covariance", "residual_variance", "degrees_of_freedom"};
+  f.reject_unknown(kKeys);
+  grinding::FitUncertainty u;
+  const auto s2 = f.required_number("residual_variance", kNonNegative, "");
+  if (!f.has("degrees_of_freedom")) doc.error_key(f.path_of("degrees_of_freedom"), "missing (required, an integer >= 1)");
+  const auto dof = f.integer("degrees_of_freedom", 1);
+  const toml::node* c = f.find("covariance");
+  const std::string shape = "must be " + std::to_string(p) + " rows of " + std::to_string(p) +
+                            " numbers (one per coefficient, as grind fit --out writes it)";
+  if (!c) doc.error_key(f.path_of("covariance"), "missing (required: " + shape + ")");
+  else if (const toml::array* rows = c->as_array(); !rows || rows->size() != p) {
+    doc.error(f.path_of("covariance"), *c, shape);
+  } else {
+    for (std::size_t i = 0; i < p; ++i) {
+      const toml::array* row = rows->get(i)->as_array();
+      if (!row || row->size() != p) {
+        doc.error(element(f.path_of("covariance"), i), *rows->get(i), shape);
+        break;
+      }
+      for (std::size_t j = 0; j < p; ++j) {
+        const toml::node& x = *row->get(j);
+        std::optional<double> v;
+        if (const auto* d = x.as_floating_point()) v = d->get();
+        else if (const auto* n = x.as_integer()) v = static_cast<double>(n->get());
+        if (!v || !std::isfinite(*v)) {
+          doc.error(element(element(f.path_of("covariance"), i), j), x, "must be a finite number");
+          continue;
+        }
+        u.covariance.push_back(*v);
+      }
+    }
+  }
+  stop_if_errors_since(doc, mark);
+  u.residual_variance = *s2;
+  u.degrees_of_freedom = *dof;
+  return u;
+}
+
 std::optional<EmpiricalModel> read_model(const Table& models, std::string_view name) {
   const auto t = models.table(name);
   if (!t) return std::nullopt;
   const Document& doc = models.doc();
   const std::size_t mark = doc.error_count();
-  constexpr std::string_view kKeys[] = {"form", "coefficients", "variables", "domain"};
+  constexpr std::string_view kKeys[] = {"form", "coefficients", "variables", "domain", "fit"};
   t->reject_unknown(kKeys);
   constexpr std::string_view kFormRule = R"(must be "poly11", "poly22", "poly33", "power_law" or "hahn_lindsay")";
   EmpiricalModel m;
@@ -286,6 +329,10 @@ std::optional<EmpiricalModel> read_model(const Table& models, std::string_view n
     m.domain.wheel_diameter_mm = interval("wheel_diameter_mm");
     m.domain.wheel_rpm = interval("wheel_rpm");
   }
+  if (const auto f = t->table("fit")) m.uncertainty = read_fit_statistics(*f, need);
+  stop_if_errors_since(doc, mark);
+  if (m.uncertainty)
+    if (const std::string e = m.validate(); !e.empty()) doc.error_key(t->path_of("fit"), e);
   stop_if_errors_since(doc, mark);
   return m;
 }

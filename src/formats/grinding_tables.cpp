@@ -23,6 +23,26 @@ namespace g = grinding;
 std::string cell(double x) { return std::isfinite(x) ? table_number(x) : std::string(); }
 std::string cell(const std::optional<double>& x, double scale = 1.0) { return x ? cell(*x * scale) : std::string(); }
 
+// [grinding.models.<name>.fit]: what grind predict needs for intervals
+// (docs/grinding.md, "Intervals"); nothing without a degree of freedom.
+void write_fit_statistics(std::ostream& o, const std::string& name, const std::string& model,
+                          const g::FitUncertainty& u) {
+  const auto p = static_cast<std::size_t>(std::lround(std::sqrt(static_cast<double>(u.covariance.size()))));
+  if (u.degrees_of_freedom < 1 || p == 0) return;
+  const char* params = model == "power_law"      ? "ln C, b1, b2, b3"
+                       : model == "hahn_lindsay" ? "K_p, -K_p F_th"
+                                                 : "the coefficients";
+  o << "[grinding.models." << name << ".fit]   # for intervals: covariance of (" << params
+    << "), residual variance" << (model == "power_law" ? " of ln y" : "") << "\nresidual_variance = "
+    << table_number(u.residual_variance) << "\ndegrees_of_freedom = " << u.degrees_of_freedom << "\ncovariance = [";
+  for (std::size_t i = 0; i < p; ++i) {
+    o << (i ? ",\n  [" : "\n  [");
+    for (std::size_t j = 0; j < p; ++j) o << (j ? ", " : "") << table_number(u.covariance[i * p + j]);
+    o << "]";
+  }
+  o << "\n]\n";
+}
+
 }  // namespace
 
 std::string grinding_fit_fragment(const GrindingFitReport& r, std::optional<double> force_ratio) {
@@ -111,6 +131,7 @@ std::string grinding_fit_fragment(const GrindingFitReport& r, std::optional<doub
     if (force) line("normal_force_n", range([](const GrindingTest& x) { return x.normal_force_n; }));
     else line("useful_power_w", range([](const GrindingTest& x) { return x.power_w; }));
     line("wheel_diameter_mm", range([](const GrindingTest& x) { return x.wheel_diameter_mm; }));
+    write_fit_statistics(o, t.name, r.model, f.uncertainty);
   }
   return o.str();
 }

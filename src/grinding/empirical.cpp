@@ -10,6 +10,7 @@
 #include "chatter/error.hpp"
 #include "chatter/grinding.hpp"
 #include "chatter/kinematics.hpp"
+#include "grinding_internal.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -57,6 +58,7 @@ std::string EmpiricalModel::validate() const {
   if (form == EmpiricalForm::kHahnLindsay && variable != EmpiricalVariable::kNormalForce)
     return "hahn_lindsay reads the normal force: its variable must be normal_force_n";
   if (form == EmpiricalForm::kPowerLaw && !(coefficients[0] > 0.0)) return "power_law: the constant C must be > 0";
+  if (uncertainty) return detail::validate_uncertainty(*uncertainty, n);
   return "";
 }
 
@@ -124,14 +126,31 @@ EmpiricalPrediction predict_empirical(const Process& p, double power_w, std::vec
                        " W (the model overflows there): left out");
     return std::nullopt;
   };
+  // Its interval where its fit's statistics are known and the value is finite.
+  auto interval = [&](const EmpiricalModel& m, const std::optional<double>& v) -> std::optional<PredictionInterval> {
+    if (!v) return std::nullopt;
+    const auto i = m.interval(in);
+    if (i && std::isfinite(i->test_95.lo) && std::isfinite(i->test_95.hi)) return i;
+    return std::nullopt;
+  };
   if (p.empirical.normal_force) {
     e.normal_force_n = read(*p.empirical.normal_force, "normal_force");
+    e.normal_force_interval = interval(*p.empirical.normal_force, e.normal_force_n);
     if (e.normal_force_n) in.normal_force_n = *e.normal_force_n;
   }
-  if (p.empirical.removal)
-    if (const auto v = read(*p.empirical.removal, "removal")) e.removal_rate_m3_per_s = *v * 1e-9;
-  if (p.empirical.wear)
-    if (const auto v = read(*p.empirical.wear, "wear")) e.wear_rate_m3_per_s = *v * 1e-9;
+  if (p.empirical.removal) {
+    const auto v = read(*p.empirical.removal, "removal");
+    if (v) e.removal_rate_m3_per_s = *v * 1e-9;
+    e.removal_interval = interval(*p.empirical.removal, v);
+    // depth per pass = removal / (v_f E): mm^3/s over mm^2/s.
+    if (e.removal_interval)
+      e.depth_per_pass_interval = e.removal_interval->scaled(1.0 / (p.feed_m_per_s * 1e3 * p.wheel.width_m * 1e3));
+  }
+  if (p.empirical.wear) {
+    const auto v = read(*p.empirical.wear, "wear");
+    if (v) e.wear_rate_m3_per_s = *v * 1e-9;
+    e.wear_interval = interval(*p.empirical.wear, v);
+  }
   if (e.removal_rate_m3_per_s && e.wear_rate_m3_per_s && *e.wear_rate_m3_per_s > 0.0)
     e.g_ratio = *e.removal_rate_m3_per_s / *e.wear_rate_m3_per_s;
   else if (e.wear_rate_m3_per_s)

@@ -1,6 +1,5 @@
 // Least-squares fits of the grinding models (include/chatter/grinding_data.hpp).
 #include <Eigen/Dense>
-#include <boost/math/distributions/students_t.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +9,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/grinding_data.hpp"
+#include "grinding_internal.hpp"
 #include "grinding_text.hpp"
 
 namespace chatter::grinding {
@@ -23,17 +23,14 @@ constexpr double kRankTolerance = 1e-10;
 // Below this R^2 a fit explains too little of its data to be trusted as is.
 constexpr double kPoorRSquared = 0.9;
 
-double t975(int dof) {
-  if (dof <= 0) return 0.0;
-  const boost::math::students_t t(static_cast<double>(dof));
-  return boost::math::quantile(t, 0.975);
-}
+double t975(int dof) { return detail::student_t975(dof); }
 
 // Ordinary least squares y ~ X b. Columns are scaled to unit norm for the
 // solve (the regressors span many decades: V_c^3 against P_u, ...).
 struct Ols {
   Eigen::VectorXd b, se;
   int dof = 0;
+  FitUncertainty uncertainty;  // s^2 (X'X)^-1 of b, s^2, dof
 };
 Ols ols(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<std::string>& names) {
   const Eigen::Index m = X.rows(), p = X.cols();
@@ -62,9 +59,16 @@ Ols ols(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<st
   // (Xs'Xs)^-1 = V S^-2 V'; back to the unscaled coefficients.
   const Eigen::MatrixXd V = svd.matrixV();
   const Eigen::VectorXd inv2 = sv.array().square().inverse();
+  const Eigen::MatrixXd cov =
+      s2 * scale.cwiseInverse().asDiagonal() * V * inv2.asDiagonal() * V.transpose() * scale.cwiseInverse().asDiagonal();
   r.se.resize(p);
-  for (Eigen::Index j = 0; j < p; ++j)
-    r.se(j) = std::sqrt(s2 * (V.row(j).array().square() * inv2.transpose().array()).sum()) / scale(j);
+  for (Eigen::Index j = 0; j < p; ++j) r.se(j) = std::sqrt(std::max(cov(j, j), 0.0));
+  r.uncertainty.residual_variance = s2;
+  r.uncertainty.degrees_of_freedom = r.dof;
+  r.uncertainty.covariance.resize(static_cast<std::size_t>(p * p));
+  for (Eigen::Index i = 0; i < p; ++i)
+    for (Eigen::Index j = 0; j < p; ++j)  // symmetric to the last bit
+      r.uncertainty.covariance[static_cast<std::size_t>(i * p + j)] = i <= j ? cov(i, j) : cov(j, i);
   return r;
 }
 
@@ -153,6 +157,7 @@ FitStatistics fit_mechanistic(const std::vector<MechanisticTest>& tests) {
   const Ols o = ols(X, y, f.names);
   f.coefficients = {o.b(0), o.b(1)};
   f.standard_error = {o.se(0), o.se(1)};
+  f.uncertainty = o.uncertainty;
   f.degrees_of_freedom = o.dof;
   intervals(f);
   const Eigen::VectorXd fit = X * o.b;
@@ -205,6 +210,7 @@ FitStatistics fit_empirical(EmpiricalForm form, EmpiricalVariable variable, cons
     const Ols o = ols(X, y, {"ln C", "b1", "b2", "b3"});
     f.degrees_of_freedom = o.dof;
     f.coefficients = {std::exp(o.b(0)), o.b(1), o.b(2), o.b(3)};
+    f.uncertainty = o.uncertainty;
     f.standard_error = {o.se(0), o.se(1), o.se(2), o.se(3)};
     intervals(f);
     // C's interval is the exponential of ln C's; its "standard error" is ln C's.
@@ -226,6 +232,7 @@ FitStatistics fit_empirical(EmpiricalForm form, EmpiricalVariable variable, cons
     const double a = o.b(0), b = o.b(1);
     if (a == 0.0) throw InputError("hahn_lindsay: the fitted K_p is 0: the removal does not follow F_N V_c");
     f.coefficients = {a, -b / a};
+    f.uncertainty = o.uncertainty;
     // Delta method for F_th = -b/a, with the covariance of (a, b).
     const Eigen::MatrixXd XtX = X.transpose() * X;
     const Eigen::VectorXd res = y - X * o.b;
@@ -246,6 +253,7 @@ FitStatistics fit_empirical(EmpiricalForm form, EmpiricalVariable variable, cons
     const Ols o = ols(X, y, f.names);
     f.degrees_of_freedom = o.dof;
     f.coefficients.assign(o.b.data(), o.b.data() + o.b.size());
+    f.uncertainty = o.uncertainty;
     f.standard_error.assign(o.se.data(), o.se.data() + o.se.size());
     intervals(f);
   }

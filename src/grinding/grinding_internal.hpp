@@ -15,4 +15,12 @@ namespace chatter::grinding::detail {
 /// sentence to `warnings`. @pre p.partition. (partition.cpp)
 EnergyPartition energy_partition(const Process& p, const Prediction& r, std::vector<std::string>& warnings);
 
+/// The 0.975 quantile of Student's t with `dof` degrees of freedom (0 for
+/// dof <= 0). (intervals.cpp)
+double student_t975(int dof);
+
+/// Empty when `u` fits a model of p parameters, else the violated rule.
+/// (intervals.cpp)
+std::string validate_uncertainty(const FitUncertainty& u, std::size_t p);
+
 }  // namespace chatter::grinding::detail

@@ -27,6 +27,18 @@ namespace g = grinding;
 json num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 json opt(const std::optional<double>& x, double scale = 1.0) { return x ? num(*x * scale) : json(nullptr); }
 
+// One prediction interval (docs/grinding.md, "Intervals"): the standard
+// errors are of ln value for a power law (log_scale).
+json interval_json(const g::PredictionInterval& i) {
+  return {{"value", num(i.value)},
+          {"standard_error_of_mean", num(i.standard_error_mean)},
+          {"standard_error_of_one_test", num(i.standard_error_test)},
+          {"confidence_95_of_mean", {num(i.mean_95.lo), num(i.mean_95.hi)}},
+          {"prediction_95_of_one_test", {num(i.test_95.lo), num(i.test_95.hi)}},
+          {"degrees_of_freedom", i.degrees_of_freedom},
+          {"standard_errors_of_ln_value", i.log_scale}};
+}
+
 
 json header(const char* format) { return {{"format", format}, {"version", version()}}; }
 
@@ -76,11 +88,22 @@ json prediction_json(const g::Prediction& r) {
   j["cutting_speed_m_per_s"] = num(r.cutting_speed_m_per_s);
   j["no_load_loss_w"] = opt(r.no_load_loss_w);
   j["motor_power_w"] = opt(r.motor_power_w);
-  if (r.empirical)
+  if (r.empirical) {
     j["empirical"] = {{"removal_rate_mm3_per_s", opt(r.empirical->removal_rate_m3_per_s, 1e9)},
                       {"normal_force_n", opt(r.empirical->normal_force_n)},
                       {"wear_rate_mm3_per_s", opt(r.empirical->wear_rate_m3_per_s, 1e9)},
                       {"g_ratio", opt(r.empirical->g_ratio)}};
+    // Intervals, where the config carries the fit's statistics.
+    json iv = json::object();
+    auto add = [&](const char* key, const std::optional<g::PredictionInterval>& i) {
+      if (i) iv[key] = interval_json(*i);
+    };
+    add("removal_rate_mm3_per_s", r.empirical->removal_interval);
+    add("depth_per_pass_mm", r.empirical->depth_per_pass_interval);
+    add("wear_rate_mm3_per_s", r.empirical->wear_interval);
+    add("normal_force_n", r.empirical->normal_force_interval);
+    j["empirical"]["intervals"] = iv;
+  }
   return j;
 }
 
