@@ -44,10 +44,11 @@ chatter::GrindingConfig load(const std::string& path, bool strict) {
 }
 
 py::object grind_predict(const py::object& config, std::optional<double> power_w, std::optional<double> target_depth_mm,
-                         std::optional<double> target_removal_mm3_per_s, bool strict) {
-  const int given = (power_w ? 1 : 0) + (target_depth_mm ? 1 : 0) + (target_removal_mm3_per_s ? 1 : 0);
+                         std::optional<double> target_removal_mm3_per_s, std::optional<double> current_a, bool strict) {
+  const int given =
+      (power_w ? 1 : 0) + (target_depth_mm ? 1 : 0) + (target_removal_mm3_per_s ? 1 : 0) + (current_a ? 1 : 0);
   if (given != 1)
-    throw chatter::InputError("give exactly one of power_w, target_depth_mm, target_removal_mm3_per_s (" +
+    throw chatter::InputError("give exactly one of power_w, target_depth_mm, target_removal_mm3_per_s, current_a (" +
                               std::to_string(given) + " given)");
   const std::string path = fspath(config);
   nlohmann::json json;
@@ -56,6 +57,7 @@ py::object grind_predict(const py::object& config, std::optional<double> power_w
     const chatter::GrindingConfig c = load(path, strict);
     chatter::grinding::Prediction p;
     if (power_w) p = chatter::grinding::predict_at_power(c.process, *power_w);
+    else if (current_a) p = chatter::grinding::predict_at_current(c.process, *current_a);
     else if (target_depth_mm) p = chatter::grinding::predict_for_depth(c.process, *target_depth_mm * 1e-3);
     else p = chatter::grinding::predict_for_removal(c.process, *target_removal_mm3_per_s * 1e-9);
     json = chatter::grinding_prediction_record(p, c);
@@ -277,7 +279,8 @@ py::object grind_simulate(const py::object& config, double power_w, int turns, i
 
 void bind_grinding(py::module_& m) {
   m.def("grind_predict", &grind_predict, "config"_a, py::kw_only(), "power_w"_a = py::none(),
-        "target_depth_mm"_a = py::none(), "target_removal_mm3_per_s"_a = py::none(), "strict"_a = false,
+        "target_depth_mm"_a = py::none(), "target_removal_mm3_per_s"_a = py::none(), "current_a"_a = py::none(),
+        "strict"_a = false,
         "Grinding at controlled power (a [grinding] config): the record of `chatter grind predict --json`.");
   m.def("grind_fit", &grind_fit, "tests"_a, py::kw_only(), "model"_a, "variable"_a = "",
         "force_ratio"_a = py::none(), "defaults"_a = py::dict(),

@@ -72,6 +72,15 @@ TEST(GrindingConfig, ShippedConfigsLoadWithoutWarnings) {
   ASSERT_TRUE(u.process.empirical.wear);
   EXPECT_EQ(u.process.empirical.wear->form, grinding::EmpiricalForm::kPoly33);
   ASSERT_TRUE(u.process.no_load_loss);
+  // Its illustrative motor map through annex VI's screen point.
+  ASSERT_TRUE(u.process.motor);
+  EXPECT_DOUBLE_EQ(u.process.transmission_ratio, 1.125);
+  EXPECT_NEAR(u.process.motor->power_w(19.0, 2000.0, nullptr), 2491.4, 1e-6);
+  EXPECT_EQ(*u.process.motor->max_current_a, 19.0);
+  const std::string bad = error_of(minimal("[grinding.motor]\nform = \"power_law\"\ncoefficients = [1, 2, 3]\n"));
+  EXPECT_TRUE(has(bad, "grinding.motor.form = \"power_law\": must be \"poly11\", \"poly22\" or \"poly33\"")) << bad;
+  const std::string count = error_of(minimal("[grinding.motor]\nform = \"poly22\"\ncoefficients = [1, 2, 3]\n"));
+  EXPECT_TRUE(has(count, "grinding.motor.coefficients = [1, 2, 3]: must hold 6 numbers")) << count;
 }
 
 // Seed 000's use of its empirical models: the power for a target removal

@@ -224,5 +224,64 @@ TEST(GrindingIntervals, ABadCovarianceIsRefused) {
   EXPECT_NE(m.validate().find("degrees of freedom"), std::string::npos);
 }
 
+// ------------------------------------------------------------------- motor
+
+// Annex VI's screen: 19 A at 2000 rev/min of the motor gives 2491.4 W of
+// mechanical power through the illustrative DC map of the shipped config
+// (P_m = p11 I n + p01 n); the useful power is that minus the table 4.5
+// loss c0 omega^k D^x, by hand.
+MotorMap dc_map() {
+  MotorMap m;
+  m.form = EmpiricalForm::kPoly22;
+  const double p11 = 2491.4 / 36000.0;
+  m.coefficients = {0.0, 0.0, -p11, 0.0, p11, 0.0};
+  m.max_current_a = 19.0;
+  return m;
+}
+
+TEST(GrindingMotor, UsefulPowerIsTheMapLessTheNoLoadLoss) {
+  Process p = cases::seed000_annex6();
+  p.transmission_ratio = 1.125;
+  p.motor = dc_map();
+  p.no_load_loss = NoLoadLoss{6.841e-2, 1.314, 0.350};
+  ASSERT_EQ(p.validate(), "");
+  const double omega = 2.0 * 3.14159265358979323846 * 2250.0 / 60.0;
+  const double loss = 6.841e-2 * std::pow(omega, 1.314) * std::pow(p.wheel.diameter_m * 1e3, 0.350);
+  std::vector<std::string> w;
+  EXPECT_NEAR(useful_power_from_current(p, 19.0, w), 2491.4 - loss, 1e-9);
+  EXPECT_TRUE(w.empty());
+  const Prediction r = predict_at_current(p, 19.0);
+  EXPECT_EQ(r.mode, "current");
+  EXPECT_NEAR(r.power_w, 2491.4 - loss, 1e-9);
+  EXPECT_NEAR(*r.motor_power_w, 2491.4, 1e-9);
+  EXPECT_EQ(*r.motor_current_a, 19.0);
+  EXPECT_NEAR(r.removal_rate_m3_per_s, predict_at_power(p, 2491.4 - loss).removal_rate_m3_per_s, 1e-18);
+  // Above the continuous limit: said.
+  w.clear();
+  useful_power_from_current(p, 22.0, w);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("continuous limit 19 A"), std::string::npos);
+  // Outside the measured range: said.
+  p.motor->current_a = Interval{10.0, 19.0};
+  w.clear();
+  useful_power_from_current(p, 8.0, w);
+  EXPECT_NE(w.front().find("current 8 A outside the measured 10 to 19 A"), std::string::npos) << w.front();
+  // A current whose power the loss eats: refused.
+  EXPECT_THROW(useful_power_from_current(p, 2.0, w), InputError);
+  // Without a loss model the motor's power is all of it, and a warning says so.
+  p.no_load_loss.reset();
+  w.clear();
+  EXPECT_NEAR(useful_power_from_current(p, 19.0, w), 2491.4, 1e-9);
+  EXPECT_NE(w.front().find("no [grinding.no_load_loss]"), std::string::npos);
+  // Without a map: refused, naming the table.
+  p.motor.reset();
+  try {
+    useful_power_from_current(p, 19.0, w);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[grinding.motor]"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace chatter::grinding

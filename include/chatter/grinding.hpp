@@ -237,9 +237,30 @@ struct EmpiricalModels {
   bool empty() const { return !removal && !wear && !normal_force; }
 };
 
+/// The grinder motor's mechanical power from the current the operator sets
+/// and the motor's speed (seed 000 §4.4.1, eq. 4.26: a cubic in both, fitted
+/// on a dynamometer): P_m = poly(x = current A, y = motor rev/min) W, a
+/// poly11, poly22 or poly33 in MATLAB's term order (EmpiricalForm). The
+/// useful power at the wheel is P_m minus the no-load loss (eq. 4.27).
+struct MotorMap {
+  EmpiricalForm form = EmpiricalForm::kPoly33;
+  std::vector<double> coefficients;
+  std::optional<Interval> current_a, motor_rpm;  ///< where it was measured (warning outside)
+  std::optional<double> max_current_a;           ///< the continuous current limit (grind plan at full current)
+  /// Empty when valid, else the violated rule (a poly form, its count, finite numbers).
+  std::string validate() const;
+  /// P_m (W) at `amps` (A) and motor speed `rpm` (rev/min); `warnings` gets
+  /// a line per variable outside its measured interval. @pre validate().empty().
+  double power_w(double amps, double rpm, std::vector<std::string>* warnings) const;
+};
+
 /// Everything a prediction reads: the [grinding] table of a config in SI.
 struct Process {
   Wheel wheel;
+  /// Wheel rev per motor rev (motor_rpm x ratio = the wheel's speed); 1 when
+  /// the config gives wheel_rpm. The motor map reads the motor's speed.
+  double transmission_ratio = 1.0;
+  std::optional<MotorMap> motor;
   double feed_m_per_s = 0.0;   ///< v_f > 0, along the wheel's axis.
   double force_ratio = 0.0;    ///< mu = F_T / F_N in (0, 10].
   std::optional<double> density_kg_per_m3;       ///< of the part (removal in kg/h).
@@ -300,7 +321,7 @@ struct EmpiricalPrediction {
 
 /// What a power set-point gives: the record of `chatter grind predict`.
 struct Prediction {
-  std::string mode;                   ///< "power", "target_depth" or "target_removal"
+  std::string mode;                   ///< "power", "target_depth", "target_removal" or "current"
   std::string removal_source;         ///< "mechanistic" or "empirical" (no mechanistic model)
   double power_w = 0.0;               ///< P, the useful grinding power at the wheel
   double removal_rate_m3_per_s = 0.0; ///< Z_w
@@ -318,6 +339,7 @@ struct Prediction {
   double contact_duration_s = 0.0;    ///< 2 phi0 / (2 pi N), one impact
   double cutting_speed_m_per_s = 0.0;
   std::optional<double> no_load_loss_w, motor_power_w;   ///< with [grinding.no_load_loss]: P + loss
+  std::optional<double> motor_current_a;                 ///< mode "current": the current set
   std::optional<EmpiricalPrediction> empirical;
   /// Outside a model's tested domain, an impacts table's range, the power
   /// partition's [0, 1], ... Each a sentence naming the model and the value.
@@ -344,6 +366,15 @@ Prediction predict_for_depth(const Process& p, double max_depth_m);
 ///         without a mechanistic model when no empirical removal model with a
 ///         tested power range reaches Z_w there (the message gives its range).
 Prediction predict_for_removal(const Process& p, double removal_m3_per_s);
+/// The useful power (W) at the wheel when the motor draws `current_a` (A) at
+/// the process's speed: the motor map's power minus the no-load loss (without
+/// [grinding.no_load_loss] the motor's power, and `warnings` says so).
+/// @throws InputError without p.motor, for a current not > 0, or when the
+///         loss takes all the motor's power (nothing left to grind).
+double useful_power_from_current(const Process& p, double current_a, std::vector<std::string>& warnings);
+/// predict_at_power at the useful power of `current_a` (mode "current";
+/// motor_current_a and motor_power_w set). @throws as both.
+Prediction predict_at_current(const Process& p, double current_a);
 
 /// The empirical models at useful power P (W) for this wheel (the normal
 /// force they read comes from the normal-force model, else from P / (V_c mu)).

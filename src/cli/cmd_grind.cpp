@@ -112,10 +112,11 @@ std::string f6(double x) { return fmt(x, 4); }
 
 // ------------------------------------------------------------------ predict
 
-const char* const kPredictUsage = R"(Usage: chatter grind predict CONFIG (--power-w P | --target-depth-mm H | --target-removal-mm3-per-s Z) [options]
+const char* const kPredictUsage = R"(Usage: chatter grind predict CONFIG (--power-w P | --target-depth-mm H | --target-removal-mm3-per-s Z | --current-a I) [options]
 
-What a power set-point gives, or the power for a target depth (the groove's
-maximum depth h0) or removal rate: removal (mm^3/s, kg/h), depth, groove
+What a power set-point gives (or a motor current, through the config's motor
+map and no-load loss), or the power for a target depth (the groove's maximum
+depth h0) or removal rate: removal (mm^3/s, kg/h), depth, groove
 width, depth per pass, tangential and normal force, friction and chip power,
 specific energy, energy partition and heat into the part, impacts per turn,
 contact half-angle and duration, cutting speed; the empirical models beside
@@ -150,20 +151,24 @@ int cmd_predict(const std::vector<std::string>& args) {
   d.add_options()("power-w", po::value<double>(), "useful grinding power at the wheel, W")
       ("target-depth-mm", po::value<double>(), "target maximum depth of the groove, mm (gives the power)")
       ("target-removal-mm3-per-s", po::value<double>(), "target removal rate, mm^3/s (gives the power)")
+      ("current-a", po::value<double>(), "the motor current the operator sets, A: the useful power is the motor "
+                                         "map's ([grinding.motor]) minus the no-load loss")
       ("json", po::value<std::string>(&json_path), "write the JSON record to this file ('-': standard output, the "
                                                   "report then goes to standard error)");
   po::variables_map vm;
   if (!parse_grind(args, kPredictUsage, d, "config", vm, config)) return 0;
   const int modes = static_cast<int>(vm.count("power-w") + vm.count("target-depth-mm") +
-                                     vm.count("target-removal-mm3-per-s"));
+                                     vm.count("target-removal-mm3-per-s") + vm.count("current-a"));
   if (modes != 1)
-    throw InputError("give exactly one of --power-w, --target-depth-mm, --target-removal-mm3-per-s (" +
+    throw InputError("give exactly one of --power-w, --target-depth-mm, --target-removal-mm3-per-s, --current-a (" +
                      std::to_string(modes) + " given)");
   check_outputs({{"--json", json_path == "-" ? "" : json_path}});
   const GrindingConfig c = load_grinding_checked(config, vm.count("strict") > 0);
   grinding::Prediction p;
   if (vm.count("power-w"))
     p = with_flag("--power-w", [&] { return grinding::predict_at_power(c.process, vm["power-w"].as<double>()); });
+  else if (vm.count("current-a"))
+    p = with_flag("--current-a", [&] { return grinding::predict_at_current(c.process, vm["current-a"].as<double>()); });
   else if (vm.count("target-depth-mm"))
     p = with_flag("--target-depth-mm",
                   [&] { return grinding::predict_for_depth(c.process, vm["target-depth-mm"].as<double>() * 1e-3); });
@@ -196,8 +201,12 @@ int cmd_predict(const std::vector<std::string>& args) {
   if (p.impacts_per_turn) os << "  impacts per turn   " << f6(*p.impacts_per_turn) << "\n";
   os << "  contact            half-angle " << f6(p.contact_half_angle_rad * 180 / 3.14159265358979) << " deg, "
      << f6(p.contact_duration_s * 1e3) << " ms per impact; cutting speed " << f6(p.cutting_speed_m_per_s) << " m/s\n";
-  if (p.motor_power_w)
-    os << "  motor power        " << f6(*p.motor_power_w) << " W (no-load loss " << f6(*p.no_load_loss_w) << " W)\n";
+  if (p.motor_power_w) {
+    os << "  motor power        " << f6(*p.motor_power_w) << " W";
+    if (p.motor_current_a) os << " at " << f6(*p.motor_current_a) << " A";
+    if (p.no_load_loss_w) os << " (no-load loss " << f6(*p.no_load_loss_w) << " W)";
+    os << "\n";
+  }
   if (p.empirical) {
     os << "  empirical models  ";
     if (p.empirical->removal_rate_m3_per_s) os << " removal " << f6(*p.empirical->removal_rate_m3_per_s * 1e9) << " mm^3/s;";

@@ -21,7 +21,7 @@ constexpr std::string_view kGrindingKeys[] = {
     "wheel_diameter_mm", "wheel_width_mm",  "wheel_rpm",     "motor_rpm",          "transmission_ratio",
     "feed_mm_per_s",     "force_ratio",     "density_kg_per_m3", "wheel_min_diameter_mm",
     "edge_coefficient_n_per_mm", "cutting_coefficient_n_per_mm2", "impacts_per_turn", "impacts",
-    "energy_partition",  "no_load_loss",    "models"};
+    "energy_partition",  "no_load_loss",    "models", "motor"};
 
 // Hard bounds: beyond them a value is not a grinding wheel or process.
 constexpr Plausible kDiameterBound{0.0, 5000.0, "must be <= 5000 mm"};
@@ -337,6 +337,51 @@ std::optional<EmpiricalModel> read_model(const Table& models, std::string_view n
   return m;
 }
 
+// [grinding.motor]: the motor's power from current and motor speed (seed 000
+// eq. 4.26, a cubic fitted on a dynamometer), its measured range and limit.
+std::optional<grinding::MotorMap> read_motor(const Table& g) {
+  const auto t = g.table("motor");
+  if (!t) return std::nullopt;
+  const Document& doc = g.doc();
+  const std::size_t mark = doc.error_count();
+  constexpr std::string_view kKeys[] = {"form", "coefficients", "current_a", "motor_rpm", "max_current_a"};
+  t->reject_unknown(kKeys);
+  constexpr std::string_view kFormRule = R"(must be "poly11", "poly22" or "poly33" (x = current A, y = motor rev/min))";
+  grinding::MotorMap m;
+  if (!t->has("form")) doc.error_key(t->path_of("form"), "missing (required: poly11, poly22 or poly33)");
+  if (const auto f = t->string("form", kFormRule)) {
+    if (*f == "poly11") m.form = EmpiricalForm::kPoly11;
+    else if (*f == "poly22") m.form = EmpiricalForm::kPoly22;
+    else if (*f == "poly33") m.form = EmpiricalForm::kPoly33;
+    else doc.error(t->path_of("form"), *t->find("form"), kFormRule);
+  }
+  if (!t->has("coefficients"))
+    doc.error_key(t->path_of("coefficients"), "missing (required: the map's coefficients, MATLAB's term order, W)");
+  const auto c = t->number_list("coefficients", kAnyNumber);
+  auto interval = [&](std::string_view key) -> std::optional<grinding::Interval> {
+    const auto v = t->number_list(key, kNonNegative);
+    if (!v) return std::nullopt;
+    if (v->size() != 2 || !((*v)[0] < (*v)[1])) {
+      doc.error(t->path_of(key), *t->find(key), "must be [low, high] with low < high (where the map was measured)");
+      return std::nullopt;
+    }
+    return grinding::Interval{(*v)[0], (*v)[1]};
+  };
+  m.current_a = interval("current_a");
+  m.motor_rpm = interval("motor_rpm");
+  m.max_current_a = t->number("max_current_a", kPositive);
+  stop_if_errors_since(doc, mark);
+  m.coefficients = *c;
+  const std::size_t need = grinding::coefficient_count(m.form);
+  if (m.coefficients.size() != need)
+    doc.error(t->path_of("coefficients"), *t->find("coefficients"),
+              "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(m.form) +
+                  "\" (" + std::to_string(m.coefficients.size()) + " given)");
+  warn_usual(*t, "max_current_a", m.max_current_a, {0.5, 500.0, "the 0.5 to 500 A of grinder motors (seed 000: 16, 19 A)", 1e-3, "mA"});
+  stop_if_errors_since(doc, mark);
+  return m;
+}
+
 grinding::EmpiricalModels read_models(const Table& g) {
   grinding::EmpiricalModels out;
   const auto t = g.table("models");
@@ -374,6 +419,7 @@ grinding::Process read_grinding(const Table& root) {
     warn_usual(*g, "motor_rpm", motor, {500.0, 30000.0, "the 500 to 30 000 rev/min of grinder motors", kRevPerSToRpm, "rev/s"});
     warn_usual(*g, "transmission_ratio", ratio, {0.1, 10.0, "the 0.1 to 10 of grinder transmissions"});
     if (motor && ratio) rpm = *motor * *ratio;
+    if (ratio) p.transmission_ratio = *ratio;
   } else if (!g->meant("wheel_rpm") && !by_wheel) {
     doc.error_key(g->path_of("wheel_rpm"), "missing (required, rev/min; or motor_rpm and transmission_ratio)");
   } else {
@@ -414,6 +460,7 @@ grinding::Process read_grinding(const Table& root) {
   const auto partition = attempt([&] { return read_partition(*g, mechanistic); });
   const auto no_load = attempt([&] { return read_no_load(*g); });
   const auto models = attempt([&] { return read_models(*g); });
+  const auto motor = attempt([&] { return read_motor(*g); });
   if (!mechanistic && (!models || !models->removal))
     doc.error_key("grinding", "no removal model: give the mechanistic model (edge_coefficient_n_per_mm, "
                               "cutting_coefficient_n_per_mm2, impacts_per_turn) or [grinding.models.removal]");
@@ -441,6 +488,7 @@ grinding::Process read_grinding(const Table& root) {
                         "(W / ((rad/s)^speed_exponent mm^diameter_exponent))");
   }
   if (models) p.empirical = *models;
+  if (motor) p.motor = *motor;
   if (const std::string why = p.validate(); !why.empty()) doc.fail_key("grinding", why);  // a rule above is missing
   return p;
 }

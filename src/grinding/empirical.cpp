@@ -62,16 +62,26 @@ std::string EmpiricalModel::validate() const {
   return "";
 }
 
+namespace detail {
+
+double poly_value(EmpiricalForm form, const std::vector<double>& c, double x, double y) {
+  double v = c[0] + c[1] * x + c[2] * y;
+  if (form == EmpiricalForm::kPoly11) return v;
+  v += c[3] * x * x + c[4] * x * y + c[5] * y * y;
+  if (form == EmpiricalForm::kPoly22) return v;
+  return v + c[6] * x * x * x + c[7] * x * x * y + c[8] * x * y * y + c[9] * y * y * y;
+}
+
+}  // namespace detail
+
 double EmpiricalModel::evaluate(const EmpiricalInputs& in) const {
   const double x = in.cutting_speed_m_per_s;
   const double y = variable == EmpiricalVariable::kUsefulPower ? in.useful_power_w : in.normal_force_n;
   const std::vector<double>& c = coefficients;
   switch (form) {
-    case EmpiricalForm::kPoly11: return c[0] + c[1] * x + c[2] * y;
-    case EmpiricalForm::kPoly22: return c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y;
-    case EmpiricalForm::kPoly33:
-      return c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y + c[6] * x * x * x +
-             c[7] * x * x * y + c[8] * x * y * y + c[9] * y * y * y;
+    case EmpiricalForm::kPoly11:
+    case EmpiricalForm::kPoly22:
+    case EmpiricalForm::kPoly33: return detail::poly_value(form, c, x, y);
     case EmpiricalForm::kPowerLaw:
       return c[0] * std::pow(in.wheel_rpm, c[1]) * std::pow(y, c[2]) * std::pow(in.wheel_diameter_mm, c[3]);
     case EmpiricalForm::kHahnLindsay: return c[0] * (in.normal_force_n - c[1]) * x;

@@ -15,6 +15,10 @@ namespace chatter::grinding::detail {
 /// sentence to `warnings`. @pre p.partition. (partition.cpp)
 EnergyPartition energy_partition(const Process& p, const Prediction& r, std::vector<std::string>& warnings);
 
+/// A poly11, poly22 or poly33 in MATLAB's term order at (x, y).
+/// @pre c holds coefficient_count(form) numbers. (empirical.cpp)
+double poly_value(EmpiricalForm form, const std::vector<double>& c, double x, double y);
+
 /// The 0.975 quantile of Student's t with `dof` degrees of freedom (0 for
 /// dof <= 0). (intervals.cpp)
 double student_t975(int dof);

@@ -207,6 +207,9 @@ std::string Process::validate() const {
   }
   if (!mechanistic && !empirical.removal)
     return "no removal model: give the mechanistic coefficients or an empirical removal model";
+  if (!(std::isfinite(transmission_ratio) && transmission_ratio > 0.0)) return "transmission ratio: must be > 0";
+  if (motor)
+    if (const std::string e = motor->validate(); !e.empty()) return "motor map: " + e;
   if (partition) {
     if (partition->model == PartitionModel::kPower && !mechanistic)
       return "energy partition model \"power\" needs the mechanistic model (friction and chip power)";

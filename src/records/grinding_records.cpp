@@ -88,6 +88,7 @@ json prediction_json(const g::Prediction& r) {
   j["cutting_speed_m_per_s"] = num(r.cutting_speed_m_per_s);
   j["no_load_loss_w"] = opt(r.no_load_loss_w);
   j["motor_power_w"] = opt(r.motor_power_w);
+  j["motor_current_a"] = opt(r.motor_current_a);
   if (r.empirical) {
     j["empirical"] = {{"removal_rate_mm3_per_s", opt(r.empirical->removal_rate_m3_per_s, 1e9)},
                       {"normal_force_n", opt(r.empirical->normal_force_n)},
