@@ -185,32 +185,48 @@ py::object grind_sweep(const py::object& config, double power_w_min, double powe
   return csv_arrays(csv);
 }
 
-py::object grind_plan(const py::object& config, double power_w, std::optional<double> volume_mm3,
-                      std::optional<double> area_mm2, std::optional<double> depth_mm, std::optional<double> g_ratio,
-                      double wheel_change_min, bool strict) {
+py::object grind_plan(const py::object& config, std::optional<double> power_w, std::optional<double> current_a,
+                      std::optional<double> volume_mm3, std::optional<double> area_mm2, std::optional<double> depth_mm,
+                      std::optional<double> g_ratio, double wheel_change_min, std::optional<std::string> objective,
+                      std::optional<double> wheel_rpm_min, std::optional<double> wheel_rpm_max, int speed_points,
+                      bool strict) {
   const bool by_volume = volume_mm3.has_value(), by_area = area_mm2 || depth_mm;
   if (by_volume == by_area)
     throw chatter::InputError("give volume_mm3, or area_mm2 with depth_mm (one way, not both)");
+  if (power_w.has_value() == current_a.has_value()) throw chatter::InputError("give power_w or current_a (one of them)");
   positive(volume_mm3, "volume_mm3", "mm^3");
   positive(area_mm2, "area_mm2", "mm^2");
   positive(depth_mm, "depth_mm", "mm");
   positive(g_ratio, "g_ratio", "");
+  positive(power_w, "power_w", "W");
+  positive(current_a, "current_a", "A");
   if (by_area && !(area_mm2 && depth_mm))
     throw chatter::InputError("area_mm2 and depth_mm go together (the volume is their product)");
   chatter::grinding::PlanOptions o;
-  o.power_w = power_w;
+  o.power_w = power_w.value_or(0.0);
+  o.current_a = current_a;
   o.g_ratio = g_ratio.value_or(0.0);
   o.volume_m3 = by_volume ? *volume_mm3 * 1e-9 : *area_mm2 * *depth_mm * 1e-9;
   o.wheel_change_s = wheel_change_min * 60.0;
+  if (objective) {
+    o.objective = chatter::grinding::plan_objective_from_name(*objective, "objective");
+    if (!wheel_rpm_min || !wheel_rpm_max)
+      throw chatter::InputError("objective searches the wheel speed: give wheel_rpm_min and wheel_rpm_max");
+    o.wheel_rpm_min = *wheel_rpm_min;
+    o.wheel_rpm_max = *wheel_rpm_max;
+    o.speed_points = speed_points;
+  } else if (wheel_rpm_min || wheel_rpm_max) {
+    throw chatter::InputError("wheel_rpm_min/wheel_rpm_max go with objective (without it the config's wheel speed is used)");
+  }
   const std::string path = fspath(config);
   nlohmann::json json;
   std::string csv;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
-    const chatter::grinding::Plan plan = prefixed("plan", [&] { return chatter::grinding::plan_repair(c.process, o); });
-    json = chatter::grinding_plan_record(plan, o, c);
-    csv = chatter::grinding_plan_csv(plan);
+    const chatter::GrindingPlanRun run = prefixed("plan", [&] { return chatter::run_grinding_plan(c, o); });
+    json = run.record;
+    csv = run.csv;
   }
   py::object record = chatter_py::to_python(json);
   record["wheel_life"] = csv_arrays(csv);
@@ -290,9 +306,10 @@ void bind_grinding(py::module_& m) {
   m.def("grind_sweep", &grind_sweep, "config"_a, py::kw_only(), "power_w_min"_a, "power_w_max"_a, "points"_a = 46,
         "feed_mm_per_s_list"_a = py::none(), "strict"_a = false,
         "Depth, removal and force against power (chatter grind sweep's table, columns as NumPy arrays).");
-  m.def("grind_plan", &grind_plan, "config"_a, py::kw_only(), "power_w"_a, "volume_mm3"_a = py::none(),
-        "area_mm2"_a = py::none(), "depth_mm"_a = py::none(), "g_ratio"_a = py::none(), "wheel_change_min"_a = 0.0,
-        "strict"_a = false,
+  m.def("grind_plan", &grind_plan, "config"_a, py::kw_only(), "power_w"_a = py::none(), "current_a"_a = py::none(),
+        "volume_mm3"_a = py::none(), "area_mm2"_a = py::none(), "depth_mm"_a = py::none(), "g_ratio"_a = py::none(),
+        "wheel_change_min"_a = 0.0, "objective"_a = py::none(), "wheel_rpm_min"_a = py::none(),
+        "wheel_rpm_max"_a = py::none(), "speed_points"_a = 200, "strict"_a = false,
         "Wheels, grinding time and wheel changes for a repair: the record of chatter grind plan --json, plus "
         "'wheel_life' (its --table as arrays).");
   m.def("grind_impacts", &grind_impacts, "record"_a, py::kw_only(), "wheel_rpm"_a, "threshold_n"_a = py::none(),

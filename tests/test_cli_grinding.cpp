@@ -273,4 +273,36 @@ TEST_F(GrindCli, PlanCountsWheelsAndTime) {
   bad({"grind", "plan", kScompi, "--volume-mm3", "1e6", "--power-w", "1000"}, "a G-ratio");
 }
 
+// Seed 000 §6.6's comparison through the binary: both strategies, each with
+// the plan keys, and the savings their difference; the motor current instead
+// of the power.
+TEST_F(GrindCli, PlanObjectivesCompareBothStrategies) {
+  const json j = ok_json({"grind", "plan", kUnderwater, "--area-mm2", "1.5e6", "--depth-mm", "2", "--current-a", "19",
+                          "--wheel-change-min", "180", "--objective", "g-ratio", "--wheel-rpm-min", "2025",
+                          "--wheel-rpm-max", "3375", "--json", "-"});
+  EXPECT_EQ(j["objective"], "g-ratio");
+  EXPECT_TRUE(j["power_w"].is_null());
+  EXPECT_EQ(j["current_a"].get<double>(), 19.0);
+  for (const char* k : {"removal", "g_ratio"}) {
+    const json& p = j[k];
+    EXPECT_EQ(p["wheel_changes"].get<int>(), p["wheels_needed"].get<int>() - 1) << k;
+    EXPECT_GE(p["new_wheel"]["wheel_rpm"].get<double>(), 2025.0) << k;
+    EXPECT_LE(p["new_wheel"]["wheel_rpm"].get<double>(), 3375.0) << k;
+  }
+  EXPECT_EQ(j["removal"]["objective"], "removal");
+  EXPECT_EQ(j["wheels_saved_by_g_ratio"].get<int>(),
+            j["removal"]["wheels_needed"].get<int>() - j["g_ratio"]["wheels_needed"].get<int>());
+  EXPECT_NEAR(j["time_saved_by_g_ratio_s"].get<double>(),
+              j["removal"]["total_time_s"].get<double>() - j["g_ratio"]["total_time_s"].get<double>(),
+              kJsonRel * j["removal"]["total_time_s"].get<double>());
+  EXPECT_GE(j["g_ratio"]["mean_g_ratio"].get<double>(), j["removal"]["mean_g_ratio"].get<double>());
+  bad({"grind", "plan", kUnderwater, "--volume-mm3", "1e6", "--power-w", "2000", "--objective", "g-ratio"},
+      "give --wheel-rpm-min and --wheel-rpm-max");
+  bad({"grind", "plan", kUnderwater, "--volume-mm3", "1e6", "--power-w", "2000", "--objective", "speed",
+       "--wheel-rpm-min", "2000", "--wheel-rpm-max", "3000"},
+      "--objective speed: must be removal or g-ratio");
+  bad({"grind", "plan", kUnderwater, "--volume-mm3", "1e6", "--power-w", "2000", "--current-a", "19"},
+      "give --power-w or --current-a");
+}
+
 }  // namespace

@@ -283,5 +283,95 @@ TEST(GrindingMotor, UsefulPowerIsTheMapLessTheNoLoadLoss) {
   }
 }
 
+// ------------------------------------------------------- plan objectives
+
+// A wheel whose removal falls with the cutting speed, Z = 100 - 2 V_c, and
+// whose wear W = 210 - 20 V_c + 0.5 V_c^2 (mm^3/s) has its G-ratio Z/W
+// largest where Z' W = Z W': V_c^2 - 100 V_c + 1580 = 0, V* = 50 - sqrt(920)
+// = 19.668 m/s, G* = 6.033; the removal is largest at the lowest tested
+// speed, 14 m/s, where G = 72/28.
+Process objective_case() {
+  Process p;
+  p.wheel.diameter_m = 0.200;
+  p.wheel.width_m = 0.025;
+  p.wheel.speed_rev_per_s = 25.0;
+  p.feed_m_per_s = 0.050;
+  p.force_ratio = 0.5;
+  p.min_wheel_diameter_m = 0.140;
+  EmpiricalModel removal, wear;
+  removal.form = EmpiricalForm::kPoly11;
+  removal.coefficients = {100.0, -2.0, 0.0};
+  removal.domain.cutting_speed_m_per_s = Interval{14.0, 24.0};
+  wear.form = EmpiricalForm::kPoly22;
+  wear.coefficients = {210.0, -20.0, 0.0, 0.5, 0.0, 0.0};
+  p.empirical.removal = removal;
+  p.empirical.wear = wear;
+  return p;
+}
+
+TEST(GrindingPlanObjective, EachDiameterAtTheObjectivesBestSpeed) {
+  const Process p = objective_case();
+  PlanOptions o;
+  o.volume_m3 = 3e-3;
+  o.power_w = 2000.0;
+  o.wheel_change_s = 3 * 3600.0;
+  o.wheel_rpm_min = 1000.0;
+  o.wheel_rpm_max = 4000.0;
+  o.speed_points = 301;  // 10 rev/min apart
+  const double v_star = 50.0 - std::sqrt(920.0);
+  const double g_star = (100.0 - 2.0 * v_star) / (210.0 - 20.0 * v_star + 0.5 * v_star * v_star);
+  const PlanComparison c = compare_plan_objectives(p, o);
+  const double pi = 3.14159265358979323846;
+  for (const PlanStep& s : c.g_ratio.life) {
+    // The grid's speed nearest to V*: within half a step of cutting speed.
+    const double half_step = pi * s.diameter_m * 5.0 / 60.0;
+    EXPECT_LE(std::abs(s.cutting_speed_m_per_s - v_star), half_step + 1e-12) << s.diameter_m;
+  }
+  for (const PlanStep& s : c.removal.life) {
+    // The lowest grid speed at or above 14 m/s.
+    const double step = pi * s.diameter_m * 10.0 / 60.0;
+    EXPECT_GE(s.cutting_speed_m_per_s, 14.0);
+    EXPECT_LT(s.cutting_speed_m_per_s, 14.0 + step) << s.diameter_m;
+  }
+  // G is flat at its maximum: the life's mean G is G* to the grid's
+  // resolution (second order in the half step, ~1e-4 relative); at 14 m/s
+  // it is 72/28 to first order in the step (~2 %).
+  EXPECT_NEAR(c.g_ratio.mean_g_ratio, g_star, 1e-3 * g_star);
+  EXPECT_NEAR(c.removal.mean_g_ratio, 72.0 / 28.0, 0.03 * 72.0 / 28.0);
+  // Wheels and time follow from the mean G-ratio and the usable volume.
+  const double usable = pi / 4.0 * 0.025 * (0.2 * 0.2 - 0.14 * 0.14);
+  EXPECT_NEAR(c.g_ratio.removal_per_wheel_m3, c.g_ratio.mean_g_ratio * usable, 1e-12 * usable);
+  EXPECT_EQ(c.g_ratio.wheels_needed, static_cast<int>(std::ceil(o.volume_m3 / (c.g_ratio.mean_g_ratio * usable))));
+  EXPECT_EQ(c.wheels_saved, c.removal.wheels_needed - c.g_ratio.wheels_needed);
+  EXPECT_GT(c.wheels_saved, 0);
+  EXPECT_NEAR(c.time_saved_s, c.removal.total_time_s - c.g_ratio.total_time_s, 1e-9);
+  // The removal strategy removes faster: its wheel's grinding time per mm^3 is shorter.
+  EXPECT_LT(c.removal.grinding_time_s, c.g_ratio.grinding_time_s);
+}
+
+TEST(GrindingPlanObjective, RefusalsSayWhatIsMissing) {
+  Process p = objective_case();
+  PlanOptions o;
+  o.volume_m3 = 1e-3;
+  o.power_w = 2000.0;
+  o.objective = PlanObjective::kGRatio;
+  EXPECT_THROW(plan_repair(p, o), InputError);  // no speed range
+  o.wheel_rpm_min = 1000.0;
+  o.wheel_rpm_max = 1200.0;  // 10.5 to 12.6 m/s at 200 mm: below the tested 14 m/s
+  try {
+    plan_repair(p, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no wheel speed of 1000 to 1200 rev/min"), std::string::npos) << e.what();
+  }
+  o.wheel_rpm_max = 4000.0;
+  o.g_ratio = 2.0;  // a constant G-ratio: every speed the same
+  EXPECT_THROW(plan_repair(p, o), InputError);
+  o.g_ratio = 0.0;
+  o.power_w = 0.0;
+  o.current_a = 19.0;  // no motor map
+  EXPECT_THROW(plan_repair(p, o), InputError);
+}
+
 }  // namespace
 }  // namespace chatter::grinding

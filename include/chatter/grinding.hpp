@@ -448,21 +448,45 @@ struct DynamicsResult {
 // ----------------------------------------------------------------- planning
 
 /// A repair plan (seed 000 §6.6): the wheel is used from its diameter down to
-/// the used-up diameter at one power; removal and wear rates follow the
-/// diameter (the cutting speed falls as the wheel wears).
+/// the used-up diameter; removal and wear rates follow the diameter. At a
+/// fixed wheel speed the cutting speed falls as the wheel wears; with an
+/// objective the wheel speed is chosen anew at every diameter.
+enum class PlanObjective {
+  kFixedSpeed,  ///< the process's wheel speed throughout
+  kRemoval,     ///< at each diameter the speed of the largest removal rate (seed 000's "MRR max")
+  kGRatio,      ///< at each diameter the speed of the largest G-ratio ("G-ratio max")
+};
+const char* plan_objective_name(PlanObjective o);  ///< "fixed_speed", "removal", "g-ratio"
+/// "removal" or "g-ratio" (the names a user types). @throws InputError
+/// "<what> <name>: must be removal or g-ratio".
+PlanObjective plan_objective_from_name(const std::string& name, const std::string& what);
+
 struct PlanOptions {
   double volume_m3 = 0.0;        ///< material to remove, > 0
-  double power_w = 0.0;          ///< useful grinding power, > 0
+  /// Useful grinding power, > 0; or 0 with current_a (the power then follows
+  /// the wheel's speed and diameter through the motor map and no-load loss).
+  double power_w = 0.0;
+  std::optional<double> current_a;  ///< motor current, A (needs [grinding.motor]); not with power_w
   /// Constant G-ratio (removal / wear) when the process has no wear model; 0: use the model.
   double g_ratio = 0.0;
   double wheel_change_s = 0.0;   ///< time to change a wheel, >= 0
   int diameter_steps = 200;      ///< wear steps over a wheel's life (>= 10)
+  PlanObjective objective = PlanObjective::kFixedSpeed;
+  /// With an objective: the wheel speeds searched, rev/min (0 < min < max),
+  /// `speed_points` of them evenly spaced (seed 000: 100), kept where every
+  /// empirical model's tested cutting speed and power hold (and, for the
+  /// G-ratio, where it lies in the 0.2 to 20 of rough grinding: beyond, the
+  /// wear model is near zero and its ratio meaningless).
+  double wheel_rpm_min = 0.0, wheel_rpm_max = 0.0;
+  int speed_points = 200;
 };
 struct PlanStep {
   double diameter_m = 0.0, removal_rate_m3_per_s = 0.0, wear_rate_m3_per_s = 0.0;
+  double wheel_rpm = 0.0, cutting_speed_m_per_s = 0.0, power_w = 0.0;  ///< the point ground at
   double removed_m3 = 0.0, time_s = 0.0;  ///< cumulated from the new wheel
 };
 struct Plan {
+  PlanObjective objective = PlanObjective::kFixedSpeed;
   double removal_per_wheel_m3 = 0.0;  ///< over one wheel's life
   double wheel_life_s = 0.0;          ///< grinding time of one wheel
   double usable_wheel_volume_m3 = 0.0;
@@ -477,8 +501,19 @@ struct Plan {
 };
 /// @throws InputError on a bad option, without p.min_wheel_diameter_m (or it
 ///         is not below the wheel's diameter), without a wear model and without
-///         options.g_ratio, or when a rate is not > 0 along the wheel's life.
-/// Cost O(diameter_steps) predictions.
+///         options.g_ratio (or with it for the G-ratio objective), or when a
+///         rate is not > 0 along the wheel's life (with an objective: when no
+///         searched speed qualifies at some diameter).
+/// Cost O(diameter_steps x speed_points) predictions.
 Plan plan_repair(const Process& p, const PlanOptions& options);
+
+/// Seed 000 §6.6's comparison: the same repair at the largest removal and at
+/// the largest G-ratio at every diameter (options.objective is ignored).
+struct PlanComparison {
+  Plan removal, g_ratio;
+  int wheels_saved = 0;        ///< removal's wheels_needed - g_ratio's
+  double time_saved_s = 0.0;   ///< removal's total time - g_ratio's (negative: the removal strategy is faster)
+};
+PlanComparison compare_plan_objectives(const Process& p, const PlanOptions& options);
 
 }  // namespace chatter::grinding

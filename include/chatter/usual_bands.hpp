@@ -76,6 +76,9 @@ inline constexpr Usual kLeadAngleDeg{15.0, 90.0, "the 15 to 90 deg of turning in
 inline constexpr Usual kKienzleExponent{0.05, 0.6, "the 0.05 to 0.6 of Kienzle exponents m (steels about 0.25)"};
 inline constexpr Usual kGrindingForceRatio{0.1, 1.5, "the 0.1 to 1.5 of grinding force ratios F_T/F_N (seed 001: 0.26)"};
 inline constexpr Usual kImpactsPerTurn{0.05, 20.0, "the 0.05 to 20 impacts per wheel turn of robotic grinding"};
+inline constexpr Usual kMotorCurrentA{0.5, 500.0, "the 0.5 to 500 A of grinder motors (seed 000: 16, 19 A)", 1e-3, "mA"};
+inline constexpr Usual kFrictionHeatFraction{0.05, 1.0,
+                                             "the 0.05 to 1 of friction energy entering the part (seed 001: 0.76, 0.85)"};
 }  // namespace usual
 
 /// A command-line flag (without its dashes) whose number has a usual band,
@@ -127,6 +130,9 @@ inline constexpr FlagBand kFlagBands[] = {
     {"feed-mm-per-s", &usual::kGrindingFeedMmPerS, 80.0},
     {"force-ratio", &usual::kGrindingForceRatio, 0.26},
     {"impacts-per-turn", &usual::kImpactsPerTurn, 1.3},
+    {"current-a", &usual::kMotorCurrentA, 19.0},
+    {"wheel-rpm-min", &usual::kWheelRpm, 2000.0},
+    {"wheel-rpm-max", &usual::kWheelRpm, 3000.0},
     {"lead-angle-deg", &usual::kLeadAngleDeg, 75.0},
 };
 
@@ -180,6 +186,7 @@ inline constexpr UnbandedFlag kUnbandedFlags[] = {
     {"threshold-n", "a force threshold on the record's own scale"},
     {"threshold-rpm", "a speed drop on the record's own scale"},
     {"wheel-change-min", "a time, 0 (the default) for none"},
+    {"speed-points", "a grid count with its own bounds"},
 };
 
 /// "<name> = v: outside <band>; is it in <unit> (<name> = meant)?" for each

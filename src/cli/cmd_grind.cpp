@@ -51,7 +51,8 @@ Commands:
   simulate  CONFIG --power-w P
             the robot's modes ([[tool.modes]]) pressed by its power loop:
             impacts per turn, contact, force peaks (a model to calibrate).
-  plan      CONFIG --volume-mm3 V (or --area-mm2 A --depth-mm D) --power-w P
+  plan      CONFIG --volume-mm3 V (or --area-mm2 A --depth-mm D) --power-w P (or --current-a I)
+            [--objective removal|g-ratio --wheel-rpm-min A --wheel-rpm-max B]
             wheels, grinding time and wheel changes for a repair.
 
 Run 'chatter grind <command> --help' for its options.
@@ -106,9 +107,11 @@ void print_plot(std::ostream& os, const PlotFiles& pf) {
      << pf.data.string() << ")\n";
 }
 
+std::string grind_number(double x) { return fmt(x, 4); }
+
 namespace {
 
-std::string f6(double x) { return fmt(x, 4); }
+std::string f6(double x) { return grind_number(x); }
 
 // ------------------------------------------------------------------ predict
 
@@ -378,70 +381,6 @@ int cmd_simulate_grinding(const std::vector<std::string>& args) {
   return 0;
 }
 
-// --------------------------------------------------------------------- plan
-
-const char* const kPlanUsage = R"(Usage: chatter grind plan CONFIG (--volume-mm3 V | --area-mm2 A --depth-mm D) --power-w P [options]
-
-Wheels, grinding time and wheel changes for a repair (seed 000 §6.6): each
-wheel is used from the config's wheel_diameter_mm down to
-wheel_min_diameter_mm; the removal and wear rates follow its diameter (the
-wear from [grinding.models.wear], or --g-ratio).
-
-Example:
-  chatter grind plan configs/grinding_underwater_seed000.toml --area-mm2 1.5e6 --depth-mm 2 \
-      --power-w 2000 --wheel-change-min 180
-)";
-
-int cmd_plan(const std::vector<std::string>& args) {
-  std::string config, json_path, table_path;
-  grinding::PlanOptions o;
-  double change_min = 0.0;
-  po::options_description d("Options");
-  d.add_options()("volume-mm3", po::value<double>(), "material to remove, mm^3")
-      ("area-mm2", po::value<double>(), "area to grind, mm^2 (with --depth-mm)")
-      ("depth-mm", po::value<double>(), "depth to remove over the area, mm")
-      ("power-w", po::value<double>(&o.power_w)->required(), "useful grinding power, W (required)")
-      ("g-ratio", po::value<double>(&o.g_ratio), "removal / wear, constant (default: the wear model)")
-      ("wheel-change-min", po::value<double>(&change_min)->default_value(0.0), "time to change a wheel, min")
-      ("json", po::value<std::string>(&json_path), "write the JSON record here ('-': standard output)")
-      ("table", po::value<std::string>(&table_path), "write one wheel's life as CSV (diameter, rates, removed, time)");
-  po::variables_map vm;
-  if (!parse_grind(args, kPlanUsage, d, "config", vm, config)) return 0;
-  const bool by_volume = vm.count("volume-mm3") > 0, by_area = vm.count("area-mm2") || vm.count("depth-mm");
-  if (by_volume == by_area)
-    throw InputError("give --volume-mm3, or --area-mm2 with --depth-mm (one way, not both)");
-  require_positive(vm, "volume-mm3", "mm^3");
-  require_positive(vm, "area-mm2", "mm^2");
-  require_positive(vm, "depth-mm", "mm");
-  require_positive(vm, "g-ratio", "");
-  if (by_area && !(vm.count("area-mm2") && vm.count("depth-mm")))
-    throw InputError("--area-mm2 and --depth-mm go together (the volume is their product)");
-  o.volume_m3 = by_volume ? vm["volume-mm3"].as<double>() * 1e-9
-                          : vm["area-mm2"].as<double>() * vm["depth-mm"].as<double>() * 1e-9;
-  o.wheel_change_s = change_min * 60.0;
-  check_outputs({{"--json", json_path == "-" ? "" : json_path}, {"--table", table_path}});
-  const GrindingConfig c = load_grinding_checked(config, vm.count("strict") > 0);
-  const grinding::Plan plan = with_flag("plan", [&] { return grinding::plan_repair(c.process, o); });
-  const std::string json = grinding_plan_record(plan, o, c).dump(2) + "\n";
-  std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!json_path.empty() && json_path != "-") files.emplace_back(json_path, json);
-  if (!table_path.empty()) files.emplace_back(table_path, grinding_plan_csv(plan));
-  write_text_files(files);
-  std::ostream& os = json_path == "-" ? std::cerr : std::cout;
-  os << config << ": " << f6(o.volume_m3 * 1e9) << " mm^3 at " << f6(o.power_w) << " W\n"
-     << "  one wheel           removes " << f6(plan.removal_per_wheel_m3 * 1e9) << " mm^3 in "
-     << f6(plan.wheel_life_s / 60) << " min (mean G-ratio " << f6(plan.mean_g_ratio) << ", usable volume "
-     << f6(plan.usable_wheel_volume_m3 * 1e9) << " mm^3)\n"
-     << "  wheels              " << f6(plan.wheels) << " -> " << plan.wheels_needed << " wheels, "
-     << plan.wheel_changes << " changes\n"
-     << "  time                grinding " << f6(plan.grinding_time_s / 3600) << " h + changes "
-     << f6(plan.wheel_changes * o.wheel_change_s / 3600) << " h = " << f6(plan.total_time_s / 3600) << " h\n";
-  for (const std::string& w : plan.warnings) std::cerr << "warning: " << w << "\n";
-  if (json_path == "-") std::cout << json;
-  if (!table_path.empty()) os << "wrote table: " << table_path << "\n";
-  return 0;
-}
-
 }  // namespace
 
 int cmd_grind(const std::vector<std::string>& args) {
@@ -456,7 +395,7 @@ int cmd_grind(const std::vector<std::string>& args) {
   if (sub == "fit") return cmd_grind_fit(rest);
   if (sub == "impacts") return cmd_grind_impacts(rest);
   if (sub == "simulate") return cmd_simulate_grinding(rest);
-  if (sub == "plan") return cmd_plan(rest);
+  if (sub == "plan") return cmd_grind_plan(rest);
   throw InputError("grind: unknown command '" + sub +
                    "' (commands: predict, sweep, fit, impacts, simulate, plan; see chatter grind --help)");
 }

@@ -1,5 +1,5 @@
 // Internal: the pieces the `chatter grind` subcommands share (cmd_grind.cpp,
-// cmd_grind_data.cpp).
+// cmd_grind_data.cpp, cmd_grind_plan.cpp).
 #pragma once
 
 #include <string>
@@ -29,5 +29,9 @@ void print_plot(std::ostream& os, const PlotFiles& pf);
 
 int cmd_grind_fit(const std::vector<std::string>& args);      // cmd_grind_data.cpp
 int cmd_grind_impacts(const std::vector<std::string>& args);  // cmd_grind_data.cpp
+int cmd_grind_plan(const std::vector<std::string>& args);     // cmd_grind_plan.cpp
+
+/// Shop-style number text of the grind reports (4 significant digits).
+std::string grind_number(double x);
 
 }  // namespace chatter::cli

@@ -181,6 +181,7 @@ std::optional<grinding::EnergyPartitionModel> read_partition(const Table& g, boo
     if (t->has("u_ch_j_per_mm3"))
       doc.error(t->path_of("u_ch_j_per_mm3"), *t->find("u_ch_j_per_mm3"), "only for model = \"malkin\" or \"modified\"");
     stop_if_errors_since(doc, mark);
+    warn_usual(*t, "alpha", a, usual::kFrictionHeatFraction);
     e.alpha = *a;
     if (b) e.beta = *b;
   } else {
@@ -377,7 +378,7 @@ std::optional<grinding::MotorMap> read_motor(const Table& g) {
     doc.error(t->path_of("coefficients"), *t->find("coefficients"),
               "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(m.form) +
                   "\" (" + std::to_string(m.coefficients.size()) + " given)");
-  warn_usual(*t, "max_current_a", m.max_current_a, {0.5, 500.0, "the 0.5 to 500 A of grinder motors (seed 000: 16, 19 A)", 1e-3, "mA"});
+  warn_usual(*t, "max_current_a", m.max_current_a, usual::kMotorCurrentA);
   stop_if_errors_since(doc, mark);
   return m;
 }

@@ -193,11 +193,13 @@ std::string grinding_impacts_csv(const g::ImpactCount& c, const ImpactRecord& re
 
 std::string grinding_plan_csv(const g::Plan& p) {
   std::ostringstream o;
-  o << "wheel_diameter_mm,removal_rate_mm3_per_s,wear_rate_mm3_per_s,g_ratio,removed_mm3,time_s\n";
+  o << "wheel_diameter_mm,removal_rate_mm3_per_s,wear_rate_mm3_per_s,g_ratio,removed_mm3,time_s,wheel_rpm,"
+       "cutting_speed_m_per_s,power_w\n";
   for (const auto& s : p.life)
     o << cell(s.diameter_m * 1e3) << ',' << cell(s.removal_rate_m3_per_s * 1e9) << ','
       << cell(s.wear_rate_m3_per_s * 1e9) << ',' << cell(s.removal_rate_m3_per_s / s.wear_rate_m3_per_s) << ','
-      << cell(s.removed_m3 * 1e9) << ',' << cell(s.time_s) << "\n";
+      << cell(s.removed_m3 * 1e9) << ',' << cell(s.time_s) << ',' << cell(s.wheel_rpm) << ','
+      << cell(s.cutting_speed_m_per_s) << ',' << cell(s.power_w) << "\n";
   return o.str();
 }
 

@@ -19,6 +19,11 @@ EnergyPartition energy_partition(const Process& p, const Prediction& r, std::vec
 /// @pre c holds coefficient_count(form) numbers. (empirical.cpp)
 double poly_value(EmpiricalForm form, const std::vector<double>& c, double x, double y);
 
+/// "" for a G-ratio in the 0.2 to 20 of rough grinding with resin-bonded
+/// discs, else the sentence that says why the ratio is not to be trusted.
+/// (empirical.cpp)
+std::string unusual_g_ratio(double g);
+
 /// The 0.975 quantile of Student's t with `dof` degrees of freedom (0 for
 /// dof <= 0). (intervals.cpp)
 double student_t975(int dof);

@@ -5,6 +5,7 @@
 // quantity that is not known is null.
 #include "chatter/records/grinding.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -238,13 +239,12 @@ json grinding_simulation_record(const g::DynamicsResult& r, const GrindingConfig
   return j;
 }
 
-json grinding_plan_record(const g::Plan& p, const g::PlanOptions& o, const GrindingConfig& config) {
-  json j = header("chatter-grinding-plan");
-  j["config"] = config_json(config);
-  j["volume_mm3"] = o.volume_m3 * 1e9;
-  j["power_w"] = o.power_w;
-  j["g_ratio_source"] = o.g_ratio > 0.0 ? "given" : "wear model";
-  j["wheel_min_diameter_mm"] = opt(config.process.min_wheel_diameter_m, 1e3);
+namespace {
+
+// One plan's numbers (shared by the plan record and each strategy of a comparison).
+json plan_json(const g::Plan& p, const g::PlanOptions& o) {
+  json j;
+  j["objective"] = g::plan_objective_name(p.objective);
   j["usable_wheel_volume_mm3"] = num(p.usable_wheel_volume_m3 * 1e9);
   j["removal_per_wheel_mm3"] = num(p.removal_per_wheel_m3 * 1e9);
   j["mean_g_ratio"] = num(p.mean_g_ratio);
@@ -255,10 +255,68 @@ json grinding_plan_record(const g::Plan& p, const g::PlanOptions& o, const Grind
   j["wheel_change_s"] = o.wheel_change_s;
   j["grinding_time_s"] = num(p.grinding_time_s);
   j["total_time_s"] = num(p.total_time_s);
+  if (!p.life.empty()) {
+    const g::PlanStep &a = p.life.front(), &b = p.life.back();
+    j["new_wheel"] = {{"diameter_mm", num(a.diameter_m * 1e3)}, {"wheel_rpm", num(a.wheel_rpm)},
+                      {"cutting_speed_m_per_s", num(a.cutting_speed_m_per_s)}, {"power_w", num(a.power_w)}};
+    j["used_wheel"] = {{"diameter_mm", num(b.diameter_m * 1e3)}, {"wheel_rpm", num(b.wheel_rpm)},
+                       {"cutting_speed_m_per_s", num(b.cutting_speed_m_per_s)}, {"power_w", num(b.power_w)}};
+  }
+  return j;
+}
+
+json plan_header(const char* kind, const g::PlanOptions& o, const GrindingConfig& config) {
+  json j = header(kind);
+  j["config"] = config_json(config);
+  j["volume_mm3"] = o.volume_m3 * 1e9;
+  j["power_w"] = o.current_a ? json(nullptr) : json(o.power_w);
+  j["current_a"] = opt(o.current_a);
+  j["g_ratio_source"] = o.g_ratio > 0.0 ? "given" : "wear model";
+  j["wheel_min_diameter_mm"] = opt(config.process.min_wheel_diameter_m, 1e3);
+  return j;
+}
+
+}  // namespace
+
+json grinding_plan_record(const g::Plan& p, const g::PlanOptions& o, const GrindingConfig& config) {
+  json j = plan_header("chatter-grinding-plan", o, config);
+  j.update(plan_json(p, o));
   json w = config.warnings;
   for (const std::string& s : p.warnings) w.push_back(s);
   j["warnings"] = w;
   return j;
+}
+
+json grinding_plan_comparison_record(const g::PlanComparison& c, const g::PlanOptions& o,
+                                     const GrindingConfig& config) {
+  json j = plan_header("chatter-grinding-plan-comparison", o, config);
+  j["objective"] = g::plan_objective_name(o.objective);
+  j["wheel_rpm_searched"] = {o.wheel_rpm_min, o.wheel_rpm_max};
+  j["speed_points"] = o.speed_points;
+  j["removal"] = plan_json(c.removal, o);
+  j["g_ratio"] = plan_json(c.g_ratio, o);
+  j["wheels_saved_by_g_ratio"] = c.wheels_saved;
+  j["time_saved_by_g_ratio_s"] = num(c.time_saved_s);
+  json w = config.warnings;
+  for (const auto* p : {&c.removal, &c.g_ratio})
+    for (const std::string& s : p->warnings)
+      if (std::find(w.begin(), w.end(), s) == w.end()) w.push_back(s);
+  j["warnings"] = w;
+  return j;
+}
+
+GrindingPlanRun run_grinding_plan(const GrindingConfig& config, const g::PlanOptions& o) {
+  GrindingPlanRun r;
+  if (o.objective == g::PlanObjective::kFixedSpeed) {
+    r.plan = g::plan_repair(config.process, o);
+    r.record = grinding_plan_record(r.plan, o, config);
+  } else {
+    r.both = g::compare_plan_objectives(config.process, o);
+    r.plan = o.objective == g::PlanObjective::kRemoval ? r.both->removal : r.both->g_ratio;
+    r.record = grinding_plan_comparison_record(*r.both, o, config);
+  }
+  r.csv = grinding_plan_csv(r.plan);
+  return r;
 }
 
 }  // namespace chatter

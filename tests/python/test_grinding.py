@@ -20,6 +20,7 @@ def test_grinding_configs_are_shipped():
     (SCOMPI, ["--power-w", "1000"]),
     (SCOMPI, ["--target-depth-mm", "0.2"]),
     (UNDERWATER, ["--power-w", "2021"]),
+    (UNDERWATER, ["--current-a", "19"]),
 ])
 def test_predict_is_the_cli_record(config, args):
     flag, value = args
@@ -63,3 +64,21 @@ def test_errors_are_input_errors(tmp_path):
         chatter.grind_fit(SYNTHETIC, model="mechanistic", defaults={"wheel_mm": 3})
     status, _, err = run_cli("grind", "predict", SCOMPI, "--power-w", "0")
     assert status == 2 and "must be > 0 W" in err
+
+
+def test_plan_objective_is_the_cli_record():
+    args = dict(current_a=19, area_mm2=1.5e6, depth_mm=2, wheel_change_min=180, objective="g-ratio",
+                wheel_rpm_min=2025, wheel_rpm_max=3375)
+    r = chatter.grind_plan(UNDERWATER, **args)
+    cli = cli_json("grind", "plan", UNDERWATER, "--current-a", "19", "--area-mm2", "1.5e6", "--depth-mm", "2",
+                   "--wheel-change-min", "180", "--objective", "g-ratio", "--wheel-rpm-min", "2025",
+                   "--wheel-rpm-max", "3375", "--json", "-")
+    life = r.pop("wheel_life")
+    assert r == cli
+    assert r["wheels_saved_by_g_ratio"] == r["removal"]["wheels_needed"] - r["g_ratio"]["wheels_needed"]
+    assert len(life["wheel_rpm"]) == 201
+    with pytest.raises(chatter.InputError, match="wheel_rpm_min and wheel_rpm_max"):
+        chatter.grind_plan(UNDERWATER, power_w=2000, volume_mm3=1e6, objective="removal")
+    with pytest.raises(chatter.InputError, match="objective speed: must be removal or g-ratio"):
+        chatter.grind_plan(UNDERWATER, power_w=2000, volume_mm3=1e6, objective="speed", wheel_rpm_min=2000,
+                           wheel_rpm_max=3000)

@@ -36,5 +36,21 @@ nlohmann::json grinding_simulation_record(const grinding::DynamicsResult& r, con
 /// `grind plan`: wheels, times and the mean G-ratio of a repair ("chatter-grinding-plan").
 nlohmann::json grinding_plan_record(const grinding::Plan& p, const grinding::PlanOptions& o,
                                     const GrindingConfig& config);
+/// `grind plan --objective`'s record: both strategies (seed 000 §6.6), each
+/// with the keys of a plan record, and what the G-ratio one saves.
+nlohmann::json grinding_plan_comparison_record(const grinding::PlanComparison& c, const grinding::PlanOptions& o,
+                                               const GrindingConfig& config);
+
+/// One `grind plan` as every front end runs it: at a fixed speed, or with an
+/// objective both strategies compared (the chosen one is `plan`); its record
+/// and the chosen plan's wheel life as CSV (grinding_plan_csv).
+struct GrindingPlanRun {
+  grinding::Plan plan;
+  std::optional<grinding::PlanComparison> both;
+  nlohmann::json record;
+  std::string csv;
+};
+/// @throws InputError as plan_repair / compare_plan_objectives.
+GrindingPlanRun run_grinding_plan(const GrindingConfig& config, const grinding::PlanOptions& o);
 
 }  // namespace chatter
