@@ -54,7 +54,7 @@ case "$target" in
     srcs="$(layer_sources CORE) $(layer_sources IO)"
     libs="-lsundials_cvode -lsundials_nvecserial -lsndfile" max_len=4096 corpus=corpus prefix="" ;;
   frf)
-    srcs="src/formats/frf_reader.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/number_text.cpp"
+    srcs="src/formats/frf_reader.cpp src/formats/frf_uff.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/number_text.cpp"
     max_len=8192 corpus=corpus-frf prefix="frf-" ;;
   operations)
     srcs="$(layer_sources CORE) $(layer_sources OPS)"

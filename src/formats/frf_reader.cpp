@@ -1,4 +1,5 @@
-// FRF file readers: CSV, tab `.frf`, Universal File dataset 58 / 58b.
+// FRF file readers: CSV and tab `.frf` (the Universal File 58 / 58b reader:
+// frf_uff.cpp; the text helpers they share: frf_text.hpp).
 // Format notes and tolerated quirks: docs/frf.md.
 //
 // Every bad input becomes a chatter::InputError:
@@ -29,12 +30,11 @@
 #include "chatter/error.hpp"
 #include "chatter/number_text.hpp"
 #include "chatter/io/frf.hpp"
+#include "frf_text.hpp"
 #include "text.hpp"
-
 namespace chatter {
-namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+namespace frf_detail {
 
 // ------------------------------------------------------------------ text
 
@@ -48,15 +48,11 @@ std::string read_bytes(const std::filesystem::path& file) {
   return bytes;
 }
 
-using detail::text::is_blank;
-using detail::text::trim;
-
 std::string_view trim_right(std::string_view s) {
   while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
   return s;
 }
 
-/// A field as shown in a message: printable ASCII only, at most 40 characters.
 std::string shown(std::string_view s) {
   std::string out;
   for (const char c : s.substr(0, 40)) {
@@ -67,10 +63,6 @@ std::string shown(std::string_view s) {
   return out;
 }
 
-/// Parses a whole field as a number: C / Fortran forms, `D` exponents and the
-/// Fortran form without exponent letter for 3-digit exponents
-/// (`1.23456-100`). Leading '+' allowed. Nullopt unless the whole field is a
-/// number.
 std::optional<double> parse_number(std::string_view field) {
   field = trim(field);
   if (field.empty() || field.size() > 64) return std::nullopt;
@@ -114,41 +106,6 @@ std::vector<std::string_view> split_blanks(std::string_view s) {
   return out;
 }
 
-/// Lines of a text with their 1-based numbers; a final line without newline
-/// counts; `\r\n` and a lone `\r` at the end of a line are removed.
-class LineReader {
- public:
-  explicit LineReader(std::string_view text) : text_(text) {
-    if (text_.starts_with("\xEF\xBB\xBF")) pos_ = 3;  // UTF-8 byte-order mark
-  }
-  bool at_end() const { return pos_ >= text_.size(); }
-  /// Number of the line the next call to next() returns.
-  int line() const { return line_; }
-  std::size_t position() const { return pos_; }
-  std::string_view next() {
-    const std::size_t e = text_.find('\n', pos_);
-    std::string_view l = text_.substr(pos_, e == std::string_view::npos ? std::string_view::npos : e - pos_);
-    pos_ = e == std::string_view::npos ? text_.size() : e + 1;
-    ++line_;
-    while (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    return l;
-  }
-  /// Skips `n` raw bytes (binary data), counting the newlines in them.
-  void skip_bytes(std::size_t n) {
-    const std::size_t e = std::min(text_.size(), pos_ + n);
-    line_ += static_cast<int>(std::count(text_.begin() + static_cast<std::ptrdiff_t>(pos_),
-                                         text_.begin() + static_cast<std::ptrdiff_t>(e), '\n'));
-    pos_ = e;
-  }
-  std::size_t remaining() const { return text_.size() - std::min(pos_, text_.size()); }
-  std::string_view rest() const { return text_.substr(pos_); }
-
- private:
-  std::string_view text_;
-  std::size_t pos_ = 0;
-  int line_ = 1;
-};
-
 // ------------------------------------------------------------ validation
 
 
@@ -157,7 +114,6 @@ void check_scale(const std::string& whole, double scale) {
     throw InputError(whole + ": scale = " + number_text(scale, 10) + ": must be a finite, non-zero factor");
 }
 
-/// Scale, drop 0 Hz if asked, convert to receptance.
 FrfTable finish(FrfTable t, FrfQuantity q, const FrfReadOptions& options, double extra_scale) {
   const double s = options.scale * extra_scale;
   for (Complex& v : t.value) v *= s;
@@ -169,6 +125,14 @@ FrfTable finish(FrfTable t, FrfQuantity q, const FrfReadOptions& options, double
   }
   return to_receptance(std::move(t), q);
 }
+
+}  // namespace frf_detail
+
+namespace {
+
+using namespace frf_detail;
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // ---------------------------------------------------------- CSV and tab
 
@@ -239,428 +203,6 @@ FrfTable parse_delimited(std::string_view bytes, const std::string& name, const 
   return finish(std::move(t), options.quantity.value_or(FrfQuantity::kReceptance), options, 1.0);
 }
 
-// ------------------------------------------------------------------- UFF
-
-struct UffContext {
-  std::string name;
-  int record = 0;
-  std::string at(int line) const {
-    return name + ": record " + std::to_string(record) + ", line " + std::to_string(line);
-  }
-  [[noreturn]] void fail(int line, const std::string& what) const { throw InputError(at(line) + ": " + what); }
-};
-
-// A header type code read as a number: blank = 0; anything but an integer of
-// modest size (inf, NaN, 1e300, 8.5) = -1, an unknown type (never cast out of
-// range: that is undefined behaviour).
-long long type_code(const std::optional<double>& v) {
-  if (!v) return 0;
-  return (*v == std::floor(*v) && std::abs(*v) < 1e9) ? static_cast<long long>(*v) : -1;
-}
-
-/// Fixed-width integer fields with a whitespace fallback.
-std::vector<std::optional<double>> header_fields(std::string_view l, std::initializer_list<int> widths) {
-  std::vector<std::optional<double>> fixed;
-  std::size_t p = 0;
-  bool ok = true;
-  for (const int w : widths) {
-    const std::string_view f = p < l.size() ? l.substr(p, static_cast<std::size_t>(w)) : std::string_view();
-    p += static_cast<std::size_t>(w);
-    if (trim(f).empty()) {
-      fixed.emplace_back(std::nullopt);
-      continue;
-    }
-    const auto v = parse_number(f);
-    if (!v) ok = false;
-    fixed.push_back(v);
-  }
-  if (ok && p >= trim_right(l).size()) return fixed;
-  // Fields not at their columns: take blank-separated tokens in order.
-  std::vector<std::optional<double>> tokens;
-  for (const auto tok : split_blanks(l)) tokens.push_back(parse_number(tok));
-  tokens.resize(widths.size());
-  return tokens;
-}
-
-const char* spec_type_name(long long t) {
-  switch (t) {
-    case 0: return "unknown";
-    case 1: return "general";
-    case 2: return "stress";
-    case 3: return "strain";
-    case 5: return "temperature";
-    case 6: return "heat flux";
-    case 8: return "displacement";
-    case 9: return "reaction force";
-    case 11: return "velocity";
-    case 12: return "acceleration";
-    case 13: return "excitation force";
-    case 15: return "pressure";
-    case 16: return "mass";
-    case 17: return "time";
-    case 18: return "frequency";
-    case 19: return "rpm";
-    default: return "other";
-  }
-}
-
-const char* function_type_name(long long t) {
-  switch (t) {
-    case 0: return "general";
-    case 1: return "time response";
-    case 2: return "auto spectrum";
-    case 3: return "cross spectrum";
-    case 4: return "frequency response function";
-    case 5: return "transmissibility";
-    case 6: return "coherence";
-    case 7: return "auto correlation";
-    case 8: return "cross correlation";
-    case 9: return "power spectral density";
-    case 10: return "energy spectral density";
-    case 12: return "spectrum";
-    default: return "other";
-  }
-}
-
-struct DatasetHeader {
-  long long number = 0;
-  bool binary = false;
-  int byte_order = 1;          // 1 little, 2 big
-  int fp_format = 2;           // 2 IEEE 754
-  long long ascii_lines = 11;
-  long long bytes = 0;
-};
-
-DatasetHeader parse_dataset_header(const UffContext& ctx, std::string_view l, int ln) {
-  DatasetHeader h;
-  const std::string_view t = trim(l);
-  // Number, optionally followed by 'b' (58b), in the first 6 columns.
-  std::size_t i = 0;
-  while (i < t.size() && (std::isdigit(static_cast<unsigned char>(t[i])) || (i == 0 && t[i] == '-'))) ++i;
-  const auto n = parse_integer(t.substr(0, i));
-  if (!n) ctx.fail(ln, "expected a dataset number after '-1', found '" + shown(t) + "'");
-  h.number = *n;
-  std::string_view rest = t.substr(i);
-  if (!rest.empty() && (rest[0] == 'b' || rest[0] == 'B')) {
-    h.binary = true;
-    const auto tok = split_blanks(rest.substr(1));
-    if (tok.size() < 4)
-      ctx.fail(ln, "binary dataset header needs byte ordering, floating-point format, ASCII line count and byte count, found '" +
-                       shown(t) + "'");
-    const auto bo = parse_integer(tok[0]), fp = parse_integer(tok[1]), al = parse_integer(tok[2]),
-               nb = parse_integer(tok[3]);
-    if (!bo || !fp || !al || !nb) ctx.fail(ln, "non-numeric field in binary dataset header '" + shown(t) + "'");
-    if (*bo != 1 && *bo != 2) ctx.fail(ln, "byte ordering " + std::to_string(*bo) + " (must be 1 little-endian or 2 big-endian)");
-    if (*al < 0 || *nb < 0) ctx.fail(ln, "negative line or byte count in binary dataset header");
-    h.byte_order = static_cast<int>(*bo);
-    h.fp_format = static_cast<int>(*fp);
-    h.ascii_lines = *al;
-    h.bytes = *nb;
-  } else if (!trim(rest).empty()) {
-    ctx.fail(ln, "expected a dataset number after '-1', found '" + shown(t) + "'");
-  }
-  return h;
-}
-
-bool is_delimiter(std::string_view l) { return trim(l) == "-1"; }
-
-/// Skips to the closing `-1` of a dataset (or the end of the file).
-void skip_to_delimiter(LineReader& lines) {
-  while (!lines.at_end())
-    if (is_delimiter(lines.next())) return;
-}
-
-/// After binary data: blank bytes / lines, then `-1` (or end of file).
-void expect_delimiter_after_binary(const UffContext& ctx, LineReader& lines, long long bytes) {
-  while (!lines.at_end()) {
-    const int ln = lines.line();
-    const std::string_view l = lines.next();
-    if (trim(l).empty()) continue;
-    if (is_delimiter(l)) return;
-    ctx.fail(ln, "expected '-1' after the " + std::to_string(bytes) +
-                     " bytes of binary data, found '" + shown(trim(l)) +
-                     "' (byte count in the header does not match the data?)");
-  }
-}
-
-/// Column layout of the ASCII data lines of dataset 58.
-std::vector<int> column_pattern(int ordinate_type, bool even) {
-  const bool single = ordinate_type == 2 || ordinate_type == 5;
-  if (single) return {13};
-  if (even) return {20};
-  if (ordinate_type == 4) return {13, 20};  // 2(E13.5, E20.12)
-  return {13, 20, 20};                      // E13.5, 2E20.12
-}
-
-struct Values {
-  std::vector<double> v;
-  std::vector<int> line;  // line of each value
-};
-
-/// Parses one ASCII data line into `out`; blank-separated first, fixed
-/// columns when fields run together.
-void parse_data_line(const UffContext& ctx, std::string_view l, int ln, const std::vector<int>& pattern, Values& out) {
-  const auto tokens = split_blanks(l);
-  std::vector<double> parsed;
-  parsed.reserve(tokens.size());
-  std::optional<std::size_t> bad_token;
-  for (std::size_t i = 0; i < tokens.size(); ++i) {
-    const auto v = parse_number(tokens[i]);
-    if (!v) {
-      bad_token = i;
-      break;
-    }
-    parsed.push_back(*v);
-  }
-  if (!bad_token) {
-    for (const double v : parsed) {
-      out.v.push_back(v);
-      out.line.push_back(ln);
-    }
-    return;
-  }
-  // Fields running together: cut by column width, the pattern continuing
-  // from the values already read.
-  std::vector<double> fixed;
-  std::size_t k = out.v.size() % pattern.size();
-  const std::string_view r = trim_right(l);
-  std::size_t p = 0;
-  bool ok = true;
-  while (p < r.size()) {
-    const auto w = static_cast<std::size_t>(pattern[k]);
-    const std::string_view f = r.substr(p, w);
-    const auto v = parse_number(f);
-    if (!v) {
-      ok = false;
-      break;
-    }
-    fixed.push_back(*v);
-    p += w;
-    k = (k + 1) % pattern.size();
-  }
-  if (!ok)
-    ctx.fail(ln, "non-numeric field '" + shown(tokens[*bad_token]) + "' at column " + std::to_string(*bad_token + 1));
-  for (const double v : fixed) {
-    out.v.push_back(v);
-    out.line.push_back(ln);
-  }
-}
-
-double load_float(const char* p, int byte_order, bool dbl) {
-  const bool swap = (byte_order == 1) != (std::endian::native == std::endian::little);
-  if (dbl) {
-    std::array<unsigned char, 8> b;
-    std::memcpy(b.data(), p, 8);
-    if (swap) std::reverse(b.begin(), b.end());
-    return std::bit_cast<double>(b);
-  }
-  std::array<unsigned char, 4> b;
-  std::memcpy(b.data(), p, 4);
-  if (swap) std::reverse(b.begin(), b.end());
-  return static_cast<double>(std::bit_cast<float>(b));
-}
-
-struct UffState {
-  double units_scale = 1.0;  // SI per file unit for an FRF ordinate (force factor / length factor)
-  std::vector<std::string> skipped;
-};
-
-/// Dataset 164 (units): record 2 holds length, force, temperature factors
-/// (SI = file value / factor).
-void read_units(const UffContext& ctx, LineReader& lines, UffState& st) {
-  std::vector<std::pair<int, std::string_view>> recs;
-  while (!lines.at_end()) {
-    const int ln = lines.line();
-    const std::string_view l = lines.next();
-    if (is_delimiter(l)) break;
-    recs.emplace_back(ln, l);
-  }
-  if (recs.size() < 2) ctx.fail(recs.empty() ? lines.line() : recs.back().first, "units dataset 164 truncated (needs 2 records)");
-  const auto f = header_fields(recs[1].second, {25, 25, 25});
-  if (!f[0] || !f[1]) ctx.fail(recs[1].first, "units dataset 164: non-numeric length or force factor");
-  const double length = *f[0], force = *f[1];
-  if (!std::isfinite(length) || length <= 0.0 || !std::isfinite(force) || force <= 0.0)
-    ctx.fail(recs[1].first, "units dataset 164: length and force factors must be finite and > 0");
-  st.units_scale = force / length;
-}
-
-std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& lines, const DatasetHeader& h,
-                                           int start_line, UffState& st, const FrfReadOptions& options) {
-  const long long header_count = h.binary ? h.ascii_lines : 11;
-  if (h.binary && h.ascii_lines < 11)
-    ctx.fail(start_line + 1, "binary dataset header gives " + std::to_string(h.ascii_lines) +
-                                 " ASCII lines, dataset 58 has 11");
-  std::vector<std::pair<int, std::string_view>> hdr;
-  for (long long i = 0; i < header_count; ++i) {
-    if (lines.at_end()) ctx.fail(lines.line(), "truncated header: expected 11 header records, got " + std::to_string(hdr.size()));
-    const int ln = lines.line();
-    const std::string_view l = lines.next();
-    if (is_delimiter(l)) ctx.fail(ln, "truncated header: expected 11 header records, got " + std::to_string(hdr.size()));
-    hdr.emplace_back(ln, l);
-  }
-  UffFrfRecord rec;
-  rec.record = ctx.record;
-  rec.line = start_line;
-  rec.binary = h.binary;
-  rec.id1 = std::string(trim(hdr[0].second));
-
-  // Record 6: function type and DOF identification.
-  {
-    const auto& [ln, l] = hdr[5];
-    const std::string_view t = trim(l);
-    const auto toks = split_blanks(t);
-    std::optional<long long> ft = parse_integer(l.substr(0, std::min<std::size_t>(5, l.size())));
-    if (!ft && !toks.empty()) ft = parse_integer(toks[0]);
-    if (!ft) ctx.fail(ln, "header record 6: non-numeric function type '" + shown(toks.empty() ? t : toks[0]) + "'");
-    if (*ft != 4) {
-      st.skipped.push_back("record " + std::to_string(ctx.record) + ": dataset 58 function type " + std::to_string(*ft) +
-                           " (" + function_type_name(*ft) + ") is not an FRF");
-      if (h.binary) {
-        lines.skip_bytes(static_cast<std::size_t>(std::min<long long>(h.bytes, static_cast<long long>(lines.remaining()))));
-        expect_delimiter_after_binary(ctx, lines, h.bytes);
-      } else {
-        skip_to_delimiter(lines);
-      }
-      return std::nullopt;
-    }
-    auto field = [l = l](std::size_t b, std::size_t w) -> int {  // by value: clang < 16 cannot capture a structured binding
-      if (b >= l.size()) return 0;
-      const auto v = parse_integer(l.substr(b, w));
-      return v ? static_cast<int>(*v) : 0;
-    };
-    rec.response_node = field(41, 10);
-    rec.response_direction = field(51, 4);
-    rec.reference_node = field(66, 10);
-    rec.reference_direction = field(76, 4);
-  }
-
-  // Record 7: data form.
-  const auto& [ln7, l7] = hdr[6];
-  const auto r7 = header_fields(l7, {10, 10, 10, 13, 13, 13});
-  if (!r7[0] || !r7[1] || !r7[2]) ctx.fail(ln7, "header record 7: expected ordinate data type, number of points and abscissa spacing, found '" + shown(trim(l7)) + "'");
-  const double ot = *r7[0], np = *r7[1], sp = *r7[2];
-  if (ot != 2 && ot != 4 && ot != 5 && ot != 6)
-    ctx.fail(ln7, "header record 7: ordinate data type " + number_text(ot, 10) +
-                      " is not supported (2 real single, 4 real double, 5 complex single, 6 complex double)");
-  if (np != std::floor(np) || np < 1 || np > 1e9) ctx.fail(ln7, "header record 7: number of points " + number_text(np, 10) + " must be an integer >= 1");
-  if (sp != 0 && sp != 1) ctx.fail(ln7, "header record 7: abscissa spacing " + number_text(sp, 10) + " must be 1 (even) or 0 (uneven)");
-  rec.ordinate_data_type = static_cast<int>(ot);
-  rec.even_abscissa = sp == 1;
-  const auto n_points = static_cast<std::size_t>(np);
-  double x_min = 0.0, x_inc = 0.0;
-  if (rec.even_abscissa) {
-    if (!r7[3] || !r7[4]) ctx.fail(ln7, "header record 7: even abscissa needs its minimum and increment");
-    x_min = *r7[3];
-    x_inc = *r7[4];
-    if (!std::isfinite(x_inc) || x_inc <= 0.0) ctx.fail(ln7, "header record 7: abscissa increment " + number_text(x_inc, 10) + " Hz must be > 0");
-    if (!std::isfinite(x_min) || x_min < 0.0) ctx.fail(ln7, "header record 7: abscissa minimum " + number_text(x_min, 10) + " Hz must be >= 0");
-  }
-  const bool complex_data = ot == 5 || ot == 6;
-  const bool dbl = ot == 4 || ot == 6;
-  const std::size_t per_point = (complex_data ? 2u : 1u) + (rec.even_abscissa ? 0u : 1u);
-  const std::size_t expected = n_points * per_point;
-
-  // Records 9 and 10: ordinate numerator and denominator data types.
-  {
-    const auto& [ln9, l9] = hdr[8];
-    const auto r9 = header_fields(l9, {10});
-    const long long num = type_code(r9[0]);
-    std::optional<FrfQuantity> q;
-    if (num == 8) q = FrfQuantity::kReceptance;
-    else if (num == 11) q = FrfQuantity::kMobility;
-    else if (num == 12) q = FrfQuantity::kAccelerance;
-    if (options.quantity) {
-      rec.quantity = *options.quantity;
-    } else if (q) {
-      rec.quantity = *q;
-    } else if (num == 0 || num == 1) {
-      rec.quantity = FrfQuantity::kReceptance;
-    } else {
-      ctx.fail(ln9, "header record 9: ordinate is " + std::string(spec_type_name(num)) + " (data type " + std::to_string(num) +
-                        "), not displacement (8), velocity (11) or acceleration (12); give the quantity explicitly");
-    }
-    const auto& [ln10, l10] = hdr[9];
-    const auto r10 = header_fields(l10, {10});
-    const long long den = type_code(r10[0]);
-    if (!options.quantity && den != 0 && den != 1 && den != 9 && den != 13)
-      ctx.fail(ln10, "header record 10: ordinate denominator is " + std::string(spec_type_name(den)) + " (data type " +
-                         std::to_string(den) + "), not force (13)");
-  }
-
-  // Data.
-  Values vals;
-  int end_line = lines.line();
-  if (h.binary) {
-    if (h.fp_format != 2 && h.fp_format != 0)
-      ctx.fail(start_line + 1, "binary floating-point format " + std::to_string(h.fp_format) + " is not supported (2 = IEEE 754)");
-    const std::size_t size = dbl ? 8 : 4;
-    const long long need = static_cast<long long>(expected * size);
-    if (h.bytes != need)
-      ctx.fail(start_line + 1, "binary record holds " + std::to_string(h.bytes) + " bytes, header record 7 needs " +
-                                   std::to_string(need) + " (" + std::to_string(n_points) + " points x " +
-                                   std::to_string(per_point) + " values x " + std::to_string(size) + " bytes)");
-    if (static_cast<long long>(lines.remaining()) < need)
-      ctx.fail(lines.line(), "truncated: expected " + std::to_string(need) + " bytes of binary data, the file has " +
-                                 std::to_string(lines.remaining()) + " left");
-    const std::string_view data = lines.rest();
-    const int data_line = lines.line();
-    vals.v.reserve(expected);
-    for (std::size_t i = 0; i < expected; ++i) {
-      vals.v.push_back(load_float(data.data() + i * size, h.byte_order, dbl));
-      vals.line.push_back(data_line);
-    }
-    lines.skip_bytes(static_cast<std::size_t>(need));
-    expect_delimiter_after_binary(ctx, lines, h.bytes);
-  } else {
-    const std::vector<int> pattern = column_pattern(rec.ordinate_data_type, rec.even_abscissa);
-    bool closed = false;
-    while (!lines.at_end()) {
-      const int ln = lines.line();
-      const std::string_view l = lines.next();
-      end_line = ln;
-      if (is_delimiter(l)) {
-        closed = true;
-        break;
-      }
-      if (trim(l).empty()) continue;
-      if (vals.v.size() >= expected)
-        ctx.fail(ln, "extra data after the " + std::to_string(expected) + " values header record 7 announces ('" + shown(trim(l)) + "')");
-      parse_data_line(ctx, l, ln, pattern, vals);
-    }
-    if (vals.v.size() < expected)
-      ctx.fail(end_line, "truncated: expected " + std::to_string(expected) + " values (" + std::to_string(n_points) +
-                             " points), got " + std::to_string(vals.v.size()) +
-                             (closed ? "" : " before the end of the file"));
-    if (vals.v.size() > expected)
-      ctx.fail(vals.line[expected], "extra data: " + std::to_string(vals.v.size()) + " values, header record 7 announces " +
-                                        std::to_string(expected));
-  }
-
-  // Table.
-  FrfTable& t = rec.table;
-  t.source = ctx.name + " (record " + std::to_string(ctx.record) + ")";
-  t.frequency_hz.reserve(n_points);
-  t.value.reserve(n_points);
-  std::vector<int> line_of;
-  line_of.reserve(n_points);
-  for (std::size_t i = 0; i < n_points; ++i) {
-    const double* p = vals.v.data() + i * per_point;
-    std::size_t c = 0;
-    const double f = rec.even_abscissa ? x_min + static_cast<double>(i) * x_inc : p[c++];
-    const double re = p[c++];
-    const double im = complex_data ? p[c] : 0.0;
-    t.frequency_hz.push_back(f);
-    t.value.emplace_back(re, im);
-    line_of.push_back(vals.line[i * per_point]);
-  }
-  const std::string binary_note = h.binary ? " (binary data)" : "";
-  validate(t, ctx.name + ": record " + std::to_string(ctx.record), [&](std::size_t i) {
-    return ctx.at(line_of[i]) + binary_note + ", point " + std::to_string(i + 1);
-  });
-  rec.table = finish(std::move(rec.table), rec.quantity, options, st.units_scale);
-  return rec;
-}
-
 }  // namespace
 
 // --------------------------------------------------------------- public
@@ -725,76 +267,6 @@ FrfTable read_frf_tab(const std::filesystem::path& file, FrfQuantity quantity, d
   o.quantity = quantity;
   o.scale = scale;
   return read_frf_tab(file, o);
-}
-
-std::vector<UffFrfRecord> parse_uff58_records(std::string_view bytes, const std::string& name,
-                                              const FrfReadOptions& options) {
-  check_scale(name, options.scale);
-  LineReader lines(bytes);
-  UffContext ctx{name, 0};
-  UffState st;
-  std::vector<UffFrfRecord> out;
-  while (true) {
-    // Blank lines and doubled '-1' between datasets are tolerated.
-    int start_line = 0;
-    std::string_view head;
-    bool found = false;
-    while (!lines.at_end()) {
-      const int ln = lines.line();
-      const std::string_view l = lines.next();
-      if (trim(l).empty()) continue;
-      if (is_delimiter(l)) {
-        start_line = ln;
-        found = true;
-        continue;
-      }
-      if (!found)
-        throw InputError(name + ": line " + std::to_string(ln) + ": expected '-1' (start of a dataset), found '" +
-                         shown(trim(l)) + "'" + (ctx.record == 0 ? " (is this a Universal File?)" : ""));
-      head = l;
-      break;
-    }
-    if (head.empty()) {  // end of file: a trailing '-1' alone is fine after a dataset
-      if (found && ctx.record == 0)
-        throw InputError(name + ": line " + std::to_string(start_line) + ": '-1' is not followed by a dataset number");
-      break;
-    }
-    ++ctx.record;
-    const DatasetHeader h = parse_dataset_header(ctx, head, start_line + 1);
-    if (h.number == 58) {
-      if (auto rec = read_dataset58(ctx, lines, h, start_line, st, options)) out.push_back(std::move(*rec));
-    } else if (h.number == 164 && !h.binary) {
-      read_units(ctx, lines, st);
-    } else {
-      st.skipped.push_back("record " + std::to_string(ctx.record) + ": dataset " + std::to_string(h.number) +
-                           " is not an FRF");
-      if (h.binary) {
-        for (long long i = 0; i < h.ascii_lines && !lines.at_end(); ++i) lines.next();
-        lines.skip_bytes(static_cast<std::size_t>(std::min<long long>(h.bytes, static_cast<long long>(lines.remaining()))));
-        expect_delimiter_after_binary(ctx, lines, h.bytes);
-      } else {
-        skip_to_delimiter(lines);
-      }
-    }
-  }
-  if (ctx.record == 0) throw InputError(name + ": empty file (no dataset)");
-  if (out.empty()) {
-    std::string why;
-    for (const auto& s : st.skipped) why += (why.empty() ? "" : "; ") + s;
-    throw InputError(name + ": no FRF record (dataset 58 with function type 4): " + why);
-  }
-  return out;
-}
-
-std::vector<UffFrfRecord> read_uff58_records(const std::filesystem::path& file, const FrfReadOptions& options) {
-  check_scale(file.string(), options.scale);
-  return parse_uff58_records(read_bytes(file), file.string(), options);
-}
-
-std::vector<FrfTable> read_uff58(const std::filesystem::path& file, const FrfReadOptions& options) {
-  std::vector<FrfTable> out;
-  for (auto& r : read_uff58_records(file, options)) out.push_back(std::move(r.table));
-  return out;
 }
 
 }  // namespace chatter
