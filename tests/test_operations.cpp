@@ -440,6 +440,23 @@ TEST(Recommend, StabilityBindsAndTheOptimumBeatsADenseScan) {
   EXPECT_GE(r.spindle_rpm * r.depth_m, best * (1 - kOptimumRelTol)) << "scan: " << best;
 }
 
+// Speeds where no cut within the depth caps could remove what the faster
+// speeds already give are left unsolved: the recommendation is the one with
+// every scan speed solved, bit for bit, with fewer solves.
+TEST(Recommend, SkippingOutOfReachSpeedsChangesNothing) {
+  Scenario s = turning_scenario(50, 2000);
+  s.opt.depth_max_m = 0.008;  // the cap that puts the slow speeds out of reach
+  const Recommendation fast = recommend(s.cfg.model, s.cfg.process, s.opt);
+  s.opt.skip_out_of_reach = false;
+  const Recommendation all = recommend(s.cfg.model, s.cfg.process, s.opt);
+  EXPECT_GT(fast.skipped_solves, 0u);
+  EXPECT_EQ(all.skipped_solves, 0u);
+  EXPECT_EQ(fast.spindle_rpm, all.spindle_rpm);
+  EXPECT_EQ(fast.depth_m, all.depth_m);
+  EXPECT_EQ(fast.pocket.worst_limit_m, all.pocket.worst_limit_m);
+  EXPECT_EQ(fast.binding, all.binding);
+}
+
 TEST(Recommend, PowerBinds) {
   Scenario s = turning_scenario(50, 2000);
   s.opt.machine.max_power_w = 2000.0;  // 2 kW: ~1/4 of the stability-bound cut's 8.6 kW

@@ -508,6 +508,12 @@ struct RecommendOptions {
   unsigned threads = 1;
   /// Progress callback as in CheckOptions (may be empty).
   std::function<void(double)> progress;
+  /// Leave unsolved the scan's speeds where no cut within the depth caps
+  /// (power, torque, depth_max, flute) could remove as much as what the
+  /// faster speeds already found (Recommendation::skipped_solves); the
+  /// result is then checked against them and they are solved if it is not
+  /// out of their reach. false: every scan speed solved.
+  bool skip_out_of_reach = true;
 
   std::string validate() const;
 };
@@ -528,6 +534,10 @@ std::string to_string(Binding b);
 
 struct Recommendation {
   std::string method;
+  /// Speeds of the scan left unsolved: no cut there, however deep its limit,
+  /// removes as much as the recommendation within the depth caps (power,
+  /// torque, depth_max, flute); 0 when every speed was solved.
+  std::size_t skipped_solves = 0;
   double spindle_rpm = 0.0;
   double depth_m = 0.0;
   StabilityLimit limit;            ///< exact at spindle_rpm (+inf above the searched depth)

@@ -321,6 +321,11 @@ std::optional<double> read_engagement(const Table& t, std::optional<double> diam
       doc.warn(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
                "below " + number_text(kPlausibleRadialDepthMm) + " mm, a cut thinner than the edge's radius: a radial depth in m? (" +
                    number_text(*ae) + " m is " + number_text(*ae * 1e3) + " mm)");
+    else if (immersion && *immersion < kImmersionUsual.lo)  // a slot's 16 mm typed as 0.016
+      doc.warn(process->path_of("radial_depth_mm"), *process->find("radial_depth_mm"),
+               "gives a_e/D = " + number_text(*immersion) + ", below the " + number_text(kImmersionUsual.lo) +
+                   " of milling engagements: a radial depth in m? (" + number_text(*ae) + " m is " +
+                   number_text(*ae * 1e3) + " mm)");
   } else {
     const toml::node* n = process->find("radial_immersion");
     const double v = !n ? 0.0 : n->is_integer() ? static_cast<double>(n->as_integer()->get())

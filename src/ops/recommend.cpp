@@ -34,6 +34,9 @@ namespace {
 // Two MRR values this close (relative) are a tie: power-bound MRR is the same
 // at every speed up to round-off.
 constexpr double kTieRelative = 1e-9;
+// Speeds of the grid on which the refinement's floor is placed (no solves:
+// the depth caps only).
+constexpr int kFloorGridPoints = 2000;
 // A depth cap within this relative distance of the chosen depth binds too.
 // The speed search locates the optimum to 1e-8 of the speed; on a
 // steep lobe flank (d ln limit / d ln N up to ~10³) two caps that cross at the
@@ -210,6 +213,24 @@ class PartErrorCap {
   std::map<std::pair<double, double>, double> cache_;
 };
 
+// The refinement's floor (SpeedSearch::refinement_floor): on a fine
+// geometric grid of the range, the last speed below the first whose `bound`
+// reaches `target` (every speed below it removes less than target whatever
+// its limit), lowered by a band's width (1 + tol)^2 so that the bands of the
+// speeds kept are scanned whole; rpm_min (nothing skipped) when the bound
+// reaches the target at once.
+template <class Bound>
+double pruning_floor(Bound&& bound, double target, double rpm_min, double rpm_max, double tol) {
+  if (!(target > 0.0) || !std::isfinite(target)) return rpm_min;
+  double floor = rpm_min;
+  for (int k = 0; k <= kFloorGridPoints; ++k) {
+    const double n = rpm_min * std::pow(rpm_max / rpm_min, static_cast<double>(k) / kFloorGridPoints);
+    if (!(bound(n) < target)) break;
+    floor = n;
+  }
+  return floor == rpm_min ? rpm_min : floor / ((1.0 + tol) * (1.0 + tol));
+}
+
 }  // namespace
 
 Recommendation recommend(const StructuralModel& model, const Process& given, const RecommendOptions& options) {
@@ -241,7 +262,6 @@ Recommendation recommend(const StructuralModel& model, const Process& given, con
     const double f = static_cast<double>(++solves) / static_cast<double>(kProgressSolvesPerProcess);
     if (options.progress) options.progress(std::min(f, kProgressCeiling));
   };
-  s.scan();
 
   std::optional<PartErrorCap> part_error;
   if (options.max_part_error_m)
@@ -274,44 +294,78 @@ Recommendation recommend(const StructuralModel& model, const Process& given, con
     return x.margin > y.margin;
   };
 
-  // Rank the scanned speeds, refine the best local maxima with exact solves.
+  // The deepest cut at `n` whatever its limit: the depth caps other than
+  // stability and the part error (each only lowers it); `bound` what it removes.
+  auto caps = [&](double n) {
+    return std::min({cm.depth_within_power(n, mc.max_power_w, rec.search_depth_m),
+                     cm.depth_within_torque(mc.max_torque_n_m, rec.search_depth_m), options.depth_max_m, flute,
+                     rec.search_depth_m});
+  };
+  auto bound = [&](double n) { return cm.objective(n, caps(n)); };
+  // At low speed the lobes crowd (most of the scan's speeds, the dearest
+  // solves) and remove little: the refinement, solved from the top down,
+  // skips the speeds whose bound is below what the speeds solved so far
+  // promise, and the optimum found is kept only if no skipped speed's bound
+  // reaches it (else they are solved).
+  if (options.skip_out_of_reach) s.refinement_floor = [&](const std::vector<double>& solved) {
+    double promise = 0.0;
+    for (const double n : solved) promise = std::max(promise, cm.objective(n, std::min(options.safety * s.g(n), caps(n))));
+    return pruning_floor(bound, (1.0 - kCandidateSpread) * promise, mc.rpm_min, mc.rpm_max, options.speed_tolerance);
+  };
+  s.scan();
+
   const std::vector<double>& pts = s.scan_speeds();
-  std::vector<Cand> scanned;
-  for (double n : pts) scanned.push_back(evaluate(n, false));
-  std::vector<std::size_t> cand;
-  double top = 0.0;
-  for (const auto& c : scanned) top = std::max(top, c.objective);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
-                       (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
-    if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+  auto search = [&]() {
+    // Rank the scanned speeds, refine the best local maxima with exact solves.
+    std::vector<Cand> scanned;
+    for (double n : pts) scanned.push_back(evaluate(n, false));
+    std::vector<std::size_t> cand;
+    double top = 0.0;
+    for (const auto& c : scanned) top = std::max(top, c.objective);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
+                         (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
+      if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+    }
+    if (cand.empty()) cand.push_back(0);  // only with NaN objectives
+    std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
+    if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
+    const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
+    Cand best = evaluate(pts[cand.front()], true);
+    std::size_t ib = cand.front();
+    for (const std::size_t i : cand) {
+      const Cand at_point = evaluate(pts[i], true);
+      if (better(at_point, best)) best = at_point, ib = i;
+      const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
+      // Power-bound MRR is flat in speed: then the largest worst margin.
+      const bool power_bound = at_point.depth == at_point.power;
+      auto f = [&](double n) {
+        const Cand c = evaluate(n, true);
+        if (better(c, best)) best = c, ib = i;
+        return power_bound ? c.margin : c.objective;
+      };
+      // Bound by stability or power near a cusp, the optimum is where the band's
+      // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
+      // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
+      // with N up to where stability takes over: Brent's minimiser.
+      const bool stability_bound = at_point.depth == at_point.stab;
+      const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
+      if (x > 0.0) f(x);
+      else s.maximize(f, a, b, rel);
+    }
+    return std::pair<Cand, std::size_t>{best, ib};
+  };
+  const auto found = search();
+  Cand best = found.first;
+  std::size_t ib = found.second;
+  // Kept if no skipped speed could remove as much, whatever its limit.
+  double skipped_bound = 0.0;
+  for (const double n : s.skipped()) skipped_bound = std::max(skipped_bound, bound(n));
+  if (!s.skipped().empty() && !(best.objective * (1.0 - kTieRelative) > skipped_bound)) {
+    s.fill_skipped();
+    std::tie(best, ib) = search();
   }
-  if (cand.empty()) cand.push_back(0);  // only with NaN objectives
-  std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
-  if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
-  const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
-  Cand best = evaluate(pts[cand.front()], true);
-  std::size_t ib = cand.front();
-  for (const std::size_t i : cand) {
-    const Cand at_point = evaluate(pts[i], true);
-    if (better(at_point, best)) best = at_point, ib = i;
-    const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
-    // Power-bound MRR is flat in speed: then the largest worst margin.
-    const bool power_bound = at_point.depth == at_point.power;
-    auto f = [&](double n) {
-      const Cand c = evaluate(n, true);
-      if (better(c, best)) best = c, ib = i;
-      return power_bound ? c.margin : c.objective;
-    };
-    // Bound by stability or power near a cusp, the optimum is where the band's
-    // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
-    // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
-    // with N up to where stability takes over: Brent's minimiser.
-    const bool stability_bound = at_point.depth == at_point.stab;
-    const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
-    if (x > 0.0) f(x);
-    else s.maximize(f, a, b, rel);
-  }
+  rec.skipped_solves = s.skipped().size();
 
   rec.spindle_rpm = best.rpm;
   rec.depth_m = best.depth;

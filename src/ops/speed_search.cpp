@@ -101,7 +101,27 @@ void SpeedSearch::scan(bool split_dense) {
       std::vector<double> extra;
       for (std::size_t i = 0; i < all.size(); ++i)
         if (i % static_cast<std::size_t>(split_n) != 0) extra.push_back(all[i]);
-      solve_all(extra);
+      if (!refinement_floor) {
+        solve_all(extra);
+      } else {
+        // From the top down, kRefineChunk speeds at a time, each chunk above
+        // the floor the speeds solved so far give (it only rises).
+        std::vector<double> solved = u_grid(hi_, probe_lo, kScanStart);
+        for (std::size_t k = 0; k < extra.size(); k += kRefineChunk) {
+          const double floor = refinement_floor(solved);
+          const std::size_t end = std::min(extra.size(), k + kRefineChunk);
+          std::size_t j = k;  // extra falls: the speeds from j on are below the floor
+          while (j < end && extra[j] >= floor) ++j;
+          const std::vector<double> chunk(extra.begin() + static_cast<std::ptrdiff_t>(k),
+                                          extra.begin() + static_cast<std::ptrdiff_t>(j));
+          solve_all(chunk);
+          solved.insert(solved.end(), chunk.begin(), chunk.end());
+          if (j < end) {
+            skipped_.assign(extra.begin() + static_cast<std::ptrdiff_t>(j), extra.end());
+            break;
+          }
+        }
+      }
     }
     for (const auto& [rpm, l] : cache_) scan_.push_back(rpm);  // ascending speed
     dense_below_ = lo_;
@@ -133,6 +153,16 @@ void SpeedSearch::scan(bool split_dense) {
     if (rpm >= last) scan_.push_back(rpm);
   // Bands of speeds >= dense_below_ lie inside the scan.
   dense_below_ = last > lo_ ? std::min(last / (1.0 - tol_), hi_) : lo_;
+}
+
+void SpeedSearch::fill_skipped() {
+  if (skipped_.empty()) return;
+  solve_all(skipped_);
+  scan_.insert(scan_.end(), skipped_.begin(), skipped_.end());
+  std::sort(scan_.begin(), scan_.end());
+  scan_.erase(std::unique(scan_.begin(), scan_.end()), scan_.end());
+  skipped_.clear();
+  bands_.clear();
 }
 
 void SpeedSearch::extend_scan(double down_to) {

@@ -65,6 +65,9 @@ inline constexpr double kExtendRatio = 1.5;
 // every sampled local minimum refined by Brent, as in the scan.
 inline constexpr int kManyLobes = 2;
 inline constexpr int kManyLobesSamples = 9;
+// A refinement with a floor (SpeedSearch::refinement_floor) is solved from
+// the top down this many speeds at a time, the floor raised between chunks.
+inline constexpr std::size_t kRefineChunk = 16;
 inline constexpr std::size_t kManyLobesRefined = 2;
 
 // Exact solves of one solver, cached by speed, with the scan and the band
@@ -99,6 +102,17 @@ class SpeedSearch {
   /// optimum (or scans after all). Without: the whole range.
   void scan(bool split_dense = false);
   const std::vector<double>& scan_speeds() const { return scan_; }
+  /// Optional, for a whole-range scan: its refinement is then solved from
+  /// the top down, kRefineChunk speeds at a time, and before each chunk this
+  /// is asked, with the speeds solved so far, for a floor; the speeds below
+  /// it are not solved but kept in skipped() — the caller shows afterwards
+  /// that none can hold its optimum, or calls fill_skipped() (recommend: no
+  /// speed there removes more, whatever its limit, than the optimum found).
+  std::function<double(const std::vector<double>& solved)> refinement_floor;
+  const std::vector<double>& skipped() const { return skipped_; }
+  /// Solves the skipped speeds and adds them to the scan (the memoised band
+  /// minima are forgotten: they were found on the thinner scan).
+  void fill_skipped();
   /// Speeds below this form the dense region, not scanned (rpm_min: none).
   double dense_below() const { return dense_below_; }
   /// How often best() extended the scan into the dense region (where it
@@ -177,6 +191,7 @@ class SpeedSearch {
   std::map<double, double> bands_;                    // band_min by speed
   std::map<std::pair<double, double>, bool> above_;   // limit_above by (speed, depth)
   std::map<double, double> unstable_at_;              // smallest depth found unstable, by speed
+  std::vector<double> skipped_;                       // refinement speeds below refinement_floor()
   std::vector<double> scan_;
   double dense_below_ = 0.0;     // the dense region is [lo_, dense_below_)
   int extensions_ = 0;

@@ -325,6 +325,7 @@ json recommend_record(const Recommendation& r, const RecommendOptions& opt, cons
   j["depth_mm"] = r.depth_m * 1e3;
   j["limit"] = limit_json(r.limit);
   j["searched_depth_mm"] = r.search_depth_m * 1e3;
+  j["skipped_solves"] = r.skipped_solves;
   j["margin"] = finite_or_null(r.margin);
   j["depth_caps_mm"] = {{"stability", finite_or_null(r.depth_stability_m * 1e3)},
                         {"power", finite_or_null(r.depth_power_m * 1e3)},
