@@ -231,6 +231,164 @@ double pruning_floor(Bound&& bound, double target, double rpm_min, double rpm_ma
   return floor == rpm_min ? rpm_min : floor / ((1.0 + tol) * (1.0 + tol));
 }
 
+// One candidate speed: its depth caps (m), the depth they allow, what it
+// removes (the objective) and its worst margin.
+struct Cand {
+  double rpm, worst, stab, power, torque, cap, flute, part, depth, objective, margin;
+};
+
+// recommend()'s search on a SpeedSearch: each candidate's caps and objective,
+// the ranking of the scan and the refinement of its best local maxima
+// (docs/operations.md, "Search").
+class Ranking {
+ public:
+  Ranking(SpeedSearch& s, const CutModel& cm, const RecommendOptions& o, double search_depth_m,
+          double solver_depth_max_m, PartErrorCap* part_error)
+      : s_(s), cm_(cm), o_(o), search_depth_m_(search_depth_m), solver_depth_max_m_(solver_depth_max_m),
+        flute_(o.flute_length_m.value_or(kInf)), part_error_(part_error) {}
+
+  /// `exact`: the worst limit over the band from exact solves, else the scan's estimate.
+  Cand evaluate(double n, bool exact) {
+    const MachineLimits& mc = o_.machine;
+    Cand c;
+    c.rpm = n;
+    const double w = exact ? s_.band_min(n) : s_.band_min_scan(n, kInf);
+    c.worst = w > search_depth_m_ || w >= solver_depth_max_m_ ? kInf : w;
+    c.stab = o_.safety * c.worst;
+    c.power = cm_.depth_within_power(n, mc.max_power_w, search_depth_m_);
+    c.torque = cm_.depth_within_torque(mc.max_torque_n_m, search_depth_m_);
+    c.cap = o_.depth_max_m;
+    c.flute = flute_;
+    const double others = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
+    c.part = part_error_ ? part_error_->cap(n, others) : kInf;
+    c.depth = std::min(others, c.part);
+    c.objective = cm_.objective(n, c.depth);  // MRR / (MRR at 1 m and 1 rev/min)
+    c.margin = c.worst / c.depth;
+    return c;
+  }
+  /// x strictly better than y: more removed, or as much with a larger margin.
+  static bool better(const Cand& x, const Cand& y) {
+    if (x.objective > y.objective * (1.0 + kTieRelative)) return true;
+    if (x.objective < y.objective * (1.0 - kTieRelative)) return false;
+    return x.margin > y.margin;
+  }
+  /// The deepest cut at `n` whatever its limit: the depth caps other than
+  /// stability and the part error (each only lowers it).
+  double caps(double n) const {
+    const MachineLimits& mc = o_.machine;
+    return std::min({cm_.depth_within_power(n, mc.max_power_w, search_depth_m_),
+                     cm_.depth_within_torque(mc.max_torque_n_m, search_depth_m_), o_.depth_max_m, flute_,
+                     search_depth_m_});
+  }
+  /// What that cut removes: no speed removes more (a bound without a solve).
+  double bound(double n) const { return cm_.objective(n, caps(n)); }
+  /// SpeedSearch::refinement_floor: below it no speed reaches what the
+  /// speeds solved so far promise (their best, less the candidate spread).
+  double floor(const std::vector<double>& solved) {
+    double promise = 0.0;
+    for (const double n : solved) promise = std::max(promise, cm_.objective(n, std::min(o_.safety * s_.g(n), caps(n))));
+    return pruning_floor([&](double n) { return bound(n); }, (1.0 - kCandidateSpread) * promise, o_.machine.rpm_min,
+                         o_.machine.rpm_max, o_.speed_tolerance);
+  }
+  /// Whether a skipped speed of the scan could remove as much as `best`.
+  bool skipped_could_beat(const Cand& best) const {
+    double b = 0.0;
+    for (const double n : s_.skipped()) b = std::max(b, bound(n));
+    return !s_.skipped().empty() && !(best.objective * (1.0 - kTieRelative) > b);
+  }
+  /// Ranks the scanned speeds and refines the best local maxima with exact
+  /// solves: the best candidate and the index of its scan speed.
+  std::pair<Cand, std::size_t> search();
+
+ private:
+  SpeedSearch& s_;
+  const CutModel& cm_;
+  const RecommendOptions& o_;
+  double search_depth_m_, solver_depth_max_m_, flute_;
+  PartErrorCap* part_error_;
+};
+
+std::pair<Cand, std::size_t> Ranking::search() {
+  const std::vector<double>& pts = s_.scan_speeds();
+  std::vector<Cand> scanned;
+  for (double n : pts) scanned.push_back(evaluate(n, false));
+  std::vector<std::size_t> cand;
+  double top = 0.0;
+  for (const auto& c : scanned) top = std::max(top, c.objective);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
+                       (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
+    if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
+  }
+  if (cand.empty()) cand.push_back(0);  // only with NaN objectives
+  std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
+  if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
+  const double rel = o_.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
+  Cand best = evaluate(pts[cand.front()], true);
+  std::size_t ib = cand.front();
+  for (const std::size_t i : cand) {
+    const Cand at_point = evaluate(pts[i], true);
+    if (better(at_point, best)) best = at_point, ib = i;
+    const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
+    // Power-bound MRR is flat in speed: then the largest worst margin.
+    const bool power_bound = at_point.depth == at_point.power;
+    auto f = [&](double n) {
+      const Cand c = evaluate(n, true);
+      if (better(c, best)) best = c, ib = i;
+      return power_bound ? c.margin : c.objective;
+    };
+    // Bound by stability or power near a cusp, the optimum is where the band's
+    // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
+    // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
+    // with N up to where stability takes over: Brent's minimiser.
+    const bool stability_bound = at_point.depth == at_point.stab;
+    const double x = (power_bound || stability_bound) && o_.speed_tolerance > 0.0 ? s_.balance(a, b, rel) : 0.0;
+    if (x > 0.0) f(x);
+    else s_.maximize(f, a, b, rel);
+  }
+  return {best, ib};
+}
+
+// Part quality beside the suggestion (docs/results.md), with or without a
+// tolerance: the forced response at the recommended cut (modal models).
+void add_part_quality(Recommendation& rec, const StructuralModel& model, const Process& process, double feed_m) {
+  if (model.has_measured()) return;
+  ForcedSettings st;
+  st.spindle_rpm = rec.spindle_rpm;
+  st.depth_m = rec.depth_m;
+  st.feed_m = feed_m;
+  st.record_path = false;
+  try {
+    const ForcedResponse fr = ForcedResponseSolver(model, process).response(st);
+    if (fr.stable) {
+      rec.part_error_m = part_error_m(fr);
+      rec.peak_to_peak_m = std::max(fr.peak_to_peak_x_m, fr.peak_to_peak_y_m);
+    }
+  } catch (const InputError& e) {
+    rec.warnings.push_back(std::string("part error not computed: ") + e.what());
+  }
+}
+
+// What binds the recommended cut: each cap within the binding tolerance of
+// the depth, and the speed range when the optimum sits on an end of the scan
+// and MRR still grows towards it (a power-bound MRR is flat in speed: it
+// does not).
+void add_bindings(Recommendation& rec, const Cand& best, std::size_t ib, Ranking& rk, const std::vector<double>& pts,
+                  const RecommendOptions& options) {
+  const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
+  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
+  if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
+  if (binds(best.power)) rec.binding.push_back(Binding::kPower);
+  if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
+  if (binds(best.cap)) rec.binding.push_back(Binding::kDepthMax);
+  if (binds(best.flute)) rec.binding.push_back(Binding::kFluteLength);
+  if (binds(best.part)) rec.binding.push_back(Binding::kSurfaceError);
+  if (!binds(best.power) && (ib == 0 || ib + 1 == pts.size()) && best.rpm == pts[ib]) {
+    const Cand inner = rk.evaluate(pts[ib == 0 ? 1 : ib - 1], true);
+    if (best.objective > inner.objective * (1.0 + kTieRelative)) rec.binding.push_back(Binding::kSpeedRange);
+  }
+}
+
 }  // namespace
 
 Recommendation recommend(const StructuralModel& model, const Process& given, const RecommendOptions& options) {
@@ -266,104 +424,19 @@ Recommendation recommend(const StructuralModel& model, const Process& given, con
   std::optional<PartErrorCap> part_error;
   if (options.max_part_error_m)
     part_error.emplace(model, process, options.feed_per_tooth_m, *options.max_part_error_m);
-
-  struct Cand {
-    double rpm, worst, stab, power, torque, cap, flute, part, depth, objective, margin;
-  };
-  // `exact`: the worst limit over the band from exact solves, else the scan's estimate.
-  auto evaluate = [&](double n, bool exact) {
-    Cand c;
-    c.rpm = n;
-    const double w = exact ? s.band_min(n) : s.band_min_scan(n, kInf);
-    c.worst = w > rec.search_depth_m || w >= solver->depth_max_m() ? kInf : w;
-    c.stab = options.safety * c.worst;
-    c.power = cm.depth_within_power(n, mc.max_power_w, rec.search_depth_m);
-    c.torque = cm.depth_within_torque(mc.max_torque_n_m, rec.search_depth_m);
-    c.cap = options.depth_max_m;
-    c.flute = flute;
-    const double others = std::min({c.stab, c.power, c.torque, c.cap, c.flute});
-    c.part = part_error ? part_error->cap(n, others) : kInf;
-    c.depth = std::min(others, c.part);
-    c.objective = cm.objective(n, c.depth);  // MRR / (MRR at 1 m and 1 rev/min)
-    c.margin = c.worst / c.depth;
-    return c;
-  };
-  auto better = [](const Cand& x, const Cand& y) {  // x strictly better than y
-    if (x.objective > y.objective * (1.0 + kTieRelative)) return true;
-    if (x.objective < y.objective * (1.0 - kTieRelative)) return false;
-    return x.margin > y.margin;
-  };
-
-  // The deepest cut at `n` whatever its limit: the depth caps other than
-  // stability and the part error (each only lowers it); `bound` what it removes.
-  auto caps = [&](double n) {
-    return std::min({cm.depth_within_power(n, mc.max_power_w, rec.search_depth_m),
-                     cm.depth_within_torque(mc.max_torque_n_m, rec.search_depth_m), options.depth_max_m, flute,
-                     rec.search_depth_m});
-  };
-  auto bound = [&](double n) { return cm.objective(n, caps(n)); };
+  Ranking rk(s, cm, options, rec.search_depth_m, solver->depth_max_m(), part_error ? &*part_error : nullptr);
   // At low speed the lobes crowd (most of the scan's speeds, the dearest
   // solves) and remove little: the refinement, solved from the top down,
   // skips the speeds whose bound is below what the speeds solved so far
   // promise, and the optimum found is kept only if no skipped speed's bound
-  // reaches it (else they are solved).
-  if (options.skip_out_of_reach) s.refinement_floor = [&](const std::vector<double>& solved) {
-    double promise = 0.0;
-    for (const double n : solved) promise = std::max(promise, cm.objective(n, std::min(options.safety * s.g(n), caps(n))));
-    return pruning_floor(bound, (1.0 - kCandidateSpread) * promise, mc.rpm_min, mc.rpm_max, options.speed_tolerance);
-  };
+  // reaches it (else they are solved and the scan ranked again).
+  if (options.skip_out_of_reach)
+    s.refinement_floor = [&](const std::vector<double>& solved) { return rk.floor(solved); };
   s.scan();
-
-  const std::vector<double>& pts = s.scan_speeds();
-  auto search = [&]() {
-    // Rank the scanned speeds, refine the best local maxima with exact solves.
-    std::vector<Cand> scanned;
-    for (double n : pts) scanned.push_back(evaluate(n, false));
-    std::vector<std::size_t> cand;
-    double top = 0.0;
-    for (const auto& c : scanned) top = std::max(top, c.objective);
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const bool local = (i == 0 || !better(scanned[i - 1], scanned[i])) &&
-                         (i + 1 == pts.size() || !better(scanned[i + 1], scanned[i]));
-      if (local && scanned[i].objective >= (1.0 - kCandidateSpread) * top) cand.push_back(i);
-    }
-    if (cand.empty()) cand.push_back(0);  // only with NaN objectives
-    std::sort(cand.begin(), cand.end(), [&](std::size_t x, std::size_t y) { return better(scanned[x], scanned[y]); });
-    if (cand.size() > kMaxCandidates) cand.resize(kMaxCandidates);
-    const double rel = options.speed_tolerance > 0.0 ? kRobustRelativeWidth : kGoldenRelativeWidth;
-    Cand best = evaluate(pts[cand.front()], true);
-    std::size_t ib = cand.front();
-    for (const std::size_t i : cand) {
-      const Cand at_point = evaluate(pts[i], true);
-      if (better(at_point, best)) best = at_point, ib = i;
-      const double a = pts[i == 0 ? 0 : i - 1], b = pts[std::min(i + 1, pts.size() - 1)];
-      // Power-bound MRR is flat in speed: then the largest worst margin.
-      const bool power_bound = at_point.depth == at_point.power;
-      auto f = [&](double n) {
-        const Cand c = evaluate(n, true);
-        if (better(c, best)) best = c, ib = i;
-        return power_bound ? c.margin : c.objective;
-      };
-      // Bound by stability or power near a cusp, the optimum is where the band's
-      // two ends balance (MRR ∝ N·worst limit has its kink there; beyond it the
-      // lobe flank falls faster than 1/N); bound by a fixed depth cap, MRR grows
-      // with N up to where stability takes over: Brent's minimiser.
-      const bool stability_bound = at_point.depth == at_point.stab;
-      const double x = (power_bound || stability_bound) && options.speed_tolerance > 0.0 ? s.balance(a, b, rel) : 0.0;
-      if (x > 0.0) f(x);
-      else s.maximize(f, a, b, rel);
-    }
-    return std::pair<Cand, std::size_t>{best, ib};
-  };
-  const auto found = search();
-  Cand best = found.first;
-  std::size_t ib = found.second;
-  // Kept if no skipped speed could remove as much, whatever its limit.
-  double skipped_bound = 0.0;
-  for (const double n : s.skipped()) skipped_bound = std::max(skipped_bound, bound(n));
-  if (!s.skipped().empty() && !(best.objective * (1.0 - kTieRelative) > skipped_bound)) {
+  auto [best, ib] = rk.search();
+  if (rk.skipped_could_beat(best)) {
     s.fill_skipped();
-    std::tie(best, ib) = search();
+    std::tie(best, ib) = rk.search();
   }
   rec.skipped_solves = s.skipped().size();
 
@@ -377,24 +450,7 @@ Recommendation recommend(const StructuralModel& model, const Process& given, con
   rec.depth_cap_m = best.cap;
   rec.depth_flute_m = best.flute;
   rec.depth_part_error_m = best.part;
-  // Part quality beside the suggestion (docs/results.md), with or without a
-  // tolerance: the forced response at the recommended cut (modal models).
-  if (!model.has_measured()) {
-    ForcedSettings st;
-    st.spindle_rpm = rec.spindle_rpm;
-    st.depth_m = rec.depth_m;
-    st.feed_m = options.feed_per_tooth_m;
-    st.record_path = false;
-    try {
-      const ForcedResponse fr = ForcedResponseSolver(model, process).response(st);
-      if (fr.stable) {
-        rec.part_error_m = part_error_m(fr);
-        rec.peak_to_peak_m = std::max(fr.peak_to_peak_x_m, fr.peak_to_peak_y_m);
-      }
-    } catch (const InputError& e) {
-      rec.warnings.push_back(std::string("part error not computed: ") + e.what());
-    }
-  }
+  add_part_quality(rec, model, process, options.feed_per_tooth_m);
   rec.pocket = make_pocket(s, best.rpm, rec.depth_m, rec.depth_m / options.safety);
   rec.pocket.limit = rec.limit;
   rec.pocket.worst_limit_m = best.worst;
@@ -408,20 +464,7 @@ Recommendation recommend(const StructuralModel& model, const Process& given, con
   rec.mrr_m3_per_s = at.removal_rate_m3_per_s;
   // Per unit diameter: turning b f π N/60; milling the section per unit D.
   rec.mrr_per_diameter_m2_per_s = cm.per_unit_diameter(rec.spindle_rpm, rec.depth_m).removal_rate_m3_per_s;
-  const double bind_rel = options.speed_tolerance > 0.0 ? kRobustBindingRelative : kBindingRelative;
-  auto binds = [&](double cap) { return std::isfinite(cap) && cap <= rec.depth_m * (1.0 + bind_rel); };
-  if (binds(best.stab)) rec.binding.push_back(Binding::kStability);
-  if (binds(best.power)) rec.binding.push_back(Binding::kPower);
-  if (binds(best.torque)) rec.binding.push_back(Binding::kTorque);
-  if (binds(best.cap)) rec.binding.push_back(Binding::kDepthMax);
-  if (binds(best.flute)) rec.binding.push_back(Binding::kFluteLength);
-  if (binds(best.part)) rec.binding.push_back(Binding::kSurfaceError);
-  // The speed range binds when the optimum sits on an end of the range and MRR
-  // still grows towards it (a power-bound MRR is flat in speed: it does not).
-  if (!binds(best.power) && (ib == 0 || ib + 1 == pts.size()) && best.rpm == pts[ib]) {
-    const Cand inner = evaluate(pts[ib == 0 ? 1 : ib - 1], true);
-    if (best.objective > inner.objective * (1.0 + kTieRelative)) rec.binding.push_back(Binding::kSpeedRange);
-  }
+  add_bindings(rec, best, ib, rk, s.scan_speeds(), options);
   if (options.progress) options.progress(1.0);
   return rec;
 }
