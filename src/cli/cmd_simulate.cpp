@@ -38,16 +38,74 @@ void write_series_csv(std::ostream& os, const std::vector<SeriesSample>& rows, i
   }
 }
 
-}  // namespace
-
-int cmd_simulate(const std::vector<std::string>& args) {
-  Common common;
-  common.method = "time-domain";
-  double rpm = 0.0, depth_mm = 0.0, feed_mm = 0.1, rtol = 1e-7;
-  int revolutions = 0, periods = 0, out_every = 1;
+// The files simulate writes: --out (every out_every-th sample, warned above
+// warn_mb), --periodic, --spectrum.
+struct SimulationTables {
+  std::string out_path, periodic_path, spectrum_path;
+  int out_every = 1;
   double warn_mb = kSeriesWarnMb;
-  std::string out_path, periodic_path, spectrum_path, plot_path;
-  po::options_description d("Options");
+};
+std::vector<std::pair<std::filesystem::path, std::string>> simulation_tables(const SimulationResult& r,
+                                                                             const SimulationTables& t) {
+  const std::string& out_path = t.out_path;
+  const std::string& periodic_path = t.periodic_path;
+  const std::string& spectrum_path = t.spectrum_path;
+  const int out_every = t.out_every;
+  const double warn_mb = t.warn_mb;
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  if (!out_path.empty()) {
+    std::ostringstream os;
+    write_series_csv(os, r.series, out_every);
+    files.emplace_back(out_path, os.str());
+    const double mb = static_cast<double>(files.back().second.size()) / 1e6;
+    if (mb > warn_mb) {
+      const double suggest = std::ceil(mb / warn_mb) * out_every;
+      std::cerr << "warning: --out " << out_path << ": the time series is " << fmt(mb, 3) << " MB ("
+                << (r.series.size() + static_cast<std::size_t>(out_every) - 1) / static_cast<std::size_t>(out_every)
+                << " samples), above " << fmt(warn_mb, 3) << " MB; --out-every " << fmt(suggest, 6)
+                << " writes it under that (or use --periodic for one sample per period)\n";
+    }
+  }
+  if (!periodic_path.empty()) {
+    std::ostringstream os;
+    write_series_csv(os, r.once_per_period);
+    files.emplace_back(periodic_path, os.str());
+  }
+  if (!spectrum_path.empty()) {
+    std::ostringstream os;
+    os << "frequency_hz,amplitude_um,harmonic\n";
+    const std::vector<int> harmonic = spectrum_harmonics(r);
+    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k)
+      os << table_number(r.spectrum_hz[k]) << ',' << table_number(r.spectrum_amplitude_m[k] * 1e6) << ','
+         << (harmonic[k] > 0 ? std::to_string(harmonic[k]) : std::string("")) << '\n';
+    files.emplace_back(spectrum_path, os.str());
+  }
+  return files;
+}
+
+// Delay periods to simulate: --periods, --revolutions converted, or the
+// default (200 delay periods).
+int simulation_periods(const po::variables_map& vm, const Process& process, double rpm, bool linear, int revolutions,
+                       int periods) {
+  if (vm.count("revolutions") && vm.count("periods")) throw InputError("--revolutions and --periods: give one of them");
+  if (vm.count("revolutions")) {
+    if (revolutions < 1 || revolutions > 1000000)
+      throw InputError("--revolutions = " + std::to_string(revolutions) + ": must be in [1, 1000000]");
+    periods = simulation_periods_in_revolutions(process, rpm, linear, revolutions);
+  } else if (!vm.count("periods")) {
+    periods = default_simulation_periods(process, rpm, linear);
+  }
+  if (periods < 4 || periods > 10000000)
+    throw InputError("--periods = " + std::to_string(periods) + ": must be in [4, 10000000]");
+  return periods;
+}
+
+// simulate's options, into the caller's variables.
+void describe_simulate(po::options_description& d, double& rpm, double& depth_mm, double& feed_mm, double& rtol,
+                       int& revolutions, int& periods, SimulationTables& tables, std::string& plot_path) {
+  std::string& out_path = tables.out_path;
+  int& out_every = tables.out_every;
+  double& warn_mb = tables.warn_mb;
   d.add_options()
       ("rpm", po::value<double>(&rpm)->required(), "spindle speed, rev/min (required)")
       ("depth-mm", po::value<double>(&depth_mm)->required(), "depth of cut, mm (required; axial depth in milling)")
@@ -73,12 +131,28 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                                                   "series (N >= 1; the first sample always)")
       ("warn-size-mb", po::value<double>(&warn_mb)->default_value(kSeriesWarnMb, "50"),
        "warn on standard error when the --out file is larger than this, MB (> 0)")
-      ("periodic", po::value<std::string>(&periodic_path), "write the once-per-period samples (CSV, same columns)")
-      ("spectrum", po::value<std::string>(&spectrum_path), "write the spectrum of the relative displacement (CSV: "
+      ("periodic", po::value<std::string>(&tables.periodic_path), "write the once-per-period samples (CSV, same columns)")
+      ("spectrum", po::value<std::string>(&tables.spectrum_path), "write the spectrum of the relative displacement (CSV: "
                                                            "frequency_hz, amplitude_um, harmonic)")
       ("plot", po::value<std::string>(&plot_path), "draw displacement, force and spectrum (.png, .svg or .pdf)");
   add_show_option(d);
   add_speed_variation_options(d);
+}
+
+}  // namespace
+
+int cmd_simulate(const std::vector<std::string>& args) {
+  Common common;
+  common.method = "time-domain";
+  double rpm = 0.0, depth_mm = 0.0, feed_mm = 0.1, rtol = 1e-7;
+  int revolutions = 0, periods = 0;
+  SimulationTables tables;
+  std::string& out_path = tables.out_path;
+  std::string plot_path;
+  int& out_every = tables.out_every;
+  double& warn_mb = tables.warn_mb;
+  po::options_description d("Options");
+  describe_simulate(d, rpm, depth_mm, feed_mm, rtol, revolutions, periods, tables, plot_path);
   po::variables_map vm;
   if (!parse(args,
              "Usage: chatter simulate CONFIG --rpm R --depth-mm D [options]\n\n"
@@ -94,7 +168,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
              "      --out series.csv --plot sim.png\n",
              d, common, vm))
     return 0;
-  check_outputs({{"--out", out_path}, {"--periodic", periodic_path}, {"--spectrum", spectrum_path},
+  check_outputs({{"--out", out_path}, {"--periodic", tables.periodic_path}, {"--spectrum", tables.spectrum_path},
                  {"--plot", plot_path, true}});  // before computing
   const ShowRequest show = show_request(vm);  // a display or GNUPLOT_TERM, before computing
   if (out_every < 1) throw InputError("--out-every = " + std::to_string(out_every) + ": must be >= 1");
@@ -108,20 +182,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
   check_depth_mm(depth_mm, "--depth-mm", /*allow_zero=*/true);
   if (!(std::isfinite(feed_mm) && feed_mm >= 0.0 && feed_mm <= 100.0))
     throw InputError("--feed-per-tooth-mm = " + fmt(feed_mm) + ": must be in [0, 100] mm");
-  if (vm.count("revolutions") && vm.count("periods"))
-    throw InputError("--revolutions and --periods: give one of them");
   if (vm.count("linear") && vm.count("linear-forced"))
     throw InputError("--linear and --linear-forced: give one of them (--linear-forced is linear with the feed)");
-  const bool linear = vm.count("linear") > 0;
-  if (vm.count("revolutions")) {
-    if (revolutions < 1 || revolutions > 1000000)
-      throw InputError("--revolutions = " + std::to_string(revolutions) + ": must be in [1, 1000000]");
-    periods = simulation_periods_in_revolutions(cfg.process, rpm, linear, revolutions);
-  } else if (!vm.count("periods")) {
-    periods = default_simulation_periods(cfg.process, rpm, linear);
-  }
-  if (periods < 4 || periods > 10000000)
-    throw InputError("--periods = " + std::to_string(periods) + ": must be in [4, 10000000]");
+  periods = simulation_periods(vm, cfg.process, rpm, vm.count("linear") > 0, revolutions, periods);
   TimeDomainOptions o;
   if (!(rtol >= 1e-12 && rtol <= 1e-2)) throw InputError("--rtol = " + fmt(rtol) + ": must be in [1e-12, 1e-2]");
   o.relative_tolerance = rtol;
@@ -160,34 +223,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
                                        record_source(cfg, common.position_mm));
   if (!r.linear_limit_warning.empty()) std::cerr << "warning: " << r.linear_limit_warning << "\n";
 
-  std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!out_path.empty()) {
-    std::ostringstream os;
-    write_series_csv(os, r.series, out_every);
-    files.emplace_back(out_path, os.str());
-    const double mb = static_cast<double>(files.back().second.size()) / 1e6;
-    if (mb > warn_mb) {
-      const double suggest = std::ceil(mb / warn_mb) * out_every;
-      std::cerr << "warning: --out " << out_path << ": the time series is " << fmt(mb, 3) << " MB ("
-                << (r.series.size() + static_cast<std::size_t>(out_every) - 1) / static_cast<std::size_t>(out_every)
-                << " samples), above " << fmt(warn_mb, 3) << " MB; --out-every " << fmt(suggest, 6)
-                << " writes it under that (or use --periodic for one sample per period)\n";
-    }
-  }
-  if (!periodic_path.empty()) {
-    std::ostringstream os;
-    write_series_csv(os, r.once_per_period);
-    files.emplace_back(periodic_path, os.str());
-  }
-  if (!spectrum_path.empty()) {
-    std::ostringstream os;
-    os << "frequency_hz,amplitude_um,harmonic\n";
-    const std::vector<int> harmonic = spectrum_harmonics(r);
-    for (std::size_t k = 0; k < r.spectrum_hz.size(); ++k)
-      os << table_number(r.spectrum_hz[k]) << ',' << table_number(r.spectrum_amplitude_m[k] * 1e6) << ','
-         << (harmonic[k] > 0 ? std::to_string(harmonic[k]) : std::string("")) << '\n';
-    files.emplace_back(spectrum_path, os.str());
-  }
+  const auto files = simulation_tables(r, tables);
   if (!files.empty()) write_text_files(files);
   if (window) {
     plot_simulation(*window, title, r, f_max, /*running=*/false);
