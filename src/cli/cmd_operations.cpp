@@ -114,6 +114,102 @@ Exit status: 0 every row read and judged, every operation stable (and within
              1 internal failure.
 )";
 
+// check's table: a row per operation (speed, depth, limit, margin,
+// verdict, the worst margin over the speed band, the suggestion and its
+// pocket; milling: a_e/D).
+std::vector<std::vector<std::string>> check_table(const CheckReport& report, const Process& process) {
+  const bool milling = process.rotating_edges();
+  std::vector<std::vector<std::string>> t;
+  t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "worst_margin", "chatter_hz", "lobe",
+               "suggest_rpm", "limit_there_mm", "worst_margin_there", "pocket_rpm"});
+  if (milling) t.front().insert(t.front().begin() + 4, "a_e/D");
+  for (const auto& c : report.checks) {
+    std::vector<std::string> r = {c.op.id,
+                                  std::to_string(c.op.line),
+                                  fixed(c.op.spindle_rpm, 1),
+                                  fixed(c.op.depth_m * 1e3, 4),
+                                  c.limit.bounded() ? fixed(c.limit.depth_limit_m * 1e3, 4) : "inf",
+                                  fixed(c.margin, 3),
+                                  c.stable ? "stable" : "UNSTABLE",
+                                  fixed(c.worst_margin, 3),
+                                  c.limit.bounded() ? fixed(c.limit.chatter_frequency_hz, 1) : "-",
+                                  c.limit.bounded() ? std::to_string(c.limit.lobe) : "-"};
+    if (c.suggestion) {
+      r.push_back(fixed(c.suggestion->spindle_rpm, 1));
+      r.push_back(c.suggestion->bounded() ? fixed(c.suggestion->depth_limit_m * 1e3, 4) : "inf");
+      const SpeedPocket& p = *c.suggestion_pocket;
+      r.push_back(fixed(p.worst_margin, 3));
+      r.push_back(fixed(p.pocket_min_rpm, 0) + "-" + fixed(p.pocket_max_rpm, 0));
+    } else {
+      r.insert(r.end(), {"none", "-", "-", "-"});
+    }
+    if (milling) {
+      const double ae = c.op.radial_immersion.value_or(process.milling_parameters().radial_immersion);
+      r.insert(r.begin() + 4, fixed(ae, 3));
+    }
+    t.push_back(std::move(r));
+  }
+
+  return t;
+}
+
+// The forced vibration of the rows with a feed: their part error, teeth
+// leaving the cut, the tolerance, and the part error at the suggestion.
+// Whether any row has a tolerance.
+bool add_forced_columns(std::vector<std::vector<std::string>>& t, const CheckReport& report, bool milling) {
+  const bool any_forced = std::any_of(report.checks.begin(), report.checks.end(),
+                                      [](const OperationCheck& c) { return c.forced.has_value(); });
+  const bool any_tolerance = std::any_of(report.checks.begin(), report.checks.end(),
+                                         [](const OperationCheck& c) { return c.forced && c.op.max_error_m; });
+  if (any_forced) {
+    t.front().insert(t.front().end(), {milling ? "sle_um" : "diam_err_um", "leaves_cut", "tolerance"});
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& f = report.checks[i].forced;
+      const auto& op = report.checks[i].op;
+      if (!f || !f->response.stable) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});  // unstable: no steady part error to hold
+        continue;
+      }
+      t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
+      t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
+      t[i + 1].push_back(!op.max_error_m ? "-" : *f->within_tolerance ? "ok" : "OUT");
+    }
+    // The part error at the suggested speed: quality beside the suggestion.
+    t.front().push_back(milling ? "sugg_sle_um" : "sugg_diam_err_um");
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& s = report.checks[i].suggestion_forced;
+      t[i + 1].push_back(!s || !s->response.stable ? "-"
+                         : fixed((milling ? s->response.surface_location_error_m : s->part_error_m) * 1e6, 2));
+    }
+  }
+  return any_tolerance;
+}
+
+// The mean cutting load of the rows with a feed against the machine's power
+// and torque (docs/cutting_law.md). Whether any row has a load.
+bool add_load_columns(std::vector<std::vector<std::string>>& t, const CheckReport& report, bool limited) {
+  const bool any_load = std::any_of(report.checks.begin(), report.checks.end(),
+                                    [](const OperationCheck& c) { return c.load.has_value(); });
+  if (any_load) {
+    t.front().insert(t.front().end(), {"power_kw", "torque_nm", "mrr_cm3_min"});
+    if (limited) t.front().push_back("spindle");
+    for (std::size_t i = 0; i < report.checks.size(); ++i) {
+      const auto& l = report.checks[i].load;
+      auto cell = [](double x, int digits) { return std::isfinite(x) ? fixed(x, digits) : std::string("-"); };
+      if (!l) {
+        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});
+        if (limited) t[i + 1].push_back("-");
+        continue;
+      }
+      t[i + 1].push_back(cell(l->power_w * 1e-3, 3));
+      t[i + 1].push_back(cell(l->torque_n_m, 2));
+      t[i + 1].push_back(cell(l->removal_rate_m3_per_s * 6e7, 2));
+      if (limited) t[i + 1].push_back(l->within_power && l->within_torque ? "ok" : "OVER");
+    }
+  }
+  return any_load;
+}
+
 }  // namespace
 
 int cmd_check(const std::vector<std::string>& args) {
@@ -154,86 +250,10 @@ int cmd_check(const std::vector<std::string>& args) {
   }
 
   const bool milling = cfg.process.rotating_edges();
-  std::vector<std::vector<std::string>> t;
-  t.push_back({"id", "line", "rpm", "depth_mm", "limit_mm", "margin", "verdict", "worst_margin", "chatter_hz", "lobe",
-               "suggest_rpm", "limit_there_mm", "worst_margin_there", "pocket_rpm"});
-  if (milling) t.front().insert(t.front().begin() + 4, "a_e/D");
-  for (const auto& c : report.checks) {
-    std::vector<std::string> r = {c.op.id,
-                                  std::to_string(c.op.line),
-                                  fixed(c.op.spindle_rpm, 1),
-                                  fixed(c.op.depth_m * 1e3, 4),
-                                  c.limit.bounded() ? fixed(c.limit.depth_limit_m * 1e3, 4) : "inf",
-                                  fixed(c.margin, 3),
-                                  c.stable ? "stable" : "UNSTABLE",
-                                  fixed(c.worst_margin, 3),
-                                  c.limit.bounded() ? fixed(c.limit.chatter_frequency_hz, 1) : "-",
-                                  c.limit.bounded() ? std::to_string(c.limit.lobe) : "-"};
-    if (c.suggestion) {
-      r.push_back(fixed(c.suggestion->spindle_rpm, 1));
-      r.push_back(c.suggestion->bounded() ? fixed(c.suggestion->depth_limit_m * 1e3, 4) : "inf");
-      const SpeedPocket& p = *c.suggestion_pocket;
-      r.push_back(fixed(p.worst_margin, 3));
-      r.push_back(fixed(p.pocket_min_rpm, 0) + "-" + fixed(p.pocket_max_rpm, 0));
-    } else {
-      r.insert(r.end(), {"none", "-", "-", "-"});
-    }
-    if (milling) {
-      const double ae = c.op.radial_immersion.value_or(cfg.process.milling_parameters().radial_immersion);
-      r.insert(r.begin() + 4, fixed(ae, 3));
-    }
-    t.push_back(std::move(r));
-  }
-
-  // The forced vibration of the rows with a feed (their SLE or diametral
-  // error, teeth leaving the cut, the part's tolerance; docs/forced.md).
-  const bool any_forced = std::any_of(report.checks.begin(), report.checks.end(),
-                                      [](const OperationCheck& c) { return c.forced.has_value(); });
-  const bool any_tolerance = std::any_of(report.checks.begin(), report.checks.end(),
-                                         [](const OperationCheck& c) { return c.forced && c.op.max_error_m; });
-  if (any_forced) {
-    t.front().insert(t.front().end(), {milling ? "sle_um" : "diam_err_um", "leaves_cut", "tolerance"});
-    for (std::size_t i = 0; i < report.checks.size(); ++i) {
-      const auto& f = report.checks[i].forced;
-      const auto& op = report.checks[i].op;
-      if (!f || !f->response.stable) {
-        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});  // unstable: no steady part error to hold
-        continue;
-      }
-      t[i + 1].push_back(fixed((milling ? f->response.surface_location_error_m : f->part_error_m) * 1e6, 2));
-      t[i + 1].push_back(f->response.teeth_leave_cut ? "YES" : "no");
-      t[i + 1].push_back(!op.max_error_m ? "-" : *f->within_tolerance ? "ok" : "OUT");
-    }
-    // The part error at the suggested speed: quality beside the suggestion.
-    t.front().push_back(milling ? "sugg_sle_um" : "sugg_diam_err_um");
-    for (std::size_t i = 0; i < report.checks.size(); ++i) {
-      const auto& s = report.checks[i].suggestion_forced;
-      t[i + 1].push_back(!s || !s->response.stable ? "-"
-                         : fixed((milling ? s->response.surface_location_error_m : s->part_error_m) * 1e6, 2));
-    }
-  }
-  // The mean cutting load of the rows with a feed against the machine's
-  // power and torque (docs/cutting_law.md).
-  const bool any_load = std::any_of(report.checks.begin(), report.checks.end(),
-                                    [](const OperationCheck& c) { return c.load.has_value(); });
+  std::vector<std::vector<std::string>> t = check_table(report, cfg.process);
+  const bool any_tolerance = add_forced_columns(t, report, milling);
   const bool limited = std::isfinite(opt.machine.max_power_w) || std::isfinite(opt.machine.max_torque_n_m);
-  if (any_load) {
-    t.front().insert(t.front().end(), {"power_kw", "torque_nm", "mrr_cm3_min"});
-    if (limited) t.front().push_back("spindle");
-    for (std::size_t i = 0; i < report.checks.size(); ++i) {
-      const auto& l = report.checks[i].load;
-      auto cell = [](double x, int digits) { return std::isfinite(x) ? fixed(x, digits) : std::string("-"); };
-      if (!l) {
-        t[i + 1].insert(t[i + 1].end(), {"-", "-", "-"});
-        if (limited) t[i + 1].push_back("-");
-        continue;
-      }
-      t[i + 1].push_back(cell(l->power_w * 1e-3, 3));
-      t[i + 1].push_back(cell(l->torque_n_m, 2));
-      t[i + 1].push_back(cell(l->removal_rate_m3_per_s * 6e7, 2));
-      if (limited) t[i + 1].push_back(l->within_power && l->within_torque ? "ok" : "OVER");
-    }
-  }
+  const bool any_load = add_load_columns(t, report, limited);
   const int status = check_exit_status(report, file);
   std::ostringstream out;
   out << cfg.name << ": " << report.checks.size() << " operation(s) checked, machine range "
