@@ -117,14 +117,29 @@ int map_radial_axial(const Common& common, const std::string& floquet_method, co
   return 0;
 }
 
-}  // namespace
+// map's usage text.
+const char* const kMapUsage =
+    "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv] [--plot map.png]\n"
+    "       chatter map CONFIG --axes radial-axial --rpm N [options]\n\n"
+    "Spectral radius of the Floquet map on a speed x depth grid (the stability chart of\n"
+    "the papers): below 1 stable, above 1 chatter. CSV columns:\n"
+    "spindle_rpm,depth_mm,spectral_radius, one row per grid point, speeds outermost.\n"
+    "--plot (or --show) draws it as a heat map (spindle speed x depth, colour = spectral\n"
+    "radius) with the boundary rho = 1 as a line, its Hopf and flip (period-doubling)\n"
+    "parts in different styles and the flip-dominated unstable points marked; this also\n"
+    "finds the type of the dominant multiplier at every unstable point (slower).\n\n"
+    "--axes radial-axial --rpm N (milling): the same over radial immersion a_e/D x axial\n"
+    "depth a_p at one speed, plus the depth limit a_p,lim searched at each a_e. CSV columns:\n"
+    "radial_immersion,[radial_depth_mm,]depth_mm,spectral_radius,depth_limit_mm\n"
+    "(radial_depth_mm when the config gives tool_diameter_mm).\n\n"
+    "--ssv-map --rpm N --depth-mm D: the spectral radius per revolution over the spindle\n"
+    "speed variation (amplitude ratio x frequency ratio) at that speed and depth instead\n"
+    "(CSV columns amplitude_ratio,frequency_ratio,frequency_ratio_used,exact_period,\n"
+    "spectral_radius_per_revolution; docs/ssv.md).\n";
 
-int cmd_map(const std::vector<std::string>& args) {
-  Common common;
-  const std::string floquet_method = map_method(kAutoMethod, ArgStyle::kFlag);  // maps are the Floquet method's
-  std::string out_path, json_path, plot_path, axes_text = "speed-axial";
-  int depth_points = 100;
-  po::options_description d("Options");
+// map's options, into the caller's variables.
+void describe_map(po::options_description& d, Common& common, const std::string& floquet_method, std::string& axes_text,
+                  int& depth_points, std::string& out_path, std::string& json_path, std::string& plot_path) {
   d.add_options()
       ("method", po::value<std::string>(&common.method)->default_value(floquet_method),
        ("only '" + floquet_method + "' draws maps").c_str())
@@ -152,26 +167,19 @@ int cmd_map(const std::vector<std::string>& args) {
   add_show_option(d);
   add_ssv_map_options(d);
   add_solver_options(d);
+}
+
+}  // namespace
+
+int cmd_map(const std::vector<std::string>& args) {
+  Common common;
+  const std::string floquet_method = map_method(kAutoMethod, ArgStyle::kFlag);  // maps are the Floquet method's
+  std::string out_path, json_path, plot_path, axes_text = "speed-axial";
+  int depth_points = 100;
+  po::options_description d("Options");
+  describe_map(d, common, floquet_method, axes_text, depth_points, out_path, json_path, plot_path);
   po::variables_map vm;
-  if (!parse(args, "Usage: chatter map CONFIG [--method sdm] [options] [--out map.csv] [--plot map.png]\n"
-                   "       chatter map CONFIG --axes radial-axial --rpm N [options]\n\n"
-                   "Spectral radius of the Floquet map on a speed x depth grid (the stability chart of\n"
-                   "the papers): below 1 stable, above 1 chatter. CSV columns:\n"
-                   "spindle_rpm,depth_mm,spectral_radius, one row per grid point, speeds outermost.\n"
-                   "--plot (or --show) draws it as a heat map (spindle speed x depth, colour = spectral\n"
-                   "radius) with the boundary rho = 1 as a line, its Hopf and flip (period-doubling)\n"
-                   "parts in different styles and the flip-dominated unstable points marked; this also\n"
-                   "finds the type of the dominant multiplier at every unstable point (slower).\n\n"
-                   "--axes radial-axial --rpm N (milling): the same over radial immersion a_e/D x axial\n"
-                   "depth a_p at one speed, plus the depth limit a_p,lim searched at each a_e. CSV columns:\n"
-                   "radial_immersion,[radial_depth_mm,]depth_mm,spectral_radius,depth_limit_mm\n"
-                   "(radial_depth_mm when the config gives tool_diameter_mm).\n\n"
-                   "--ssv-map --rpm N --depth-mm D: the spectral radius per revolution over the spindle\n"
-                   "speed variation (amplitude ratio x frequency ratio) at that speed and depth instead\n"
-                   "(CSV columns amplitude_ratio,frequency_ratio,frequency_ratio_used,exact_period,\n"
-                   "spectral_radius_per_revolution; docs/ssv.md).\n",
-             d, common, vm))
-    return 0;
+  if (!parse(args, kMapUsage, d, common, vm)) return 0;
   map_method(common.method, ArgStyle::kFlag);
   if (vm.count("ssv-map")) return run_ssv_map(vm, common, floquet_method, out_path, plot_path);
   check_no_ssv_map_options(vm);
