@@ -161,6 +161,22 @@ int forced_along_shaft(const po::variables_map& vm, const Config& cfg, const std
   return 0;
 }
 
+// forced's usage text.
+const char* const kForcedUsage =
+    "Usage: chatter forced CONFIG --rpm N --depth-mm A [--feed-per-tooth-mm F | --feed-mm-per-rev F] [options]\n"
+    "       chatter forced CONFIG --along-shaft --depth-mm B --feed-mm-per-rev F [--plot p.png]\n\n"
+    "The forced vibration of a stable cut (docs/forced.md): below the stability limit the\n"
+    "cutting force still drives the structure. Milling: the surface location error (SLE,\n"
+    "the wall's offset normal to it when a tooth passes it, + = material left), the peak-\n"
+    "to-peak vibration, the static deflection, the smallest chip thickness and whether a\n"
+    "tooth leaves the cut (then the linear limit of the lobes does not hold). Turning: the\n"
+    "static deflection and the diametral error 2 delta at the tool position (--position-mm)\n"
+    "or along the part (--along-shaft). Exit 3 when the cut is unstable (no forced response;\n"
+    "the message names the depth limit), 2 on bad input.\n\n"
+    "Example:\n"
+    "  chatter forced configs/milling_benchmark_ae005_down.toml --rpm 16000 --depth-mm 2 \\\n"
+    "      --feed-per-tooth-mm 0.05 --plot forced.png\n";
+
 }  // namespace
 
 int cmd_forced(const std::vector<std::string>& args) {
@@ -190,22 +206,7 @@ int cmd_forced(const std::vector<std::string>& args) {
        "with --along-shaft: number of positions (>= 2)")
       ("table", po::value<std::string>(&table_path), "with --along-shaft: write the table here (default: standard output)");
   po::variables_map vm;
-  if (!parse(args,
-             "Usage: chatter forced CONFIG --rpm N --depth-mm A [--feed-per-tooth-mm F | --feed-mm-per-rev F] [options]\n"
-             "       chatter forced CONFIG --along-shaft --depth-mm B --feed-mm-per-rev F [--plot p.png]\n\n"
-             "The forced vibration of a stable cut (docs/forced.md): below the stability limit the\n"
-             "cutting force still drives the structure. Milling: the surface location error (SLE,\n"
-             "the wall's offset normal to it when a tooth passes it, + = material left), the peak-\n"
-             "to-peak vibration, the static deflection, the smallest chip thickness and whether a\n"
-             "tooth leaves the cut (then the linear limit of the lobes does not hold). Turning: the\n"
-             "static deflection and the diametral error 2 delta at the tool position (--position-mm)\n"
-             "or along the part (--along-shaft). Exit 3 when the cut is unstable (no forced response;\n"
-             "the message names the depth limit), 2 on bad input.\n\n"
-             "Example:\n"
-             "  chatter forced configs/milling_benchmark_ae005_down.toml --rpm 16000 --depth-mm 2 \\\n"
-             "      --feed-per-tooth-mm 0.05 --plot forced.png\n",
-             d, common, vm))
-    return 0;
+  if (!parse(args, kForcedUsage, d, common, vm)) return 0;
   const bool along = vm.count("along-shaft") > 0;
   if (!along)
     for (const char* f : {"position-min-mm", "position-max-mm", "table"})
