@@ -18,6 +18,29 @@
 
 namespace chatter::cli {
 
+namespace {
+
+// compare's usage text.
+const char* const kCompareUsage =
+    "Usage: chatter compare CONFIG [--methods LIST] [options]\n\n"
+    "Runs several methods at the same spindle speeds and prints one table,\n"
+    "spindle_rpm then depth_limit_mm_<method> for each, plus sdm's multiplier type\n"
+    "when sdm runs, and the largest relative difference of the depth limit between\n"
+    "each pair. By default: analytic, and coupled and sdm when the structure is given\n"
+    "by modes (measured FRFs allow analytic only).\n"
+    "analytic and coupled must agree to round-off; sdm agrees with them in turning\n"
+    "(to its discretisation error, ~0.2 %) and differs in milling where the cutting\n"
+    "force is intermittent (flip lobes at low radial immersion).\n"
+    "time-domain (lobes by simulating the nonlinear cut, --periods etc. below) is\n"
+    "opt-in because it is slow: 0.3-0.4 s per speed and core, a hundred times sdm or\n"
+    "more, so 400 speeds take about a minute on 2 cores. Ask for it with --methods all\n"
+    "or e.g. --methods analytic,sdm,time-domain, with fewer --rpm-points. Its limit is\n"
+    "the middle of a 1 % depth bracket: in turning it agrees with analytic to about that.\n"
+    "--plot (or --show) overlays the methods' limits (mm) against spindle speed, sdm's\n"
+    "flip-limited speeds marked.\n";
+
+}  // namespace
+
 int cmd_compare(const std::vector<std::string>& args) {
   Common common;
   std::string table_path, json_path, plot_path, methods_list;
@@ -41,24 +64,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   add_show_option(d);
   add_solver_options(d);
   po::variables_map vm;
-  if (!parse(args, "Usage: chatter compare CONFIG [--methods LIST] [options]\n\n"
-                   "Runs several methods at the same spindle speeds and prints one table,\n"
-                   "spindle_rpm then depth_limit_mm_<method> for each, plus sdm's multiplier type\n"
-                   "when sdm runs, and the largest relative difference of the depth limit between\n"
-                   "each pair. By default: analytic, and coupled and sdm when the structure is given\n"
-                   "by modes (measured FRFs allow analytic only).\n"
-                   "analytic and coupled must agree to round-off; sdm agrees with them in turning\n"
-                   "(to its discretisation error, ~0.2 %) and differs in milling where the cutting\n"
-                   "force is intermittent (flip lobes at low radial immersion).\n"
-                   "time-domain (lobes by simulating the nonlinear cut, --periods etc. below) is\n"
-                   "opt-in because it is slow: 0.3-0.4 s per speed and core, a hundred times sdm or\n"
-                   "more, so 400 speeds take about a minute on 2 cores. Ask for it with --methods all\n"
-                   "or e.g. --methods analytic,sdm,time-domain, with fewer --rpm-points. Its limit is\n"
-                   "the middle of a 1 % depth bracket: in turning it agrees with analytic to about that.\n"
-                   "--plot (or --show) overlays the methods' limits (mm) against spindle speed, sdm's\n"
-                   "flip-limited speeds marked.\n",
-             d, common, vm))
-    return 0;
+  if (!parse(args, kCompareUsage, d, common, vm)) return 0;
   std::optional<std::string> methods_given;
   if (vm.count("methods")) methods_given = methods_list;
   parse_compare_methods(methods_given, ArgStyle::kFlag);  // fail before reading the config
