@@ -24,6 +24,21 @@ namespace {
 
 constexpr std::size_t kProgressSteps = 1000;
 
+// design-pitch's usage text.
+const char* const kDesignPitchUsage =
+    "Usage: chatter design-pitch CONFIG --rpm-min R1 --rpm-max R2 [--teeth N] [options]\n\n"
+    "Designs the pitch angles of a variable-pitch milling cutter that maximise the\n"
+    "worst (smallest) depth limit over the spindle speeds [R1, R2]. Start: Budak's\n"
+    "rule, the step dP = 360 n / (60 N f_c) deg (linear family) that cancels the\n"
+    "regeneration of the teeth at the equal-pitch cutter's worst speed n and chatter\n"
+    "frequency f_c; then a scan of dP over its range and Brent's maximiser, every\n"
+    "limit by sdm (or --method analytic). The config gives the equal-pitch cutter\n"
+    "(no pitch_angles_deg), the structure and the cut.\n"
+    "Output: the summary (angles, worst limits equal vs designed, gain, the rule) on\n"
+    "standard output; --table, --json, --plot and --out (the config fragment) add\n"
+    "files. docs/design_pitch.md explains the rule, the search and the numbers.\n"
+    "Exit status: 0 a design was made, 2 bad input or usage, 1 internal failure.\n";
+
 }  // namespace
 
 int cmd_design_pitch(const std::vector<std::string>& args) {
@@ -57,21 +72,7 @@ int cmd_design_pitch(const std::vector<std::string>& args) {
   add_common(d, common);
   add_solver_options(d);
   po::variables_map vm;
-  if (!parse(args,
-             "Usage: chatter design-pitch CONFIG --rpm-min R1 --rpm-max R2 [--teeth N] [options]\n\n"
-             "Designs the pitch angles of a variable-pitch milling cutter that maximise the\n"
-             "worst (smallest) depth limit over the spindle speeds [R1, R2]. Start: Budak's\n"
-             "rule, the step dP = 360 n / (60 N f_c) deg (linear family) that cancels the\n"
-             "regeneration of the teeth at the equal-pitch cutter's worst speed n and chatter\n"
-             "frequency f_c; then a scan of dP over its range and Brent's maximiser, every\n"
-             "limit by sdm (or --method analytic). The config gives the equal-pitch cutter\n"
-             "(no pitch_angles_deg), the structure and the cut.\n"
-             "Output: the summary (angles, worst limits equal vs designed, gain, the rule) on\n"
-             "standard output; --table, --json, --plot and --out (the config fragment) add\n"
-             "files. docs/design_pitch.md explains the rule, the search and the numbers.\n"
-             "Exit status: 0 a design was made, 2 bad input or usage, 1 internal failure.\n",
-             d, common, vm))
-    return 0;
+  if (!parse(args, kDesignPitchUsage, d, common, vm)) return 0;
   const bool json_to_stdout = json_path == "-", table_to_stdout = table_path == "-";
   if (json_to_stdout && table_to_stdout)
     throw InputError("--table - and --json -: only one of them can go to standard output");

@@ -139,6 +139,20 @@ void describe_simulate(po::options_description& d, double& rpm, double& depth_mm
   add_speed_variation_options(d);
 }
 
+// simulate's usage text.
+const char* const kSimulateUsage =
+    "Usage: chatter simulate CONFIG --rpm R --depth-mm D [options]\n\n"
+    "Simulates the cut in time (modal equations with the real chip: the tool may leave\n"
+    "the cut) and says whether it chatters. Prints one JSON object: verdict (stable or\n"
+    "chatter) and the measure it rests on, growth_per_period (|mu|, < 1 decays),\n"
+    "chatter_frequency_hz, max_amplitude_mm, out_of_cut_fraction, the tooth-passing\n"
+    "harmonics and the integrator's cost. The last half of the run is analysed.\n"
+    "--show draws the run while it integrates (the window is redrawn after every tenth\n"
+    "of the periods), then its spectrum and verdict.\n\n"
+    "Example:\n"
+    "  chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 \\\n"
+    "      --out series.csv --plot sim.png\n";
+
 }  // namespace
 
 int cmd_simulate(const std::vector<std::string>& args) {
@@ -154,20 +168,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
   po::options_description d("Options");
   describe_simulate(d, rpm, depth_mm, feed_mm, rtol, revolutions, periods, tables, plot_path);
   po::variables_map vm;
-  if (!parse(args,
-             "Usage: chatter simulate CONFIG --rpm R --depth-mm D [options]\n\n"
-             "Simulates the cut in time (modal equations with the real chip: the tool may leave\n"
-             "the cut) and says whether it chatters. Prints one JSON object: verdict (stable or\n"
-             "chatter) and the measure it rests on, growth_per_period (|mu|, < 1 decays),\n"
-             "chatter_frequency_hz, max_amplitude_mm, out_of_cut_fraction, the tooth-passing\n"
-             "harmonics and the integrator's cost. The last half of the run is analysed.\n"
-             "--show draws the run while it integrates (the window is redrawn after every tenth\n"
-             "of the periods), then its spectrum and verdict.\n\n"
-             "Example:\n"
-             "  chatter simulate configs/milling_benchmark_ae005_down.toml --rpm 17000 --depth-mm 4 \\\n"
-             "      --out series.csv --plot sim.png\n",
-             d, common, vm))
-    return 0;
+  if (!parse(args, kSimulateUsage, d, common, vm)) return 0;
   check_outputs({{"--out", out_path}, {"--periodic", tables.periodic_path}, {"--spectrum", tables.spectrum_path},
                  {"--plot", plot_path, true}});  // before computing
   const ShowRequest show = show_request(vm);  // a display or GNUPLOT_TERM, before computing
