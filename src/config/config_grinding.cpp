@@ -213,6 +213,28 @@ std::optional<grinding::NoLoadLoss> read_no_load(const Table& g) {
   return grinding::NoLoadLoss{*c0, *k, x.value_or(0.0)};
 }
 
+// A [low, high] pair of `t`'s key (low < high), recorded as an error
+// otherwise; nullopt when absent or bad. `where` ends the rule's text.
+std::optional<grinding::Interval> read_interval(const Table& t, std::string_view key, const Range& range,
+                                                std::string_view where = "") {
+  const auto v = t.number_list(key, range);
+  if (!v) return std::nullopt;
+  if (v->size() != 2 || !((*v)[0] < (*v)[1])) {
+    t.doc().error(t.path_of(key), *t.find(key), "must be [low, high] with low < high" + std::string(where));
+    return std::nullopt;
+  }
+  return grinding::Interval{(*v)[0], (*v)[1]};
+}
+
+// The coefficients key holds the form's count, else an error naming both.
+void check_coefficient_count(const Table& t, grinding::EmpiricalForm form, std::size_t given) {
+  const std::size_t need = grinding::coefficient_count(form);
+  if (given != need)
+    t.doc().error(t.path_of("coefficients"), *t.find("coefficients"),
+                  "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(form) +
+                      "\" (" + std::to_string(given) + " given)");
+}
+
 // ---------------------------------------------------------- empirical models
 
 // [grinding.models.<name>.fit]: the fit's statistics (grind fit --out writes
@@ -283,10 +305,7 @@ std::optional<EmpiricalModel> read_model(const Table& models, std::string_view n
   stop_if_errors_since(doc, mark);
   m.coefficients = *c;
   const std::size_t need = grinding::coefficient_count(m.form);
-  if (m.coefficients.size() != need)
-    doc.error(t->path_of("coefficients"), *t->find("coefficients"),
-              "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(m.form) +
-                  "\" (" + std::to_string(m.coefficients.size()) + " given)");
+  check_coefficient_count(*t, m.form, m.coefficients.size());
   // The second variable: the useful power (default) or the normal force.
   m.variable = m.form == EmpiricalForm::kHahnLindsay ? EmpiricalVariable::kNormalForce : EmpiricalVariable::kUsefulPower;
   if (const toml::node* v = t->find("variables")) {
@@ -315,15 +334,7 @@ std::optional<EmpiricalModel> read_model(const Table& models, std::string_view n
     constexpr std::string_view kDomainKeys[] = {"cutting_speed_m_per_s", "useful_power_w", "normal_force_n",
                                                 "wheel_diameter_mm", "wheel_rpm"};
     d->reject_unknown(kDomainKeys);
-    auto interval = [&](std::string_view key) -> std::optional<grinding::Interval> {
-      const auto v = d->number_list(key, kAnyNumber);
-      if (!v) return std::nullopt;
-      if (v->size() != 2 || !((*v)[0] < (*v)[1])) {
-        doc.error(d->path_of(key), *d->find(key), "must be [low, high] with low < high");
-        return std::nullopt;
-      }
-      return grinding::Interval{(*v)[0], (*v)[1]};
-    };
+    auto interval = [&](std::string_view key) { return read_interval(*d, key, kAnyNumber); };
     m.domain.cutting_speed_m_per_s = interval("cutting_speed_m_per_s");
     m.domain.useful_power_w = interval("useful_power_w");
     m.domain.normal_force_n = interval("normal_force_n");
@@ -359,25 +370,12 @@ std::optional<grinding::MotorMap> read_motor(const Table& g) {
   if (!t->has("coefficients"))
     doc.error_key(t->path_of("coefficients"), "missing (required: the map's coefficients, MATLAB's term order, W)");
   const auto c = t->number_list("coefficients", kAnyNumber);
-  auto interval = [&](std::string_view key) -> std::optional<grinding::Interval> {
-    const auto v = t->number_list(key, kNonNegative);
-    if (!v) return std::nullopt;
-    if (v->size() != 2 || !((*v)[0] < (*v)[1])) {
-      doc.error(t->path_of(key), *t->find(key), "must be [low, high] with low < high (where the map was measured)");
-      return std::nullopt;
-    }
-    return grinding::Interval{(*v)[0], (*v)[1]};
-  };
-  m.current_a = interval("current_a");
-  m.motor_rpm = interval("motor_rpm");
+  m.current_a = read_interval(*t, "current_a", kNonNegative, " (where the map was measured)");
+  m.motor_rpm = read_interval(*t, "motor_rpm", kNonNegative, " (where the map was measured)");
   m.max_current_a = t->number("max_current_a", kPositive);
   stop_if_errors_since(doc, mark);
   m.coefficients = *c;
-  const std::size_t need = grinding::coefficient_count(m.form);
-  if (m.coefficients.size() != need)
-    doc.error(t->path_of("coefficients"), *t->find("coefficients"),
-              "must hold " + std::to_string(need) + " numbers for form = \"" + grinding::empirical_form_name(m.form) +
-                  "\" (" + std::to_string(m.coefficients.size()) + " given)");
+  check_coefficient_count(*t, m.form, m.coefficients.size());
   warn_usual(*t, "max_current_a", m.max_current_a, usual::kMotorCurrentA);
   stop_if_errors_since(doc, mark);
   return m;

@@ -48,13 +48,23 @@ std::vector<std::string> coefficient_names(EmpiricalForm f) {
   return {};
 }
 
-std::string EmpiricalModel::validate() const {
+namespace detail {
+
+std::string validate_coefficients(EmpiricalForm form, const std::vector<double>& coefficients) {
   const std::size_t n = coefficient_count(form);
   if (coefficients.size() != n)
     return std::string(empirical_form_name(form)) + " needs " + std::to_string(n) + " coefficients, got " +
            std::to_string(coefficients.size());
   for (double c : coefficients)
     if (!std::isfinite(c)) return "coefficients must be finite numbers";
+  return "";
+}
+
+}  // namespace detail
+
+std::string EmpiricalModel::validate() const {
+  const std::size_t n = coefficient_count(form);
+  if (const std::string e = detail::validate_coefficients(form, coefficients); !e.empty()) return e;
   if (form == EmpiricalForm::kHahnLindsay && variable != EmpiricalVariable::kNormalForce)
     return "hahn_lindsay reads the normal force: its variable must be normal_force_n";
   if (form == EmpiricalForm::kPowerLaw && !(coefficients[0] > 0.0)) return "power_law: the constant C must be > 0";

@@ -15,6 +15,10 @@ namespace chatter::grinding::detail {
 /// sentence to `warnings`. @pre p.partition. (partition.cpp)
 EnergyPartition energy_partition(const Process& p, const Prediction& r, std::vector<std::string>& warnings);
 
+/// Empty when `coefficients` holds coefficient_count(form) finite numbers,
+/// else the rule (the empirical models' and the motor map's). (empirical.cpp)
+std::string validate_coefficients(EmpiricalForm form, const std::vector<double>& coefficients);
+
 /// A poly11, poly22 or poly33 in MATLAB's term order at (x, y).
 /// @pre c holds coefficient_count(form) numbers. (empirical.cpp)
 double poly_value(EmpiricalForm form, const std::vector<double>& c, double x, double y);

@@ -16,12 +16,7 @@ namespace chatter::grinding {
 std::string MotorMap::validate() const {
   if (form != EmpiricalForm::kPoly11 && form != EmpiricalForm::kPoly22 && form != EmpiricalForm::kPoly33)
     return "the motor map is a poly11, poly22 or poly33 in current and motor speed";
-  const std::size_t n = coefficient_count(form);
-  if (coefficients.size() != n)
-    return std::string(empirical_form_name(form)) + " needs " + std::to_string(n) + " coefficients, got " +
-           std::to_string(coefficients.size());
-  for (double c : coefficients)
-    if (!std::isfinite(c)) return "the motor map's coefficients must be finite numbers";
+  if (const std::string e = detail::validate_coefficients(form, coefficients); !e.empty()) return e;
   if (max_current_a && !(std::isfinite(*max_current_a) && *max_current_a > 0.0))
     return "the motor's max_current_a must be > 0";
   return "";
