@@ -149,6 +149,7 @@ def cases(chatter, tmp):
     cfg = lambda name: os.path.join(ROOT, "configs", name)
     turning, case_c = cfg("seed_turning_1dof.toml"), cfg("milling_benchmark_ae005_down.toml")
     helix = cfg("milling_variable_pitch_helix.toml")
+    end_mill = os.path.join(ROOT, "examples", "real_cutter", "aluminium_slot_16mm_3flute.toml")
     lobes = [chatter, "lobes", "--threads", "1", "--table", os.path.join(tmp, "t.csv")]
     return [
         ("lobes analytic, turning case A", "speeds", [2000, 8000, 32000, 128000],
@@ -163,6 +164,13 @@ def cases(chatter, tmp):
          lambda n: lobes[:2] + [teeth_config(tmp, n)] + lobes[2:] + ["--method", "sdm", "--rpm-points", "400"]),
         ("lobes sdm, variable-pitch helix", "speeds", [10, 20, 40, 80],
          lambda n: lobes[:2] + [helix] + lobes[2:] + ["--method", "sdm", "--rpm-points", str(n)]),
+        ("lobes sdm, 16 mm 3-flute helix slot, 500-24 000 rev/min", "speeds", [25, 50, 100, 200],
+         lambda n: lobes[:2] + [end_mill] + lobes[2:] + ["--method", "sdm", "--rpm-points", str(n)]),
+        ("point sdm, 16 mm 3-flute helix slot, 1 mm", "rev/min / 100", [40, 20, 10, 5],
+         lambda n: [chatter, "point", end_mill, "--method", "sdm", "--rpm", str(100 * n), "--depth-mm", "1"]),
+        ("recommend, 16 mm 3-flute helix slot from 500 rev/min", "top speed / 1 000 rev/min", [3, 6, 12, 24],
+         lambda n: [chatter, "recommend", end_mill, "--threads", "1", "--feed-per-tooth-mm", "0.08",
+                    "--rpm-min", "500", "--rpm-max", str(1000 * n)]),
         ("lobes time-domain, case C, 2 speeds", "periods per verdict", [50, 100, 200, 400],
          lambda n: lobes[:2] + [case_c] + lobes[2:] + ["--method", "time-domain", "--rpm-min", "14000",
                                                         "--rpm-max", "20000", "--rpm-points", "2", "--periods", str(n)]),

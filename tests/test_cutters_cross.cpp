@@ -109,7 +109,9 @@ TEST(CuttersAcrossMethods, VariablePitchSdmAgreesWithSimulatedGrowth) {
   MillingParameters p = cutter(4, 0.5, MillingDirection::kDown, 6e8, 1.8e8);
   p.pitch_angles_rad = {80 * kDeg, 100 * kDeg, 80 * kDeg, 100 * kDeg};
   const Process process = Process::milling(p);
-  expect_growth_matches_sdm(two_modes(), process, {6000.0, 9000.0}, 30);
+  // 60 periods: with 30 the exact DMD's growth at 9 000 rev/min swings
+  // between 0.848 and 0.896 for depths 3e-4 apart (sdm: 0.8479 at both).
+  expect_growth_matches_sdm(two_modes(), process, {6000.0, 9000.0}, 60);
 }
 
 TEST(CuttersAcrossMethods, VariablePitchSdmNearAnalyticAtFullImmersion) {

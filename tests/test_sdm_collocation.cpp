@@ -3,7 +3,8 @@
 // semi-discretisation extrapolated to zero step (an independent
 // discretisation), its own order of convergence (2s at s nodes), the
 // multiplier type and chatter frequency the first order reports (flip and
-// Hopf lobes), ρ = 1 at the reported limit, and the cuts it refuses.
+// Hopf lobes), ρ = 1 at the reported limit, and the cuts it refuses (real
+// cutters: tests/test_sdm_cutter_collocation.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -193,14 +194,15 @@ TEST(SdmCollocation, RefusesWhatItDoesNotModelNamingTheOption) {
   TurningParameters t;
   t.feed_force_coefficient_n_per_m2 = 2.4e9;
   expect_refused(m, Process::turning(t), o, "collocation_nodes");
-  MillingParameters helix{2, 6e8, 2e8, 0.5, MillingDirection::kDown};
-  helix.helix_angles_rad = {30.0 * 3.141592653589793 / 180.0};
-  helix.tool_diameter_m = 0.012;
-  expect_refused(peers_model(), Process::milling(helix), o, "collocation_nodes");
+  MillingParameters damped{2, 6e8, 2e8, 0.5, MillingDirection::kDown};
+  damped.helix_angles_rad = {30.0 * 3.141592653589793 / 180.0};
+  damped.tool_diameter_m = 0.012;
+  damped.process_damping_coefficient_n_per_m = 1e4;
+  expect_refused(peers_model(), Process::milling(damped), o, "has process damping");
   o.collocation_nodes = 4;
   expect_refused(peers_model(), peers_process(), o, "collocation_nodes = 4: must be in [0, 3]");
-  o.collocation_nodes = -1;
-  expect_refused(peers_model(), peers_process(), o, "collocation_nodes = -1");
+  o.collocation_nodes = -2;
+  expect_refused(peers_model(), peers_process(), o, "collocation_nodes = -2");
 }
 
 }  // namespace

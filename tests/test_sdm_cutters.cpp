@@ -64,9 +64,13 @@ MillingParameters case_c_cutter(int teeth, double immersion) {
   mp.direction = MillingDirection::kDown;
   return mp;
 }
+// The first-order real-cutter path (these tests pin its grid, integrals and
+// order; the default takes collocation on real cutters:
+// tests/test_sdm_cutter_collocation.cpp).
 SemiDiscretizationOptions opts(double depth_max_m, int steps = 0) {
   SemiDiscretizationOptions o;
   o.depth_max_m = depth_max_m;
+  o.collocation_nodes = 0;
   if (steps > 0) o.steps_per_period = o.steps_per_vibration_cycle = steps;
   return o;
 }

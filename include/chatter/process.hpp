@@ -306,6 +306,9 @@ class Process {
   /// j, φ = Ω t − Θ_j − tan β_j Λ(z) with Λ linear over the slice, g the
   /// slice's arc, in closed form (N/m² · m · s). @pre has_profile().
   Eigen::Matrix2d slice_force_integral(int j, const AxialSlice& s, double t_a, double t_b, double rpm) const;
+  /// The integrand of slice_force_integral over the slice's height at one
+  /// instant t (N/m): its derivative in t_b. @pre has_profile().
+  Eigen::Matrix2d slice_force_rate(int j, const AxialSlice& s, double t, double rpm) const;
   /// The same for the force direction v (the constant-chip force).
   Eigen::Vector2d slice_force_direction_integral(int j, const AxialSlice& s, double t_a, double t_b, double rpm) const;
   /// tan β_j · Λ(z) (rad): how far the edge of tooth j at height z (m) lags
@@ -405,6 +408,10 @@ class Process {
   /// helix; for β_j = 0 it is a times the time integral). Cost O(1).
   /// @pre operation() == kMilling, t_b >= t_a, a >= 0, rpm > 0.
   Eigen::Matrix2d tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
+  /// ∫_0^a g(φ) H₁(φ) dz at one instant t, φ = φ_j(t, z) (N/m): the
+  /// integrand of tooth_force_integral in t (what collocation samples).
+  /// Closed form, cost O(1) (O(slices) with a profile). @pre as tooth_force_integral.
+  Eigen::Matrix2d tooth_force_rate(int j, double t_s, double a_m, double rpm) const;
   /// ∫_{t_a}^{t_b} ∫_0^a g(φ) v(φ) dz dt, φ = φ_j(t, z), of the force
   /// direction v of force_direction() (N/m² · m · s), in closed form for
   /// any helix: the force of a chip of constant thickness (a runout offset,

@@ -56,11 +56,22 @@ class RegenerativeCut {
   /// form (an edge enters or leaves the cut), sorted; empty when it never
   /// does (turning). A step grid puts a boundary at each.
   virtual std::vector<double> engagement_events_s() const = 0;
+  /// The times in [0, pattern_period_s()) at which the summed H_e of any
+  /// set of edges with one delay changes form, sorted: engagement_events_s()
+  /// and, when a tooth's slices have different delays (a variable helix),
+  /// each slice's own top and bottom entering and leaving (where the tooth's
+  /// sum stays smooth but a slice's share has a kink). What a method
+  /// sampling H per delay (collocation) steps on.
+  virtual std::vector<double> edge_events_s() const { return engagement_events_s(); }
   /// τ_e (s) of every edge, in the order of force_integrals.
   virtual const std::vector<double>& edge_delays_s() const = 0;
   /// ∫_{t_a}^{t_b} H_e(t) dt of every edge (N/m·s), written to `per_edge`
   /// (resized to the number of edges). @pre t_b >= t_a.
   virtual void force_integrals(double t_a, double t_b, std::vector<Eigen::Matrix2d>& per_edge) const = 0;
+  /// H_e(t) of every edge at one instant t (N/m): the integrand of
+  /// force_integrals, for methods that sample H (collocation). At an
+  /// engagement event H may jump; a caller samples between events.
+  virtual void force_rates(double t, std::vector<Eigen::Matrix2d>& per_edge) const = 0;
   /// Σ_e ∫ H_e dt (N/m·s), summed the way the law sums it (the step grid's
   /// free-flight test reads it). @pre t_b >= t_a.
   virtual Eigen::Matrix2d total_force_integral(double t_a, double t_b) const = 0;

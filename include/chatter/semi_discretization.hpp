@@ -25,13 +25,15 @@
 //    sequence of step maps (cost O(m n²) per product, no dense product).
 // Error: O(h²) in the step h (second-order convergence, see docs/sdm.md).
 //
-// Collocation (collocation_nodes = s > 0, straight milling teeth only):
-// each cutting step instead collocates the cutting term at its s Gauss–
-// Legendre nodes (H sampled there, the delayed state read at the same nodes
-// one period back), the free dynamics still exact; error O(h^{2s}) measured
+// Collocation (collocation_nodes = s > 0, milling at constant speed without
+// process damping): each cutting step instead collocates the cutting term at
+// its s Gauss–Legendre nodes (H sampled there, the delayed state read at the
+// nodes one period back, interpolated in degree 2s − 1 where a delay is not
+// the period), the free dynamics still exact; error O(h^{2s}) measured
 // (docs/sdm.md "Collocation"; after Breda, Maset & Vermiglio, SIAM J.
 // Numer. Anal. 50 (2012) 1456–1483). The map holds s samples per cutting
-// step.
+// step. By default (kAutoCollocation) real cutters take it (3 nodes,
+// kRealCutterSteps steps) and straight teeth keep the first-order steps.
 //
 // Real cutters (docs/physics.md §8, docs/sdm.md "Real cutters"): a helix,
 // variable pitch or helix, or process damping in milling take a second path.
@@ -74,6 +76,19 @@ inline constexpr int kMaxCollocationNodes = 3;
 /// collocation when none are given (the registry's "collocation" option):
 /// 3 nodes at 8 steps keep the peers' 2-DOF case within 0.02 % (docs/sdm.md).
 inline constexpr int kCollocationSteps = 8;
+/// SemiDiscretizationOptions::collocation_nodes: chosen by the cut. A real
+/// cutter (a helix, variable pitch or helix, a profile, two engaged arcs;
+/// not on general_cutter_path) without process damping or speed variation
+/// takes kRealCutterNodes nodes, and kRealCutterSteps steps per period and
+/// per vibration cycle when those are left at their defaults (64, 64);
+/// every other cut the first-order steps.
+inline constexpr int kAutoCollocation = -1;
+/// 3 nodes at 4 steps per vibration cycle: the 16 mm 3-flute 30° helix end
+/// mill of docs/performance.md within 6e-5 of its converged limits over
+/// 500–24 000 rev/min, where the first-order default is within 6e-4
+/// (docs/sdm.md "Collocation on real cutters").
+inline constexpr int kRealCutterNodes = 3;
+inline constexpr int kRealCutterSteps = 4;
 
 struct SemiDiscretizationOptions {
   /// The step h is at most τ / steps_per_period (>= 1) ...
@@ -129,22 +144,24 @@ struct SemiDiscretizationOptions {
   /// edge one revolution back. false: those keep their fast paths (the
   /// tooth-period grid, the constant turning step; byte-identical tables).
   bool general_cutter_path = false;
-  /// Gauss collocation nodes per cutting step (0 … 3; straight, equally
-  /// spaced milling teeth only, the tooth-period grid). 0: first-order
+  /// Gauss collocation nodes per cutting step (0 … 3, or kAutoCollocation;
+  /// milling at constant speed without process damping). 0: first-order
   /// semi-discretisation (H averaged over the step, the delayed term linear
   /// between samples; error O(h²)). s >= 1: exponential collocation at the s
   /// Gauss–Legendre nodes of each step — the free dynamics still exact, H
-  /// sampled at the nodes, the cutting term (present and delayed, read at the
-  /// same nodes one period back: no interpolation) a polynomial of degree
+  /// sampled at the nodes, the cutting term (present and delayed, read at
+  /// the nodes one period back: exactly on a node when the delay is the
+  /// period, else interpolated in degree 2s − 1) a polynomial of degree
   /// s − 1 — so the error falls as h^{2s} (h⁴ at s = 2, h⁶ at s = 3,
   /// measured in docs/sdm.md) and a few steps per vibration cycle suffice:
   /// with s = 3 and 8 steps (steps_per_period = steps_per_vibration_cycle =
   /// kCollocationSteps) the peers' 2-DOF case is within 0.014 % of its
   /// converged limits, the default first-order steps within 1.2 %.
   /// The map holds s samples per cutting step (none for free flight).
-  /// The solver's constructor throws InputError for turning, a real cutter
-  /// (helix, variable pitch, process damping, profile) or speed variation.
-  int collocation_nodes = 0;
+  /// The solver's constructor throws InputError for turning, process
+  /// damping or speed variation. kAutoCollocation (the default): chosen by
+  /// the cut (see kAutoCollocation); the solver's options() say which.
+  int collocation_nodes = kAutoCollocation;
 
   /// Empty string when valid, else the violated rule (Ceres-style).
   std::string validate() const;

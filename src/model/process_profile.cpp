@@ -81,7 +81,24 @@ typename Windowed<T>::Value slice_integral(const T& f, const AxialSlice& s, doub
   return time_height_integral(w, angular_speed_rad_per_s(rpm), theta, rate, t_a, t_b, dz);
 }
 
+// The same integrand over the slice's height at one instant t.
+template <class T>
+typename Windowed<T>::Value slice_height_integral(const T& f, const AxialSlice& s, double offset, double tan_helix,
+                                                  double t, double rpm) {
+  const Windowed w(f, s.entry_rad, s.exit_rad);
+  const double dz = s.height_m();
+  const double theta = offset + (tan_helix == 0.0 ? 0.0 : tan_helix * s.lag_lo);
+  const double rate = (tan_helix == 0.0 || !(dz > 0.0)) ? 0.0 : tan_helix * (s.lag_hi - s.lag_lo) / dz;
+  return height_integral(w, angular_speed_rad_per_s(rpm), theta, rate, t, dz);
+}
+
 }  // namespace
+
+Eigen::Matrix2d Process::slice_force_rate(int j, const AxialSlice& s, double t, double rpm) const {
+  if (!s.engaged) return Eigen::Matrix2d::Zero();
+  return slice_height_integral(force_trig(milling_.tangential_coefficient_n_per_m2, s.radial_coefficient_n_per_m2), s,
+                               tooth_offset_rad(j), tan_helix_[static_cast<std::size_t>(j)], t, rpm);
+}
 
 Eigen::Matrix2d Process::slice_force_integral(int j, const AxialSlice& s, double t_a, double t_b, double rpm) const {
   if (!s.engaged) return Eigen::Matrix2d::Zero();

@@ -33,6 +33,7 @@ inline constexpr double kSmallHelixLag = 1e-4;
 // this form, so one closed form serves the force and the damping integrals.
 struct Trig2 {
   Eigen::Matrix2d a0, a1, a2;
+  Eigen::Matrix2d f0(double phi) const { return a0 + a1 * std::sin(2.0 * phi) + a2 * std::cos(2.0 * phi); }
   Eigen::Matrix2d f1(double phi) const {
     return a0 * phi - a1 * (0.5 * std::cos(2.0 * phi)) + a2 * (0.5 * std::sin(2.0 * phi));
   }
@@ -62,6 +63,7 @@ inline Trig2 damping_trig() {
 // (vector-valued, degree 1), with its first and second antiderivatives.
 struct Trig1 {
   Eigen::Vector2d c1, s1;
+  Eigen::Vector2d f0(double phi) const { return c1 * std::cos(phi) + s1 * std::sin(phi); }
   Eigen::Vector2d f1(double phi) const { return c1 * std::sin(phi) - s1 * std::cos(phi); }
   Eigen::Vector2d f2(double phi) const { return -c1 * std::cos(phi) - s1 * std::sin(phi); }
 };
@@ -90,6 +92,14 @@ class Windowed {
     I_ = f.f1(ex) - f1en_;
     w2ex_ = f.f2(ex) - f2en_ - f1en_ * (ex - en);
     J_ = w2ex_ + I_ * (kTwoPi - ex);
+  }
+  // w itself: f(φ) inside the window, 0 outside.
+  Value w0(double phi) const {
+    const double psi = phi - kTwoPi * std::floor(phi / kTwoPi);
+    if (psi >= en_ && psi <= ex_) return f_.f0(psi);
+    Value zero = f_.f0(psi);
+    zero.setZero();
+    return zero;
   }
   Value w1(double phi) const {
     const double n = std::floor(phi / kTwoPi);
@@ -123,6 +133,16 @@ typename Windowed<T>::Value time_height_integral(const Windowed<T>& w, double om
     return (w.w1(pb - mid) - w.w1(pa - mid)) * (a / omega);
   }
   return (w.w2(pb) - w.w2(pb - lag) - w.w2(pa) + w.w2(pa - lag)) / (omega * kappa);
+}
+
+// ∫_0^a w(Ω t − Θ − κ z) dz at one instant t: the edge's directional matrix
+// integrated over the height (the t-derivative of time_height_integral).
+template <class T>
+typename Windowed<T>::Value height_integral(const Windowed<T>& w, double omega, double theta, double kappa, double t,
+                                            double a) {
+  const double p = omega * t - theta, lag = kappa * a;
+  if (lag < kSmallHelixLag) return w.w0(p - 0.5 * lag) * a;  // the midpoint slice, as time_height_integral
+  return (w.w1(p) - w.w1(p - lag)) / kappa;
 }
 
 }  // namespace chatter::process_detail

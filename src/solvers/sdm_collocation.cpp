@@ -36,28 +36,6 @@
 namespace chatter::sdm_detail {
 namespace {
 
-// Gauss–Legendre nodes on [0, 1].
-std::vector<double> gauss_nodes(int s) {
-  switch (s) {
-    case 1: return {0.5};
-    case 2: {
-      const double d = 0.5 / std::sqrt(3.0);
-      return {0.5 - d, 0.5 + d};
-    }
-    default: {
-      const double d = 0.5 * std::sqrt(0.6);
-      return {0.5 - d, 0.5, 0.5 + d};
-    }
-  }
-}
-
-// The weights of one step length h (every step of a milling segment has
-// the same): e^{A h}, e^{A c_j h}, W_jk, V_k (2n × 2n each).
-struct StepWeights {
-  MatrixXd Eh;
-  std::vector<MatrixXd> Ec, W, V;  // W: s × s, row-major (j, k)
-};
-
 // e^{A T} and G_q(T) = ∫₀^T e^{A(T−σ)} (σ/T)^q dσ, q < s, from one
 // exponential of the augmented matrix [[A T, I T, 0, …], [0, 0, I, …], …,
 // [0, …, 0]] (size N (s + 1) for A of size N): its block (0, q + 1) is
@@ -83,6 +61,74 @@ void augmented_integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::v
 constexpr int kModeAugmented = 2 * (kMaxCollocationNodes + 1);
 using ModeMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kModeAugmented, kModeAugmented>;
 
+// φ_0(z) … φ_kmax(z), φ_k(z) = ∫₀¹ e^{(1−θ) z} θ^{k−1} dθ / (k − 1)! (φ_0 =
+// e^z): the Taylor series below |z| = 1, else the recurrence φ_{k+1} = (φ_k
+// − 1/k!)/z from e^z (no cancellation worse than |z|^{-k} k! there).
+void phi_functions(Cplx z, int kmax, Cplx* phi) {
+  if (z.real() * z.real() + z.imag() * z.imag() < 1.0) {
+    double kfact = 1.0;  // k!
+    for (int k = 0; k <= kmax; ++k) {
+      if (k > 0) kfact *= k;
+      Cplx term(1.0 / kfact, 0.0), sum(0.0, 0.0);
+      auto norm2 = [](const Cplx& c) { return c.real() * c.real() + c.imag() * c.imag(); };  // no hypot
+      for (int m = 1; m < 40 && norm2(term) > 1e-36 * norm2(sum + term); ++m) {
+        sum += term;
+        term *= z / static_cast<double>(m + k);
+      }
+      phi[k] = sum + term;
+    }
+    return;
+  }
+  phi[0] = std::exp(z);
+  double kfact = 1.0;
+  for (int k = 0; k < kmax; ++k) {
+    if (k > 0) kfact *= k;
+    phi[k + 1] = (phi[k] - 1.0 / kfact) / z;
+  }
+}
+
+// Closed form of augmented_integrals for one underdamped mode block a =
+// [[0, ω], [−ω, −2ζω]] (ζ <= kClosedFormMaxDamping): a function f of a 2 × 2
+// matrix with eigenvalues λ, λ̄ is f(a) = α I + β a, β = Im f(λ)/Im λ, α = Re
+// f(λ) − β Re λ; e^{aT} has f = e^{λT}, G_q(T) has f = T q! φ_{q+1}(λT).
+// False for other blocks (then the augmented exponential).
+constexpr double kClosedFormMaxDamping = 0.9;
+bool closed_form_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& E, Eigen::Matrix2d* G) {
+  const double w = a(0, 1);
+  if (!(a(0, 0) == 0.0 && w > 0.0 && a(1, 0) == -w)) return false;
+  const double zeta = -a(1, 1) / (2.0 * w);
+  if (!(zeta >= 0.0 && zeta <= kClosedFormMaxDamping)) return false;
+  const Cplx lambda(-zeta * w, w * std::sqrt(1.0 - zeta * zeta));
+  Cplx phi[kMaxCollocationNodes + 1];
+  phi_functions(lambda * T, s, phi);
+  auto of = [&](const Cplx& f) {
+    const double beta = f.imag() / lambda.imag(), alpha = f.real() - beta * lambda.real();
+    Eigen::Matrix2d m = beta * a;
+    m.diagonal().array() += alpha;
+    return m;
+  };
+  E = of(phi[0]);
+  double qfact = 1.0;
+  for (int q = 0; q < s; ++q) {
+    if (q > 0) qfact *= q;
+    G[q] = of(T * qfact * phi[q + 1]);
+  }
+  return true;
+}
+
+}  // namespace
+
+void mode_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& E, Eigen::Matrix2d* G) {
+  if (closed_form_integrals(a, T, s, E, G)) return;
+  MatrixXd e;
+  std::vector<MatrixXd> g;
+  augmented_integrals<ModeMatrix>(a, T, s, e, g);
+  E = e;
+  for (int q = 0; q < s; ++q) G[q] = g[static_cast<std::size_t>(q)];
+}
+
+namespace {
+
 // The same for the solver's A, which couples only q_i and q̇_i/ω_i of each
 // mode (rows and columns i and n + i: state_space builds it so, sdm_grid.cpp):
 // one small exponential per distinct mode block, its blocks placed at those
@@ -106,7 +152,10 @@ void integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<Matr
     auto it = std::find_if(done.begin(), done.end(), [&](const ModeIntegrals& m) { return m.a == a; });
     if (it == done.end()) {
       done.push_back({a, MatrixXd(), {}});
-      augmented_integrals<ModeMatrix>(a, T, s, done.back().e, done.back().g);
+      Eigen::Matrix2d e, g[kMaxCollocationNodes];
+      mode_integrals(a, T, s, e, g);
+      done.back().e = e;
+      for (int q = 0; q < s; ++q) done.back().g.push_back(g[q]);
       it = done.end() - 1;
     }
     const MatrixXd& e = it->e;
@@ -116,6 +165,22 @@ void integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<Matr
         E(at[r], at[c]) = e(r, c);
         for (int q = 0; q < s; ++q) G[static_cast<std::size_t>(q)](at[r], at[c]) = g[static_cast<std::size_t>(q)](r, c);
       }
+  }
+}
+
+}  // namespace
+
+std::vector<double> gauss_nodes(int s) {
+  switch (s) {
+    case 1: return {0.5};
+    case 2: {
+      const double d = 0.5 / std::sqrt(3.0);
+      return {0.5 - d, 0.5 + d};
+    }
+    default: {
+      const double d = 0.5 * std::sqrt(0.6);
+      return {0.5 - d, 0.5, 0.5 + d};
+    }
   }
 }
 
@@ -146,8 +211,6 @@ StepWeights step_weights(const MatrixXd& A, double h, const std::vector<double>&
     for (int q = 0; q < s; ++q) w.V[static_cast<std::size_t>(k)] += L(q, k) * G[static_cast<std::size_t>(q)];
   return w;
 }
-
-}  // namespace
 
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
                      const MatrixXd& Wx, const MatrixXd& U) {

@@ -146,8 +146,13 @@ PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodM
   const VectorXd yr = vec.real(), yi = vec.imag();
   VectorXd out(pm.dim);
   std::vector<double> rr, ri;
-  SdmKernel::apply_cutter(pm, Wx, yr.data(), out.data(), &rr);
-  SdmKernel::apply_cutter(pm, Wx, yi.data(), out.data(), &ri);
+  const bool nodes = pm.nodes > 0;  // collocation (pm.cc) or first-order steps (pm.cm)
+  for (auto [y, rec] : {std::pair{&yr, &rr}, std::pair{&yi, &ri}}) {
+    if (nodes)
+      SdmKernel::apply_cutter_collocation(pm, y->data(), out.data(), rec);
+    else
+      SdmKernel::apply_cutter(pm, Wx, y->data(), out.data(), rec);
+  }
   PeriodSamples ps;
   auto push = [&](double t, double h, const VectorXd& xr, const VectorXd& xi) {
     if (ps.runs.empty() || ps.runs.back().h != h) ps.runs.push_back({t, h, ps.z.size(), 0});
@@ -158,26 +163,27 @@ PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodM
     z.imag() = Wx * xi;
     ps.z.push_back(z);
   };
-  const auto& c = pm.cm;
+  const std::vector<double>& t = nodes ? pm.cc.t : pm.cm.t;
+  const std::size_t M = t.size() - 1;
   VectorXd xr(n2), xi(n2);
-  for (std::size_t i = 0; i < c.steps.size(); ++i) {
+  for (std::size_t i = 0; i < M; ++i) {
     xr = Eigen::Map<const VectorXd>(rr.data() + i * n2, n2);
     xi = Eigen::Map<const VectorXd>(ri.data() + i * n2, n2);
-    const double h = c.steps[i].h;
-    if (!c.steps[i].free) {
-      push(c.t[i], h, xr, xi);
+    const double h = nodes ? pm.cc.steps[i].h : pm.cm.steps[i].h;
+    if (!(nodes ? pm.cc.steps[i].free : pm.cm.steps[i].free)) {
+      push(t[i], h, xr, xi);
       continue;
     }
     const int pieces = std::max(1, static_cast<int>(std::ceil(h * f_top_hz * kFreeFlightSamplesPerCycle)));
     const double dt = h / pieces;
     const MatrixXd E = (A * dt).exp();
     for (int j = 0; j < pieces; ++j) {
-      push(c.t[i] + j * dt, dt, xr, xi);
+      push(t[i] + j * dt, dt, xr, xi);
       xr = E * xr;
       xi = E * xi;
     }
   }
-  const std::size_t last = c.steps.size() * n2;
+  const std::size_t last = M * n2;
   Eigen::VectorXcd z(nr);
   z.real() = Wx * Eigen::Map<const VectorXd>(rr.data() + last, n2);
   z.imag() = Wx * Eigen::Map<const VectorXd>(ri.data() + last, n2);

@@ -100,7 +100,7 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process, 
 // helix) and of the damping direction. Straight teeth: every integral is
 // proportional to a, so the grid is built once per speed (a = 1 m) and
 // scaled.
-CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a) {
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool every_edge) {
   CutterGrid cg;
   cg.depth = a;
   const double T = g.tau, rpm = g.rpm;
@@ -112,7 +112,7 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   // variation a whole number of Floquet periods, which may be half a revolution).
   const int reps = std::max(1, static_cast<int>(std::ceil(T / ph - 1e-9)));
   std::vector<double> bnd{0.0, T};
-  const std::vector<double> ev = cut->engagement_events_s();
+  const std::vector<double> ev = every_edge ? cut->edge_events_s() : cut->engagement_events_s();
   for (int r = 0; r < reps; ++r)
     for (const double e : ev)
       if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
@@ -123,7 +123,8 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   b.back() = T;
   // Edges with equal delays (within kEventMerge T) form one delay group.
   const std::vector<double>& delays = cut->edge_delays_s();
-  std::vector<int> group(delays.size());
+  std::vector<int>& group = cg.edge_group;
+  group.assign(delays.size(), 0);
   for (std::size_t e = 0; e < delays.size(); ++e) {
     std::size_t k = 0;
     while (k < cg.gtau.size() && std::abs(cg.gtau[k] - delays[e]) > kEventMerge * T) ++k;
@@ -145,6 +146,7 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
       } else {
         cg.h.push_back(d);
         cg.free.push_back(1);
+        cg.segment.push_back(-1);
         cg.t.push_back(tb);
         cg.F.resize(cg.F.size() + ng, Eigen::Matrix2d::Zero());
         cg.D.push_back(Eigen::Matrix2d::Zero());
@@ -161,6 +163,7 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
       cg.D.push_back(cut->damping_integral(sa, sb));
       cg.h.push_back(sb - sa);
       cg.free.push_back(0);
+      cg.segment.push_back(static_cast<int>(s));
       cg.t.push_back(sb);
     }
   }
@@ -174,17 +177,28 @@ bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o) {
            p.split_engagement()));
 }
 
+SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, const Process& p) {
+  if (o.collocation_nodes != kAutoCollocation) return o;
+  const SemiDiscretizationOptions defaults;
+  const bool real = real_cutter_grid(p, o) && !o.general_cutter_path && p.rotating_edges() &&
+                    !p.has_speed_variation() && !p.has_process_damping();
+  o.collocation_nodes = real ? kRealCutterNodes : 0;
+  if (real && o.steps_per_period == defaults.steps_per_period &&
+      o.steps_per_vibration_cycle == defaults.steps_per_vibration_cycle)
+    o.steps_per_period = o.steps_per_vibration_cycle = kRealCutterSteps;
+  return o;
+}
+
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
-  if (o.collocation_nodes == 0) return "";
-  const char* what = !p.rotating_edges() ? "is turning"
-                     : p.has_speed_variation()            ? "has spindle speed variation"
-                     : real_cutter_grid(p, o)             ? "takes the real-cutter path (a helix, variable pitch, "
-                                                            "process damping, a profile or two engaged arcs)"
-                                                          : nullptr;
+  if (o.collocation_nodes <= 0) return "";
+  const char* what = !p.rotating_edges()          ? "is turning"
+                     : p.has_speed_variation()     ? "has spindle speed variation"
+                     : p.has_process_damping()     ? "has process damping"
+                                                   : nullptr;
   if (!what) return "";
   std::ostringstream os;
-  os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for straight, "
-     << "equally spaced milling teeth; this cut " << what << ": use collocation 0 (the first-order steps)";
+  os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for milling "
+     << "at constant speed without process damping; this cut " << what << ": use collocation 0 (the first-order steps)";
   return os.str();
 }
 
@@ -305,7 +319,12 @@ Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_
                  const MatrixXd& Sv) {
   Grid g = with_branch_choice(make_grid(p, o, f_max_hz, rpm, turning_hhat_of(p), A, B, U, Sv), slowest_decay, o,
                               A.rows(), Wx.rows());
-  if (o.collocation_nodes > 0) add_collocation(g, p, o.collocation_nodes, A, B, Wx, U);
+  if (o.collocation_nodes > 0) {
+    if (g.cutter)
+      g.nodes = o.collocation_nodes;  // the step maps per depth (sdm_cutter_collocation.cpp)
+    else
+      add_collocation(g, p, o.collocation_nodes, A, B, Wx, U);
+  }
   return g;
 }
 

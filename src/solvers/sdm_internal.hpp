@@ -24,6 +24,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -103,6 +104,10 @@ struct CutterGrid {
   std::vector<Eigen::Matrix2d> F;  // M × groups, row-major
   std::vector<Eigen::Matrix2d> D;  // M
   std::vector<double> gtau;        // delay of each group, s (at the mean speed with SSV)
+  std::vector<int> edge_group;     // the delay group of each edge of the cut (RegenerativeCut order)
+  // Per step: the span between two engagement events it lies in (steps of
+  // one span share a smooth H), −1 for free flight; empty with SSV.
+  std::vector<int> segment;
   double force_scale_n_per_m2 = 0.0;  // RegenerativeCut::force_scale_n_per_m2 (the free-flight test)
   // Spindle speed variation: the delay of group k at boundary t_i is
   // tau_at[i · groups + k] (M + 1 rows); empty: the constant gtau.
@@ -195,6 +200,45 @@ struct CutterMap {
   MatrixXd At, aug, E, Q0, Q1, Xh, Yh, G1, G2;
 };
 
+// Gauss collocation on the real-cutter grid (sdm_cutter_collocation.cpp,
+// docs/sdm.md "Collocation on real cutters"). A cutting step with s nodes:
+//   d = Σ C z_l over its terms (the delayed force per unit displacement
+//       at each node, 2 values per node: d_k = Σ_g H_g U z(t_k − τ_g)),
+//   Z = Qx x_i + Qd d (its node samples, s n_r values),
+//   x_{i+1} = P x_i + Rd d.
+// Sample l is z at node l mod N of period floor(l / N) (N nodes per period,
+// period 0 the one being mapped); the state is [x(0); z_{−L}; …; z_{−1}].
+struct CollocationStep {
+  double h = 0.0;
+  bool free = false;        // no edge cuts: P = e^{A h}, no nodes
+  MatrixXd P, Qx, Qd, Rd;   // n2 × n2, s n_r × n2, s n_r × 2s, n2 × 2s
+  int first_node = 0;       // index in the period of its first node
+  int first_term = 0, n_terms = 0;
+};
+struct NodeTerm {
+  int node = 0;    // 0 … s − 1 within the step
+  int sample = 0;  // global sample index l
+};
+// The depth-independent weights of one step length as a collocation step
+// reads them (sdm_cutter_collocation.cpp): WxEc = [Wx e^{A c_j h}]_j (s n_r
+// × 2n), G = [Wx W_jk B]_jk (s n_r × 2s), VB = [V_k B]_k (2n × 2s), Eh = e^{A h}.
+struct NodeWeights {
+  MatrixXd Eh, WxEc, G, VB;
+};
+struct CollocationCutterMap {
+  std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T
+  std::vector<CollocationStep> steps;
+  int N = 0, L = 0, s = 0;
+  std::vector<NodeTerm> terms;
+  std::vector<double> term_c;  // 2 n_r per term (C, column-major): d_node += C z_sample
+  mutable std::vector<double> buf, d, x, xn;  // apply workspace
+  // NodeWeights by step length, kept between depths (for the A of
+  // weights_for and weights_nodes nodes).
+  std::map<double, NodeWeights> weights;
+  const double* weights_for = nullptr;
+  int weights_nodes = 0;
+};
+
 // Step maps x_{i+1} = P x_i + R0 z_{i−m} + R1 z_{i−m+1} at one depth.
 // Collocation (PeriodMap::nodes = s > 0): x_{i+1} = P x_i + Rc ζ_i and the
 // step's node samples ζ_i⁺ = Qc [x_i; ζ_i], ζ_i the same nodes one period
@@ -213,8 +257,9 @@ struct PeriodMap {
   int n2 = 0, nr = 0, nz = 0, dim = 0;
   double tau = 0.0;             // s
   bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
-  bool cutter = false;          // the real-cutter map `cm` (general path)
+  bool cutter = false;          // the real-cutter map: `cm`, or `cc` with collocation (nodes > 0)
   CutterMap cm;
+  CollocationCutterMap cc;
   int nodes = 0;                // Gauss collocation nodes per step (0: first-order steps)
 };
 
@@ -253,13 +298,18 @@ std::string bad_speed(double rpm);
 // profile in milling, or general_cutter_path) rather than the tooth-period
 // grid of straight teeth or the constant turning step.
 bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o);
+// The options with kAutoCollocation replaced by the choice for this cut
+// (kRealCutterNodes and kRealCutterSteps on the real-cutter path, else 0).
+SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, const Process& p);
 // Why collocation_nodes > 0 cannot run on this cut (turning, speed
 // variation, the real-cutter path), as an InputError message; "" when it can.
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o);
 
 // First pass of the real-cutter map at depth a: step boundaries 0, T and
 // every engagement event in [0, T); the exact integrals per step.
-CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+// every_edge: also at every edge's own events (RegenerativeCut::edge_events_s),
+// for collocation, which samples each edge's H.
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool every_edge = false);
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
                const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
@@ -281,6 +331,22 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
 Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double slowest_decay,
                  double rpm, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
                  const MatrixXd& Sv);
+// Gauss–Legendre nodes c_1 … c_s on [0, 1] (1 <= s <= kMaxCollocationNodes).
+std::vector<double> gauss_nodes(int s);
+// The collocation weights of one step length h (sdm_collocation.cpp):
+// e^{A h}, e^{A c_j h}, W_jk = ∫₀^{c_j h} e^{A(c_j h − σ)} ℓ_k(σ/h) dσ and
+// V_k = ∫₀^h e^{A(h − σ)} ℓ_k(σ/h) dσ (2n × 2n each), ℓ_k the Lagrange
+// basis of the nodes c. @pre A couples only q_i and q̇_i/ω_i of each mode
+// (state_space builds it so).
+// e^{aT} and G_q(T) = ∫₀^T e^{a(T−σ)} (σ/T)^q dσ (q < s, into G[0 … s−1])
+// of one 2 × 2 mode block a of the solver's A (sdm_collocation.cpp): in
+// closed form for an underdamped block, else from an augmented exponential.
+void mode_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& E, Eigen::Matrix2d* G);
+struct StepWeights {
+  MatrixXd Eh;
+  std::vector<MatrixXd> Ec, W, V;  // W: s × s, row-major (j, k)
+};
+StepWeights step_weights(const MatrixXd& A, double h, const std::vector<double>& c);
 // Gauss collocation (sdm_collocation.cpp): the depth-independent weights of
 // every cutting step of a straight-teeth milling grid (Step::WxEc … Eh).
 // @pre collocation_refusal(p, o) is empty (the solver checks it at construction).
@@ -311,6 +377,9 @@ class SdmKernel {
   // `forcing`: out = Φ y + r, each step also adding its gF (forced response).
   static void apply_cutter(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out,
                            std::vector<double>* record, bool forcing = false);
+  // out = Φ y on the real-cutter collocation map; `record` as apply_cutter.
+  static void apply_cutter_collocation(const PeriodMap& pm, const double* y, double* out,
+                                       std::vector<double>* record);
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const;
@@ -326,6 +395,8 @@ class SdmKernel {
   void build_collocation(const Grid& g, double depth, PeriodMap& pm) const;
   static void apply_collocation(const PeriodMap& pm, const double* y, double* out, double* work);
   void build_cutter(const Grid& g, double a, PeriodMap& pm) const;
+  // Collocation on the real-cutter grid (sdm_cutter_collocation.cpp).
+  void build_cutter_collocation(const Grid& g, double a, PeriodMap& pm) const;
   void cutter_map(const Grid& g, const CutterGrid& cg, double a, double scale, PeriodMap& pm,
                   const std::shared_ptr<const CutterGrid>* shared) const;
   template <int N2, int NR>

@@ -277,7 +277,8 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
 // out = Φ y (both of length pm.dim, distinct). work: >= 2 n2 + nr doubles.
 // Dispatches to fixed-size loops for the common small models.
 void SdmKernel::apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work) {
-  if (pm.cutter) return apply_cutter(pm, Wx, y, out, nullptr);
+  if (pm.cutter)
+    return pm.nodes > 0 ? apply_cutter_collocation(pm, y, out, nullptr) : apply_cutter(pm, Wx, y, out, nullptr);
   if (pm.nodes > 0) return apply_collocation(pm, y, out, work);
   if (pm.n2 == 2 && pm.nr == 1) return apply_n<2, 1>(pm, Wx, y, out, work);
   if (pm.n2 == 4 && pm.nr == 1) return apply_n<4, 1>(pm, Wx, y, out, work);
@@ -342,6 +343,7 @@ void SdmKernel::apply_n(const PeriodMap& pm, const MatrixXd& Wx, const double* y
 // I], [0, 0, 0]] and R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U (size 2n + 4,
 // independent of the number of delays: B has 2 columns, the force).
 void SdmKernel::build_cutter(const Grid& g, double a, PeriodMap& pm) const {
+  if (g.nodes > 0) return build_cutter_collocation(g, a, pm);
   if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm, &g.cutter_grid);
   const CutterGrid cg = g.ssv ? ssv_cutter_grid(*p_, g, o_.axial_slices, a) : cutter_grid(*p_, g, o_.axial_slices, a);
   cutter_map(g, cg, a, 1.0, pm, nullptr);
@@ -359,6 +361,7 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
   pm.nr = nr;
   pm.tau = T;
   pm.cutter = true;
+  pm.nodes = 0;
   pm.constant = false;
   pm.free_flight = false;
   pm.branch_roots = false;

@@ -50,8 +50,9 @@ std::string SemiDiscretizationOptions::validate() const {
     os << "krylov_dimension = " << krylov_dimension << ": must be in [4, 400]";
   else if (axial_slices < 1)
     os << "axial_slices = " << axial_slices << ": must be >= 1";
-  else if (collocation_nodes < 0 || collocation_nodes > kMaxCollocationNodes)
-    os << "collocation_nodes = " << collocation_nodes << ": must be in [0, " << kMaxCollocationNodes << "]";
+  else if ((collocation_nodes < 0 && collocation_nodes != kAutoCollocation) || collocation_nodes > kMaxCollocationNodes)
+    os << "collocation_nodes = " << collocation_nodes << ": must be in [0, " << kMaxCollocationNodes
+       << "] or kAutoCollocation (" << kAutoCollocation << ")";
   return os.str();
 }
 
@@ -59,6 +60,7 @@ SemiDiscretizationSolver::SemiDiscretizationSolver(StructuralModel model, Proces
                                                    SemiDiscretizationOptions options)
     : model_(std::move(model)), process_(std::move(process)), options_(options) {
   if (const std::string e = options_.validate(); !e.empty()) throw InputError("sdm options: " + e);
+  options_ = resolved_collocation(options_, process_);
   if (const std::string e = collocation_refusal(process_, options_); !e.empty()) throw InputError(e);
   if (model_.mode_count() == 0)
     throw InputError("structural model: both bodies are rigid: give at least one mode");

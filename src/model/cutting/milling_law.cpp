@@ -180,6 +180,49 @@ class MillingCut final : public RegenerativeCut {
   double pattern_period_s() const override { return process_.period_s(rpm_); }
   std::vector<double> engagement_events_s() const override { return process_.engagement_events_s(rpm_, depth_m_); }
   const std::vector<double>& edge_delays_s() const override { return delays_; }
+  // Each slice's own events when a tooth's slices have different delays (a
+  // variable helix: they sit in different delay groups, whose shares have
+  // kinks the tooth's sum does not) or different arcs, coefficients or lag
+  // rates (a ball or bull nose: each slice's entry and exit is a kink of the
+  // sum too): a flat cutter's
+  // slice tops, a profile's slice bottoms and tops entering and leaving
+  // their arcs. A cylinder's slices (one arc, one delay) need none.
+  std::vector<double> edge_events_s() const override {
+    bool varies = false;
+    for (int j = 0; j < teeth_ && !varies; ++j)
+      for (int s = 1; s < slices_ && !varies; ++s)
+        varies = delays_[static_cast<std::size_t>(j * slices_ + s)] != delays_[static_cast<std::size_t>(j * slices_)];
+    auto slope = [](const AxialSlice& c) { return (c.lag_hi - c.lag_lo) / c.height_m(); };
+    for (std::size_t s = 1; s < cut_.size() && !varies; ++s)
+      varies = cut_[s].engaged != cut_[0].engaged || cut_[s].entry_rad != cut_[0].entry_rad ||
+               cut_[s].exit_rad != cut_[0].exit_rad ||
+               cut_[s].radial_coefficient_n_per_m2 != cut_[0].radial_coefficient_n_per_m2 ||
+               std::abs(slope(cut_[s]) - slope(cut_[0])) > 1e-12 * std::abs(slope(cut_[0]));
+    if (!varies) return engagement_events_s();
+    std::vector<double> all = engagement_events_s();
+    if (cut_.empty()) {
+      for (int s = 1; s < slices_; ++s) {
+        const std::vector<double> at = process_.engagement_events_s(rpm_, depth_m_ * s / slices_);
+        all.insert(all.end(), at.begin(), at.end());
+      }
+    } else {
+      const double omega = angular_speed_rad_per_s(rpm_), period = pattern_period_s();
+      for (int j = 0; j < teeth_; ++j)
+        for (const AxialSlice& c : cut_)
+          if (c.engaged)
+            for (const double edge : {c.entry_rad, c.exit_rad})
+              for (const double z : {c.z_lo_m, c.z_hi_m}) {
+                const double t = (edge + process_.tooth_offset_rad(j) + process_.helix_lag_rad(j, z)) / omega;
+                all.push_back(t - period * std::floor(t / period));
+              }
+    }
+    std::sort(all.begin(), all.end());
+    const double merge = 1e-12 * pattern_period_s();
+    std::vector<double> out;
+    for (const double t : all)
+      if (out.empty() || t - out.back() > merge) out.push_back(t);
+    return out;
+  }
 
   void force_integrals(double t_a, double t_b, std::vector<Eigen::Matrix2d>& per_edge) const override {
     per_edge.assign(delays_.size(), Eigen::Matrix2d::Zero());
@@ -195,6 +238,24 @@ class MillingCut final : public RegenerativeCut {
       Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
       for (int s = 0; s < slices_; ++s) {
         const Eigen::Matrix2d upto = process_.tooth_force_integral(j, t_a, t_b, depth_m_ * (s + 1) / slices_, rpm_);
+        per_edge[first + static_cast<std::size_t>(s)] = upto - below;
+        below = upto;
+      }
+    }
+  }
+
+  // The same slices at one instant (force_integrals' integrand in t_b).
+  void force_rates(double t, std::vector<Eigen::Matrix2d>& per_edge) const override {
+    per_edge.assign(delays_.size(), Eigen::Matrix2d::Zero());
+    for (int j = 0; j < teeth_; ++j) {
+      const auto first = static_cast<std::size_t>(j * slices_);
+      if (!cut_.empty()) {
+        for (std::size_t s = 0; s < cut_.size(); ++s) per_edge[first + s] = process_.slice_force_rate(j, cut_[s], t, rpm_);
+        continue;
+      }
+      Eigen::Matrix2d below = Eigen::Matrix2d::Zero();
+      for (int s = 0; s < slices_; ++s) {
+        const Eigen::Matrix2d upto = process_.tooth_force_rate(j, t, depth_m_ * (s + 1) / slices_, rpm_);
         per_edge[first + static_cast<std::size_t>(s)] = upto - below;
         below = upto;
       }

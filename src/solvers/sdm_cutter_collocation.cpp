@@ -1,0 +1,393 @@
+// Gauss collocation on the real-cutter grid of the `sdm` solver (helix,
+// variable pitch or helix, a profile, two engaged arcs, the general path;
+// docs/sdm.md "Collocation on real cutters"): the step maps at one depth
+// (SdmKernel::build_cutter_collocation) and Φ y
+// (SdmKernel::apply_cutter_collocation). Part of the `sdm` solver
+// (sdm_internal.hpp).
+//
+// The grid is the real-cutter grid (cutter_grid: boundaries at every
+// engagement event, so H is smooth inside each step). On a cutting step
+// [t_i, t_i + h] with Gauss nodes t_k = t_i + c_k h,
+//   ẋ = A x + B Σ_g H_g(t) U (z(t − τ_g) − z(t)),
+// H_g the directional matrix of delay group g integrated over its height at
+// the instant (RegenerativeCut::force_rates), the cutting term replaced by
+// its Lagrange polynomial through the nodes and the rest exact, as on the
+// straight-teeth grid (sdm_collocation.cpp, whose step weights it shares):
+//   (I + [G_jk Hs_k]) Z = WxEc x_i + G d,   x_{i+1} = e^{A h} x_i + VB d − VBH Z,
+// G_jk = Wx W_jk B, Hs_k = Σ_g H_g(t_k) U, d_k = Σ_g H_g(t_k) U z(t_k − τ_g).
+// The delayed z(t_k − τ_g) is read from the stored node samples: the sample
+// itself when it falls on a node (one delay equal to the period: a uniform
+// cutter), else the Lagrange polynomial through the 2s nodes of the step it
+// falls in and of its nearer neighbour in the same span between events
+// (degree 2s − 1, so the interpolation keeps the order 2s of the steps).
+// References: Breda, Maset & Vermiglio, SIAM J. Numer. Anal. 50 (2012),
+// 1456–1483 (piecewise collocation of the monodromy operator); Insperger &
+// Stépán, Int. J. Numer. Meth. Eng. 61 (2004) 117–141 (exact free dynamics).
+#include "sdm_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <Eigen/LU>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "chatter/regenerative_cut.hpp"
+
+namespace chatter::sdm_detail {
+namespace {
+
+// A delayed time within this fraction of a step from a node is that node
+// (a uniform cutter: the delay is the period; the weight would only carry
+// round-off).
+constexpr double kNodeSnap = 1e-9;
+
+// NodeWeights of step length h, mode by mode: A couples only q_i and
+// q̇_i/ω_i of each mode (rows and columns i and n + i, state_space), so every
+// weight is block-diagonal in those pairs and Wx, B touch each pair through
+// 2 columns and 2 rows: O(n) work per weight instead of dense (2n)³.
+NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, double h,
+                         const std::vector<double>& c) {
+  const int s = static_cast<int>(c.size());
+  const Index nr = Wx.rows(), n2 = A.rows(), n = n2 / 2;
+  // ℓ_k(u) = Σ_q L(q, k) u^q: the inverse of the Vandermonde matrix of the nodes.
+  MatrixXd Vd(s, s);
+  for (int i = 0; i < s; ++i)
+    for (int q = 0; q < s; ++q) Vd(i, q) = std::pow(c[static_cast<std::size_t>(i)], q);
+  const MatrixXd L = Vd.inverse();
+  NodeWeights out;
+  out.Eh = MatrixXd::Zero(n2, n2);
+  out.WxEc = MatrixXd::Zero(s * nr, n2);
+  out.G = MatrixXd::Zero(s * nr, 2 * s);
+  out.VB = MatrixXd::Zero(n2, 2 * s);
+  Eigen::Matrix2d a, e, g[kMaxCollocationNodes];
+  Eigen::Matrix<double, Eigen::Dynamic, 2> Wxi(nr, 2);
+  Eigen::Matrix2d Bi;
+  for (Index i = 0; i < n; ++i) {
+    const Index at[2] = {i, n + i};
+    for (int r = 0; r < 2; ++r) {
+      for (int col = 0; col < 2; ++col) a(r, col) = A(at[r], at[col]);
+      Wxi.col(r) = Wx.col(at[r]);
+      Bi.row(r) = B.row(at[r]);
+    }
+    for (int j = 0; j < s; ++j) {
+      const double cj = c[static_cast<std::size_t>(j)];
+      mode_integrals(a, cj * h, s, e, g);
+      const Eigen::Matrix<double, Eigen::Dynamic, 2> we = Wxi * e;  // Wx e^{A c_j h} on this pair
+      for (int r = 0; r < 2; ++r) out.WxEc.block(j * nr, at[r], nr, 1) += we.col(r);
+      // W_jk = Σ_q L(q, k) c_j^q G_q(c_j h)  (∫₀^{c h} e^{A(c h − σ)} (σ/h)^q dσ = c^q G_q(c h)).
+      for (int k = 0; k < s; ++k) {
+        Eigen::Matrix2d w = Eigen::Matrix2d::Zero();
+        for (int q = 0; q < s; ++q) w += L(q, k) * std::pow(cj, q) * g[q];
+        out.G.block(j * nr, 2 * k, nr, 2) += Wxi * (w * Bi);
+      }
+    }
+    mode_integrals(a, h, s, e, g);
+    for (int r = 0; r < 2; ++r)
+      for (int col = 0; col < 2; ++col) out.Eh(at[r], at[col]) = e(r, col);
+    for (int k = 0; k < s; ++k) {
+      Eigen::Matrix2d v = Eigen::Matrix2d::Zero();
+      for (int q = 0; q < s; ++q) v += L(q, k) * g[q];
+      const Eigen::Matrix2d vb = v * Bi;
+      for (int r = 0; r < 2; ++r) out.VB.block(at[r], 2 * k, 1, 2) = vb.row(r);
+    }
+  }
+  return out;
+}
+
+// Where the node samples of one period lie, and how a delayed time is read
+// from them (the stencil of docs/sdm.md "Collocation on real cutters").
+class NodeLayout {
+ public:
+  NodeLayout(const CutterGrid& cg, const std::vector<double>& c, double T)
+      : cg_(cg), c_(c), T_(T), M_(static_cast<int>(cg.h.size())), s_(static_cast<int>(c.size())) {
+    first_.assign(static_cast<std::size_t>(M_), -1);
+    for (int i = 0; i < M_; ++i)
+      if (!cg.free[static_cast<std::size_t>(i)]) {
+        first_[static_cast<std::size_t>(i)] = N_;
+        N_ += s_;
+      }
+  }
+  int nodes() const { return N_; }
+  int first_node(int i) const { return first_[static_cast<std::size_t>(i)]; }
+
+  // z(t) on the global time axis (t < 0: earlier periods) as Σ w z_sample,
+  // from nodes whose sample index is below `before`. Returns the count.
+  int stencil(double t, int before, int* sample, double* w) const {
+    const double per = std::floor(t / T_);
+    const double loc = t - per * T_;
+    int k = static_cast<int>(std::upper_bound(cg_.t.begin(), cg_.t.end(), loc) - cg_.t.begin()) - 1;
+    k = std::clamp(k, 0, M_ - 1);
+    int p = static_cast<int>(per);
+    if (free(k)) {  // only at an event, to round-off: the nearer cutting neighbour
+      const bool back = loc - cg_.t[static_cast<std::size_t>(k)] < cg_.t[static_cast<std::size_t>(k) + 1] - loc;
+      step_by(back ? -1 : 1, k, p);
+      if (free(k)) throw std::logic_error("sdm collocation: a delayed time falls in free flight");
+    }
+    const double h = cg_.h[static_cast<std::size_t>(k)];
+    int n = 0;
+    double times[2 * kMaxCollocationNodes];
+    auto take = [&](int step, int period) {
+      const double t0 = period * T_ + cg_.t[static_cast<std::size_t>(step)];
+      for (int j = 0; j < s_; ++j) {
+        sample[n] = period * N_ + first_node(step) + j;
+        times[n++] = t0 + c_[static_cast<std::size_t>(j)] * cg_.h[static_cast<std::size_t>(step)];
+      }
+    };
+    take(k, p);
+    for (int j = 0; j < s_; ++j)
+      if (std::abs(times[j] - t) <= kNodeSnap * h) {
+        sample[0] = sample[j];
+        w[0] = 1.0;
+        return 1;
+      }
+    // The neighbour on the side of t, else the other one: same span, already computed.
+    const bool before_mid = t - (p * T_ + cg_.t[static_cast<std::size_t>(k)]) < 0.5 * h;
+    for (const int dir : {before_mid ? -1 : 1, before_mid ? 1 : -1}) {
+      int kn = k, pn = p;
+      step_by(dir, kn, pn);
+      const int seg = cg_.segment.empty() ? 0 : cg_.segment[static_cast<std::size_t>(k)];
+      const bool same_span = !free(kn) && pn == p && (cg_.segment.empty() || cg_.segment[static_cast<std::size_t>(kn)] == seg);
+      if (!same_span || pn * N_ + first_node(kn) + s_ - 1 >= before) continue;
+      take(kn, pn);
+      break;
+    }
+    for (int a = 0; a < n; ++a) {  // Lagrange weights at t
+      double l = 1.0;
+      for (int b = 0; b < n; ++b)
+        if (b != a) l *= (t - times[b]) / (times[a] - times[b]);
+      w[a] = l;
+    }
+    return n;
+  }
+
+ private:
+  bool free(int k) const { return cg_.free[static_cast<std::size_t>(k)] != 0; }
+  void step_by(int dir, int& k, int& p) const {
+    k += dir;
+    if (k < 0) {
+      k = M_ - 1;
+      --p;
+    } else if (k == M_) {
+      k = 0;
+      ++p;
+    }
+  }
+
+  const CutterGrid& cg_;
+  const std::vector<double>& c_;
+  double T_;
+  int M_, s_, N_ = 0;
+  std::vector<int> first_;
+};
+
+}  // namespace
+
+namespace {
+
+// The step matrices of one cutting step from its weights and the node
+// matrices Hs = [Σ_g H_g(t_k) U]_k (2 × s n_r): Qx, Qd, P, Rd. N2, SNR, ND:
+// compile-time sizes of the common models (2n, s n_r, 2s), or Eigen::Dynamic
+// (the same operations either way; fixed sizes keep the small products off
+// the heap and out of the blocked kernels).
+template <int N2, int SNR, int ND>
+void step_matrices(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr, int s, CollocationStep& st) {
+  using Mss = Eigen::Matrix<double, SNR, SNR>;
+  using Ms2 = Eigen::Matrix<double, SNR, N2>;
+  using Msd = Eigen::Matrix<double, SNR, ND>;
+  using M2s = Eigen::Matrix<double, N2, SNR>;
+  using M2d = Eigen::Matrix<double, N2, ND>;
+  using M22 = Eigen::Matrix<double, N2, N2>;
+  const int snr = s * nr, nd = 2 * s;
+  const Eigen::Map<const Ms2> WxEc(w.WxEc.data(), snr, n2);
+  const Eigen::Map<const Msd> G(w.G.data(), snr, nd);
+  const Eigen::Map<const M2d> VB(w.VB.data(), n2, nd);
+  const Eigen::Map<const M22> Eh(w.Eh.data(), n2, n2);
+  Mss M = Mss::Identity(snr, snr);
+  for (int j = 0; j < s; ++j)
+    for (int k = 0; k < s; ++k)
+      M.block(j * nr, k * nr, nr, nr).noalias() += G.block(j * nr, 2 * k, nr, 2).lazyProduct(Hs.middleCols(k * nr, nr));
+  const Eigen::PartialPivLU<Mss> lu(M);
+  const Ms2 Qx = lu.solve(WxEc);
+  const Msd Qd = lu.solve(G);
+  M2s VBH(n2, snr);
+  for (int k = 0; k < s; ++k) VBH.middleCols(k * nr, nr).noalias() = VB.middleCols(2 * k, 2).lazyProduct(Hs.middleCols(k * nr, nr));
+  st.Qx = Qx;
+  st.Qd = Qd;
+  st.P = Eh - VBH.lazyProduct(Qx);
+  st.Rd = VB - VBH.lazyProduct(Qd);
+}
+
+void step_matrices_any(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr, int s, CollocationStep& st) {
+  if (nr == 2 && s == 3 && n2 == 8) return step_matrices<8, 6, 6>(w, Hs, n2, nr, s, st);
+  if (nr == 2 && s == 3 && n2 == 4) return step_matrices<4, 6, 6>(w, Hs, n2, nr, s, st);
+  if (nr == 2 && s == 2 && n2 == 8) return step_matrices<8, 4, 4>(w, Hs, n2, nr, s, st);
+  if (nr == 2 && s == 2 && n2 == 4) return step_matrices<4, 4, 4>(w, Hs, n2, nr, s, st);
+  step_matrices<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>(w, Hs, n2, nr, s, st);
+}
+
+// Most step lengths whose weights a map keeps between depths (a helix moves
+// its events with the depth, so the lengths of its spans change).
+constexpr std::size_t kWeightsKept = 256;
+
+}  // namespace
+
+void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm) const {
+  const Process& p = *p_;
+  const int n2 = static_cast<int>(A_.rows()), nr = static_cast<int>(Wx_.rows());
+  const int s = g.nodes, snr = s * nr;
+  if (B_.cols() != 2) throw std::logic_error("sdm collocation: the force input must be 2 components");
+  // The grid at this depth (a helix or a profile moves its events with the
+  // depth), or the speed's grid at 1 m scaled (straight teeth: H ∝ a).
+  CutterGrid local;
+  if (!g.cutter_grid) local = cutter_grid(p, g, o_.axial_slices, a, true);
+  const CutterGrid& cg = g.cutter_grid ? *g.cutter_grid : local;
+  const double scale = g.cutter_grid ? a / cg.depth : 1.0;
+  const std::unique_ptr<const RegenerativeCut> cut = RegenerativeCut::of(p, g.rpm, cg.depth, o_.axial_slices);
+  const double T = g.tau, h_zero = kFreeForce * cg.force_scale_n_per_m2 * a;  // N/m: a group not cutting
+  const std::vector<double> c = gauss_nodes(s);
+  const NodeLayout layout(cg, c, T);
+  const int M = static_cast<int>(cg.h.size()), ng = static_cast<int>(cg.gtau.size());
+
+  pm.n2 = n2;
+  pm.nr = nr;
+  pm.tau = T;
+  pm.cutter = true;
+  pm.nodes = s;
+  pm.constant = pm.free_flight = pm.branch_roots = false;
+  pm.E = nullptr;
+  pm.steps.clear();
+  pm.m = M;
+  CollocationCutterMap& cc = pm.cc;
+  cc.t = cg.t;
+  cc.s = s;
+  cc.N = layout.nodes();
+  cc.steps.resize(static_cast<std::size_t>(M));  // kept between depths: no reallocation
+  cc.terms.clear();
+  cc.term_c.clear();
+  if (cc.weights_for != A_.data() || cc.weights_nodes != s || cc.weights.size() > kWeightsKept) {
+    cc.weights.clear();
+    cc.weights_for = A_.data();
+    cc.weights_nodes = s;
+  }
+  std::vector<Eigen::Matrix2d> per_edge, Hg(static_cast<std::size_t>(ng));
+  MatrixXd Hs(2, snr), HU(2, nr);
+  int lowest = 0;
+  int sample[2 * kMaxCollocationNodes];
+  double weight[2 * kMaxCollocationNodes];
+  for (int i = 0; i < M; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    CollocationStep& st = cc.steps[iu];
+    st.h = cg.h[iu];
+    st.free = cg.free[iu] != 0;
+    st.n_terms = 0;
+    if (st.free) {
+      st.P = (A_ * st.h).exp();
+      continue;
+    }
+    auto it = cc.weights.find(st.h);
+    if (it == cc.weights.end()) it = cc.weights.emplace(st.h, node_weights(A_, B_, Wx_, st.h, c)).first;
+    st.first_node = layout.first_node(i);
+    st.first_term = static_cast<int>(cc.terms.size());
+    for (int k = 0; k < s; ++k) {
+      const double tk = cg.t[iu] + c[static_cast<std::size_t>(k)] * st.h;
+      cut->force_rates(tk, per_edge);
+      for (auto& m : Hg) m.setZero();
+      for (std::size_t e = 0; e < per_edge.size(); ++e) Hg[static_cast<std::size_t>(cg.edge_group[e])] += per_edge[e];
+      Hs.middleCols(k * nr, nr).setZero();
+      for (int gi = 0; gi < ng; ++gi) {
+        const Eigen::Matrix2d H = Hg[static_cast<std::size_t>(gi)] * scale;
+        if (H.norm() <= h_zero) continue;
+        HU.noalias() = H * U_;  // 2 × n_r
+        Hs.middleCols(k * nr, nr) += HU;
+        const int n = layout.stencil(tk - cg.gtau[static_cast<std::size_t>(gi)], st.first_node, sample, weight);
+        for (int q = 0; q < n; ++q) {
+          lowest = std::min(lowest, sample[q]);
+          cc.terms.push_back({k, sample[q]});
+          for (int e = 0; e < 2 * nr; ++e) cc.term_c.push_back(weight[q] * HU.data()[e]);
+        }
+      }
+    }
+    st.n_terms = static_cast<int>(cc.terms.size()) - st.first_term;
+    step_matrices_any(it->second, Hs, n2, nr, s, st);
+  }
+  cc.L = -lowest;
+  pm.nz = cc.L;
+  pm.dim = n2 + cc.L * nr;
+}
+
+namespace {
+
+// Φ y on the collocation map. N2, NR, S: compile-time sizes of the common
+// models (2n, n_r, s), or 0 for run-time ones (the same operations in the
+// same order either way: fixed sizes keep the state in registers).
+template <int N2, int NR, int S>
+void apply_cc(const PeriodMap& pm, const double* y, double* out, std::vector<double>* record) {
+  const CollocationCutterMap& c = pm.cc;
+  const int n2 = N2 > 0 ? N2 : pm.n2, nr = NR > 0 ? NR : pm.nr, s = S > 0 ? S : c.s;
+  const int L = c.L, N = c.N, nd = 2 * s, snr = s * nr;
+  c.buf.resize(static_cast<std::size_t>((L + N) * nr));
+  constexpr int kLocal = N2 > 0 ? N2 : 1, kNodes = S > 0 ? 2 * S : 1;
+  double xl[kLocal], xnl[kLocal], dl[kNodes];
+  if (N2 == 0) {
+    c.x.resize(static_cast<std::size_t>(n2));
+    c.xn.resize(static_cast<std::size_t>(n2));
+  }
+  if (S == 0) c.d.resize(static_cast<std::size_t>(nd));
+  double* x = N2 > 0 ? xl : c.x.data();
+  double* xn = N2 > 0 ? xnl : c.xn.data();
+  double* d = S > 0 ? dl : c.d.data();
+  std::copy(y, y + n2, x);
+  double* buf = c.buf.data();
+  std::copy(y + n2, y + n2 + L * nr, buf);  // samples −L … −1
+  if (record) record->assign(x, x + n2);
+  for (const CollocationStep& st : c.steps) {
+    const double* P = st.P.data();
+    for (int r = 0; r < n2; ++r) xn[r] = 0.0 + P[r] * x[0];
+    for (int col = 1; col < n2; ++col)
+      for (int r = 0; r < n2; ++r) xn[r] += P[r + col * n2] * x[col];
+    if (!st.free) {
+      for (int k = 0; k < nd; ++k) d[k] = 0.0;
+      const double* C = c.term_c.data() + static_cast<std::size_t>(st.first_term) * 2 * static_cast<std::size_t>(nr);
+      for (int q = st.first_term; q < st.first_term + st.n_terms; ++q, C += 2 * nr) {
+        const NodeTerm& tm = c.terms[static_cast<std::size_t>(q)];
+        const double* z = buf + (tm.sample + L) * nr;
+        double* dk = d + 2 * tm.node;
+        for (int col = 0; col < nr; ++col) {
+          dk[0] += C[2 * col] * z[col];
+          dk[1] += C[2 * col + 1] * z[col];
+        }
+      }
+      double* Z = buf + (st.first_node + L) * nr;
+      const double* Qx = st.Qx.data();
+      const double* Qd = st.Qd.data();
+      for (int r = 0; r < snr; ++r) Z[r] = 0.0;
+      for (int col = 0; col < n2; ++col)
+        for (int r = 0; r < snr; ++r) Z[r] += Qx[r + col * snr] * x[col];
+      for (int col = 0; col < nd; ++col)
+        for (int r = 0; r < snr; ++r) Z[r] += Qd[r + col * snr] * d[col];
+      const double* Rd = st.Rd.data();
+      for (int col = 0; col < nd; ++col)
+        for (int r = 0; r < n2; ++r) xn[r] += Rd[r + col * n2] * d[col];
+    }
+    std::copy(xn, xn + n2, x);
+    if (record) record->insert(record->end(), x, x + n2);
+  }
+  std::copy(x, x + n2, out);
+  std::copy(buf + N * nr, buf + (N + L) * nr, out + n2);  // samples N − L … N − 1
+}
+
+}  // namespace
+
+void SdmKernel::apply_cutter_collocation(const PeriodMap& pm, const double* y, double* out,
+                                         std::vector<double>* record) {
+  const int s = pm.cc.s;
+  if (pm.nr == 2 && pm.n2 == 8 && s == 3) return apply_cc<8, 2, 3>(pm, y, out, record);
+  if (pm.nr == 2 && pm.n2 == 4 && s == 3) return apply_cc<4, 2, 3>(pm, y, out, record);
+  if (pm.nr == 2 && pm.n2 == 8 && s == 2) return apply_cc<8, 2, 2>(pm, y, out, record);
+  if (pm.nr == 2 && pm.n2 == 4 && s == 2) return apply_cc<4, 2, 2>(pm, y, out, record);
+  apply_cc<0, 0, 0>(pm, y, out, record);
+}
+
+}  // namespace chatter::sdm_detail
