@@ -5,8 +5,12 @@
 //                        entries and exits, the real-cutter grid with its
 //                        exact force integrals) and the modal state space;
 //   sdm_map.cpp          the step maps of one period at one depth (augmented
-//                        exponentials) and Φ y, the monodromy applied as the
-//                        sequence of step maps (never formed);
+//                        exponentials, sdm_step_exp.hpp) and Φ y, the
+//                        monodromy applied as the sequence of step maps
+//                        (never formed);
+//   sdm_cutter_map.cpp   the same on the real-cutter grid (first order);
+//   sdm_collocation.cpp, sdm_cutter_collocation.cpp  Gauss collocation on
+//                        the straight-teeth and on the real-cutter grid;
 //   sdm_multipliers.cpp  the dominant multiplier: dense eigen-decomposition,
 //                        restarted Arnoldi, the branch roots of turning;
 //   sdm_floquet.cpp      the Floquet analysis at a point: multiplier type
