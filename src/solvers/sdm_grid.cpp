@@ -202,6 +202,40 @@ std::string collocation_refusal(const Process& p, const SemiDiscretizationOption
   return os.str();
 }
 
+namespace {
+
+// The real-cutter grid's period and step bound at `rpm` (the steps
+// themselves per depth: cutter_grid, SdmKernel::build_cutter).
+Grid real_cutter_period(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm) {
+  Grid g;
+  // Real cutter, or any cut on the general path: the steps from the
+  // cutting law's regenerative side (cutter_grid; SdmKernel::build_cutter).
+  // The straight uniform milling cutter and turning below are its fast
+  // paths (tested equal to it: tests/test_regenerative_cut.cpp).
+  g.cutter = true;
+  g.rpm = rpm;
+  // Period: the shortest shift of teeth after which the pitch and helix
+  // pattern repeats (Process::floquet_period_s): one tooth period for a
+  // uniform cutter, half a revolution for 70/110/70/110°, one revolution
+  // for an irregular cutter (and always with general_cutter_path).
+  g.tau = o.general_cutter_path ? revolution_s(rpm) : p.floquet_period_s(rpm);
+  const double tooth = p.delay_s(rpm);
+  g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
+  const double needed = std::ceil(tooth / g.h_target - 1e-9);
+  if (needed > o.max_steps_per_period) {
+    std::ostringstream os;
+    os << "sdm at " << rpm << " rev/min needs about " << needed << " steps per tooth period, more than "
+       << "max_steps_per_period = " << o.max_steps_per_period
+       << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
+    throw InputError(os.str());
+  }
+  if (!p.has_helix() && !p.has_profile() && !p.has_nose_radius())  // linear in a: once per speed at 1 m
+    g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
+  return g;
+}
+
+}  // namespace
+
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 // A, B, U: the solver's free dynamics, force input and delayed-quantity basis.
 // Sv: ṙ = Sv x (process damping).
@@ -214,33 +248,8 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
                        "(docs/cutter_geometry.md): remove process.speed_variation or use a flat cutter");
     return make_ssv_grid(p, o, f_max_hz, rpm);
   }
+  if (real_cutter_grid(p, o)) return real_cutter_period(p, o, f_max_hz, rpm);
   Grid g;
-  if (real_cutter_grid(p, o)) {
-    // Real cutter, or any cut on the general path: the steps from the
-    // cutting law's regenerative side (cutter_grid; SdmKernel::build_cutter).
-    // The straight uniform milling cutter and turning below are its fast
-    // paths (tested equal to it: tests/test_regenerative_cut.cpp).
-    g.cutter = true;
-    g.rpm = rpm;
-    // Period: the shortest shift of teeth after which the pitch and helix
-    // pattern repeats (Process::floquet_period_s): one tooth period for a
-    // uniform cutter, half a revolution for 70/110/70/110°, one revolution
-    // for an irregular cutter (and always with general_cutter_path).
-    g.tau = o.general_cutter_path ? revolution_s(rpm) : p.floquet_period_s(rpm);
-    const double tooth = p.delay_s(rpm);
-    g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
-    const double needed = std::ceil(tooth / g.h_target - 1e-9);
-    if (needed > o.max_steps_per_period) {
-      std::ostringstream os;
-      os << "sdm at " << rpm << " rev/min needs about " << needed << " steps per tooth period, more than "
-         << "max_steps_per_period = " << o.max_steps_per_period
-         << ": raise the speed or max_steps_per_period, or lower steps_per_vibration_cycle";
-      throw InputError(os.str());
-    }
-    if (!p.has_helix() && !p.has_profile() && !p.has_nose_radius())  // linear in a: once per speed at 1 m
-      g.cutter_grid = std::make_shared<const CutterGrid>(cutter_grid(p, g, o.axial_slices, 1.0));
-    return g;
-  }
   g.tau = p.delay_s(rpm);
   const double h_target = std::min(g.tau / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
   const double needed = std::ceil(g.tau / h_target - 1e-9);
