@@ -100,7 +100,7 @@ SdmStateSpace state_space(const StructuralModel& model, const Process& process, 
 // helix) and of the damping direction. Straight teeth: every integral is
 // proportional to a, so the grid is built once per speed (a = 1 m) and
 // scaled.
-CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool every_edge) {
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool collocation) {
   CutterGrid cg;
   cg.depth = a;
   const double T = g.tau, rpm = g.rpm;
@@ -112,7 +112,7 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   // variation a whole number of Floquet periods, which may be half a revolution).
   const int reps = std::max(1, static_cast<int>(std::ceil(T / ph - 1e-9)));
   std::vector<double> bnd{0.0, T};
-  const std::vector<double> ev = every_edge ? cut->edge_events_s() : cut->engagement_events_s();
+  const std::vector<double> ev = collocation ? cut->edge_events_s() : cut->engagement_events_s();
   for (int r = 0; r < reps; ++r)
     for (const double e : ev)
       if (r * ph + e > 0.0 && r * ph + e < T) bnd.push_back(r * ph + e);
@@ -158,9 +158,13 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
       const double sa = ta + d * i / ns, sb = (i + 1 == ns) ? tb : ta + d * (i + 1) / ns;
       const std::size_t first = cg.F.size();
       cg.F.resize(first + ng, Eigen::Matrix2d::Zero());
-      cut->force_integrals(sa, sb, per_edge);
-      for (std::size_t e = 0; e < per_edge.size(); ++e) cg.F[first + static_cast<std::size_t>(group[e])] += per_edge[e];
-      cg.D.push_back(cut->damping_integral(sa, sb));
+      if (collocation) {  // H is sampled at the nodes instead (sdm_cutter_collocation.cpp)
+        cg.D.push_back(Eigen::Matrix2d::Zero());
+      } else {
+        cut->force_integrals(sa, sb, per_edge);
+        for (std::size_t e = 0; e < per_edge.size(); ++e) cg.F[first + static_cast<std::size_t>(group[e])] += per_edge[e];
+        cg.D.push_back(cut->damping_integral(sa, sb));
+      }
       cg.h.push_back(sb - sa);
       cg.free.push_back(0);
       cg.segment.push_back(static_cast<int>(s));

@@ -311,9 +311,10 @@ std::string collocation_refusal(const Process& p, const SemiDiscretizationOption
 
 // First pass of the real-cutter map at depth a: step boundaries 0, T and
 // every engagement event in [0, T); the exact integrals per step.
-// every_edge: also at every edge's own events (RegenerativeCut::edge_events_s),
-// for collocation, which samples each edge's H.
-CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool every_edge = false);
+// collocation: the grid collocation samples H on: also at every edge's own
+// events (RegenerativeCut::edge_events_s), and without the step integrals
+// F and D (left zero: the nodes sample H instead).
+CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool collocation = false);
 // Step grid of one delay period at `rpm`, from a tooth entry (milling).
 Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double rpm,
                const MatrixXd& turning_hhat, const MatrixXd& A, const MatrixXd& B, const MatrixXd& U,
