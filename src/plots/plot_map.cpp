@@ -46,6 +46,49 @@ struct ContourPiece {
   int type = -1;
 };
 
+// A segment of the contour inside one cell: between the crossings on edges
+// e0 and e1, with the multiplier type on its unstable side.
+struct Segment {
+  std::size_t e0, e1;
+  int type;
+};
+
+// Chain the segments into polylines through their shared edges (point:
+// each edge's crossing, at_edge: the two segments at each edge, -1 if none):
+// open chains from their ends first, then loops; a piece ends where the
+// type changes.
+std::vector<ContourPiece> chain(const std::vector<Segment>& segs, const std::vector<std::pair<double, double>>& point,
+                                const std::vector<std::array<int, 2>>& at_edge) {
+  std::vector<char> used(segs.size(), 0);
+  std::vector<ContourPiece> pieces;
+  auto walk = [&](int s, std::size_t start_edge) {
+    ContourPiece piece;
+    piece.type = segs[static_cast<std::size_t>(s)].type;
+    piece.points.push_back(point[start_edge]);
+    std::size_t edge = start_edge;
+    while (s >= 0 && !used[static_cast<std::size_t>(s)]) {
+      const Segment& g = segs[static_cast<std::size_t>(s)];
+      used[static_cast<std::size_t>(s)] = 1;
+      if (g.type != piece.type) {  // a new piece from the shared point
+        const auto last = piece.points.back();
+        pieces.push_back(std::move(piece));
+        piece = ContourPiece{{last}, g.type};
+      }
+      edge = g.e0 == edge ? g.e1 : g.e0;
+      piece.points.push_back(point[edge]);
+      const auto& both = at_edge[edge];
+      s = both[0] == s ? both[1] : both[0];
+    }
+    pieces.push_back(std::move(piece));
+  };
+  for (std::size_t s = 0; s < segs.size(); ++s)
+    for (std::size_t e : {segs[s].e0, segs[s].e1})
+      if (!used[s] && at_edge[e][1] < 0) walk(static_cast<int>(s), e);
+  for (std::size_t s = 0; s < segs.size(); ++s)
+    if (!used[s]) walk(static_cast<int>(s), segs[s].e0);
+  return pieces;
+}
+
 // The ρ = 1 contour of the grid by marching squares on ln ρ (linear
 // interpolation along each cell edge; saddle cells resolved by the mean of
 // the four corners), chained into polylines and split where the type of the
@@ -71,10 +114,6 @@ std::vector<ContourPiece> unit_contour(const StabilityMapGrid& m) {
     return std::make_pair(xa + t * (xb - xa), ya + t * (yb - ya));
   };
 
-  struct Segment {
-    std::size_t e0, e1;
-    int type;
-  };
   std::vector<Segment> segs;
   std::vector<std::pair<double, double>> point(n_edges);
   std::vector<std::array<int, 2>> at_edge(n_edges, {-1, -1});
@@ -122,35 +161,7 @@ std::vector<ContourPiece> unit_contour(const StabilityMapGrid& m) {
       }
     }
 
-  // Chain the segments: open chains from their ends first, then loops.
-  std::vector<char> used(segs.size(), 0);
-  std::vector<ContourPiece> pieces;
-  auto walk = [&](int s, std::size_t start_edge) {
-    ContourPiece piece;
-    piece.type = segs[static_cast<std::size_t>(s)].type;
-    piece.points.push_back(point[start_edge]);
-    std::size_t edge = start_edge;
-    while (s >= 0 && !used[static_cast<std::size_t>(s)]) {
-      const Segment& g = segs[static_cast<std::size_t>(s)];
-      used[static_cast<std::size_t>(s)] = 1;
-      if (g.type != piece.type) {  // a new piece from the shared point
-        const auto last = piece.points.back();
-        pieces.push_back(std::move(piece));
-        piece = ContourPiece{{last}, g.type};
-      }
-      edge = g.e0 == edge ? g.e1 : g.e0;
-      piece.points.push_back(point[edge]);
-      const auto& both = at_edge[edge];
-      s = both[0] == s ? both[1] : both[0];
-    }
-    pieces.push_back(std::move(piece));
-  };
-  for (std::size_t s = 0; s < segs.size(); ++s)
-    for (std::size_t e : {segs[s].e0, segs[s].e1})
-      if (!used[s] && at_edge[e][1] < 0) walk(static_cast<int>(s), e);
-  for (std::size_t s = 0; s < segs.size(); ++s)
-    if (!used[s]) walk(static_cast<int>(s), segs[s].e0);
-  return pieces;
+  return chain(segs, point, at_edge);
 }
 
 // Colour-box tics for the clip value R (a round list inside (1/R, R)).
