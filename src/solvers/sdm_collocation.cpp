@@ -25,6 +25,7 @@
 #include "sdm_internal.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -62,29 +63,27 @@ constexpr int kModeAugmented = 2 * (kMaxCollocationNodes + 1);
 using ModeMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kModeAugmented, kModeAugmented>;
 
 // φ_0(z) … φ_kmax(z), φ_k(z) = ∫₀¹ e^{(1−θ) z} θ^{k−1} dθ / (k − 1)! (φ_0 =
-// e^z): the Taylor series below |z| = 1, else the recurrence φ_{k+1} = (φ_k
-// − 1/k!)/z from e^z (no cancellation worse than |z|^{-k} k! there).
+// e^z). Below |z| = 1: φ_kmax from its Taylor series Σ z^m/(m + kmax)!, the
+// lower ones by φ_k = z φ_{k+1} + 1/k! (stable downwards there). Else the
+// recurrence upwards φ_{k+1} = (φ_k − 1/k!)/z from e^z (no cancellation
+// worse than |z|^{-k} k! there).
 void phi_functions(Cplx z, int kmax, Cplx* phi) {
+  std::array<double, kMaxCollocationNodes + 2> inv_fact{};  // 1/k!
+  inv_fact[0] = 1.0;
+  for (int k = 1; k <= kmax; ++k) inv_fact[static_cast<std::size_t>(k)] = inv_fact[static_cast<std::size_t>(k - 1)] / k;
   if (z.real() * z.real() + z.imag() * z.imag() < 1.0) {
-    double kfact = 1.0;  // k!
-    for (int k = 0; k <= kmax; ++k) {
-      if (k > 0) kfact *= k;
-      Cplx term(1.0 / kfact, 0.0), sum(0.0, 0.0);
-      auto norm2 = [](const Cplx& c) { return c.real() * c.real() + c.imag() * c.imag(); };  // no hypot
-      for (int m = 1; m < 40 && norm2(term) > 1e-36 * norm2(sum + term); ++m) {
-        sum += term;
-        term *= z / static_cast<double>(m + k);
-      }
-      phi[k] = sum + term;
+    auto norm2 = [](const Cplx& c) { return c.real() * c.real() + c.imag() * c.imag(); };  // no hypot
+    Cplx term(inv_fact[static_cast<std::size_t>(kmax)], 0.0), sum(0.0, 0.0);
+    for (int m = 1; m < 40 && norm2(term) > 1e-36 * norm2(sum + term); ++m) {
+      sum += term;
+      term *= z / static_cast<double>(m + kmax);
     }
+    phi[kmax] = sum + term;
+    for (int k = kmax - 1; k >= 0; --k) phi[k] = z * phi[k + 1] + inv_fact[static_cast<std::size_t>(k)];
     return;
   }
   phi[0] = std::exp(z);
-  double kfact = 1.0;
-  for (int k = 0; k < kmax; ++k) {
-    if (k > 0) kfact *= k;
-    phi[k + 1] = (phi[k] - 1.0 / kfact) / z;
-  }
+  for (int k = 0; k < kmax; ++k) phi[k + 1] = (phi[k] - inv_fact[static_cast<std::size_t>(k)]) / z;
 }
 
 // Closed form of augmented_integrals for one underdamped mode block a =

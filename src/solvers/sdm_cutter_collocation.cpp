@@ -56,6 +56,12 @@ NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& W
   for (int i = 0; i < s; ++i)
     for (int q = 0; q < s; ++q) Vd(i, q) = std::pow(c[static_cast<std::size_t>(i)], q);
   const MatrixXd L = Vd.inverse();
+  // Wc(j, k) (per q): L(q, k) c_j^q, the weight of G_q(c_j h) in W_jk.
+  std::vector<double> lc(static_cast<std::size_t>(s * s * s));
+  auto lc_at = [&](int j, int k, int q) -> double& { return lc[static_cast<std::size_t>((j * s + k) * s + q)]; };
+  for (int j = 0; j < s; ++j)
+    for (int k = 0; k < s; ++k)
+      for (int q = 0; q < s; ++q) lc_at(j, k, q) = L(q, k) * Vd(j, q);
   NodeWeights out;
   out.Eh = MatrixXd::Zero(n2, n2);
   out.WxEc = MatrixXd::Zero(s * nr, n2);
@@ -79,7 +85,7 @@ NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& W
       // W_jk = Σ_q L(q, k) c_j^q G_q(c_j h)  (∫₀^{c h} e^{A(c h − σ)} (σ/h)^q dσ = c^q G_q(c h)).
       for (int k = 0; k < s; ++k) {
         Eigen::Matrix2d w = Eigen::Matrix2d::Zero();
-        for (int q = 0; q < s; ++q) w += L(q, k) * std::pow(cj, q) * g[q];
+        for (int q = 0; q < s; ++q) w += lc_at(j, k, q) * g[q];
         out.G.block(j * nr, 2 * k, nr, 2) += Wxi * (w * Bi);
       }
     }
@@ -208,9 +214,11 @@ void step_matrices(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr, int
   for (int j = 0; j < s; ++j)
     for (int k = 0; k < s; ++k)
       M.block(j * nr, k * nr, nr, nr).noalias() += G.block(j * nr, 2 * k, nr, 2).lazyProduct(Hs.middleCols(k * nr, nr));
-  const Eigen::PartialPivLU<Mss> lu(M);
-  const Ms2 Qx = lu.solve(WxEc);
-  const Msd Qd = lu.solve(G);
+  // M⁻¹ once, then lazy products (tiny fixed sizes: the blocked triangular
+  // solves cost more than the products).
+  const Mss Minv = Eigen::PartialPivLU<Mss>(M).inverse();
+  const Ms2 Qx = Minv.lazyProduct(WxEc);
+  const Msd Qd = Minv.lazyProduct(G);
   M2s VBH(n2, snr);
   for (int k = 0; k < s; ++k) VBH.middleCols(k * nr, nr).noalias() = VB.middleCols(2 * k, 2).lazyProduct(Hs.middleCols(k * nr, nr));
   st.Qx = Qx;
