@@ -60,7 +60,7 @@ case "$target" in
     srcs="$(layer_sources CORE) $(layer_sources OPS)"
     libs="-lsundials_cvode -lsundials_nvecserial" max_len=4096 corpus=corpus-operations prefix="operations-" ;;
   shop)
-    srcs="src/formats/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp src/model/process_profile.cpp src/model/cutter_profile.cpp src/model/spindle_speed.cpp src/model/cutting/cutting_law.cpp src/model/cutting/turning_law.cpp src/model/cutting/milling_law.cpp src/model/cutting/kienzle.cpp src/model/number_text.cpp"
+    srcs="src/formats/shop_io.cpp src/shop/coefficients.cpp src/shop/detect.cpp src/model/process.cpp src/model/process_profile.cpp src/model/process_integrals.cpp src/model/cutter_profile.cpp src/model/spindle_speed.cpp src/model/cutting/cutting_law.cpp src/model/cutting/turning_law.cpp src/model/cutting/milling_law.cpp src/model/cutting/kienzle.cpp src/model/number_text.cpp"
     libs="-lsndfile" max_len=8192 corpus=corpus-shop prefix="shop-" ;;
   fit)
     srcs="src/model/modal_fit.cpp src/model/frf_data.cpp src/model/structural_model.cpp src/model/number_text.cpp"

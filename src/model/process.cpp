@@ -36,30 +36,6 @@ constexpr double kPitchSumTolerance = 1e-6;
 // Helix angles below 90° by at least this (rad): tan β stays finite.
 constexpr double kHelixMax = 0.5 * std::numbers::pi - 1e-6;
 
-// A straight tooth's windowed integral over every engaged arc (they are
-// disjoint: the integrals add). One arc: exactly time_height_integral's.
-template <class T>
-typename Windowed<T>::Value arcs_integral(const T& trig, const std::vector<std::pair<double, double>>& arcs,
-                                          double omega, double theta, double kappa, double t_a, double t_b,
-                                          double a_m) {
-  typename Windowed<T>::Value sum =
-      time_height_integral(Windowed(trig, arcs[0].first, arcs[0].second), omega, theta, kappa, t_a, t_b, a_m);
-  for (std::size_t k = 1; k < arcs.size(); ++k)
-    sum += time_height_integral(Windowed(trig, arcs[k].first, arcs[k].second), omega, theta, kappa, t_a, t_b, a_m);
-  return sum;
-}
-
-// The same at one instant: the height integral of every engaged arc.
-template <class T>
-typename Windowed<T>::Value arcs_height_integral(const T& trig, const std::vector<std::pair<double, double>>& arcs,
-                                                 double omega, double theta, double kappa, double t, double a_m) {
-  typename Windowed<T>::Value sum =
-      height_integral(Windowed(trig, arcs[0].first, arcs[0].second), omega, theta, kappa, t, a_m);
-  for (std::size_t k = 1; k < arcs.size(); ++k)
-    sum += height_integral(Windowed(trig, arcs[k].first, arcs[k].second), omega, theta, kappa, t, a_m);
-  return sum;
-}
-
 // With Kienzle's law, K_f and K_r are its tangents at the mean chip
 // h₀ = f sin κ (kienzle.hpp): what the regenerative side reads.
 void linearise_kienzle(TurningParameters& p) {
@@ -404,46 +380,6 @@ bool Process::in_cut(double phi) const {
   for (const auto& [en, ex] : arcs_)
     if (phi >= en && phi <= ex) return true;
   return false;
-}
-
-Eigen::Matrix2d Process::tooth_force_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
-  if (has_profile()) {
-    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
-    if (a_m > 0.0)
-      for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_integral(j, s, t_a, t_b, rpm);
-    return sum;
-  }
-  return arcs_integral(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
-                       arcs_, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-}
-
-Eigen::Matrix2d Process::tooth_force_rate(int j, double t, double a_m, double rpm) const {
-  if (has_profile()) {
-    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
-    if (a_m > 0.0)
-      for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_rate(j, s, t, rpm);
-    return sum;
-  }
-  return arcs_height_integral(force_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2),
-                              arcs_, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t, a_m);
-}
-
-Eigen::Vector2d Process::tooth_force_direction_integral(int j, double t_a, double t_b, double a_m,
-                                                       double rpm) const {
-  if (has_profile()) {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    if (a_m > 0.0)
-      for (const AxialSlice& s : axial_slices(a_m)) sum += slice_force_direction_integral(j, s, t_a, t_b, rpm);
-    return sum;
-  }
-  return arcs_integral(
-      force_direction_trig(milling_.tangential_coefficient_n_per_m2, milling_.radial_coefficient_n_per_m2), arcs_,
-      angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a, t_b, a_m);
-}
-
-Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const {
-  return arcs_integral(damping_trig(), arcs_, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t_a,
-                       t_b, a_m);
 }
 
 Eigen::Matrix2d Process::damping_direction(double phi) {

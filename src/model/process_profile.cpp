@@ -69,27 +69,35 @@ std::string Process::no_chip_reason(double depth_m) const {
 
 namespace {
 
-// ∫∫ of a windowed integrand over one slice of tooth j: the edge at height
-// z_lo + ζ (0 <= ζ <= dz) is at φ = Ω t − Θ_j − tan β_j (Λ_lo + ζ ΔΛ/dz).
+// A windowed integrand over one slice of tooth j: the edge at height
+// z_lo + ζ (0 <= ζ <= dz) is at φ = Ω t − Θ − κ ζ, Θ = Θ_j + tan β_j Λ_lo,
+// κ = tan β_j ΔΛ/dz. `integral(w, Ω, Θ, κ, dz)`: time_height_integral over a
+// step or height_integral at an instant.
+template <class T, class I>
+typename Windowed<T>::Value over_slice(const T& f, const AxialSlice& s, double offset, double tan_helix, double rpm,
+                                       I&& integral) {
+  const double dz = s.height_m();
+  const double theta = offset + (tan_helix == 0.0 ? 0.0 : tan_helix * s.lag_lo);
+  const double rate = (tan_helix == 0.0 || !(dz > 0.0)) ? 0.0 : tan_helix * (s.lag_hi - s.lag_lo) / dz;
+  return integral(Windowed(f, s.entry_rad, s.exit_rad), angular_speed_rad_per_s(rpm), theta, rate, dz);
+}
+
+// ∫∫ over the slice's height and [t_a, t_b].
 template <class T>
 typename Windowed<T>::Value slice_integral(const T& f, const AxialSlice& s, double offset, double tan_helix,
                                            double t_a, double t_b, double rpm) {
-  const Windowed w(f, s.entry_rad, s.exit_rad);
-  const double dz = s.height_m();
-  const double theta = offset + (tan_helix == 0.0 ? 0.0 : tan_helix * s.lag_lo);
-  const double rate = (tan_helix == 0.0 || !(dz > 0.0)) ? 0.0 : tan_helix * (s.lag_hi - s.lag_lo) / dz;
-  return time_height_integral(w, angular_speed_rad_per_s(rpm), theta, rate, t_a, t_b, dz);
+  return over_slice(f, s, offset, tan_helix, rpm, [&](const auto& w, double om, double th, double k, double dz) {
+    return time_height_integral(w, om, th, k, t_a, t_b, dz);
+  });
 }
 
-// The same integrand over the slice's height at one instant t.
+// ∫ over the slice's height at one instant t.
 template <class T>
 typename Windowed<T>::Value slice_height_integral(const T& f, const AxialSlice& s, double offset, double tan_helix,
                                                   double t, double rpm) {
-  const Windowed w(f, s.entry_rad, s.exit_rad);
-  const double dz = s.height_m();
-  const double theta = offset + (tan_helix == 0.0 ? 0.0 : tan_helix * s.lag_lo);
-  const double rate = (tan_helix == 0.0 || !(dz > 0.0)) ? 0.0 : tan_helix * (s.lag_hi - s.lag_lo) / dz;
-  return height_integral(w, angular_speed_rad_per_s(rpm), theta, rate, t, dz);
+  return over_slice(f, s, offset, tan_helix, rpm, [&](const auto& w, double om, double th, double k, double dz) {
+    return height_integral(w, om, th, k, t, dz);
+  });
 }
 
 }  // namespace

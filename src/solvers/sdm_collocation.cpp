@@ -1,7 +1,8 @@
 // Gauss collocation of the cutting steps of the `sdm` solver
 // (SemiDiscretizationOptions::collocation_nodes, docs/sdm.md "Collocation"):
-// the depth-independent weights of each step (add_collocation), the step
-// maps at one depth (SdmKernel::build_collocation) and Φ y
+// the weights of one step length, mode by mode (node_weights, shared with
+// the real-cutter grid's collocation), the depth-independent node matrices
+// of each step (add_collocation), the step maps at one depth (SdmKernel::build_collocation) and Φ y
 // (SdmKernel::apply_collocation). Part of the `sdm` solver (sdm_internal.hpp).
 //
 // On a cutting step [t_i, t_i + h] of the straight-teeth milling grid,
@@ -126,49 +127,6 @@ void mode_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& 
   for (int q = 0; q < s; ++q) G[q] = g[static_cast<std::size_t>(q)];
 }
 
-namespace {
-
-// The same for the solver's A, which couples only q_i and q̇_i/ω_i of each
-// mode (rows and columns i and n + i: state_space builds it so, sdm_grid.cpp):
-// one small exponential per distinct mode block, its blocks placed at those
-// rows and columns.
-void integrals(const MatrixXd& A, double T, int s, MatrixXd& E, std::vector<MatrixXd>& G) {
-  const Index n2 = A.rows(), n = n2 / 2;
-  E = MatrixXd::Zero(n2, n2);
-  G.assign(static_cast<std::size_t>(s), MatrixXd::Zero(n2, n2));
-  // One exponential per distinct mode block (a tool's X and Y modes are
-  // often the same): the block, its e^{a T} and its G_q.
-  struct ModeIntegrals {
-    MatrixXd a, e;
-    std::vector<MatrixXd> g;
-  };
-  std::vector<ModeIntegrals> done;
-  MatrixXd a(2, 2);
-  for (Index i = 0; i < n; ++i) {
-    const Index at[2] = {i, n + i};
-    for (int r = 0; r < 2; ++r)
-      for (int c = 0; c < 2; ++c) a(r, c) = A(at[r], at[c]);
-    auto it = std::find_if(done.begin(), done.end(), [&](const ModeIntegrals& m) { return m.a == a; });
-    if (it == done.end()) {
-      done.push_back({a, MatrixXd(), {}});
-      Eigen::Matrix2d e, g[kMaxCollocationNodes];
-      mode_integrals(a, T, s, e, g);
-      done.back().e = e;
-      for (int q = 0; q < s; ++q) done.back().g.push_back(g[q]);
-      it = done.end() - 1;
-    }
-    const MatrixXd& e = it->e;
-    const std::vector<MatrixXd>& g = it->g;
-    for (int r = 0; r < 2; ++r)
-      for (int c = 0; c < 2; ++c) {
-        E(at[r], at[c]) = e(r, c);
-        for (int q = 0; q < s; ++q) G[static_cast<std::size_t>(q)](at[r], at[c]) = g[static_cast<std::size_t>(q)](r, c);
-      }
-  }
-}
-
-}  // namespace
-
 std::vector<double> gauss_nodes(int s) {
   switch (s) {
     case 1: return {0.5};
@@ -183,32 +141,63 @@ std::vector<double> gauss_nodes(int s) {
   }
 }
 
-StepWeights step_weights(const MatrixXd& A, double h, const std::vector<double>& c) {
+// The collocation weights of step length h, mode by mode: A couples only q_i and
+// q̇_i/ω_i of each mode (rows and columns i and n + i, state_space), so every
+// weight is block-diagonal in those pairs and Wx, B touch each pair through
+// 2 columns and 2 rows: O(n) work per weight instead of dense (2n)³.
+NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, double h,
+                         const std::vector<double>& c) {
   const int s = static_cast<int>(c.size());
-  const Index n2 = A.rows();
+  const Index nr = Wx.rows(), n2 = A.rows(), n = n2 / 2;
   // ℓ_k(u) = Σ_q L(q, k) u^q: the inverse of the Vandermonde matrix of the nodes.
   MatrixXd Vd(s, s);
   for (int i = 0; i < s; ++i)
     for (int q = 0; q < s; ++q) Vd(i, q) = std::pow(c[static_cast<std::size_t>(i)], q);
   const MatrixXd L = Vd.inverse();
-  StepWeights w;
-  std::vector<MatrixXd> G;
-  w.W.assign(static_cast<std::size_t>(s * s), MatrixXd::Zero(n2, n2));
-  w.V.assign(static_cast<std::size_t>(s), MatrixXd::Zero(n2, n2));
-  for (int j = 0; j < s; ++j) {
-    const double cj = c[static_cast<std::size_t>(j)];
-    MatrixXd E;
-    integrals(A, cj * h, s, E, G);
-    w.Ec.push_back(E);
-    // ∫₀^{c h} e^{A(c h − σ)} (σ/h)^q dσ = c^q G_q(c h).
+  // Wc(j, k) (per q): L(q, k) c_j^q, the weight of G_q(c_j h) in W_jk.
+  std::vector<double> lc(static_cast<std::size_t>(s * s * s));
+  auto lc_at = [&](int j, int k, int q) -> double& { return lc[static_cast<std::size_t>((j * s + k) * s + q)]; };
+  for (int j = 0; j < s; ++j)
     for (int k = 0; k < s; ++k)
-      for (int q = 0; q < s; ++q)
-        w.W[static_cast<std::size_t>(j * s + k)] += L(q, k) * std::pow(cj, q) * G[static_cast<std::size_t>(q)];
+      for (int q = 0; q < s; ++q) lc_at(j, k, q) = L(q, k) * Vd(j, q);
+  NodeWeights out;
+  out.Eh = MatrixXd::Zero(n2, n2);
+  out.WxEc = MatrixXd::Zero(s * nr, n2);
+  out.G = MatrixXd::Zero(s * nr, 2 * s);
+  out.VB = MatrixXd::Zero(n2, 2 * s);
+  Eigen::Matrix2d a, e, g[kMaxCollocationNodes];
+  Eigen::Matrix<double, Eigen::Dynamic, 2> Wxi(nr, 2);
+  Eigen::Matrix2d Bi;
+  for (Index i = 0; i < n; ++i) {
+    const Index at[2] = {i, n + i};
+    for (int r = 0; r < 2; ++r) {
+      for (int col = 0; col < 2; ++col) a(r, col) = A(at[r], at[col]);
+      Wxi.col(r) = Wx.col(at[r]);
+      Bi.row(r) = B.row(at[r]);
+    }
+    for (int j = 0; j < s; ++j) {
+      const double cj = c[static_cast<std::size_t>(j)];
+      mode_integrals(a, cj * h, s, e, g);
+      const Eigen::Matrix<double, Eigen::Dynamic, 2> we = Wxi * e;  // Wx e^{A c_j h} on this pair
+      for (int r = 0; r < 2; ++r) out.WxEc.block(j * nr, at[r], nr, 1) += we.col(r);
+      // W_jk = Σ_q L(q, k) c_j^q G_q(c_j h)  (∫₀^{c h} e^{A(c h − σ)} (σ/h)^q dσ = c^q G_q(c h)).
+      for (int k = 0; k < s; ++k) {
+        Eigen::Matrix2d w = Eigen::Matrix2d::Zero();
+        for (int q = 0; q < s; ++q) w += lc_at(j, k, q) * g[q];
+        out.G.block(j * nr, 2 * k, nr, 2) += Wxi * (w * Bi);
+      }
+    }
+    mode_integrals(a, h, s, e, g);
+    for (int r = 0; r < 2; ++r)
+      for (int col = 0; col < 2; ++col) out.Eh(at[r], at[col]) = e(r, col);
+    for (int k = 0; k < s; ++k) {
+      Eigen::Matrix2d v = Eigen::Matrix2d::Zero();
+      for (int q = 0; q < s; ++q) v += L(q, k) * g[q];
+      const Eigen::Matrix2d vb = v * Bi;
+      for (int r = 0; r < 2; ++r) out.VB.block(at[r], 2 * k, 1, 2) = vb.row(r);
+    }
   }
-  integrals(A, h, s, w.Eh, G);
-  for (int k = 0; k < s; ++k)
-    for (int q = 0; q < s; ++q) w.V[static_cast<std::size_t>(k)] += L(q, k) * G[static_cast<std::size_t>(q)];
-  return w;
+  return out;
 }
 
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
@@ -220,23 +209,22 @@ void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, co
   const Index n2 = A.rows(), nr = Wx.rows(), snr = nodes * nr;
   const double omega = angular_speed_rad_per_s(g.rpm);
   const double t_entry = p.entry_angle() / omega;  // tooth 0 enters here (Process::directional_matrix)
-  std::map<double, StepWeights> by_length;         // one per milling segment
+  std::map<double, NodeWeights> by_length;         // one per milling segment
   for (Step& st : g.steps) {
     auto it = by_length.find(st.h);
-    if (it == by_length.end()) it = by_length.emplace(st.h, step_weights(A, st.h, c)).first;
-    const StepWeights& w = it->second;
+    if (it == by_length.end()) it = by_length.emplace(st.h, node_weights(A, B, Wx, st.h, c)).first;
+    const NodeWeights& w = it->second;
     st.Eh = w.Eh;
-    st.WxEc.resize(snr, n2);
+    st.WxEc = w.WxEc;
     st.WxK.resize(snr, snr);
     st.VB.resize(n2, snr);
     for (int k = 0; k < nodes; ++k) {
       const double t = t_entry + st.t0 + c[static_cast<std::size_t>(k)] * st.h;
-      const MatrixXd BHU = B * p.directional_matrix(t, g.rpm) * U;  // 2n × n_r, per unit depth
-      st.VB.middleCols(k * nr, nr) = w.V[static_cast<std::size_t>(k)] * BHU;
+      const MatrixXd HU = p.directional_matrix(t, g.rpm) * U;  // 2 × n_r, per unit depth
+      st.VB.middleCols(k * nr, nr) = w.VB.middleCols(2 * k, 2) * HU;  // V_k B H U
       for (int j = 0; j < nodes; ++j)
-        st.WxK.block(j * nr, k * nr, nr, nr) = Wx * (w.W[static_cast<std::size_t>(j * nodes + k)] * BHU);
+        st.WxK.block(j * nr, k * nr, nr, nr) = w.G.block(j * nr, 2 * k, nr, 2) * HU;  // Wx W_jk B H U
     }
-    for (int j = 0; j < nodes; ++j) st.WxEc.middleRows(j * nr, nr) = Wx * w.Ec[static_cast<std::size_t>(j)];
   }
 }
 

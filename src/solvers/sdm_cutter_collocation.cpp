@@ -43,65 +43,6 @@ namespace {
 // round-off).
 constexpr double kNodeSnap = 1e-9;
 
-// NodeWeights of step length h, mode by mode: A couples only q_i and
-// q̇_i/ω_i of each mode (rows and columns i and n + i, state_space), so every
-// weight is block-diagonal in those pairs and Wx, B touch each pair through
-// 2 columns and 2 rows: O(n) work per weight instead of dense (2n)³.
-NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, double h,
-                         const std::vector<double>& c) {
-  const int s = static_cast<int>(c.size());
-  const Index nr = Wx.rows(), n2 = A.rows(), n = n2 / 2;
-  // ℓ_k(u) = Σ_q L(q, k) u^q: the inverse of the Vandermonde matrix of the nodes.
-  MatrixXd Vd(s, s);
-  for (int i = 0; i < s; ++i)
-    for (int q = 0; q < s; ++q) Vd(i, q) = std::pow(c[static_cast<std::size_t>(i)], q);
-  const MatrixXd L = Vd.inverse();
-  // Wc(j, k) (per q): L(q, k) c_j^q, the weight of G_q(c_j h) in W_jk.
-  std::vector<double> lc(static_cast<std::size_t>(s * s * s));
-  auto lc_at = [&](int j, int k, int q) -> double& { return lc[static_cast<std::size_t>((j * s + k) * s + q)]; };
-  for (int j = 0; j < s; ++j)
-    for (int k = 0; k < s; ++k)
-      for (int q = 0; q < s; ++q) lc_at(j, k, q) = L(q, k) * Vd(j, q);
-  NodeWeights out;
-  out.Eh = MatrixXd::Zero(n2, n2);
-  out.WxEc = MatrixXd::Zero(s * nr, n2);
-  out.G = MatrixXd::Zero(s * nr, 2 * s);
-  out.VB = MatrixXd::Zero(n2, 2 * s);
-  Eigen::Matrix2d a, e, g[kMaxCollocationNodes];
-  Eigen::Matrix<double, Eigen::Dynamic, 2> Wxi(nr, 2);
-  Eigen::Matrix2d Bi;
-  for (Index i = 0; i < n; ++i) {
-    const Index at[2] = {i, n + i};
-    for (int r = 0; r < 2; ++r) {
-      for (int col = 0; col < 2; ++col) a(r, col) = A(at[r], at[col]);
-      Wxi.col(r) = Wx.col(at[r]);
-      Bi.row(r) = B.row(at[r]);
-    }
-    for (int j = 0; j < s; ++j) {
-      const double cj = c[static_cast<std::size_t>(j)];
-      mode_integrals(a, cj * h, s, e, g);
-      const Eigen::Matrix<double, Eigen::Dynamic, 2> we = Wxi * e;  // Wx e^{A c_j h} on this pair
-      for (int r = 0; r < 2; ++r) out.WxEc.block(j * nr, at[r], nr, 1) += we.col(r);
-      // W_jk = Σ_q L(q, k) c_j^q G_q(c_j h)  (∫₀^{c h} e^{A(c h − σ)} (σ/h)^q dσ = c^q G_q(c h)).
-      for (int k = 0; k < s; ++k) {
-        Eigen::Matrix2d w = Eigen::Matrix2d::Zero();
-        for (int q = 0; q < s; ++q) w += lc_at(j, k, q) * g[q];
-        out.G.block(j * nr, 2 * k, nr, 2) += Wxi * (w * Bi);
-      }
-    }
-    mode_integrals(a, h, s, e, g);
-    for (int r = 0; r < 2; ++r)
-      for (int col = 0; col < 2; ++col) out.Eh(at[r], at[col]) = e(r, col);
-    for (int k = 0; k < s; ++k) {
-      Eigen::Matrix2d v = Eigen::Matrix2d::Zero();
-      for (int q = 0; q < s; ++q) v += L(q, k) * g[q];
-      const Eigen::Matrix2d vb = v * Bi;
-      for (int r = 0; r < 2; ++r) out.VB.block(at[r], 2 * k, 1, 2) = vb.row(r);
-    }
-  }
-  return out;
-}
-
 // Where the node samples of one period lie, and how a delayed time is read
 // from them (the stencil of docs/sdm.md "Collocation on real cutters").
 class NodeLayout {
@@ -252,7 +193,8 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   if (!g.cutter_grid) local = cutter_grid(p, g, o_.axial_slices, a, true);
   const CutterGrid& cg = g.cutter_grid ? *g.cutter_grid : local;
   const double scale = g.cutter_grid ? a / cg.depth : 1.0;
-  const std::unique_ptr<const RegenerativeCut> cut = RegenerativeCut::of(p, g.rpm, cg.depth, o_.axial_slices);
+  const RegenerativeCut* cut = cg.cut.get();  // at cg.depth
+  if (!cut) throw std::logic_error("sdm collocation: a grid without its cut (speed variation is refused)");
   const double T = g.tau, h_zero = kFreeForce * cg.force_scale_n_per_m2 * a;  // N/m: a group not cutting
   const std::vector<double> c = gauss_nodes(s);
   const NodeLayout layout(cg, c, T);

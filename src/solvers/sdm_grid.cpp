@@ -106,7 +106,8 @@ CutterGrid cutter_grid(const Process& p, const Grid& g, int axial_slices, double
   const double T = g.tau, rpm = g.rpm;
   // The cut through the cutting law's regenerative side only: its edges,
   // their delays and exact integrals, its events (any operation).
-  const std::unique_ptr<const RegenerativeCut> cut = RegenerativeCut::of(p, rpm, a, axial_slices);
+  cg.cut = RegenerativeCut::of(p, rpm, a, axial_slices);
+  const RegenerativeCut* cut = cg.cut.get();
   const double ph = cut->pattern_period_s();
   // Whole repeats of the events (T is a whole number of periods; with speed
   // variation a whole number of Floquet periods, which may be half a revolution).

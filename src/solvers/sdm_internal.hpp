@@ -38,6 +38,7 @@
 #include <Eigen/Core>
 
 #include "chatter/process.hpp"
+#include "chatter/regenerative_cut.hpp"
 #include "chatter/results.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/structural_model.hpp"
@@ -102,6 +103,9 @@ struct Step {
 // exact integrals ∫∫ H₁ per delay group and Σ_j ∫∫ n nᵀ at depth `depth`.
 struct CutterGrid {
   double depth = 0.0;              // m
+  // The cut it was built from (cutter_grid; collocation samples its H at the
+  // nodes); null from ssv_cutter_grid.
+  std::shared_ptr<const RegenerativeCut> cut;
   std::vector<double> t;           // t_0 = 0 … t_M = T
   std::vector<double> h;           // step lengths, s
   std::vector<char> free;          // 1: free flight (exact step)
@@ -224,7 +228,7 @@ struct NodeTerm {
   int sample = 0;  // global sample index l
 };
 // The depth-independent weights of one step length as a collocation step
-// reads them (sdm_cutter_collocation.cpp): WxEc = [Wx e^{A c_j h}]_j (s n_r
+// reads them (node_weights; both collocation grids): WxEc = [Wx e^{A c_j h}]_j (s n_r
 // × 2n), G = [Wx W_jk B]_jk (s n_r × 2s), VB = [V_k B]_k (2n × 2s), Eh = e^{A h}.
 struct NodeWeights {
   MatrixXd Eh, WxEc, G, VB;
@@ -338,20 +342,17 @@ Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_
                  const MatrixXd& Sv);
 // Gauss–Legendre nodes c_1 … c_s on [0, 1] (1 <= s <= kMaxCollocationNodes).
 std::vector<double> gauss_nodes(int s);
-// The collocation weights of one step length h (sdm_collocation.cpp):
-// e^{A h}, e^{A c_j h}, W_jk = ∫₀^{c_j h} e^{A(c_j h − σ)} ℓ_k(σ/h) dσ and
-// V_k = ∫₀^h e^{A(h − σ)} ℓ_k(σ/h) dσ (2n × 2n each), ℓ_k the Lagrange
-// basis of the nodes c. @pre A couples only q_i and q̇_i/ω_i of each mode
-// (state_space builds it so).
 // e^{aT} and G_q(T) = ∫₀^T e^{a(T−σ)} (σ/T)^q dσ (q < s, into G[0 … s−1])
 // of one 2 × 2 mode block a of the solver's A (sdm_collocation.cpp): in
 // closed form for an underdamped block, else from an augmented exponential.
 void mode_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& E, Eigen::Matrix2d* G);
-struct StepWeights {
-  MatrixXd Eh;
-  std::vector<MatrixXd> Ec, W, V;  // W: s × s, row-major (j, k)
-};
-StepWeights step_weights(const MatrixXd& A, double h, const std::vector<double>& c);
+// The collocation weights of step length h (NodeWeights above), mode by
+// mode (sdm_collocation.cpp), with W_jk = ∫₀^{c_j h} e^{A(c_j h − σ)}
+// ℓ_k(σ/h) dσ and V_k = ∫₀^h e^{A(h − σ)} ℓ_k(σ/h) dσ, ℓ_k the Lagrange
+// basis of the nodes c. @pre A couples only q_i and q̇_i/ω_i of each mode (state_space
+// builds it so); B has 2 columns (the force).
+NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, double h,
+                         const std::vector<double>& c);
 // Gauss collocation (sdm_collocation.cpp): the depth-independent weights of
 // every cutting step of a straight-teeth milling grid (Step::WxEc … Eh).
 // @pre collocation_refusal(p, o) is empty (the solver checks it at construction).
