@@ -197,63 +197,50 @@ std::vector<std::vector<StabilityLimit>> lobes_samples(const LobesPlan& plan, st
                        plan.speeds_rpm, begin, end, threads, per_sample);
 }
 
-int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
-                const std::vector<std::vector<StabilityLimit>>& samples, PlotWindow* window) {
+namespace {
+
+// The JSON lobe table: the rows, the extra columns, the provenance and, with
+// --samples, the uncertainty block.
+std::string lobes_json(const LobesPlan& plan, const std::vector<StabilityLimit>& rows,
+                       const std::vector<ExtraColumn>& extra, bool tolerance_met,
+                       const std::optional<UncertaintyOutputs>& mc) {
   const Config& cfg = plan.cfg;
   const Sweep& s = plan.sweep;
-  const po::variables_map& vm = plan.vm;
   const LobeSolver& solver = *plan.built.solver;
   const BuiltSolver& built = plan.built;
-  const std::string& table_path = plan.table_path;
-  const std::string& json_path = plan.json_path;
-  const std::string& plot_path = plan.plot_path;
   const bool adaptive = plan.adaptive;
-  const bool table_to_stdout = plan.table_to_stdout;
   const std::optional<UncertaintyRequest>& uncertainty = plan.uncertainty;
-  const std::optional<double>& planned_mm = plan.planned_mm;
-  const std::vector<StabilityLimit>& rows = nominal.rows;
-  std::vector<ExtraColumn> extra = nominal.extra;
-  const bool tolerance_met = nominal.tolerance_met;
-  const unsigned threads = plan.threads;
-  const Common& common = plan.common;
+  TableProvenance p;
+  p.method = solver.method();
+  p.config = &cfg;
+  p.rpm_min = s.rpm_min;
+  p.rpm_max = s.rpm_max;
+  p.rpm_points = s.rpm_points;
+  p.rpm_spacing = plan.spacing;
+  if (adaptive) {
+    p.adaptive_depth_rel_tol = kEnvelopeDepthRelTol;  // the tolerance lobes_nominal used
+    p.adaptive_tolerance_met = tolerance_met;
+  }
+  p.depth_max_mm = s.depth_max_mm;
+  p.absolute_limit = solver.known_absolute_limit();
+  p.options = built.options;
+  p.notes = built.notes;
+  p.position_mm = plan.common.position_mm;
+  nlohmann::json record = lobe_table_record(rows, p, extra);
+  if (mc)
+    record["uncertainty"] = uncertainty_record(*cfg.uncertainty, cfg.process.rotating_edges(),
+                                               {uncertainty->samples, uncertainty->seed, uncertainty->depth_points,
+                                                mc->depth_grid_top_mm, mc->summary});
+  return record.dump(2) + "\n";
+}
+
+// The summary for the person at the terminal: speeds, the absolute limit,
+// the deepest sampled row, the adaptive spacing's tolerance.
+std::string lobes_summary(const LobesPlan& plan, const std::vector<StabilityLimit>& rows, bool tolerance_met) {
+  const Sweep& s = plan.sweep;
+  const LobeSolver& solver = *plan.built.solver;
+  const bool adaptive = plan.adaptive;
   const std::optional<AbsoluteLimit> abs_lim = solver.known_absolute_limit();
-  // --samples: the Monte Carlo at the table's speeds; its quantile lobes are
-  // columns after the nominal ones.
-  std::optional<UncertaintyOutputs> mc;
-  if (uncertainty) {
-    mc = reduce_uncertainty(*uncertainty, s.depth_max_mm, vm, plan.speeds_rpm, rows, samples);
-    extra.insert(extra.end(), mc->columns.begin(), mc->columns.end());
-  }
-
-  std::ostringstream csv;
-  write_lobe_csv(csv, rows, extra);
-  std::string json_text;
-  if (!json_path.empty()) {
-    TableProvenance p;
-    p.method = solver.method();
-    p.config = &cfg;
-    p.rpm_min = s.rpm_min;
-    p.rpm_max = s.rpm_max;
-    p.rpm_points = s.rpm_points;
-    p.rpm_spacing = plan.spacing;
-    if (adaptive) {
-      p.adaptive_depth_rel_tol = kEnvelopeDepthRelTol;  // the tolerance lobes_nominal used
-      p.adaptive_tolerance_met = tolerance_met;
-    }
-    p.depth_max_mm = s.depth_max_mm;
-    p.absolute_limit = abs_lim;
-    p.options = built.options;
-    p.notes = built.notes;
-    p.position_mm = common.position_mm;
-    nlohmann::json record = lobe_table_record(rows, p, extra);
-    if (mc)
-      record["uncertainty"] = uncertainty_record(*cfg.uncertainty, cfg.process.rotating_edges(),
-                                                 {uncertainty->samples, uncertainty->seed, uncertainty->depth_points,
-                                                  mc->depth_grid_top_mm, mc->summary});
-    json_text = record.dump(2) + "\n";
-  }
-
-  // Summary for the person at the terminal.
   const StabilityLimit* best = nullptr;  // deepest stable cut in the sweep
   std::size_t bounded = 0;
   for (const auto& r : rows) {
@@ -261,7 +248,7 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     if (!best || r.depth_limit_m > best->depth_limit_m) best = &r;
   }
   std::ostringstream summary;
-  summary << cfg.name << " (" << solver.method() << "): " << rows.size() << " speeds "
+  summary << plan.cfg.name << " (" << solver.method() << "): " << rows.size() << " speeds "
           << fmt(s.rpm_min) << "-" << fmt(s.rpm_max) << " rev/min";
   if (abs_lim && abs_lim->depth_m < INFINITY)
     summary << "; stable at any speed below " << fmt(abs_lim->depth_m * 1e3, 5) << " mm";
@@ -281,24 +268,22 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
             << (tolerance_met ? "every midpoint within 0.5 % of the line between rows"
                               : "0.5 % midpoint tolerance not met everywhere within --rpm-points " +
                                     std::to_string(s.rpm_points) + " (raise it)");
+  return summary.str();
+}
 
-  std::vector<std::pair<std::filesystem::path, std::string>> files;
-  if (!table_path.empty()) files.emplace_back(table_path, csv.str());
-  if (!json_path.empty() && !plan.json_to_stdout) files.emplace_back(json_path, json_text);
-  if (mc && !uncertainty->probability_table.empty())
-    files.emplace_back(uncertainty->probability_table, mc->probability_csv);
-  write_text_files(files);  // all or nothing
-  if (table_to_stdout) std::cout << csv.str();
-  if (plan.json_to_stdout) std::cout << json_text;
-  std::ostream& info = table_to_stdout || plan.json_to_stdout ? std::cerr : std::cout;
-  info << summary.str() << "\n";
-  if (mc) info << mc->summary << "\n";
-  if (mc && !uncertainty->probability_table.empty())
-    info << "wrote probability table: " << uncertainty->probability_table << "\n";
-  if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
-  if (!json_path.empty() && !plan.json_to_stdout) info << "wrote JSON table: " << json_path << "\n";
+// The plot (file and/or window): the uncertain lobes with --samples, else
+// the table's envelope refined where the line through its rows leaves it.
+void plot_lobe_outputs(const LobesPlan& plan, const std::vector<StabilityLimit>& rows,
+                       const std::optional<UncertaintyOutputs>& mc, PlotWindow* window, std::ostream& info) {
+  const Config& cfg = plan.cfg;
+  const Sweep& s = plan.sweep;
+  const po::variables_map& vm = plan.vm;
+  const LobeSolver& solver = *plan.built.solver;
+  const std::string& plot_path = plan.plot_path;
+  const std::optional<UncertaintyRequest>& uncertainty = plan.uncertainty;
+  const std::optional<AbsoluteLimit> abs_lim = solver.known_absolute_limit();
   const std::string plot_title = cfg.name + " (" + solver.method() + ")";
-  if ((!plot_path.empty() || window) && mc) {
+  if (mc) {
     const std::string title = cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)";
     if (!plot_path.empty()) {
       const auto plot_files =
@@ -307,7 +292,7 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
            << ", data " << plot_files.data.string() << ")\n";
     }
     if (window) plot_uncertain_lobes(*window, title, mc->lobes, rows, s.depth_max_mm, mc->depth_grid_top_mm);
-  } else if (!plot_path.empty() || window) {
+  } else {
     PlotOptions po_;
     po_.chatter_frequency_panel = vm.count("plot-frequency") > 0;
     po_.depth_axis_max_mm = plan.plot_depth_axis_mm;
@@ -322,8 +307,8 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     std::vector<StabilityLimit> plotted;
     {
       Progress progress(vm, plot_refinement.max_solves, "plot envelope (" + solver.method() + ")");
-      plotted = refine_envelope(solver, rows, plot_refinement, threads,
-                                         [&](std::size_t done) { progress.tick(done); })
+      plotted = refine_envelope(solver, rows, plot_refinement, plan.threads,
+                                [&](std::size_t done) { progress.tick(done); })
                     .rows;
     }
     if (!plot_path.empty()) {
@@ -335,23 +320,71 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     if (window)
       plot_lobes(*window, plot_title, plotted, curves, abs_lim.value_or(AbsoluteLimit{}), solver.depth_max_m(), po_);
   }
-  if (planned_mm) {
-    // The planned depth against every row of the table: one line on stderr.
-    constexpr std::size_t kSpeedsListed = 5;
-    std::vector<double> chatter_rpm;
-    for (const auto& r : rows)
-      if (!(*planned_mm * 1e-3 < r.depth_limit_m)) chatter_rpm.push_back(r.spindle_rpm);
-    if (chatter_rpm.empty()) {
-      std::cerr << "depth " << fmt(*planned_mm) << " mm: stable at all " << rows.size() << " speeds of the table\n";
-    } else {
-      std::cerr << "depth " << fmt(*planned_mm) << " mm: chatter at " << chatter_rpm.size() << " of " << rows.size()
-                << " speeds of the table";
-      for (std::size_t i = 0; i < chatter_rpm.size() && i < kSpeedsListed; ++i)
-        std::cerr << (i == 0 ? " (" : ", ") << fmt(chatter_rpm[i]);
-      std::cerr << (chatter_rpm.size() > kSpeedsListed ? ", ..." : "") << " rev/min)\n";
-      if (vm.count("fail-on-chatter")) return kExitChatter;
-    }
+}
+
+// --depth-mm: the planned depth against every row of the table, one line on
+// stderr; false when it chatters somewhere and --fail-on-chatter is given.
+bool planned_depth_report(const LobesPlan& plan, const std::vector<StabilityLimit>& rows) {
+  const double planned_mm = *plan.planned_mm;
+  constexpr std::size_t kSpeedsListed = 5;
+  std::vector<double> chatter_rpm;
+  for (const auto& r : rows)
+    if (!(planned_mm * 1e-3 < r.depth_limit_m)) chatter_rpm.push_back(r.spindle_rpm);
+  if (chatter_rpm.empty()) {
+    std::cerr << "depth " << fmt(planned_mm) << " mm: stable at all " << rows.size() << " speeds of the table\n";
+  } else {
+    std::cerr << "depth " << fmt(planned_mm) << " mm: chatter at " << chatter_rpm.size() << " of " << rows.size()
+              << " speeds of the table";
+    for (std::size_t i = 0; i < chatter_rpm.size() && i < kSpeedsListed; ++i)
+      std::cerr << (i == 0 ? " (" : ", ") << fmt(chatter_rpm[i]);
+    std::cerr << (chatter_rpm.size() > kSpeedsListed ? ", ..." : "") << " rev/min)\n";
+    if (plan.vm.count("fail-on-chatter")) return false;
   }
+  return true;
+}
+
+}  // namespace
+
+int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
+                const std::vector<std::vector<StabilityLimit>>& samples, PlotWindow* window) {
+  const Sweep& s = plan.sweep;
+  const std::string& table_path = plan.table_path;
+  const std::string& json_path = plan.json_path;
+  const bool table_to_stdout = plan.table_to_stdout;
+  const std::optional<UncertaintyRequest>& uncertainty = plan.uncertainty;
+  const std::vector<StabilityLimit>& rows = nominal.rows;
+  std::vector<ExtraColumn> extra = nominal.extra;
+  const bool tolerance_met = nominal.tolerance_met;
+  // --samples: the Monte Carlo at the table's speeds; its quantile lobes are
+  // columns after the nominal ones.
+  std::optional<UncertaintyOutputs> mc;
+  if (uncertainty) {
+    mc = reduce_uncertainty(*uncertainty, s.depth_max_mm, plan.vm, plan.speeds_rpm, rows, samples);
+    extra.insert(extra.end(), mc->columns.begin(), mc->columns.end());
+  }
+
+  std::ostringstream csv;
+  write_lobe_csv(csv, rows, extra);
+  const std::string json_text = json_path.empty() ? std::string() : lobes_json(plan, rows, extra, tolerance_met, mc);
+  const std::string summary = lobes_summary(plan, rows, tolerance_met);
+
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  if (!table_path.empty()) files.emplace_back(table_path, csv.str());
+  if (!json_path.empty() && !plan.json_to_stdout) files.emplace_back(json_path, json_text);
+  if (mc && !uncertainty->probability_table.empty())
+    files.emplace_back(uncertainty->probability_table, mc->probability_csv);
+  write_text_files(files);  // all or nothing
+  if (table_to_stdout) std::cout << csv.str();
+  if (plan.json_to_stdout) std::cout << json_text;
+  std::ostream& info = table_to_stdout || plan.json_to_stdout ? std::cerr : std::cout;
+  info << summary << "\n";
+  if (mc) info << mc->summary << "\n";
+  if (mc && !uncertainty->probability_table.empty())
+    info << "wrote probability table: " << uncertainty->probability_table << "\n";
+  if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
+  if (!json_path.empty() && !plan.json_to_stdout) info << "wrote JSON table: " << json_path << "\n";
+  if (!plan.plot_path.empty() || window) plot_lobe_outputs(plan, rows, mc, window, info);
+  if (plan.planned_mm && !planned_depth_report(plan, rows)) return kExitChatter;
   return 0;
 }
 

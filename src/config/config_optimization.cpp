@@ -297,6 +297,43 @@ Objective read_objective(const Table& t) {
   return Objective::kLoss;
 }
 
+// The speed bounds: as cutting speed (m/min, turned into rev/min at the
+// diameter) or as spindle speed (rev/min), one of them.
+void read_speed(const Table& t, OptimizationSpec& s) {
+  const bool by_v = t.has("cutting_speed_m_per_min"), by_n = t.has("spindle_rpm");
+  if (by_v && by_n)
+    t.doc().error_key(t.path(), "give cutting_speed_m_per_min or spindle_rpm, not both");
+  else if (!by_v && !by_n)
+    t.doc().error_key(t.path_of("cutting_speed_m_per_min"),
+                      "missing (required: the speed bounds [lower, upper] in m/min, or spindle_rpm in rev/min)");
+  std::optional<Bounds> speed;
+  if (by_v && !by_n) {
+    speed = read_bounds(t, "cutting_speed_m_per_min", 1.0, kCuttingSpeedBound);
+    if (speed && s.diameter_m > 0.0)
+      s.speed_rpm = {spindle_rpm_of(s.diameter_m, speed->lo), spindle_rpm_of(s.diameter_m, speed->hi)};
+  } else if (by_n && !by_v) {
+    speed = read_bounds(t, "spindle_rpm", 1.0, kRpmBound);
+    if (speed) s.speed_rpm = *speed;
+    s.speed_as_cutting_speed = false;
+  }
+}
+
+// [optimization.adapt]: the adaptive control's gain and largest step.
+AdaptSettings read_adapt(const Table& a) {
+  AdaptSettings adapt;
+  constexpr std::string_view kAdaptKeys[] = {"gamma", "max_step_percent"};
+  a.reject_unknown(kAdaptKeys);
+  const Given g = a.quantity(Quantity{kGammaKeys}, kUnitInterval);
+  if (g.si) adapt.gamma = *g.si;
+  warn_band(a, g, Quantity{kGammaKeys}, kGammaBand);
+  if (const auto m = a.number("max_step_percent", kStepPercent)) {
+    adapt.max_step = *m / 100.0;
+    warn_usual(a, "max_step_percent", m, {0.5, 100.0, "the 0.5 to 100 % of one adaptation step", 100.0,
+                                          "fractions, not percent"});
+  }
+  return adapt;
+}
+
 }  // namespace
 
 std::optional<OptimizationSpec> read_optimization(const Table& root, const Process& process) {
@@ -327,23 +364,7 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
                                        "process.tool_diameter_mm"
                                      : "needs the workpiece diameter for the cutting speed: give "
                                        "process.workpiece_diameter_mm");
-  // The speed: as cutting speed or as spindle speed, one of them.
-  const bool by_v = t->has("cutting_speed_m_per_min"), by_n = t->has("spindle_rpm");
-  if (by_v && by_n)
-    doc.error_key(t->path(), "give cutting_speed_m_per_min or spindle_rpm, not both");
-  else if (!by_v && !by_n)
-    doc.error_key(t->path_of("cutting_speed_m_per_min"),
-                  "missing (required: the speed bounds [lower, upper] in m/min, or spindle_rpm in rev/min)");
-  std::optional<Bounds> speed;
-  if (by_v && !by_n) {
-    speed = read_bounds(*t, "cutting_speed_m_per_min", 1.0, kCuttingSpeedBound);
-    if (speed && s.diameter_m > 0.0)
-      s.speed_rpm = {spindle_rpm_of(s.diameter_m, speed->lo), spindle_rpm_of(s.diameter_m, speed->hi)};
-  } else if (by_n && !by_v) {
-    speed = read_bounds(*t, "spindle_rpm", 1.0, kRpmBound);
-    if (speed) s.speed_rpm = *speed;
-    s.speed_as_cutting_speed = false;
-  }
+  read_speed(*t, s);
   if (const auto f = read_bounds(*t, feed_key, 1e-3, kFeedBound)) s.feed_m = *f;
   else if (!t->has(feed_key))
     doc.error_key(t->path_of(feed_key), "missing (required: one number or [lower, upper], mm)");
@@ -369,18 +390,7 @@ std::optional<OptimizationSpec> read_optimization(const Table& root, const Proce
   attempt_void([&] { s.constraints = read_constraints(*t, op); });
   attempt_void([&] { s.roughness = read_roughness(*t); });
   attempt_void([&] { s.economics = read_economics(*t); });
-  if (const auto a = t->table("adapt")) {
-    constexpr std::string_view kAdaptKeys[] = {"gamma", "max_step_percent"};
-    a->reject_unknown(kAdaptKeys);
-    const Given g = a->quantity(Quantity{kGammaKeys}, kUnitInterval);
-    if (g.si) s.adapt.gamma = *g.si;
-    warn_band(*a, g, Quantity{kGammaKeys}, kGammaBand);
-    if (const auto m = a->number("max_step_percent", kStepPercent)) {
-      s.adapt.max_step = *m / 100.0;
-      warn_usual(*a, "max_step_percent", m, {0.5, 100.0, "the 0.5 to 100 % of one adaptation step", 100.0,
-                                              "fractions, not percent"});
-    }
-  }
+  if (const auto a = t->table("adapt")) s.adapt = read_adapt(*a);
   // What the models need, named by the key that needs it.
   const auto weight = [&](PerformanceIndex i) { return s.loss.weight[static_cast<std::size_t>(i)] > 0.0; };
   if (!s.roughness && (weight(PerformanceIndex::kRoughness) || s.constraints.max_roughness_um))

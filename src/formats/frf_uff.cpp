@@ -282,13 +282,15 @@ void read_units(const UffContext& ctx, LineReader& lines, UffState& st) {
   st.units_scale = force / length;
 }
 
-std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& lines, const DatasetHeader& h,
-                                           int start_line, UffState& st, const FrfReadOptions& options) {
+using Header = std::vector<std::pair<int, std::string_view>>;
+
+// The 11 header records of a dataset 58 (line number, text).
+Header header_records(const UffContext& ctx, LineReader& lines, const DatasetHeader& h, int start_line) {
   const long long header_count = h.binary ? h.ascii_lines : 11;
   if (h.binary && h.ascii_lines < 11)
     ctx.fail(start_line + 1, "binary dataset header gives " + std::to_string(h.ascii_lines) +
                                  " ASCII lines, dataset 58 has 11");
-  std::vector<std::pair<int, std::string_view>> hdr;
+  Header hdr;
   for (long long i = 0; i < header_count; ++i) {
     if (lines.at_end()) ctx.fail(lines.line(), "truncated header: expected 11 header records, got " + std::to_string(hdr.size()));
     const int ln = lines.line();
@@ -296,44 +298,52 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
     if (is_delimiter(l)) ctx.fail(ln, "truncated header: expected 11 header records, got " + std::to_string(hdr.size()));
     hdr.emplace_back(ln, l);
   }
-  UffFrfRecord rec;
-  rec.record = ctx.record;
-  rec.line = start_line;
-  rec.binary = h.binary;
-  rec.id1 = std::string(trim(hdr[0].second));
+  return hdr;
+}
 
-  // Record 6: function type and DOF identification.
-  {
-    const auto& [ln, l] = hdr[5];
-    const std::string_view t = trim(l);
-    const auto toks = split_blanks(t);
-    std::optional<long long> ft = parse_integer(l.substr(0, std::min<std::size_t>(5, l.size())));
-    if (!ft && !toks.empty()) ft = parse_integer(toks[0]);
-    if (!ft) ctx.fail(ln, "header record 6: non-numeric function type '" + shown(toks.empty() ? t : toks[0]) + "'");
-    if (*ft != 4) {
-      st.skipped.push_back("record " + std::to_string(ctx.record) + ": dataset 58 function type " + std::to_string(*ft) +
-                           " (" + function_type_name(*ft) + ") is not an FRF");
-      if (h.binary) {
-        lines.skip_bytes(static_cast<std::size_t>(std::min<long long>(h.bytes, static_cast<long long>(lines.remaining()))));
-        expect_delimiter_after_binary(ctx, lines, h.bytes);
-      } else {
-        skip_to_delimiter(lines);
-      }
-      return std::nullopt;
+// Record 6: the function type (false, the dataset skipped and noted, when it
+// is not an FRF) and the response and reference DOF.
+bool read_record6(const UffContext& ctx, LineReader& lines, const DatasetHeader& h,
+                  const std::pair<int, std::string_view>& record, UffState& st, UffFrfRecord& rec) {
+  const auto& [ln, l] = record;
+  const std::string_view t = trim(l);
+  const auto toks = split_blanks(t);
+  std::optional<long long> ft = parse_integer(l.substr(0, std::min<std::size_t>(5, l.size())));
+  if (!ft && !toks.empty()) ft = parse_integer(toks[0]);
+  if (!ft) ctx.fail(ln, "header record 6: non-numeric function type '" + shown(toks.empty() ? t : toks[0]) + "'");
+  if (*ft != 4) {
+    st.skipped.push_back("record " + std::to_string(ctx.record) + ": dataset 58 function type " + std::to_string(*ft) +
+                         " (" + function_type_name(*ft) + ") is not an FRF");
+    if (h.binary) {
+      lines.skip_bytes(static_cast<std::size_t>(std::min<long long>(h.bytes, static_cast<long long>(lines.remaining()))));
+      expect_delimiter_after_binary(ctx, lines, h.bytes);
+    } else {
+      skip_to_delimiter(lines);
     }
-    auto field = [l = l](std::size_t b, std::size_t w) -> int {  // by value: clang < 16 cannot capture a structured binding
-      if (b >= l.size()) return 0;
-      const auto v = parse_integer(l.substr(b, w));
-      return v ? static_cast<int>(*v) : 0;
-    };
-    rec.response_node = field(41, 10);
-    rec.response_direction = field(51, 4);
-    rec.reference_node = field(66, 10);
-    rec.reference_direction = field(76, 4);
+    return false;
   }
+  auto field = [l = l](std::size_t b, std::size_t w) -> int {  // by value: clang < 16 cannot capture a structured binding
+    if (b >= l.size()) return 0;
+    const auto v = parse_integer(l.substr(b, w));
+    return v ? static_cast<int>(*v) : 0;
+  };
+  rec.response_node = field(41, 10);
+  rec.response_direction = field(51, 4);
+  rec.reference_node = field(66, 10);
+  rec.reference_direction = field(76, 4);
+  return true;
+}
 
-  // Record 7: data form.
-  const auto& [ln7, l7] = hdr[6];
+// Record 7: the data form (ordinate type, points, abscissa spacing).
+struct DataForm {
+  std::size_t n_points = 0, per_point = 0, expected = 0;  // values per point; values in all
+  double x_min = 0.0, x_inc = 0.0;                       // Hz, even abscissa
+  bool complex_data = false, dbl = false;
+};
+
+DataForm read_record7(const UffContext& ctx, const std::pair<int, std::string_view>& record, UffFrfRecord& rec) {
+  DataForm d;
+  const auto& [ln7, l7] = record;
   const auto r7 = header_fields(l7, {10, 10, 10, 13, 13, 13});
   if (!r7[0] || !r7[1] || !r7[2]) ctx.fail(ln7, "header record 7: expected ordinate data type, number of points and abscissa spacing, found '" + shown(trim(l7)) + "'");
   const double ot = *r7[0], np = *r7[1], sp = *r7[2];
@@ -344,115 +354,148 @@ std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& li
   if (sp != 0 && sp != 1) ctx.fail(ln7, "header record 7: abscissa spacing " + number_text(sp, 10) + " must be 1 (even) or 0 (uneven)");
   rec.ordinate_data_type = static_cast<int>(ot);
   rec.even_abscissa = sp == 1;
-  const auto n_points = static_cast<std::size_t>(np);
-  double x_min = 0.0, x_inc = 0.0;
+  d.n_points = static_cast<std::size_t>(np);
   if (rec.even_abscissa) {
     if (!r7[3] || !r7[4]) ctx.fail(ln7, "header record 7: even abscissa needs its minimum and increment");
-    x_min = *r7[3];
-    x_inc = *r7[4];
-    if (!std::isfinite(x_inc) || x_inc <= 0.0) ctx.fail(ln7, "header record 7: abscissa increment " + number_text(x_inc, 10) + " Hz must be > 0");
-    if (!std::isfinite(x_min) || x_min < 0.0) ctx.fail(ln7, "header record 7: abscissa minimum " + number_text(x_min, 10) + " Hz must be >= 0");
+    d.x_min = *r7[3];
+    d.x_inc = *r7[4];
+    if (!std::isfinite(d.x_inc) || d.x_inc <= 0.0) ctx.fail(ln7, "header record 7: abscissa increment " + number_text(d.x_inc, 10) + " Hz must be > 0");
+    if (!std::isfinite(d.x_min) || d.x_min < 0.0) ctx.fail(ln7, "header record 7: abscissa minimum " + number_text(d.x_min, 10) + " Hz must be >= 0");
   }
-  const bool complex_data = ot == 5 || ot == 6;
-  const bool dbl = ot == 4 || ot == 6;
-  const std::size_t per_point = (complex_data ? 2u : 1u) + (rec.even_abscissa ? 0u : 1u);
-  const std::size_t expected = n_points * per_point;
+  d.complex_data = ot == 5 || ot == 6;
+  d.dbl = ot == 4 || ot == 6;
+  d.per_point = (d.complex_data ? 2u : 1u) + (rec.even_abscissa ? 0u : 1u);
+  d.expected = d.n_points * d.per_point;
+  return d;
+}
 
-  // Records 9 and 10: ordinate numerator and denominator data types.
-  {
-    const auto& [ln9, l9] = hdr[8];
-    const auto r9 = header_fields(l9, {10});
-    const long long num = type_code(r9[0]);
-    std::optional<FrfQuantity> q;
-    if (num == 8) q = FrfQuantity::kReceptance;
-    else if (num == 11) q = FrfQuantity::kMobility;
-    else if (num == 12) q = FrfQuantity::kAccelerance;
-    if (options.quantity) {
-      rec.quantity = *options.quantity;
-    } else if (q) {
-      rec.quantity = *q;
-    } else if (num == 0 || num == 1) {
-      rec.quantity = FrfQuantity::kReceptance;
-    } else {
-      ctx.fail(ln9, "header record 9: ordinate is " + std::string(spec_type_name(num)) + " (data type " + std::to_string(num) +
-                        "), not displacement (8), velocity (11) or acceleration (12); give the quantity explicitly");
-    }
-    const auto& [ln10, l10] = hdr[9];
-    const auto r10 = header_fields(l10, {10});
-    const long long den = type_code(r10[0]);
-    if (!options.quantity && den != 0 && den != 1 && den != 9 && den != 13)
-      ctx.fail(ln10, "header record 10: ordinate denominator is " + std::string(spec_type_name(den)) + " (data type " +
-                         std::to_string(den) + "), not force (13)");
+// Records 9 and 10: the ordinate's numerator and denominator (the FRF's
+// quantity; options.quantity overrides).
+void read_quantity(const UffContext& ctx, const std::pair<int, std::string_view>& record9,
+                   const std::pair<int, std::string_view>& record10, const FrfReadOptions& options,
+                   UffFrfRecord& rec) {
+  const auto& [ln9, l9] = record9;
+  const auto r9 = header_fields(l9, {10});
+  const long long num = type_code(r9[0]);
+  std::optional<FrfQuantity> q;
+  if (num == 8) q = FrfQuantity::kReceptance;
+  else if (num == 11) q = FrfQuantity::kMobility;
+  else if (num == 12) q = FrfQuantity::kAccelerance;
+  if (options.quantity) {
+    rec.quantity = *options.quantity;
+  } else if (q) {
+    rec.quantity = *q;
+  } else if (num == 0 || num == 1) {
+    rec.quantity = FrfQuantity::kReceptance;
+  } else {
+    ctx.fail(ln9, "header record 9: ordinate is " + std::string(spec_type_name(num)) + " (data type " + std::to_string(num) +
+                      "), not displacement (8), velocity (11) or acceleration (12); give the quantity explicitly");
   }
+  const auto& [ln10, l10] = record10;
+  const auto r10 = header_fields(l10, {10});
+  const long long den = type_code(r10[0]);
+  if (!options.quantity && den != 0 && den != 1 && den != 9 && den != 13)
+    ctx.fail(ln10, "header record 10: ordinate denominator is " + std::string(spec_type_name(den)) + " (data type " +
+                       std::to_string(den) + "), not force (13)");
+}
 
-  // Data.
+// The data of a binary dataset: the values header record 7 announces.
+Values binary_values(const UffContext& ctx, LineReader& lines, const DatasetHeader& h, int start_line,
+                     const DataForm& form) {
+  Values vals;
+  if (h.fp_format != 2 && h.fp_format != 0)
+    ctx.fail(start_line + 1, "binary floating-point format " + std::to_string(h.fp_format) + " is not supported (2 = IEEE 754)");
+  const std::size_t size = form.dbl ? 8 : 4;
+  const long long need = static_cast<long long>(form.expected * size);
+  if (h.bytes != need)
+    ctx.fail(start_line + 1, "binary record holds " + std::to_string(h.bytes) + " bytes, header record 7 needs " +
+                                 std::to_string(need) + " (" + std::to_string(form.n_points) + " points x " +
+                                 std::to_string(form.per_point) + " values x " + std::to_string(size) + " bytes)");
+  if (static_cast<long long>(lines.remaining()) < need)
+    ctx.fail(lines.line(), "truncated: expected " + std::to_string(need) + " bytes of binary data, the file has " +
+                               std::to_string(lines.remaining()) + " left");
+  const std::string_view data = lines.rest();
+  const int data_line = lines.line();
+  vals.v.reserve(form.expected);
+  for (std::size_t i = 0; i < form.expected; ++i) {
+    vals.v.push_back(load_float(data.data() + i * size, h.byte_order, form.dbl));
+    vals.line.push_back(data_line);
+  }
+  lines.skip_bytes(static_cast<std::size_t>(need));
+  expect_delimiter_after_binary(ctx, lines, h.bytes);
+  return vals;
+}
+
+// The data of an ASCII dataset up to its closing delimiter: exactly the
+// values header record 7 announces.
+Values ascii_values(const UffContext& ctx, LineReader& lines, const UffFrfRecord& rec, const DataForm& form) {
   Values vals;
   int end_line = lines.line();
-  if (h.binary) {
-    if (h.fp_format != 2 && h.fp_format != 0)
-      ctx.fail(start_line + 1, "binary floating-point format " + std::to_string(h.fp_format) + " is not supported (2 = IEEE 754)");
-    const std::size_t size = dbl ? 8 : 4;
-    const long long need = static_cast<long long>(expected * size);
-    if (h.bytes != need)
-      ctx.fail(start_line + 1, "binary record holds " + std::to_string(h.bytes) + " bytes, header record 7 needs " +
-                                   std::to_string(need) + " (" + std::to_string(n_points) + " points x " +
-                                   std::to_string(per_point) + " values x " + std::to_string(size) + " bytes)");
-    if (static_cast<long long>(lines.remaining()) < need)
-      ctx.fail(lines.line(), "truncated: expected " + std::to_string(need) + " bytes of binary data, the file has " +
-                                 std::to_string(lines.remaining()) + " left");
-    const std::string_view data = lines.rest();
-    const int data_line = lines.line();
-    vals.v.reserve(expected);
-    for (std::size_t i = 0; i < expected; ++i) {
-      vals.v.push_back(load_float(data.data() + i * size, h.byte_order, dbl));
-      vals.line.push_back(data_line);
+  const std::vector<int> pattern = column_pattern(rec.ordinate_data_type, rec.even_abscissa);
+  bool closed = false;
+  while (!lines.at_end()) {
+    const int ln = lines.line();
+    const std::string_view l = lines.next();
+    end_line = ln;
+    if (is_delimiter(l)) {
+      closed = true;
+      break;
     }
-    lines.skip_bytes(static_cast<std::size_t>(need));
-    expect_delimiter_after_binary(ctx, lines, h.bytes);
-  } else {
-    const std::vector<int> pattern = column_pattern(rec.ordinate_data_type, rec.even_abscissa);
-    bool closed = false;
-    while (!lines.at_end()) {
-      const int ln = lines.line();
-      const std::string_view l = lines.next();
-      end_line = ln;
-      if (is_delimiter(l)) {
-        closed = true;
-        break;
-      }
-      if (trim(l).empty()) continue;
-      if (vals.v.size() >= expected)
-        ctx.fail(ln, "extra data after the " + std::to_string(expected) + " values header record 7 announces ('" + shown(trim(l)) + "')");
-      parse_data_line(ctx, l, ln, pattern, vals);
-    }
-    if (vals.v.size() < expected)
-      ctx.fail(end_line, "truncated: expected " + std::to_string(expected) + " values (" + std::to_string(n_points) +
-                             " points), got " + std::to_string(vals.v.size()) +
-                             (closed ? "" : " before the end of the file"));
-    if (vals.v.size() > expected)
-      ctx.fail(vals.line[expected], "extra data: " + std::to_string(vals.v.size()) + " values, header record 7 announces " +
-                                        std::to_string(expected));
+    if (trim(l).empty()) continue;
+    if (vals.v.size() >= form.expected)
+      ctx.fail(ln, "extra data after the " + std::to_string(form.expected) + " values header record 7 announces ('" + shown(trim(l)) + "')");
+    parse_data_line(ctx, l, ln, pattern, vals);
   }
+  if (vals.v.size() < form.expected)
+    ctx.fail(end_line, "truncated: expected " + std::to_string(form.expected) + " values (" + std::to_string(form.n_points) +
+                           " points), got " + std::to_string(vals.v.size()) +
+                           (closed ? "" : " before the end of the file"));
+  if (vals.v.size() > form.expected)
+    ctx.fail(vals.line[form.expected], "extra data: " + std::to_string(vals.v.size()) + " values, header record 7 announces " +
+                                      std::to_string(form.expected));
+  return vals;
+}
 
-  // Table.
+// The record's table from the values (frequency, complex value), and the
+// file line of each point.
+std::vector<int> fill_table(const UffContext& ctx, const Values& vals, const DataForm& form, UffFrfRecord& rec) {
   FrfTable& t = rec.table;
   t.source = ctx.name + " (record " + std::to_string(ctx.record) + ")";
-  t.frequency_hz.reserve(n_points);
-  t.value.reserve(n_points);
+  t.frequency_hz.reserve(form.n_points);
+  t.value.reserve(form.n_points);
   std::vector<int> line_of;
-  line_of.reserve(n_points);
-  for (std::size_t i = 0; i < n_points; ++i) {
-    const double* p = vals.v.data() + i * per_point;
+  line_of.reserve(form.n_points);
+  for (std::size_t i = 0; i < form.n_points; ++i) {
+    const double* p = vals.v.data() + i * form.per_point;
     std::size_t c = 0;
-    const double f = rec.even_abscissa ? x_min + static_cast<double>(i) * x_inc : p[c++];
+    const double f = rec.even_abscissa ? form.x_min + static_cast<double>(i) * form.x_inc : p[c++];
     const double re = p[c++];
-    const double im = complex_data ? p[c] : 0.0;
+    const double im = form.complex_data ? p[c] : 0.0;
     t.frequency_hz.push_back(f);
     t.value.emplace_back(re, im);
-    line_of.push_back(vals.line[i * per_point]);
+    line_of.push_back(vals.line[i * form.per_point]);
   }
+  return line_of;
+}
+
+std::optional<UffFrfRecord> read_dataset58(const UffContext& ctx, LineReader& lines, const DatasetHeader& h,
+                                           int start_line, UffState& st, const FrfReadOptions& options) {
+  const Header hdr = header_records(ctx, lines, h, start_line);
+  UffFrfRecord rec;
+  rec.record = ctx.record;
+  rec.line = start_line;
+  rec.binary = h.binary;
+  rec.id1 = std::string(trim(hdr[0].second));
+
+  if (!read_record6(ctx, lines, h, hdr[5], st, rec)) return std::nullopt;
+  const DataForm form = read_record7(ctx, hdr[6], rec);
+  read_quantity(ctx, hdr[8], hdr[9], options, rec);
+  const Values vals = h.binary ? binary_values(ctx, lines, h, start_line, form)
+                               : ascii_values(ctx, lines, rec, form);
+
+  const std::vector<int> line_of = fill_table(ctx, vals, form, rec);
   const std::string binary_note = h.binary ? " (binary data)" : "";
-  validate(t, ctx.name + ": record " + std::to_string(ctx.record), [&](std::size_t i) {
+  validate(rec.table, ctx.name + ": record " + std::to_string(ctx.record), [&](std::size_t i) {
     return ctx.at(line_of[i]) + binary_note + ", point " + std::to_string(i + 1);
   });
   rec.table = finish(std::move(rec.table), rec.quantity, options, st.units_scale);

@@ -67,126 +67,157 @@ constexpr double kMaxCanonNumber = 1e31;
 // The largest tool number or count of arc turns.
 constexpr double kMaxCanonCount = 1e9;
 
-}  // namespace
+// The interpreter's modal state while its log is read, and the checks of a
+// call's numbers (each refusal names the source and the log line).
+class CanonReader {
+ public:
+  explicit CanonReader(const std::string& source) { path_.source = source; }
 
-Toolpath parse_canon_log(const std::string& log, const std::string& source) {
-  Toolpath path;
-  path.source = source;
-  double scale = 1.0;  // program units -> mm
-  ArcPlane plane = ArcPlane::kXY;
-  ToolpathMove state;  // the modal state every move copies
-  int selected_tool = 0;
-  bool css = false;
-  Eigen::Vector3d pos(0, 0, 0);
-  std::istringstream in(log);
-  std::string l;
-  int log_line = 0;
-  auto need = [&](const CanonCall& c, std::size_t n) {
+  // One call of the log, at log line `log_line`.
+  void apply(const CanonCall& c, int log_line) {
+    line_ = log_line;
+    const std::string& n = c.name;
+    if (n == "USE_LENGTH_UNITS") {
+      scale_ = c.raw_args.find("INCHES") != std::string::npos ? 25.4 : c.raw_args.find("CM") != std::string::npos ? 10.0 : 1.0;
+      state_.unit_mm = scale_;
+    } else if (n == "SELECT_PLANE") {
+      plane_ = c.raw_args.find("XZ") != std::string::npos   ? ArcPlane::kXZ
+               : c.raw_args.find("YZ") != std::string::npos ? ArcPlane::kYZ
+                                                            : ArcPlane::kXY;
+      if (path_.moves.empty()) path_.lathe_plane = plane_ == ArcPlane::kXZ;
+    } else if (n == "SELECT_TOOL") {
+      need(c, 1);
+      selected_tool_ = count(c, 0);
+    } else if (n == "CHANGE_TOOL") {
+      state_.tool = selected_tool_;  // CHANGE_TOOL's argument is the table's index, not the number
+    } else if (n == "SET_SPINDLE_MODE" || n == "SET_SPINDLE_SPEED") {
+      spindle(c);
+    } else if (n == "START_SPINDLE_CLOCKWISE" || n == "START_SPINDLE_COUNTERCLOCKWISE") {
+      state_.spindle_on = true;
+      state_.spindle_clockwise = n == "START_SPINDLE_CLOCKWISE";
+    } else if (n == "STOP_SPINDLE_TURNING") {
+      state_.spindle_on = false;
+    } else if (n == "SET_FEED_MODE") {
+      need(c, 2);
+      state_.feed_per_rev = c.args[1] != 0.0;
+    } else if (n == "SET_FEED_RATE") {
+      need(c, 1);
+      nonnegative(c, 0);
+      state_.feed = c.args[0] * scale_;
+    } else if (n == "STRAIGHT_TRAVERSE" || n == "STRAIGHT_PROBE") {
+      need(c, 3);
+      pos_ = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale_;
+    } else if (n == "STRAIGHT_FEED" || n == "ARC_FEED") {
+      feed_move(c);
+    }
+  }
+
+  Toolpath take() { return std::move(path_); }
+
+ private:
+  // SET_SPINDLE_MODE (G96/G97) and SET_SPINDLE_SPEED (S).
+  void spindle(const CanonCall& c) {
+    need(c, 2);
+    if (c.name == "SET_SPINDLE_MODE") {
+      // G96 D (the cap) arrives as the mode's number: > 0 is constant
+      // surface speed, and the next speed is a surface speed.
+      css_ = c.args[1] > 0.0;
+      // Without D the interpreter sends 1e30: no cap of the program's own
+      // (the machine's rpm_max caps it, docs/program.md).
+      state_.css_max_rpm = css_ && c.args[1] < 1e20 ? c.args[1] : 0.0;
+      if (!css_) state_.surface_speed_m_per_min = 0.0;
+      return;
+    }
+    nonnegative(c, 1);
+    if (css_) {
+      // G96 S: m/min with G21, ft/min with G20.
+      state_.surface_speed_m_per_min = c.args[1] * (scale_ == 25.4 ? 0.3048 : 1.0);
+      state_.spindle_rpm = 0.0;
+    } else {
+      state_.spindle_rpm = c.args[1];
+      state_.surface_speed_m_per_min = 0.0;
+    }
+  }
+
+  // STRAIGHT_FEED and ARC_FEED: a move of the path (of non-zero length).
+  void feed_move(const CanonCall& c) {
+    ToolpathMove m = state_;
+    m.line = c.block_line;
+    m.start = pos_;
+    if (c.name == "STRAIGHT_FEED") {
+      need(c, 3);
+      m.end = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale_;
+    } else {
+      // ARC_FEED(first_end, second_end, first_centre, second_centre, rotation, axis_end, ...)
+      need(c, 6);
+      m.arc = true;
+      m.plane = plane_;
+      m.turns = count(c, 4);
+      const int first = plane_ == ArcPlane::kXY ? 0 : plane_ == ArcPlane::kXZ ? 2 : 1;
+      const int second = plane_ == ArcPlane::kXY ? 1 : plane_ == ArcPlane::kXZ ? 0 : 2;
+      const int axis = 3 - first - second;
+      m.end[first] = c.args[0] * scale_;
+      m.end[second] = c.args[1] * scale_;
+      m.end[axis] = c.args[5] * scale_;
+      m.centre = m.end;
+      m.centre[first] = c.args[2] * scale_;
+      m.centre[second] = c.args[3] * scale_;
+    }
+    pos_ = m.end;
+    if (move_length_mm(m) > 0.0) path_.moves.push_back(m);
+  }
+
+  std::string where(const CanonCall& c) const {
+    return path_.source + ": interpreter log line " + std::to_string(line_) + ": " + c.name;
+  }
+  void need(const CanonCall& c, std::size_t n) const {
     if (c.args.size() < n)
-      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name + " with " +
-                       std::to_string(c.args.size()) + " numbers, expected " + std::to_string(n));
+      throw InputError(where(c) + " with " + std::to_string(c.args.size()) + " numbers, expected " +
+                       std::to_string(n));
     // The interpreter writes finite numbers; "nan" or "1e400" (strtod reads
     // both) is not a coordinate, a feed or a speed (found by fuzzing).
     for (std::size_t i = 0; i < n; ++i)
       if (!(std::isfinite(c.args[i]) && std::abs(c.args[i]) <= kMaxCanonNumber))
-        throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
-                         " argument " + std::to_string(i + 1) + " is not a finite number (" + c.raw_args + ")");
-  };
+        throw InputError(where(c) + " argument " + std::to_string(i + 1) + " is not a finite number (" +
+                         c.raw_args + ")");
+  }
   // A feed or speed: the interpreter writes magnitudes (the spindle's sense
   // comes from START_SPINDLE_*).
-  auto nonnegative = [&](const CanonCall& c, std::size_t i) {
+  void nonnegative(const CanonCall& c, std::size_t i) const {
     if (!(c.args[i] >= 0.0))
-      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
-                       " argument " + std::to_string(i + 1) + " is negative (" + c.raw_args + ")");
-  };
+      throw InputError(where(c) + " argument " + std::to_string(i + 1) + " is negative (" + c.raw_args + ")");
+  }
   // A count the log gives as a number (a tool number, an arc's turns): an int.
-  auto count = [&](const CanonCall& c, std::size_t i) {
+  int count(const CanonCall& c, std::size_t i) const {
     if (!(std::abs(c.args[i]) < kMaxCanonCount))
-      throw InputError(source + ": interpreter log line " + std::to_string(log_line) + ": " + c.name +
-                       " argument " + std::to_string(i + 1) + " is not a count below 1e9 (" + c.raw_args + ")");
+      throw InputError(where(c) + " argument " + std::to_string(i + 1) + " is not a count below 1e9 (" +
+                       c.raw_args + ")");
     return static_cast<int>(c.args[i]);
-  };
+  }
+
+  Toolpath path_;
+  double scale_ = 1.0;  // program units -> mm
+  ArcPlane plane_ = ArcPlane::kXY;
+  ToolpathMove state_;  // the modal state every move copies
+  int selected_tool_ = 0;
+  bool css_ = false;
+  Eigen::Vector3d pos_ = Eigen::Vector3d::Zero();
+  int line_ = 0;
+};
+
+}  // namespace
+
+Toolpath parse_canon_log(const std::string& log, const std::string& source) {
+  CanonReader reader(source);
+  std::istringstream in(log);
+  std::string l;
+  int log_line = 0;
   CanonCall c;
   while (std::getline(in, l)) {
     ++log_line;
-    if (!parse_call(l, c)) continue;
-    const std::string& n = c.name;
-    if (n == "USE_LENGTH_UNITS") {
-      scale = c.raw_args.find("INCHES") != std::string::npos ? 25.4 : c.raw_args.find("CM") != std::string::npos ? 10.0 : 1.0;
-      state.unit_mm = scale;
-    } else if (n == "SELECT_PLANE") {
-      plane = c.raw_args.find("XZ") != std::string::npos   ? ArcPlane::kXZ
-              : c.raw_args.find("YZ") != std::string::npos ? ArcPlane::kYZ
-                                                           : ArcPlane::kXY;
-      if (path.moves.empty()) path.lathe_plane = plane == ArcPlane::kXZ;
-    } else if (n == "SELECT_TOOL") {
-      need(c, 1);
-      selected_tool = count(c, 0);
-    } else if (n == "CHANGE_TOOL") {
-      state.tool = selected_tool;  // CHANGE_TOOL's argument is the table's index, not the number
-    } else if (n == "SET_SPINDLE_MODE") {
-      need(c, 2);
-      // G96 D (the cap) arrives as the mode's number: > 0 is constant
-      // surface speed, and the next speed is a surface speed.
-      css = c.args[1] > 0.0;
-      // Without D the interpreter sends 1e30: no cap of the program's own
-      // (the machine's rpm_max caps it, docs/program.md).
-      state.css_max_rpm = css && c.args[1] < 1e20 ? c.args[1] : 0.0;
-      if (!css) state.surface_speed_m_per_min = 0.0;
-    } else if (n == "SET_SPINDLE_SPEED") {
-      need(c, 2);
-      nonnegative(c, 1);
-      if (css) {
-        // G96 S: m/min with G21, ft/min with G20.
-        state.surface_speed_m_per_min = c.args[1] * (scale == 25.4 ? 0.3048 : 1.0);
-        state.spindle_rpm = 0.0;
-      } else {
-        state.spindle_rpm = c.args[1];
-        state.surface_speed_m_per_min = 0.0;
-      }
-    } else if (n == "START_SPINDLE_CLOCKWISE" || n == "START_SPINDLE_COUNTERCLOCKWISE") {
-      state.spindle_on = true;
-      state.spindle_clockwise = n == "START_SPINDLE_CLOCKWISE";
-    } else if (n == "STOP_SPINDLE_TURNING") {
-      state.spindle_on = false;
-    } else if (n == "SET_FEED_MODE") {
-      need(c, 2);
-      state.feed_per_rev = c.args[1] != 0.0;
-    } else if (n == "SET_FEED_RATE") {
-      need(c, 1);
-      nonnegative(c, 0);
-      state.feed = c.args[0] * scale;
-    } else if (n == "STRAIGHT_TRAVERSE" || n == "STRAIGHT_PROBE") {
-      need(c, 3);
-      pos = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale;
-    } else if (n == "STRAIGHT_FEED" || n == "ARC_FEED") {
-      ToolpathMove m = state;
-      m.line = c.block_line;
-      m.start = pos;
-      if (n == "STRAIGHT_FEED") {
-        need(c, 3);
-        m.end = Eigen::Vector3d(c.args[0], c.args[1], c.args[2]) * scale;
-      } else {
-        // ARC_FEED(first_end, second_end, first_centre, second_centre, rotation, axis_end, ...)
-        need(c, 6);
-        m.arc = true;
-        m.plane = plane;
-        m.turns = count(c, 4);
-        const int first = plane == ArcPlane::kXY ? 0 : plane == ArcPlane::kXZ ? 2 : 1;
-        const int second = plane == ArcPlane::kXY ? 1 : plane == ArcPlane::kXZ ? 0 : 2;
-        const int axis = 3 - first - second;
-        m.end[first] = c.args[0] * scale;
-        m.end[second] = c.args[1] * scale;
-        m.end[axis] = c.args[5] * scale;
-        m.centre = m.end;
-        m.centre[first] = c.args[2] * scale;
-        m.centre[second] = c.args[3] * scale;
-      }
-      pos = m.end;
-      if (move_length_mm(m) > 0.0) path.moves.push_back(m);
-    }
+    if (parse_call(l, c)) reader.apply(c, log_line);
   }
-  return path;
+  return reader.take();
 }
 
 }  // namespace chatter

@@ -274,6 +274,25 @@ void summarise(const Tally& tl, const Model& m, const DynamicsOptions& o, Dynami
   res.mean_power_w = m.mu * m.Vs * res.mean_normal_force_n;
 }
 
+// Adds the integrator's steps and right-hand-side evaluations since its last
+// (re)initialisation to the result's counts.
+void add_counts(void* mem, DynamicsResult& res) {
+  long ns = 0, nf = 0;
+  CVodeGetNumSteps(mem, &ns);
+  CVodeGetNumRhsEvals(mem, &nf);
+  res.steps += ns;
+  res.rhs_evaluations += nf;
+}
+
+// The quasi-static removal rate (m³/s) at the power with the impacts per turn
+// the simulation counted in place of the model's.
+double removal_at_impacts(const Process& p, double power_w, double impacts_per_turn) {
+  Process q = p;
+  q.mechanistic->impacts = ImpactsPerTurn(impacts_per_turn);
+  q.empirical = {};
+  return predict_at_power(q, power_w).removal_rate_m3_per_s;
+}
+
 }  // namespace
 
 DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot, double power_w,
@@ -304,17 +323,12 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
 
   // The groove memory: d at grid indices i - M .. i + 1 in a ring of M + 1.
   std::vector<double> ring(static_cast<std::size_t>(M) + 1, h0);
-  auto slot = [&](long j) {
-    const long size = M + 1;
-    return static_cast<std::size_t>(((j % size) + size) % size);
-  };
+  const long size = M + 1;
+  auto slot = [&](long j) { return static_cast<std::size_t>(((j % size) + size) % size); };
   const long total = static_cast<long>(o.turns) * M;
   res.turns = o.turns;
   res.analysed_from_turn = std::min(o.turns - 1, static_cast<int>(std::floor(o.turns * (1.0 - o.analysed_fraction))));
-  Tally tl;
-  tl.T = T;
-  tl.t_analysed = res.analysed_from_turn * T;
-  tl.per_turn.assign(static_cast<std::size_t>(o.turns), 0);
+  Tally tl{T, res.analysed_from_turn * T, std::vector<int>(static_cast<std::size_t>(o.turns), 0)};
   const double t_series = (o.turns - o.series_turns) * T;
 
   double t = 0.0;
@@ -335,13 +349,6 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     const double x = m.depth(y.data());
     res.series.push_back({tt, x, m.surface(tt), m.force(x, x - m.surface(tt), m.contact), y.data()[2 * n]});
   };
-  auto add_counts = [&]() {
-    long ns = 0, nf = 0;
-    CVodeGetNumSteps(mem, &ns);
-    CVodeGetNumRhsEvals(mem, &nf);
-    res.steps += ns;
-    res.rhs_evaluations += nf;
-  };
   record(0.0);
 
   for (long i = 0; i < total; ++i) {
@@ -361,7 +368,7 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
         record(t);
         tl.switched(t, m.contact);
         m.contact = !m.contact;
-        add_counts();
+        add_counts(mem, res);
         cv.check(CVodeReInit(mem, t, y), "CVodeReInit");
         cv.check(CVodeSetStopTime(mem, t_next), "CVodeSetStopTime");
         ++res.restarts;
@@ -381,15 +388,11 @@ DynamicsResult simulate_grinding(const Process& p, const StructuralModel& robot,
     ring[slot(i + 1)] = m.contact ? x : m.s_b;
     record(t_next);
   }
-  add_counts();
+  add_counts(mem, res);
   tl.finish(t, m.contact);
   summarise(tl, m, o, res);
-  if (res.impacts_per_turn > 0.0) {
-    Process q = p;
-    q.mechanistic->impacts = ImpactsPerTurn(res.impacts_per_turn);
-    q.empirical = {};
-    res.removal_at_simulated_impacts_m3_per_s = predict_at_power(q, power_w).removal_rate_m3_per_s;
-  }
+  if (res.impacts_per_turn > 0.0)
+    res.removal_at_simulated_impacts_m3_per_s = removal_at_impacts(p, power_w, res.impacts_per_turn);
   return res;
 }
 

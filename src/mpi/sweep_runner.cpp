@@ -40,52 +40,105 @@ void send_index(MPI_Comm comm, int dest, int tag, std::uint64_t i) {
 }
 
 // --- rank 0 ---
-std::vector<Bytes> serve(MPI_Comm comm, int size, std::size_t items, const std::function<Bytes(std::size_t)>& compute,
-                         const SweepHooks& hooks) {
-  std::vector<Bytes> rows(items);
-  std::mutex m;
-  std::size_t next = 0;       // the next item to hand out
-  std::size_t gathered = 0;   // rows in
-  std::vector<std::size_t> local_done;  // items rank 0 computed, not yet counted
-  bool stopping = false;      // a failure: hand out no more work
-  std::optional<RankFailed> failure;
-  auto take = [&]() -> std::size_t {
-    std::lock_guard<std::mutex> lock(m);
-    if (stopping || next >= items) return kNone;
-    return next++;
-  };
-  auto fail = [&](int rank, const std::string& what) {
-    std::lock_guard<std::mutex> lock(m);
-    if (!failure) failure.emplace(rank, what);
-    stopping = true;
-  };
-  bool local_finished = false;
-  auto local = [&] {
+// Rank 0's side of the sweep: the rows, the next item to hand out, and the
+// first failure; shared by the local worker thread and the serving loop.
+class Served {
+ public:
+  Served(std::size_t items, const SweepHooks& hooks) : rows_(items), items_(items), hooks_(hooks) {}
+
+  std::size_t take() {
+    std::lock_guard<std::mutex> lock(m_);
+    if (stopping_ || next_ >= items_) return kNone;
+    return next_++;
+  }
+  void fail(int rank, const std::string& what) {
+    std::lock_guard<std::mutex> lock(m_);
+    if (!failure_) failure_.emplace(rank, what);
+    stopping_ = true;
+  }
+  // Rank 0's own share: items until none is left or one fails.
+  void local(const std::function<Bytes(std::size_t)>& compute) {
     for (std::size_t i = take(); i != kNone; i = take()) {
       try {
         Bytes row = compute(i);
-        std::lock_guard<std::mutex> lock(m);
-        rows[i] = std::move(row);
-        local_done.push_back(i);
+        std::lock_guard<std::mutex> lock(m_);
+        rows_[i] = std::move(row);
+        local_done_.push_back(i);
       } catch (...) {
         fail(0, what_of(std::current_exception()));
         break;
       }
     }
-    std::lock_guard<std::mutex> lock(m);
-    local_finished = true;
-  };
-  if (size == 1) {  // nothing to serve: compute here
-    local();
-    if (failure) throw *failure;
-    if (hooks.progress) hooks.progress(items);
-    return rows;
+    std::lock_guard<std::mutex> lock(m_);
+    local_finished_ = true;
+  }
+  // Counts the rows rank 0 computed since the last call; `idle` when none.
+  // True when nothing is left to wait for (no worker served, rank 0 done).
+  bool tally_local(int serving, bool& idle) {
+    std::lock_guard<std::mutex> lock(m_);
+    gathered_ += local_done_.size();
+    if (!local_done_.empty() && hooks_.progress) hooks_.progress(gathered_);
+    idle = local_done_.empty();
+    local_done_.clear();
+    return serving == 0 && local_finished_;
+  }
+  // A message from a worker: a result (item index, then the row), an error,
+  // or "ready".
+  void receive(int source, int tag, const Bytes& buffer) {
+    if (tag == kResult) {
+      std::uint64_t i = 0;
+      if (buffer.size() < 8) return fail(source, "malformed result message");
+      std::memcpy(&i, buffer.data(), 8);
+      if (i >= items_) return fail(source, "result for item " + std::to_string(i) + " of " + std::to_string(items_));
+      std::lock_guard<std::mutex> lock(m_);
+      rows_[i].assign(buffer.begin() + 8, buffer.end());
+      ++gathered_;
+      if (hooks_.progress) hooks_.progress(gathered_);
+    } else if (tag == kError) {
+      fail(source, std::string(buffer.begin(), buffer.end()));
+    } else if (tag != kReady) {
+      fail(source, "unexpected message tag " + std::to_string(tag));
+    }
+  }
+  void throw_if_failed() const {
+    if (failure_) throw *failure_;
+  }
+  // The rows, or the first failure thrown.
+  std::vector<Bytes> finish() {
+    throw_if_failed();
+    if (gathered_ != items_)  // every worker is stopped only in answer to its last message: cannot happen
+      throw RankFailed(0, "gathered " + std::to_string(gathered_) + " of " + std::to_string(items_) + " items");
+    return std::move(rows_);
   }
 
-  std::thread worker(local);
+ private:
+  std::vector<Bytes> rows_;
+  std::size_t items_;
+  const SweepHooks& hooks_;
+  std::mutex m_;
+  std::size_t next_ = 0;                 // the next item to hand out
+  std::size_t gathered_ = 0;             // rows in
+  std::vector<std::size_t> local_done_;  // items rank 0 computed, not yet counted
+  bool stopping_ = false;                // a failure: hand out no more work
+  bool local_finished_ = false;
+  std::optional<RankFailed> failure_;
+};
+
+std::vector<Bytes> serve(MPI_Comm comm, int size, std::size_t items, const std::function<Bytes(std::size_t)>& compute,
+                         const SweepHooks& hooks) {
+  Served served(items, hooks);
+  if (size == 1) {  // nothing to serve: compute here
+    served.local(compute);
+    served.throw_if_failed();
+    bool idle = true;
+    served.tally_local(0, idle);
+    return served.finish();
+  }
+
+  std::thread worker([&] { served.local(compute); });
   int serving = size - 1;  // workers not yet told to stop
   auto dispatch = [&](int dest) {
-    const std::size_t i = take();
+    const std::size_t i = served.take();
     if (i == kNone) {
       MPI_Send(nullptr, 0, MPI_BYTE, dest, kStop, comm);
       --serving;
@@ -96,14 +149,7 @@ std::vector<Bytes> serve(MPI_Comm comm, int size, std::size_t items, const std::
   Bytes buffer;
   for (;;) {
     bool idle = true;
-    {
-      std::lock_guard<std::mutex> lock(m);
-      gathered += local_done.size();
-      if (!local_done.empty() && hooks.progress) hooks.progress(gathered);
-      idle = local_done.empty();
-      local_done.clear();
-      if (serving == 0 && local_finished) break;
-    }
+    if (served.tally_local(serving, idle)) break;
     int flag = 0;
     MPI_Status st;
     if (serving > 0) MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm, &flag, &st);
@@ -115,33 +161,11 @@ std::vector<Bytes> serve(MPI_Comm comm, int size, std::size_t items, const std::
     MPI_Get_count(&st, MPI_BYTE, &count);
     buffer.resize(static_cast<std::size_t>(count));
     MPI_Recv(buffer.data(), count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, comm, MPI_STATUS_IGNORE);
-    if (st.MPI_TAG == kResult) {
-      std::uint64_t i = 0;
-      if (count < 8) {
-        fail(st.MPI_SOURCE, "malformed result message");
-      } else {
-        std::memcpy(&i, buffer.data(), 8);
-        if (i >= items) {
-          fail(st.MPI_SOURCE, "result for item " + std::to_string(i) + " of " + std::to_string(items));
-        } else {
-          std::lock_guard<std::mutex> lock(m);
-          rows[i].assign(buffer.begin() + 8, buffer.end());
-          ++gathered;
-          if (hooks.progress) hooks.progress(gathered);
-        }
-      }
-    } else if (st.MPI_TAG == kError) {
-      fail(st.MPI_SOURCE, std::string(buffer.begin(), buffer.end()));
-    } else if (st.MPI_TAG != kReady) {
-      fail(st.MPI_SOURCE, "unexpected message tag " + std::to_string(st.MPI_TAG));
-    }
+    served.receive(st.MPI_SOURCE, st.MPI_TAG, buffer);
     dispatch(st.MPI_SOURCE);  // the next item, or stop (after a failure: stop)
   }
   worker.join();
-  if (failure) throw *failure;
-  if (gathered != items)  // every worker is stopped only in answer to its last message: cannot happen
-    throw RankFailed(0, "gathered " + std::to_string(gathered) + " of " + std::to_string(items) + " items");
-  return rows;
+  return served.finish();
 }
 
 // --- ranks >= 1 ---

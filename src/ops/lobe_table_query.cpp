@@ -22,6 +22,56 @@ namespace {
 // 21 halvings below a 400-point base grid, far below any lobe feature.
 constexpr double kMinRelativeWidth = 1e-9;
 
+// A solved speed of the table.
+struct Node {
+  double u;  // 1/rpm, min/rev
+  StabilityLimit lim;
+  double g;  // min(limit, depth_max), m
+};
+
+// Solves at the given speeds (in parallel) and appends the nodes in order,
+// so the table is the same whatever the thread count.
+void solve_nodes(const LobeSolver& solver, const std::vector<double>& us, const std::vector<double>& rpms,
+                 unsigned threads, std::vector<Node>& nodes) {
+  const double depth_max = solver.depth_max_m();
+  std::vector<StabilityLimit> lims(us.size());
+  parallel_for(us.size(), threads, [&](std::size_t i) { lims[i] = solver.limit_at(rpms[i]); });
+  for (std::size_t i = 0; i < us.size(); ++i) {
+    Node n{us[i], lims[i], depth_max};
+    if (n.lim.bounded()) n.g = std::min(n.lim.depth_limit_m, depth_max);
+    nodes.push_back(n);
+  }
+}
+
+// The base grid: nb speeds evenly spaced in u = 1/rpm, the ends exactly at
+// the range (rpm_min, rpm_max, not 1/(1/rpm)).
+void base_grid(double rpm_min, double rpm_max, int nb, std::vector<double>& us, std::vector<double>& rpms) {
+  const double u_lo = 1.0 / rpm_max, u_hi = 1.0 / rpm_min;
+  us.resize(static_cast<std::size_t>(nb));
+  rpms.resize(us.size());
+  for (int i = 0; i < nb; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (i == 0) {
+      us[k] = u_lo;
+      rpms[k] = rpm_max;
+    } else if (i == nb - 1) {
+      us[k] = u_hi;
+      rpms[k] = rpm_min;
+    } else {
+      us[k] = u_lo + (u_hi - u_lo) * static_cast<double>(i) / (nb - 1);
+      rpms[k] = 1.0 / us[k];
+    }
+  }
+}
+
+// The smallest bounded limit of the nodes (m); depth_max when none is.
+double smallest_limit(const std::vector<Node>& nodes, double depth_max) {
+  double smallest = kInf;
+  for (const auto& n : nodes)
+    if (n.lim.bounded()) smallest = std::min(smallest, n.g);
+  return std::isfinite(smallest) ? smallest : depth_max;
+}
+
 }  // namespace
 
 // ===================================================== fast lobe queries
@@ -47,53 +97,22 @@ LobeTableQuery::LobeTableQuery(const LobeSolver& solver, double rpm_min, double 
     throw InputError("lobe table: speed range [" + num(rpm_min) + ", " + num(rpm_max) +
                      "] rev/min: need 0 < rpm_min < rpm_max");
 
-  struct Node {
-    double u;  // 1/rpm
-    StabilityLimit lim;
-    double g;  // min(limit, depth_max)
-  };
   std::vector<Node> nodes;
-  // Solves at the given speeds (in parallel) and appends the nodes in order,
-  // so the table is the same whatever the thread count.
   auto eval_all = [&](const std::vector<double>& us, const std::vector<double>& rpms) {
-    std::vector<StabilityLimit> lims(us.size());
-    parallel_for(us.size(), options.threads, [&](std::size_t i) { lims[i] = solver.limit_at(rpms[i]); });
-    for (std::size_t i = 0; i < us.size(); ++i) {
-      Node n{us[i], lims[i], depth_max_m_};
-      if (n.lim.bounded()) n.g = std::min(n.lim.depth_limit_m, depth_max_m_);
-      nodes.push_back(n);
-    }
+    solve_nodes(solver, us, rpms, options.threads, nodes);
   };
 
   // 1. Base grid, evenly spaced in u = 1/rpm, the ends exactly at the range.
   const double u_lo = 1.0 / rpm_max, u_hi = 1.0 / rpm_min;
   const int nb = options.base_points;
   {
-    std::vector<double> us(static_cast<std::size_t>(nb)), rpms(us.size());
-    for (int i = 0; i < nb; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      if (i == 0) {
-        us[k] = u_lo;
-        rpms[k] = rpm_max;
-      } else if (i == nb - 1) {
-        us[k] = u_hi;
-        rpms[k] = rpm_min;
-      } else {
-        us[k] = u_lo + (u_hi - u_lo) * static_cast<double>(i) / (nb - 1);
-        rpms[k] = 1.0 / us[k];
-      }
-    }
+    std::vector<double> us, rpms;
+    base_grid(rpm_min, rpm_max, nb, us, rpms);
     nodes.reserve(us.size() * 4);
     eval_all(us, rpms);
   }
-  if (options.tolerance_m > 0.0) {
-    tolerance_m_ = options.tolerance_m;
-  } else {
-    double smallest = kInf;
-    for (const auto& n : nodes)
-      if (n.lim.bounded()) smallest = std::min(smallest, n.g);
-    tolerance_m_ = options.relative_tolerance * (std::isfinite(smallest) ? smallest : depth_max_m_);
-  }
+  tolerance_m_ = options.tolerance_m > 0.0 ? options.tolerance_m
+                                           : options.relative_tolerance * smallest_limit(nodes, depth_max_m_);
 
   // 2. Split intervals at their midpoints until the midpoint error is below
   //    tolerance/2 and no lobe number jumps by more than one; one round of

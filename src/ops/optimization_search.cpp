@@ -75,6 +75,58 @@ std::pair<double, double> bracket(const std::vector<double>& x, std::size_t i) {
 
 std::string feed_key(const OptimizationModel& m) { return std::string(m.process().feed_record_key()); }
 
+// Every point of the grid S × D × F, index (i · nD + k) · nF + j: each speed
+// on its own thread (the depth limit is solved once per speed).
+std::vector<Performance> scan_grid(const OptimizationModel& model, const Corrections& correction,
+                                   const std::vector<double>& S, const std::vector<double>& F,
+                                   const std::vector<double>& D) {
+  const IndexValues none = unknown_indices();
+  const std::size_t nF = F.size(), nD = D.size();
+  std::vector<Performance> scan(S.size() * nD * nF);
+  parallel_for(S.size(), model.threads(), [&](std::size_t i) {
+    for (std::size_t k = 0; k < nD; ++k)
+      for (std::size_t j = 0; j < nF; ++j) scan[(i * nD + k) * nF + j] = model.evaluate({S[i], F[j], D[k]}, correction, none);
+  });
+  return scan;
+}
+
+// The local minima over speed of the rows' best merits (feasible rows only;
+// of a plateau its first speed), best first, at most `count`.
+std::vector<std::size_t> best_local_minima(const std::vector<double>& row, const std::vector<bool>& feasible,
+                                           std::size_t count) {
+  const std::size_t n = row.size();
+  std::vector<std::size_t> minima;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!feasible[i]) continue;
+    const bool left = i == 0 || row[i] <= row[i - 1];
+    const bool right = i + 1 == n || row[i] <= row[i + 1];
+    const bool plateau = i > 0 && row[i] == row[i - 1] && !minima.empty() && minima.back() == i - 1;
+    if (left && right && !plateau) minima.push_back(i);
+  }
+  std::sort(minima.begin(), minima.end(), [&](std::size_t a, std::size_t b) { return row[a] < row[b]; });
+  minima.resize(std::min(minima.size(), count));
+  return minima;
+}
+
+// What holds the optimum where it is: the constraints at their limit (within
+// kBindingTolerance) and the set-point bounds it sits on.
+std::vector<std::string> binding_constraints(const Performance& best, const OptimizationModel& model) {
+  const OptimizationSpec& spec = model.spec();
+  std::vector<std::string> out;
+  for (const ConstraintCheck& c : best.constraints)
+    if (std::isfinite(c.value) && std::abs(c.value - c.limit) <= kBindingTolerance * std::abs(c.limit))
+      out.push_back(c.name);
+  auto on_bound = [&](double x, const Bounds& b, const std::string& name) {
+    if (b.fixed()) return;
+    if (x == b.lo) out.push_back(name + " lower bound");
+    if (x == b.hi) out.push_back(name + " upper bound");
+  };
+  on_bound(best.point.spindle_rpm, spec.speed_rpm, spec.speed_as_cutting_speed ? "cutting_speed_m_per_min" : "spindle_rpm");
+  on_bound(best.point.feed_m, spec.feed_m, feed_key(model));
+  on_bound(best.point.depth_m, spec.depth_m, "depth_mm");
+  return out;
+}
+
 }  // namespace
 
 Optimum optimize(const OptimizationModel& model, const Corrections& correction, const OptimizeOptions& options) {
@@ -89,14 +141,9 @@ Optimum optimize(const OptimizationModel& model, const Corrections& correction, 
   const std::size_t nS = S.size(), nF = F.size(), nD = D.size();
   std::atomic<std::size_t> evaluations{0};
 
-  // 1. The scan: every speed on its own thread (the depth limit is solved
-  //    once per speed), every depth and feed there.
-  std::vector<Performance> scan(nS * nD * nF);
-  parallel_for(nS, model.threads(), [&](std::size_t i) {
-    for (std::size_t k = 0; k < nD; ++k)
-      for (std::size_t j = 0; j < nF; ++j) scan[(i * nD + k) * nF + j] = model.evaluate({S[i], F[j], D[k]}, correction, none);
-    evaluations += nD * nF;
-  });
+  // 1. The scan of the whole grid.
+  const std::vector<Performance> scan = scan_grid(model, correction, S, F, D);
+  evaluations += scan.size();
   double largest = 0.0;
   bool any_feasible = false;
   for (const Performance& r : scan)
@@ -117,16 +164,10 @@ Optimum optimize(const OptimizationModel& model, const Corrections& correction, 
     return out;
   }
   out.found = true;
-  std::vector<std::size_t> minima;
-  for (std::size_t i = 0; i < nS; ++i) {
-    if (!scan[i * nD * nF + row_at[i]].feasible) continue;
-    const bool left = i == 0 || row[i] <= row[i - 1];
-    const bool right = i + 1 == nS || row[i] <= row[i + 1];
-    const bool plateau = i > 0 && row[i] == row[i - 1] && !minima.empty() && minima.back() == i - 1;
-    if (left && right && !plateau) minima.push_back(i);
-  }
-  std::sort(minima.begin(), minima.end(), [&](std::size_t a, std::size_t b) { return row[a] < row[b]; });
-  minima.resize(std::min<std::size_t>(minima.size(), static_cast<std::size_t>(std::max(options.candidates, 1))));
+  std::vector<bool> feasible(nS);
+  for (std::size_t i = 0; i < nS; ++i) feasible[i] = scan[i * nD * nF + row_at[i]].feasible;
+  const std::vector<std::size_t> minima =
+      best_local_minima(row, feasible, static_cast<std::size_t>(std::max(options.candidates, 1)));
 
   // 2. Polish each: Brent over speed of (Brent over depth of (Brent over
   //    feed)), each bracketed by the scan's neighbours; the best point any
@@ -184,17 +225,7 @@ Optimum optimize(const OptimizationModel& model, const Corrections& correction, 
   });
   out.evaluations = evaluations;
 
-  for (const ConstraintCheck& c : out.best.constraints)
-    if (std::isfinite(c.value) && std::abs(c.value - c.limit) <= kBindingTolerance * std::abs(c.limit))
-      out.binding.push_back(c.name);
-  auto on_bound = [&](double x, const Bounds& b, const std::string& name) {
-    if (b.fixed()) return;
-    if (x == b.lo) out.binding.push_back(name + " lower bound");
-    if (x == b.hi) out.binding.push_back(name + " upper bound");
-  };
-  on_bound(out.best.point.spindle_rpm, spec.speed_rpm, spec.speed_as_cutting_speed ? "cutting_speed_m_per_min" : "spindle_rpm");
-  on_bound(out.best.point.feed_m, spec.feed_m, feed_key(model));
-  on_bound(out.best.point.depth_m, spec.depth_m, "depth_mm");
+  out.binding = binding_constraints(out.best, model);
   return out;
 }
 

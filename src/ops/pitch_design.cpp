@@ -84,8 +84,12 @@ std::string PitchDesignOptions::validate() const {
   return {};
 }
 
-PitchDesign design_pitch(const StructuralModel& model, const Process& process, const PitchDesignOptions& options) {
-  if (const std::string why = options.validate(); !why.empty()) throw InputError(why);
+namespace {
+
+// Refuses a process the design cannot start from (turning, one tooth, an odd
+// count for the alternating family, a cutter already pitched or with unequal
+// helices, a varying spindle speed), naming the key.
+void check_designable(const Process& process, const PitchDesignOptions& options) {
   if (!process.rotating_edges())
     throw InputError("the process is turning: pitch design needs a milling cutter (process.operation = \"milling\")");
   const int teeth = process.teeth();
@@ -103,6 +107,42 @@ PitchDesign design_pitch(const StructuralModel& model, const Process& process, c
   if (process.has_speed_variation())
     throw InputError("the config has a spindle speed variation (process.speed_variation): the design assumes a "
                      "constant spindle speed");
+}
+
+// The candidate's worst limit over the band (kInf when no row has a limit at
+// or below depth_max_m) and its speed (first_rpm when none has).
+void set_worst(PitchCandidate& c, double depth_max_m, double first_rpm) {
+  c.worst_limit_m = kInf;
+  c.worst_rpm = first_rpm;
+  for (const StabilityLimit& l : c.limits) {
+    const double a = l.bounded() && l.depth_limit_m <= depth_max_m ? l.depth_limit_m : kInf;
+    if (a < c.worst_limit_m) {
+      c.worst_limit_m = a;
+      c.worst_rpm = l.spindle_rpm;
+    }
+  }
+}
+
+// The objective: an unbounded worst limit counts as the searched depth.
+double design_merit(const PitchCandidate& c, double depth_max_m) { return std::min(c.worst_limit_m, depth_max_m); }
+
+// The index of the best candidate by merit; ties go to the smaller ΔP,
+// nearer equal pitch.
+std::size_t best_candidate(const std::vector<PitchCandidate>& cs, double depth_max_m) {
+  std::size_t b = 0;
+  for (std::size_t i = 1; i < cs.size(); ++i) {
+    const double mi = design_merit(cs[i], depth_max_m), mb = design_merit(cs[b], depth_max_m);
+    if (mi > mb || (mi == mb && cs[i].step_rad < cs[b].step_rad)) b = i;
+  }
+  return b;
+}
+
+}  // namespace
+
+PitchDesign design_pitch(const StructuralModel& model, const Process& process, const PitchDesignOptions& options) {
+  if (const std::string why = options.validate(); !why.empty()) throw InputError(why);
+  check_designable(process, options);
+  const int teeth = process.teeth();
 
   PitchDesign d;
   d.family = options.family;
@@ -135,21 +175,12 @@ PitchDesign design_pitch(const StructuralModel& model, const Process& process, c
     for (int j = 0; j < teeth; ++j) c.angles_rad.push_back(p.pitch_angle_rad(j));
     const auto solver = make_lobe_solver(d.method, model, p, options.depth_max_m, options.solver_options);
     c.limits = lobe_envelope(*solver, d.speeds_rpm, options.threads);
-    c.worst_limit_m = kInf;
-    c.worst_rpm = d.speeds_rpm.front();
-    for (const StabilityLimit& l : c.limits) {
-      const double a = l.bounded() && l.depth_limit_m <= options.depth_max_m ? l.depth_limit_m : kInf;
-      if (a < c.worst_limit_m) {
-        c.worst_limit_m = a;
-        c.worst_rpm = l.spindle_rpm;
-      }
-    }
+    set_worst(c, options.depth_max_m, d.speeds_rpm.front());
     d.evaluated.emplace_back(step, c.worst_limit_m);
     if (options.progress) options.progress(std::min(0.99, static_cast<double>(++done) / static_cast<double>(budget)));
     return c;
   };
-  // The objective: an unbounded worst limit counts as the searched depth.
-  const auto merit = [&](const PitchCandidate& c) { return std::min(c.worst_limit_m, options.depth_max_m); };
+  const auto merit = [&](const PitchCandidate& c) { return design_merit(c, options.depth_max_m); };
 
   d.equal = evaluate(0.0);
   d.evaluated.clear();  // the list holds the pitched cutters; equal pitch is d.equal
@@ -174,14 +205,7 @@ PitchDesign design_pitch(const StructuralModel& model, const Process& process, c
   for (const auto& c : tried) steps.push_back(c.step_rad);
   std::sort(steps.begin(), steps.end());
   steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
-  auto best_of = [&](const std::vector<PitchCandidate>& cs) {
-    std::size_t b = 0;
-    for (std::size_t i = 1; i < cs.size(); ++i) {
-      const double mi = merit(cs[i]), mb = merit(cs[b]);
-      if (mi > mb || (mi == mb && cs[i].step_rad < cs[b].step_rad)) b = i;
-    }
-    return b;
-  };
+  const auto best_of = [&](const std::vector<PitchCandidate>& cs) { return best_candidate(cs, options.depth_max_m); };
   const PitchCandidate best_start = tried[best_of(tried)];
   const auto at = std::lower_bound(steps.begin(), steps.end(), best_start.step_rad);
   const double lo = at == steps.begin() ? steps.front() : *(at - 1);

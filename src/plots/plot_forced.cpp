@@ -6,52 +6,32 @@
 #include <sstream>
 
 #include "chatter/io/table_writer.hpp"
+#include "plot_kit.hpp"
 
 namespace chatter {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace plot_kit;
 
 std::string g(double x, int digits = 8) { return gnuplot_number(x, digits); }
 // A value for the data file: '?' (missing) unless finite.
 std::string d(double x, int digits = 8) { return std::isfinite(x) ? g(x, digits) : std::string("?"); }
 
-struct Files {
-  ImageFormat format;
-  fs::path image, data, script;
-};
+// The files of an image (the data and script beside it), as every plot's
+// (plot_kit.hpp), at the default size.
+Target files_of(const fs::path& image) { return make_target(image, PlotOptions{}); }
 
-Files files_of(const fs::path& image) {
-  Files f{check_plot_path(image), image, image, image};
-  if (image.filename().empty() || image.stem().empty()) throw InputError(image.string() + ": not an image file name");
-  f.data.replace_extension(".dat");
-  f.script.replace_extension(".gp");
-  return f;
-}
-
-std::string one_line(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
-}
-
-// The script's head: how to reproduce it, the terminal, the data file.
-std::string preamble(const Files& f, const std::string& what) {
-  std::ostringstream gp;
-  gp << "# " << what << ", written by chatter " << version()
-     << ".\n# Reproduce or restyle: cd into this directory, edit, then run\n#   gnuplot "
-     << f.script.filename().string() << "\n# It reads " << f.data.filename().string() << " and writes "
-     << f.image.filename().string() << ".\n\n"
-     << "fs = " << (f.format == ImageFormat::pdf ? 10 : 14) << "\n"
-     << fixed_size_terminal(f.format) << "set output " << gnuplot_quote(f.image.filename().string()) << "\n"
-     << "set encoding utf8\nset datafile missing '?'\ndata = " << gnuplot_quote(f.data.filename().string()) << "\n"
-     << "set grid lc rgb '#d9d9d9' lw 0.6\nset border lw 0.8\n";
-  return gp.str();
+// The script's head: how to reproduce it, the terminal, the data file, and
+// the grid these charts share.
+std::string preamble(const Target& f, const std::string& what) {
+  return script_preamble(f, PlotOptions{}, what) + "set grid lc rgb '#d9d9d9' lw 0.6\nset border lw 0.8\n";
 }
 
 }  // namespace
 
 PlotFiles plot_forced(const fs::path& image, const std::string& title, const ForcedResponse& r) {
-  const Files f = files_of(image);
+  const Target f = files_of(image);
   const std::string where = image.string() + ": forced response: ";
   if (!r.milling)
     throw InputError(where + "turning has a constant deflection, no path to draw (the diametral error along a "
@@ -124,14 +104,13 @@ PlotFiles plot_forced(const fs::path& image, const std::string& title, const For
        << (j == 0 ? "title 'each tooth'" : "notitle") << ", \\\n     ";
   gp << "data index 2 using 2:1 with lines lw 3 lc rgb '#2ca02c' title 'machined wall'\n"
      << "unset multiplot\n";
-  write_text_files({{f.data, dat.str()}, {f.script, gp.str()}});
-  render_gnuplot_image(f.script, f.image);
+  write_and_render(f, dat.str(), gp.str());
   return {f.image, f.script, f.data};
 }
 
 PlotFiles plot_sle(const fs::path& image, const std::string& title, const std::vector<ForcedResponse>& rows,
                    const std::vector<StabilityLimit>& limits, double depth_mm) {
-  const Files f = files_of(image);
+  const Target f = files_of(image);
   const std::string where = image.string() + ": SLE plot: ";
   if (rows.size() < 2 || rows.size() != limits.size())
     throw InputError(where + "needs >= 2 speeds, one limit each (got " + std::to_string(rows.size()) + " and " +
@@ -190,14 +169,13 @@ PlotFiles plot_sle(const fs::path& image, const std::string& title, const std::v
      << "     data index 1 using 1:5 with points pt 6 ps 0.9 lc rgb '#d62728' title 'teeth leave the cut "
         "(linear model not valid)'\n"
      << "unset multiplot\n";
-  write_text_files({{f.data, dat.str()}, {f.script, gp.str()}});
-  render_gnuplot_image(f.script, f.image);
+  write_and_render(f, dat.str(), gp.str());
   return {f.image, f.script, f.data};
 }
 
 PlotFiles plot_shaft_deflection(const fs::path& image, const std::string& title, const std::vector<double>& positions_mm,
                                 const std::vector<ShaftDeflection>& rows) {
-  const Files f = files_of(image);
+  const Target f = files_of(image);
   const std::string where = image.string() + ": diametral error plot: ";
   if (rows.size() < 2 || positions_mm.size() != rows.size())
     throw InputError(where + "needs >= 2 positions, one deflection each");
@@ -215,8 +193,7 @@ PlotFiles plot_shaft_deflection(const fs::path& image, const std::string& title,
      << "set xlabel 'tool position (mm)'\nset ylabel 'µm'\n"
      << "plot data using 1:2 with linespoints lw 2.4 pt 7 ps 0.7 lc rgb '#202020' title 'diametral error 2δ', \\\n"
      << "     data using 1:3 with lines lw 1.2 dt 2 lc rgb '#1f77b4' title 'deflection δ along the radius'\n";
-  write_text_files({{f.data, dat.str()}, {f.script, gp.str()}});
-  render_gnuplot_image(f.script, f.image);
+  write_and_render(f, dat.str(), gp.str());
   return {f.image, f.script, f.data};
 }
 

@@ -33,33 +33,20 @@ using namespace plot_kit;
 // ---------------------------------------------------------------------------
 // Receptance (FRF)
 
-PlotFiles plot_frf(const fs::path& image, const std::string& title, const StructuralModel& model, double f_min_hz,
-                   double f_max_hz, int points, bool log_frequency, const PlotOptions& options) {
-  const Target t = make_target(image, options);
-  if (!(std::isfinite(f_min_hz) && (log_frequency ? f_min_hz > 0.0 : f_min_hz >= 0.0)))
-    throw InputError(image.string() + ": f_min = " + short_num(f_min_hz) + " Hz: must be " +
-                     (log_frequency ? "> 0 with a log frequency axis" : ">= 0"));
-  if (!(std::isfinite(f_max_hz) && f_max_hz > f_min_hz))
-    throw InputError(image.string() + ": f_max = " + short_num(f_max_hz) + " Hz: must be > f_min (" +
-                     short_num(f_min_hz) + " Hz)");
-  if (points < 2) throw InputError(image.string() + ": points = " + std::to_string(points) + ": must be >= 2");
-  if (model.rigid()) throw InputError(image.string() + ": the model has no mode (both bodies rigid)");
+namespace {
 
-  bool has_y = false;
-  for (const Body* b : {&model.tool, &model.workpiece})
-    for (const Mode& m : b->modes)
-      if (std::abs(m.direction.y()) > 1e-12) has_y = true;
-  const bool tool_flex = !model.tool.rigid(), work_flex = !model.workpiece.rigid();
+// A term of the receptance matrix: its name and diagonal index.
+struct Term {
+  const char* name;
+  int index;
+};
 
-  struct Term {
-    const char* name;
-    int index;
-  };
-  std::vector<Term> terms = {{"xx", 0}};
-  if (has_y) terms.push_back({"yy", 1});
+// The .dat file: per frequency, each body's and the relative receptance of
+// each term (magnitude, phase, real, imaginary; '?' for a rigid body).
+std::string frf_data(const std::string& title, const StructuralModel& model, double f_min_hz, double f_max_hz,
+                     int points, bool log_frequency, const std::vector<Term>& terms) {
   const char* bodies[] = {"tool", "workpiece", "relative"};
-
-  // --- data ---
+  const bool tool_flex = !model.tool.rigid(), work_flex = !model.workpiece.rigid();
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": receptance (chatter " << version() << ")\n"
       << "# Relative receptance = tool + workpiece (docs/physics.md section 2). '?' = rigid body (no value).\n"
@@ -92,6 +79,84 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
     }
     dat << '\n';
   }
+  return dat.str();
+}
+
+// The frequency axis's scale and tics (Hz): on a log axis spanning less than
+// two decades, labels at 1-2-3-5 steps, not just the decades.
+std::string frequency_axis(double f_min_hz, double f_max_hz, bool log_frequency) {
+  std::ostringstream os;
+  if (log_frequency) {
+    os << "set logscale x\nset mxtics 10\n";
+    if (f_max_hz / f_min_hz < 100.0) {
+      std::string tics;
+      for (double p = std::pow(10.0, std::floor(std::log10(f_min_hz))); p <= f_max_hz; p *= 10.0)
+        for (double m : {1.0, 2.0, 3.0, 5.0})
+          if (m * p >= f_min_hz * (1 - 1e-9) && m * p <= f_max_hz * (1 + 1e-9))
+            tics += (tics.empty() ? "" : ", ") + short_num(m * p, 6);
+      if (!tics.empty()) os << "set xtics (" << tics << ")\n";
+    }
+  }
+  else
+    os << "set mxtics 2\n";
+  return os.str();
+}
+
+// One plot command over the bodies and terms for part p (0 magnitude,
+// 1 phase, 2 real, 3 imaginary).
+std::string frf_plot_command(const std::vector<Term>& terms, int p, bool has_y, bool tool_flex, bool work_flex) {
+  std::ostringstream pl;
+  pl << "plot";
+  bool first = true;
+  auto add = [&](const std::string& clause) {
+    pl << (first ? " \\\n  " : ", \\\n  ") << clause;
+    first = false;
+  };
+  for (std::size_t ti = 0; ti < terms.size(); ++ti) {
+    const std::string tn = terms[ti].name;
+    const std::string dash = ti == 0 ? "" : " dt (6,4)";
+    const std::string suffix = has_y ? " " + tn : "";
+    const int bs[] = {2, 1, 0};  // relative first (underneath), bodies on top
+    for (int b : bs) {
+      if ((b == 0 && !tool_flex) || (b == 1 && !work_flex)) continue;
+      const char* colour = b == 0 ? "c_tool" : b == 1 ? "c_workpiece" : "c_relative";
+      const std::string lw = b == 2 ? "3.2" : "1.6";
+      const std::string name = b == 0 ? "tool" : b == 1 ? "workpiece" : "relative = tool + workpiece";
+      const std::string column =
+          "col(" + std::to_string(b) + "," + std::to_string(ti) + "," + std::to_string(p) + ")";
+      add("data using 1:" + (p >= 2 ? "(column(" + column + ") * 1e6)" : column) + " with lines lw " + lw +
+          dash + " lc rgb " + colour + " title " + quote(name + suffix));
+    }
+  }
+  if (!tool_flex) add("keyentry with lines lt nodraw title 'tool: rigid'");
+  if (!work_flex) add("keyentry with lines lt nodraw title 'workpiece: rigid'");
+  return pl.str() + "\n";
+}
+
+}  // namespace
+
+PlotFiles plot_frf(const fs::path& image, const std::string& title, const StructuralModel& model, double f_min_hz,
+                   double f_max_hz, int points, bool log_frequency, const PlotOptions& options) {
+  const Target t = make_target(image, options);
+  if (!(std::isfinite(f_min_hz) && (log_frequency ? f_min_hz > 0.0 : f_min_hz >= 0.0)))
+    throw InputError(image.string() + ": f_min = " + short_num(f_min_hz) + " Hz: must be " +
+                     (log_frequency ? "> 0 with a log frequency axis" : ">= 0"));
+  if (!(std::isfinite(f_max_hz) && f_max_hz > f_min_hz))
+    throw InputError(image.string() + ": f_max = " + short_num(f_max_hz) + " Hz: must be > f_min (" +
+                     short_num(f_min_hz) + " Hz)");
+  if (points < 2) throw InputError(image.string() + ": points = " + std::to_string(points) + ": must be >= 2");
+  if (model.rigid()) throw InputError(image.string() + ": the model has no mode (both bodies rigid)");
+
+  bool has_y = false;
+  for (const Body* b : {&model.tool, &model.workpiece})
+    for (const Mode& m : b->modes)
+      if (std::abs(m.direction.y()) > 1e-12) has_y = true;
+  const bool tool_flex = !model.tool.rigid(), work_flex = !model.workpiece.rigid();
+
+  std::vector<Term> terms = {{"xx", 0}};
+  if (has_y) terms.push_back({"yy", 1});
+
+  const std::string dat = frf_data(title, model, f_min_hz, f_max_hz, points, log_frequency, terms);
 
   // --- script ---
   const bool mag_phase = options.frf_parts == FrfParts::magnitude_phase;
@@ -107,50 +172,10 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
      << "set border lw 1 lc rgb '#404040'\n"
      << "set grid xtics ytics mxtics mytics back lw 1 lc rgb " << quote(kGrid) << ", lw 0.5 lc rgb '#e4e4e4'\n"
      << "set xrange [" << short_num(f_min_hz, 10) << ":" << short_num(f_max_hz, 10) << "]\n";
-  if (log_frequency) {
-    gp << "set logscale x\nset mxtics 10\n";
-    // Less than two decades: label 1-2-3-5 steps, not just the decades.
-    if (f_max_hz / f_min_hz < 100.0) {
-      std::string tics;
-      for (double p = std::pow(10.0, std::floor(std::log10(f_min_hz))); p <= f_max_hz; p *= 10.0)
-        for (double m : {1.0, 2.0, 3.0, 5.0})
-          if (m * p >= f_min_hz * (1 - 1e-9) && m * p <= f_max_hz * (1 + 1e-9))
-            tics += (tics.empty() ? "" : ", ") + short_num(m * p, 6);
-      if (!tics.empty()) gp << "set xtics (" << tics << ")\n";
-    }
-  }
-  else gp << "set mxtics 2\n";
+  gp << frequency_axis(f_min_hz, f_max_hz, log_frequency);
   gp << "set key at screen 0.54, screen 0.9 center center horizontal reverse Left samplen 2 width -1 font ','.(fs-1)\n";
 
-  // One plot command over the bodies and terms for part p.
-  auto plot_part = [&](int p) {
-    std::ostringstream pl;
-    pl << "plot";
-    bool first = true;
-    auto add = [&](const std::string& clause) {
-      pl << (first ? " \\\n  " : ", \\\n  ") << clause;
-      first = false;
-    };
-    for (std::size_t ti = 0; ti < terms.size(); ++ti) {
-      const std::string tn = terms[ti].name;
-      const std::string dash = ti == 0 ? "" : " dt (6,4)";
-      const std::string suffix = has_y ? " " + tn : "";
-      const int bs[] = {2, 1, 0};  // relative first (underneath), bodies on top
-      for (int b : bs) {
-        if ((b == 0 && !tool_flex) || (b == 1 && !work_flex)) continue;
-        const char* colour = b == 0 ? "c_tool" : b == 1 ? "c_workpiece" : "c_relative";
-        const std::string lw = b == 2 ? "3.2" : "1.6";
-        const std::string name = b == 0 ? "tool" : b == 1 ? "workpiece" : "relative = tool + workpiece";
-        const std::string column =
-            "col(" + std::to_string(b) + "," + std::to_string(ti) + "," + std::to_string(p) + ")";
-        add("data using 1:" + (p >= 2 ? "(column(" + column + ") * 1e6)" : column) + " with lines lw " + lw +
-            dash + " lc rgb " + colour + " title " + quote(name + suffix));
-      }
-    }
-    if (!tool_flex) add("keyentry with lines lt nodraw title 'tool: rigid'");
-    if (!work_flex) add("keyentry with lines lt nodraw title 'workpiece: rigid'");
-    return pl.str() + "\n";
-  };
+  const auto plot_part = [&](int p) { return frf_plot_command(terms, p, has_y, tool_flex, work_flex); };
 
   gp << "\n# Upper panel\n"
      << "set tmargin at screen 0.86; set bmargin at screen 0.515\n"
@@ -170,7 +195,7 @@ PlotFiles plot_frf(const fs::path& image, const std::string& title, const Struct
   else
     gp << "set format y '%g'\nset ylabel 'imaginary part Im G (µm/N)'\n" << plot_part(3);
   gp << "unset multiplot\n";
-  write_and_render(t, dat.str(), gp.str());
+  write_and_render(t, dat, gp.str());
   return {t.image, t.script, t.data};
 }
 

@@ -193,11 +193,9 @@ struct MapXAxis {
   int digits = 10;                                 // of the range in the script
 };
 
-// `limit_depth_m` (empty, or one per x value: m, +inf = none) is drawn as
-// points over the map: the depth limit searched at each x.
-void draw_stability_map(const Target& t, const std::string& title, const StabilityMapGrid& map,
-                        const PlotOptions& options, const MapXAxis& xaxis = {},
-                        const std::vector<double>& limit_depth_m = {}) {
+// Refuses a grid the map cannot draw, naming the plot and the rule.
+void check_map(const Target& t, const StabilityMapGrid& map, const MapXAxis& xaxis,
+               const std::vector<double>& limit_depth_m) {
   const std::size_t n = map.spindle_rpm.size(), k = map.depth_m.size();
   const std::string where = t.label + ": stability map: ";
   if (n < 2 || k < 2)
@@ -221,27 +219,35 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
   if (typed && map.multiplier_type.size() != n * k)
     throw InputError(where + std::to_string(map.multiplier_type.size()) + " multiplier types for " +
                      std::to_string(n * k) + " grid points");
+}
 
-  // Colour clip R: the smallest of a few round values covering 90 % of |ln ρ|.
+// Colour clip R (ρ from 1/R to R, centred on 1): the smallest of a few
+// round values covering 90 % of |ln ρ|.
+double colour_clip(const StabilityMapGrid& map) {
   std::vector<double> spread;
-  spread.reserve(n * k);
+  spread.reserve(map.spectral_radius.size());
   for (double r : map.spectral_radius) spread.push_back(std::abs(std::log(std::max(r, 1e-300))));
   const auto q90 = spread.begin() + static_cast<std::ptrdiff_t>((spread.size() - 1) * 9 / 10);
   std::nth_element(spread.begin(), q90, spread.end());
-  double rho_clip = 10.0;
   for (double r : {1.5, 2.0, 3.0, 5.0, 10.0})
-    if (std::log(r) >= *q90) {
-      rho_clip = r;
-      break;
-    }
+    if (std::log(r) >= *q90) return r;
+  return 10.0;
+}
 
-  std::size_t unstable = 0;
-  for (double r : map.spectral_radius) unstable += r >= 1.0;
-  const std::vector<ContourPiece> contour = unit_contour(map);
-  bool contour_type[4] = {false, false, false, false};  // hopf, flip, fold, unknown
-  for (const auto& c : contour) contour_type[c.type < 0 ? 3 : c.type] = true;
+// The .dat file of the map: the grid (index 0), the ρ = 1 contour (1), the
+// flip/fold marks (2) and the searched limits (3); with the counts the
+// script needs.
+struct MapData {
+  std::string text;
+  std::size_t marks[3] = {0, 0, 0};  // per multiplier type
+  std::size_t limit_points = 0;
+};
 
-  // --- data ---
+MapData map_data(const std::string& title, const StabilityMapGrid& map, const MapXAxis& xaxis,
+                 const std::vector<ContourPiece>& contour, const std::vector<double>& limit_depth_m) {
+  const std::size_t n = map.spindle_rpm.size(), k = map.depth_m.size();
+  const bool typed = !map.multiplier_type.empty();
+  MapData d;
   std::ostringstream dat;
   dat << "# " << one_line(title) << ": Floquet spectral radius map (chatter " << version() << ")\n"
       << "# " << n << " " << xaxis.plural << " x " << k << " depths; rho < 1 stable, rho >= 1 chatter.\n"
@@ -273,18 +279,16 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
   dat << "\n\n# index 2: marks on unstable grid points where the dominant multiplier is flip or fold\n"
       << "# (every " << si << " speed(s) and " << sj << " depth(s))\n"
       << "# " << xaxis.column << " depth_mm multiplier_type\n";
-  std::size_t marks[3] = {0, 0, 0};  // per type
-  if (typed)
+    if (typed)
     for (std::size_t i = si / 2; i < n; i += si)
       for (std::size_t j = sj / 2; j < k; j += sj) {
         const std::size_t p = i * k + j;
         if (map.spectral_radius[p] < 1.0 || map.multiplier_type[p] == MultiplierType::kHopf) continue;
         dat << num(map.spindle_rpm[i]) << ' ' << num(map.depth_m[j] * 1e3) << ' '
             << type_word(map.multiplier_type[p]) << '\n';
-        ++marks[static_cast<int>(map.multiplier_type[p])];
+        ++d.marks[static_cast<int>(map.multiplier_type[p])];
       }
 
-  std::size_t limit_points = 0;
   if (!limit_depth_m.empty()) {
     dat << "\n\n# index 3: the depth limit searched at each " << xaxis.column
         << " (the limit search of the lobe table; none where no limit below the depths searched)\n"
@@ -292,10 +296,67 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
     for (std::size_t i = 0; i < n; ++i)
       if (std::isfinite(limit_depth_m[i]) && limit_depth_m[i] * 1e3 <= map.depth_m.back() * 1e3) {
         dat << num(map.spindle_rpm[i], 7) << ' ' << num(limit_depth_m[i] * 1e3, 7) << '\n';
-        ++limit_points;
+        ++d.limit_points;
       }
-    if (limit_points == 0) dat << "? ?\n";  // gnuplot needs a block to read
+    if (d.limit_points == 0) dat << "? ?\n";  // gnuplot needs a block to read
   }
+  d.text = dat.str();
+  return d;
+}
+
+// The plot's clauses after the map and its key: each contour piece by type
+// (a white casing under the coloured line, so that it reads on every colour
+// of the map), the flip/fold marks and the searched limits.
+void plot_clauses(std::ostringstream& gp, const bool (&contour_type)[4], const MapData& data) {
+  struct Kind {
+    int index;
+    const char* word;
+    const char* colour;
+    const char* dash;
+    const char* line_title;
+    const char* mark_title;
+    int point_type;
+  };
+  const Kind kinds[3] = {
+      {0, "hopf", "c_hopf", "", "ρ = 1, Hopf (complex μ)", "", 0},
+      {1, "flip", "c_flip", " dt (5,3)", "ρ = 1, flip (μ = −1)", "flip dominates (μ ≈ −1)", 2},
+      {2, "fold", "c_fold", " dt (2,2)", "ρ = 1, fold (μ = +1)", "fold dominates (μ ≈ +1)", 6},
+  };
+  auto contour_clause = [&](const std::string& filter, const std::string& colour, const std::string& dash,
+                            const std::string& line_title) {
+    gp << ", \\\n  data index 1 using 1:" << filter << " with lines lw 5.5 lc rgb '#50ffffff' notitle"
+       << ", \\\n  data index 1 using 1:" << filter << " with lines lw 2.6" << dash << " lc rgb " << colour
+       << " title " << quote(line_title);
+  };
+  if (contour_type[3]) contour_clause("2", "c_hopf", "", "ρ = 1 (stability boundary)");
+  for (const Kind& kd : kinds)
+    if (contour_type[kd.index])
+      contour_clause("(strcol(3) eq '" + std::string(kd.word) + "' ? $2 : NaN)", kd.colour, kd.dash, kd.line_title);
+  for (const Kind& kd : kinds)
+    if (kd.index > 0 && data.marks[kd.index] > 0)
+      gp << ", \\\n  data index 2 using 1:(strcol(3) eq '" << kd.word << "' ? $2 : NaN) with points pt "
+         << kd.point_type << " ps 0.7 lw 1.5 lc rgb " << kd.colour << " title " << quote(kd.mark_title);
+  if (data.limit_points > 0)
+    gp << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.9 lc rgb '#ffffff' notitle"
+       << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.55 lc rgb '#000000' title "
+       << quote("limit search");
+}
+
+// `limit_depth_m` (empty, or one per x value: m, +inf = none) is drawn as
+// points over the map: the depth limit searched at each x.
+void draw_stability_map(const Target& t, const std::string& title, const StabilityMapGrid& map,
+                        const PlotOptions& options, const MapXAxis& xaxis = {},
+                        const std::vector<double>& limit_depth_m = {}) {
+  check_map(t, map, xaxis, limit_depth_m);
+  const double rho_clip = colour_clip(map);
+
+  std::size_t unstable = 0;
+  for (double r : map.spectral_radius) unstable += r >= 1.0;
+  const std::vector<ContourPiece> contour = unit_contour(map);
+  bool contour_type[4] = {false, false, false, false};  // hopf, flip, fold, unknown
+  for (const auto& c : contour) contour_type[c.type < 0 ? 3 : c.type] = true;
+
+  const MapData data = map_data(title, map, xaxis, contour, limit_depth_m);
 
   // --- script ---
   std::ostringstream gp;
@@ -342,42 +403,9 @@ void draw_stability_map(const Target& t, const std::string& title, const Stabili
      << "  data index 0 using 1:2:(clip($3)) with image notitle, \\\n"
      << "  keyentry with boxes fs solid 1.0 noborder fc rgb c_stable title 'stable (ρ < 1)', \\\n"
      << "  keyentry with boxes fs solid 1.0 noborder fc rgb c_chatter title 'chatter (ρ > 1)'";
-  // Each contour piece: a white casing under the coloured line, so that it
-  // reads on every colour of the map.
-  struct Kind {
-    int index;
-    const char* word;
-    const char* colour;
-    const char* dash;
-    const char* line_title;
-    const char* mark_title;
-    int point_type;
-  };
-  const Kind kinds[3] = {
-      {0, "hopf", "c_hopf", "", "ρ = 1, Hopf (complex μ)", "", 0},
-      {1, "flip", "c_flip", " dt (5,3)", "ρ = 1, flip (μ = −1)", "flip dominates (μ ≈ −1)", 2},
-      {2, "fold", "c_fold", " dt (2,2)", "ρ = 1, fold (μ = +1)", "fold dominates (μ ≈ +1)", 6},
-  };
-  auto contour_clause = [&](const std::string& filter, const std::string& colour, const std::string& dash,
-                            const std::string& line_title) {
-    gp << ", \\\n  data index 1 using 1:" << filter << " with lines lw 5.5 lc rgb '#50ffffff' notitle"
-       << ", \\\n  data index 1 using 1:" << filter << " with lines lw 2.6" << dash << " lc rgb " << colour
-       << " title " << quote(line_title);
-  };
-  if (contour_type[3]) contour_clause("2", "c_hopf", "", "ρ = 1 (stability boundary)");
-  for (const Kind& kd : kinds)
-    if (contour_type[kd.index])
-      contour_clause("(strcol(3) eq '" + std::string(kd.word) + "' ? $2 : NaN)", kd.colour, kd.dash, kd.line_title);
-  for (const Kind& kd : kinds)
-    if (kd.index > 0 && marks[kd.index] > 0)
-      gp << ", \\\n  data index 2 using 1:(strcol(3) eq '" << kd.word << "' ? $2 : NaN) with points pt "
-         << kd.point_type << " ps 0.7 lw 1.5 lc rgb " << kd.colour << " title " << quote(kd.mark_title);
-  if (limit_points > 0)
-    gp << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.9 lc rgb '#ffffff' notitle"
-       << ", \\\n  data index 3 using 1:2 with points pt 7 ps 0.55 lc rgb '#000000' title "
-       << quote("limit search");
+  plot_clauses(gp, contour_type, data);
   gp << "\nunset multiplot\n";
-  write_and_render(t, dat.str(), gp.str());
+  write_and_render(t, data.text, gp.str());
 }
 
 }  // namespace

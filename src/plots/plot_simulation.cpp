@@ -32,6 +32,76 @@ using namespace plot_kit;
 
 namespace {
 
+// The .dat file: the time series (index 0), the once-per-period samples (1),
+// the spectrum up to f_hi (2, floored at amp_floor for the log axis) and the
+// tooth-passing harmonics (3).
+std::string simulation_data(const std::string& title, const SimulationResult& r, double f_hi, double amp_floor) {
+  std::ostringstream dat;
+  dat << "# " << one_line(title) << ": time-domain simulation (chatter " << version() << ")\n"
+      << "# verdict: " << to_string(r.verdict) << " (" << one_line(r.verdict_measure) << ")\n"
+      << "# Floquet period = " << num(r.floquet_period_s) << " s, tooth passing = " << num(r.tooth_passing_hz) << " Hz, periods = "
+      << r.periods << ", analysed from period " << r.analysed_from_period << "\n"
+      << "# Missing values are '?'.\n\n"
+      << "# index 0: time series\n"
+      << "# time_ms rel_x_um rel_y_um force_x_n force_y_n chip_um in_cut\n";
+  for (const SeriesSample& s : r.series)
+    dat << num(s.t_s * 1e3) << ' ' << num(s.rel_x_m * 1e6) << ' ' << num(s.rel_y_m * 1e6) << ' ' << num(s.force_x_n)
+        << ' ' << num(s.force_y_n) << ' ' << num(s.chip_m * 1e6) << ' ' << (s.in_cut ? 1 : 0) << '\n';
+  dat << "\n\n# index 1: once-per-period samples (t = k tau)\n# time_ms rel_x_um rel_y_um\n";
+  for (const SeriesSample& s : r.once_per_period)
+    dat << num(s.t_s * 1e3) << ' ' << num(s.rel_x_m * 1e6) << ' ' << num(s.rel_y_m * 1e6) << '\n';
+  dat << "\n\n# index 2: amplitude spectrum of the relative displacement over the analysed window\n"
+      << "# frequency_hz amplitude_um (floored at 1e-7 of the peak for the log axis)\n";
+  for (std::size_t k = 0; k < r.spectrum_hz.size() && r.spectrum_hz[k] <= f_hi; ++k)
+    dat << num(r.spectrum_hz[k]) << ' ' << num(std::max(r.spectrum_amplitude_m[k], amp_floor) * 1e6) << '\n';
+  if (r.spectrum_hz.empty()) dat << "? ?\n";
+  dat << "\n\n# index 3: tooth-passing harmonics\n# frequency_hz amplitude_um harmonic\n";
+  int harmonics = 0;
+  for (const SpectralPeak& h : r.harmonics)
+    if (h.frequency_hz <= f_hi) {
+      dat << num(h.frequency_hz) << ' ' << num(std::max(h.amplitude_m, amp_floor) * 1e6) << ' ' << h.harmonic << '\n';
+      ++harmonics;
+    }
+  if (harmonics == 0) dat << "? ? ?\n";
+  return dat.str();
+}
+
+// The third panel: the amplitude spectrum of the analysed window, the
+// tooth-passing harmonics marked, the dominant non-harmonic labelled.
+std::string spectrum_panel(const SimulationResult& r, double f_hi, double amp_floor, double amp_max) {
+  const bool chatter = r.verdict == SimulationVerdict::kChatter;
+  std::ostringstream os;
+  os << "set offsets 0, 0, 0, 0\n"
+     << "set xlabel 'frequency (Hz)' offset 0,0.4\n"
+     << "set ylabel 'amplitude ({/Symbol m}m)'\n"
+     << "set logscale y\nset format y '10^{%L}'\n"
+     << "set key top right vertical\n"
+     << "set xrange [0:" << short_num(f_hi, 6) << "]\n"
+     << "set yrange [" << short_num(amp_floor * 1e6 * 10, 4) << ":" << short_num(std::max(amp_max, 1e-300) * 1e6 * 300, 4)
+     << "]   # headroom for the key\n";
+  int arrows = 0;
+  for (const SpectralPeak& h : r.harmonics)
+    if (h.frequency_hz <= f_hi && arrows < 40) {
+      os << "set arrow from " << short_num(h.frequency_hz, 8) << ", graph 0 to " << short_num(h.frequency_hz, 8)
+         << ", graph 1 nohead dt 3 lw 0.8 lc rgb c_grid\n";
+      ++arrows;
+    }
+  if (std::isfinite(r.dominant_nonharmonic_hz) && r.dominant_nonharmonic_hz <= f_hi) {
+    const std::string what = chatter ? "chatter " : "least damped ";
+    os << "set label " << quote(what + short_num(r.dominant_nonharmonic_hz, 4) + " Hz") << " at "
+       << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 0.62 left offset 0.6,0 tc rgb c_sample font ','.(fs-1)\n"
+       << "set arrow from " << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 0 to "
+       << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 1 nohead lw 1.2 lc rgb c_sample\n";
+  }
+  const int analysed = r.periods - r.analysed_from_period;
+  os << "plot data index 2 using 1:2 with lines lc rgb c_spec lw 1 title "
+     << quote("relative displacement, last " + std::to_string(analysed) + " periods") << ", \\\n"
+     << "     data index 3 using 1:2 with points pt 6 ps 1.1 lw 1.2 lc rgb c_x title "
+     << quote("harmonics of 1/{/Symbol t} = " + short_num(1.0 / r.floquet_period_s, 5) + " Hz (" + (std::abs(r.floquet_period_s * r.tooth_passing_hz - 1.0) < 1e-9 ? "tooth passing" : "Floquet period") + ")") << "\n"
+     << "unset multiplot\n";
+  return os.str();
+}
+
 void draw_simulation(const Target& t, const std::string& title, const SimulationResult& r, double f_max_hz,
                      const PlotOptions& options, bool running) {
   const std::string where = t.label + ": simulation: ";
@@ -62,34 +132,7 @@ void draw_simulation(const Target& t, const std::string& title, const Simulation
     amp_max = std::max(amp_max, r.spectrum_amplitude_m[k]);
   const double amp_floor = amp_max > 0.0 ? amp_max * 1e-7 : 1e-12;
 
-  // --- data ---
-  std::ostringstream dat;
-  dat << "# " << one_line(title) << ": time-domain simulation (chatter " << version() << ")\n"
-      << "# verdict: " << to_string(r.verdict) << " (" << one_line(r.verdict_measure) << ")\n"
-      << "# Floquet period = " << num(r.floquet_period_s) << " s, tooth passing = " << num(r.tooth_passing_hz) << " Hz, periods = "
-      << r.periods << ", analysed from period " << r.analysed_from_period << "\n"
-      << "# Missing values are '?'.\n\n"
-      << "# index 0: time series\n"
-      << "# time_ms rel_x_um rel_y_um force_x_n force_y_n chip_um in_cut\n";
-  for (const SeriesSample& s : r.series)
-    dat << num(s.t_s * 1e3) << ' ' << num(s.rel_x_m * 1e6) << ' ' << num(s.rel_y_m * 1e6) << ' ' << num(s.force_x_n)
-        << ' ' << num(s.force_y_n) << ' ' << num(s.chip_m * 1e6) << ' ' << (s.in_cut ? 1 : 0) << '\n';
-  dat << "\n\n# index 1: once-per-period samples (t = k tau)\n# time_ms rel_x_um rel_y_um\n";
-  for (const SeriesSample& s : r.once_per_period)
-    dat << num(s.t_s * 1e3) << ' ' << num(s.rel_x_m * 1e6) << ' ' << num(s.rel_y_m * 1e6) << '\n';
-  dat << "\n\n# index 2: amplitude spectrum of the relative displacement over the analysed window\n"
-      << "# frequency_hz amplitude_um (floored at 1e-7 of the peak for the log axis)\n";
-  for (std::size_t k = 0; k < r.spectrum_hz.size() && r.spectrum_hz[k] <= f_hi; ++k)
-    dat << num(r.spectrum_hz[k]) << ' ' << num(std::max(r.spectrum_amplitude_m[k], amp_floor) * 1e6) << '\n';
-  if (r.spectrum_hz.empty()) dat << "? ?\n";
-  dat << "\n\n# index 3: tooth-passing harmonics\n# frequency_hz amplitude_um harmonic\n";
-  int harmonics = 0;
-  for (const SpectralPeak& h : r.harmonics)
-    if (h.frequency_hz <= f_hi) {
-      dat << num(h.frequency_hz) << ' ' << num(std::max(h.amplitude_m, amp_floor) * 1e6) << ' ' << h.harmonic << '\n';
-      ++harmonics;
-    }
-  if (harmonics == 0) dat << "? ? ?\n";
+  const std::string dat = simulation_data(title, r, f_hi, amp_floor);
 
   // --- script ---
   std::ostringstream gp;
@@ -125,39 +168,11 @@ void draw_simulation(const Target& t, const std::string& title, const Simulation
   gp << "data index 0 using 1:4 with lines lc rgb c_x lw 1 title 'F_x'\n";
   if (running) {  // no spectrum before the run ends
     gp << "unset multiplot\n";
-    write_and_render(t, dat.str(), gp.str());
+    write_and_render(t, dat, gp.str());
     return;
   }
-  gp << "set offsets 0, 0, 0, 0\n"
-     << "set xlabel 'frequency (Hz)' offset 0,0.4\n"
-     << "set ylabel 'amplitude ({/Symbol m}m)'\n"
-     << "set logscale y\nset format y '10^{%L}'\n"
-     << "set key top right vertical\n"
-     << "set xrange [0:" << short_num(f_hi, 6) << "]\n"
-     << "set yrange [" << short_num(amp_floor * 1e6 * 10, 4) << ":" << short_num(std::max(amp_max, 1e-300) * 1e6 * 300, 4)
-     << "]   # headroom for the key\n";
-  int arrows = 0;
-  for (const SpectralPeak& h : r.harmonics)
-    if (h.frequency_hz <= f_hi && arrows < 40) {
-      gp << "set arrow from " << short_num(h.frequency_hz, 8) << ", graph 0 to " << short_num(h.frequency_hz, 8)
-         << ", graph 1 nohead dt 3 lw 0.8 lc rgb c_grid\n";
-      ++arrows;
-    }
-  if (std::isfinite(r.dominant_nonharmonic_hz) && r.dominant_nonharmonic_hz <= f_hi) {
-    const std::string what = chatter ? "chatter " : "least damped ";
-    gp << "set label " << quote(what + short_num(r.dominant_nonharmonic_hz, 4) + " Hz") << " at "
-       << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 0.62 left offset 0.6,0 tc rgb c_sample font ','.(fs-1)\n"
-       << "set arrow from " << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 0 to "
-       << short_num(r.dominant_nonharmonic_hz, 8) << ", graph 1 nohead lw 1.2 lc rgb c_sample\n";
-  }
-  const int analysed = r.periods - r.analysed_from_period;
-  gp << "plot data index 2 using 1:2 with lines lc rgb c_spec lw 1 title "
-     << quote("relative displacement, last " + std::to_string(analysed) + " periods") << ", \\\n"
-     << "     data index 3 using 1:2 with points pt 6 ps 1.1 lw 1.2 lc rgb c_x title "
-     << quote("harmonics of 1/{/Symbol t} = " + short_num(1.0 / r.floquet_period_s, 5) + " Hz (" + (std::abs(r.floquet_period_s * r.tooth_passing_hz - 1.0) < 1e-9 ? "tooth passing" : "Floquet period") + ")") << "\n"
-     << "unset multiplot\n";
-
-  write_and_render(t, dat.str(), gp.str());
+  gp << spectrum_panel(r, f_hi, amp_floor, amp_max);
+  write_and_render(t, dat, gp.str());
 }
 
 }  // namespace

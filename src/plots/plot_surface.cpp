@@ -73,34 +73,11 @@ std::vector<StabilityLimit> best_speed_per_position(const LobeSurfaceData& surfa
 
 namespace {
 
-// The surface plot to image files, or (window) to a live window.
-PlotFiles draw_surface(PlotWindow* window, const fs::path& image, const std::string& title,
-                       const LobeSurfaceData& surface, const std::vector<double>& contour_depths_mm) {
-  const ImageFormat format = window ? ImageFormat::png : check_plot_path(image);
-  const std::string where = (window ? std::string("live plot") : image.string()) + ": lobe surface: ";
-  if (!window && (image.filename().empty() || image.stem().empty()))
-    throw InputError(image.string() + ": not an image file name");
-  check_surface(where, surface);
-  for (const double c : contour_depths_mm)
-    if (!(std::isfinite(c) && c > 0.0)) throw InputError(where + "contour depth " + g(c) + " mm: must be > 0");
-  fs::path data = image, script = image;
-  data.replace_extension(".dat");
-  script.replace_extension(".gp");
+// The .dat file: the grid (index 0: the limit, or depth_max where none is
+// below it) and the best speed at each position (index 1).
+std::string surface_data(const std::string& one_line_title, const LobeSurfaceData& surface,
+                         const std::vector<StabilityLimit>& best) {
   const std::size_t np = surface.positions_mm.size(), ns = surface.limits[0].size();
-  const std::vector<StabilityLimit> best = best_speed_per_position(surface);
-  // Colour scale: 0 to 1.1 x the deepest bounded limit (at most depth_max),
-  // so the colours resolve the limits; deeper ones take the top colour.
-  double deepest = 0.0;
-  for (const auto& row : surface.limits)
-    for (const auto& r : row)
-      if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
-  const double top = deepest > 0.0 ? std::min(surface.depth_max_mm, 1.1 * deepest) : surface.depth_max_mm;
-  std::size_t clipped = 0;
-  for (const auto& row : surface.limits)
-    for (const auto& r : row) clipped += !(r.depth_limit_m * 1e3 <= top);
-
-  std::string one_line_title = title;
-  std::replace(one_line_title.begin(), one_line_title.end(), '\n', ' ');
   std::ostringstream dat;
   dat << "# " << one_line_title << ": lobe surface (chatter " << version() << ")\n"
       << "# " << np << " positions x " << ns << " spindle speeds.\n\n"
@@ -122,6 +99,37 @@ PlotFiles draw_surface(PlotWindow* window, const fs::path& image, const std::str
   for (std::size_t p = 0; p < np; ++p)
     dat << g(best[p].spindle_rpm, 10) << ' ' << g(surface.positions_mm[p], 10) << ' '
         << g(best[p].depth_limit_m * 1e3, 7) << '\n';
+  return dat.str();
+}
+
+// The surface plot to image files, or (window) to a live window.
+PlotFiles draw_surface(PlotWindow* window, const fs::path& image, const std::string& title,
+                       const LobeSurfaceData& surface, const std::vector<double>& contour_depths_mm) {
+  const ImageFormat format = window ? ImageFormat::png : check_plot_path(image);
+  const std::string where = (window ? std::string("live plot") : image.string()) + ": lobe surface: ";
+  if (!window && (image.filename().empty() || image.stem().empty()))
+    throw InputError(image.string() + ": not an image file name");
+  check_surface(where, surface);
+  for (const double c : contour_depths_mm)
+    if (!(std::isfinite(c) && c > 0.0)) throw InputError(where + "contour depth " + g(c) + " mm: must be > 0");
+  fs::path data = image, script = image;
+  data.replace_extension(".dat");
+  script.replace_extension(".gp");
+  const std::vector<StabilityLimit> best = best_speed_per_position(surface);
+  // Colour scale: 0 to 1.1 x the deepest bounded limit (at most depth_max),
+  // so the colours resolve the limits; deeper ones take the top colour.
+  double deepest = 0.0;
+  for (const auto& row : surface.limits)
+    for (const auto& r : row)
+      if (r.bounded()) deepest = std::max(deepest, r.depth_limit_m * 1e3);
+  const double top = deepest > 0.0 ? std::min(surface.depth_max_mm, 1.1 * deepest) : surface.depth_max_mm;
+  std::size_t clipped = 0;
+  for (const auto& row : surface.limits)
+    for (const auto& r : row) clipped += !(r.depth_limit_m * 1e3 <= top);
+
+  std::string one_line_title = title;
+  std::replace(one_line_title.begin(), one_line_title.end(), '\n', ' ');
+  const std::string dat = surface_data(one_line_title, surface, best);
 
   std::ostringstream gp;
   if (window)
@@ -169,10 +177,10 @@ PlotFiles draw_surface(PlotWindow* window, const fs::path& image, const std::str
         "title 'best speed at each position'\n";
 
   if (window) {
-    window->draw(dat.str(), gp.str());
+    window->draw(dat, gp.str());
     return {};
   }
-  write_text_files({{data, dat.str()}, {script, gp.str()}});
+  write_text_files({{data, dat}, {script, gp.str()}});
   render_gnuplot_image(script, image);
   return {image, script, data};
 }

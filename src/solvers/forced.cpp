@@ -62,6 +62,101 @@ double negative_arc(const std::vector<double>& h, double dphi) {
   return total;
 }
 
+// The path over one period at `samples` + 1 instants: peak to peak, and the
+// record when asked (the displacement into the wall n_w beside it).
+void sample_path(const PeriodicPath& path, int samples, const Eigen::Vector2d& n_w, bool record,
+                 ForcedResponse& out) {
+  const double T = path.period();
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int k = 0; k <= samples; ++k) {
+    const double t = T * k / samples;
+    const Eigen::Vector2d r = path.at(t);
+    lo = lo.cwiseMin(r);
+    hi = hi.cwiseMax(r);
+    if (record) {
+      out.t_s.push_back(t);
+      out.rel_x_m.push_back(r.x());
+      out.rel_y_m.push_back(r.y());
+      out.wall_normal_m.push_back(-n_w.dot(r) + 0.0);
+    }
+  }
+  out.peak_to_peak_x_m = hi.x() - lo.x();
+  out.peak_to_peak_y_m = hi.y() - lo.y();
+}
+
+// The wall: tooth j's slice at height z passes φ_w at t = (φ_w + Θ_j +
+// κ_j z)/Ω (omega in rad/s); it leaves the wall at −n_w·r − ρ_j; the wall at
+// z is the deepest pass. Heights z_i = a i / heights, i = 0 … heights (one,
+// z = 0, when heights is 0).
+void wall_sle(const Process& p, const PeriodicPath& path, double a, double omega, double phi_w,
+              const Eigen::Vector2d& n_w, int heights, ForcedResponse& out) {
+  const int nt = p.teeth();
+  const double T = path.period();
+  out.wall_z_m.resize(static_cast<std::size_t>(heights + 1));
+  out.wall_sle_m.assign(static_cast<std::size_t>(heights + 1), std::numeric_limits<double>::infinity());
+  out.tooth_wall_sle_m.resize(static_cast<std::size_t>(nt * (heights + 1)));
+  for (int j = 0; j < nt; ++j) {
+    const double t0 = std::fmod((phi_w + p.tooth_offset_rad(j)) / omega, T);
+    out.tooth_wall_t_s.push_back(t0 < 0.0 ? t0 + T : t0);
+  }
+  for (int i = 0; i <= heights; ++i) {
+    const double z = heights > 0 ? a * i / heights : 0.0;
+    out.wall_z_m[static_cast<std::size_t>(i)] = z;
+    for (int j = 0; j < nt; ++j) {
+      const double t = (phi_w + p.tooth_offset_rad(j) + p.helix_lag_rad_per_m(j) * z) / omega;
+      const double sle = -n_w.dot(path.at(t)) - p.runout_m(j) + 0.0;  // + 0: no −0 when the wall does not move
+      out.tooth_wall_sle_m[static_cast<std::size_t>(j * (heights + 1) + i)] = sle;
+      double& wall = out.wall_sle_m[static_cast<std::size_t>(i)];
+      wall = std::min(wall, sle);
+    }
+  }
+  out.sle_min_m = *std::min_element(out.wall_sle_m.begin(), out.wall_sle_m.end());
+  out.sle_max_m = *std::max_element(out.wall_sle_m.begin(), out.wall_sle_m.end());
+  out.surface_location_error_m = std::abs(out.sle_max_m) > std::abs(out.sle_min_m) ? out.sle_max_m : out.sle_min_m;
+}
+
+// The chip of every tooth (slice) over its engaged arc: h = f_j sin φ +
+// ρ_j − ρ_{j−1} + n·(r(t) − r(t − τ_j(z))); its smallest value and the
+// longest arc where it is negative (the teeth leave the cut).
+void chip_over_arcs(const Process& p, const PeriodicPath& path, bool fourier, double rpm, double a, double feed_m,
+                    const ForcedOptions& o, ForcedResponse& out) {
+  const int nt = p.teeth();
+  const double omega = angular_speed_rad_per_s(rpm);
+  const double en = p.entry_angle(), ex = p.exit_angle(), arc = ex - en;
+  const int na = o.arc_points;
+  const double dphi = arc / na;
+  double min_chip = std::numeric_limits<double>::infinity(), worst_arc = 0.0;
+  if (fourier) {
+    // Tooth-periodic: r(t) = r(t − τ), the chip is the static chip f sin φ
+    // (≥ 0 on the arc): its smallest value is at an end of the arc.
+    min_chip = feed_m * std::min(exact_sin(en), exact_sin(ex));
+  } else {
+    const int slices = p.has_helix() ? o.axial_points : 1;
+    std::vector<double> h(static_cast<std::size_t>(na + 1));
+    for (int j = 0; j < nt; ++j) {
+      const double f = p.feed_of_tooth_m(j, feed_m);
+      const double offset = p.runout_m(j) - p.runout_m((j + nt - 1) % nt);
+      for (int sl = 0; sl < slices; ++sl) {
+        const double z = p.has_helix() ? a * (sl + 0.5) / slices : 0.0;
+        const double tau = p.tooth_delay_s(j, z, rpm);
+        for (int k = 0; k <= na; ++k) {
+          const double phi = en + dphi * k;
+          const double t = (phi + p.tooth_offset_rad(j) + p.helix_lag_rad_per_m(j) * z) / omega;
+          const Eigen::Vector2d n(std::sin(phi), std::cos(phi));
+          const double hk = f * exact_sin(phi) + offset + n.dot(path.at(t) - path.at(t - tau));
+          h[static_cast<std::size_t>(k)] = hk;
+          min_chip = std::min(min_chip, hk);
+        }
+        worst_arc = std::max(worst_arc, negative_arc(h, dphi));
+      }
+    }
+  }
+  out.min_chip_m = min_chip;
+  out.negative_chip_arc_deg = worst_arc * 180.0 / kPi;
+  out.negative_chip_fraction = arc > 0.0 ? worst_arc / arc : 0.0;
+  out.teeth_leave_cut = out.negative_chip_fraction > kLeaveCutArcFraction;
+}
+
 }  // namespace
 
 std::string ForcedOptions::validate() const {
@@ -148,25 +243,10 @@ ForcedResponse ForcedResponseSolver::response(const ForcedSettings& s) const {
   const double phi_w = down ? kPi : 0.0;
   const Eigen::Vector2d n_w = milling ? Eigen::Vector2d(0.0, down ? -1.0 : 1.0) : Eigen::Vector2d(1.0, 0.0);
 
-  // The path over one period: peak to peak, and the record.
-  const double T = path.period();
-  const int samples = std::max(options_.samples_per_period,
-                               static_cast<int>(std::ceil(kSamplesPerVibrationCycle * model_.max_omega() / kTwoPi * T)));
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (int k = 0; k <= samples; ++k) {
-    const double t = T * k / samples;
-    const Eigen::Vector2d r = path.at(t);
-    lo = lo.cwiseMin(r);
-    hi = hi.cwiseMax(r);
-    if (s.record_path) {
-      out.t_s.push_back(t);
-      out.rel_x_m.push_back(r.x());
-      out.rel_y_m.push_back(r.y());
-      out.wall_normal_m.push_back(-n_w.dot(r) + 0.0);
-    }
-  }
-  out.peak_to_peak_x_m = hi.x() - lo.x();
-  out.peak_to_peak_y_m = hi.y() - lo.y();
+  sample_path(path, std::max(options_.samples_per_period,
+                              static_cast<int>(std::ceil(kSamplesPerVibrationCycle * model_.max_omega() / kTwoPi *
+                                                         path.period()))),
+              n_w, s.record_path, out);
 
   if (!milling) {
     // Turning: the constant deflection (static_deflection_turning, the one
@@ -181,69 +261,9 @@ ForcedResponse ForcedResponseSolver::response(const ForcedSettings& s) const {
     return out;
   }
 
-  // The wall: tooth j's slice at height z passes φ_w at t = (φ_w + Θ_j +
-  // κ_j z)/Ω; it leaves the wall at −n_w·r − ρ_j; the wall at z is the
-  // deepest pass.
-  const int nt = p.teeth();
-  const double omega = angular_speed_rad_per_s(rpm);
-  const int heights = p.has_helix() ? options_.axial_points : 0;  // z_i = a i / heights, i = 0 … heights
-  out.wall_z_m.resize(static_cast<std::size_t>(heights + 1));
-  out.wall_sle_m.assign(static_cast<std::size_t>(heights + 1), std::numeric_limits<double>::infinity());
-  out.tooth_wall_sle_m.resize(static_cast<std::size_t>(nt * (heights + 1)));
-  for (int j = 0; j < nt; ++j) {
-    const double t0 = std::fmod((phi_w + p.tooth_offset_rad(j)) / omega, T);
-    out.tooth_wall_t_s.push_back(t0 < 0.0 ? t0 + T : t0);
-  }
-  for (int i = 0; i <= heights; ++i) {
-    const double z = heights > 0 ? a * i / heights : 0.0;
-    out.wall_z_m[static_cast<std::size_t>(i)] = z;
-    for (int j = 0; j < nt; ++j) {
-      const double t = (phi_w + p.tooth_offset_rad(j) + p.helix_lag_rad_per_m(j) * z) / omega;
-      const double sle = -n_w.dot(path.at(t)) - p.runout_m(j) + 0.0;  // + 0: no −0 when the wall does not move
-      out.tooth_wall_sle_m[static_cast<std::size_t>(j * (heights + 1) + i)] = sle;
-      double& wall = out.wall_sle_m[static_cast<std::size_t>(i)];
-      wall = std::min(wall, sle);
-    }
-  }
-  out.sle_min_m = *std::min_element(out.wall_sle_m.begin(), out.wall_sle_m.end());
-  out.sle_max_m = *std::max_element(out.wall_sle_m.begin(), out.wall_sle_m.end());
-  out.surface_location_error_m = std::abs(out.sle_max_m) > std::abs(out.sle_min_m) ? out.sle_max_m : out.sle_min_m;
+  wall_sle(p, path, a, angular_speed_rad_per_s(rpm), phi_w, n_w, p.has_helix() ? options_.axial_points : 0, out);
 
-  // The chip of every tooth (slice) over its engaged arc: h = f_j sin φ +
-  // ρ_j − ρ_{j−1} + n·(r(t) − r(t − τ_j(z))).
-  const double en = p.entry_angle(), ex = p.exit_angle(), arc = ex - en;
-  const int na = options_.arc_points;
-  const double dphi = arc / na;
-  double min_chip = std::numeric_limits<double>::infinity(), worst_arc = 0.0;
-  if (fourier) {
-    // Tooth-periodic: r(t) = r(t − τ), the chip is the static chip f sin φ
-    // (≥ 0 on the arc): its smallest value is at an end of the arc.
-    min_chip = s.feed_m * std::min(exact_sin(en), exact_sin(ex));
-  } else {
-    const int slices = p.has_helix() ? options_.axial_points : 1;
-    std::vector<double> h(static_cast<std::size_t>(na + 1));
-    for (int j = 0; j < nt; ++j) {
-      const double f = p.feed_of_tooth_m(j, s.feed_m);
-      const double offset = p.runout_m(j) - p.runout_m((j + nt - 1) % nt);
-      for (int sl = 0; sl < slices; ++sl) {
-        const double z = p.has_helix() ? a * (sl + 0.5) / slices : 0.0;
-        const double tau = p.tooth_delay_s(j, z, rpm);
-        for (int k = 0; k <= na; ++k) {
-          const double phi = en + dphi * k;
-          const double t = (phi + p.tooth_offset_rad(j) + p.helix_lag_rad_per_m(j) * z) / omega;
-          const Eigen::Vector2d n(std::sin(phi), std::cos(phi));
-          const double hk = f * exact_sin(phi) + offset + n.dot(path.at(t) - path.at(t - tau));
-          h[static_cast<std::size_t>(k)] = hk;
-          min_chip = std::min(min_chip, hk);
-        }
-        worst_arc = std::max(worst_arc, negative_arc(h, dphi));
-      }
-    }
-  }
-  out.min_chip_m = min_chip;
-  out.negative_chip_arc_deg = worst_arc * 180.0 / kPi;
-  out.negative_chip_fraction = arc > 0.0 ? worst_arc / arc : 0.0;
-  out.teeth_leave_cut = out.negative_chip_fraction > kLeaveCutArcFraction;
+  chip_over_arcs(p, path, fourier, rpm, a, s.feed_m, options_, out);
   out.linear_limit_holds = !out.teeth_leave_cut;
   return out;
 }

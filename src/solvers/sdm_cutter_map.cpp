@@ -26,6 +26,166 @@ constexpr double kMinBlockScale = 1e-6;
 
 using namespace step_exp;
 
+namespace {
+
+// The stored sample a delayed time s (s, may be negative) falls on, over the
+// step boundaries t of one period T (M = t.size() − 1 steps):
+// z(s) ≈ (1 − w) z_gi + w z_{gi+1}, gi = period · M + step; a time within
+// kSnap of a step of a sample is that sample (w = 0).
+void locate_delayed(const std::vector<double>& t, double T, double s, int& gi, double& w) {
+  const int M = static_cast<int>(t.size()) - 1;
+  const double per = std::floor(s / T);
+  const double loc = s - per * T;
+  int k = static_cast<int>(std::upper_bound(t.begin(), t.end(), loc) - t.begin()) - 1;
+  k = std::clamp(k, 0, M - 1);
+  int pr = static_cast<int>(per);
+  const auto ku = static_cast<std::size_t>(k);
+  w = (loc - t[ku]) / (t[ku + 1] - t[ku]);
+  if (w < kSnap) {
+    w = 0.0;
+  } else if (w > 1.0 - kSnap) {
+    w = 0.0;
+    if (++k == M) {
+      k = 0;
+      ++pr;
+    }
+  }
+  gi = pr * M + k;
+}
+
+// Adds w · C to the step's term of sample gi (a new term if it has none);
+// gmin follows the oldest sample read.
+void add_term(CutterStep& st, int gi, double w, const MatrixXd& C, int& gmin) {
+  if (w == 0.0) return;
+  gmin = std::min(gmin, gi);
+  for (int j = 0; j < st.n_terms; ++j) {
+    auto& [idx, mat] = st.terms[static_cast<std::size_t>(j)];
+    if (idx == gi) {
+      mat += w * C;
+      return;
+    }
+  }
+  if (static_cast<std::size_t>(st.n_terms) == st.terms.size()) st.terms.emplace_back();
+  auto& slot = st.terms[static_cast<std::size_t>(st.n_terms++)];
+  slot.first = gi;
+  slot.second = w * C;
+}
+
+// The delay groups that cut in step iu (their force over the step above
+// kFreeForce): for each, HU_k = H̄_k U and Bt_k = B HU_k (cm.HU, cm.Bt, its
+// group in cm.gid), and Ã = A − Σ Bt_k Wx in cm.At; returns their number.
+// `scale` multiplies the grid's integrals (its depth to a).
+int cutting_groups(const CutterGrid& cg, std::size_t iu, double a, double scale, const Process& p, const MatrixXd& A_,
+                   const MatrixXd& B_, const MatrixXd& Wx_, const MatrixXd& U_, CutterMap& cm) {
+  const int ng = static_cast<int>(cg.gtau.size());
+  const double h = cg.h[iu], kscale = cg.force_scale_n_per_m2;
+  std::vector<MatrixXd>&Bt = cm.Bt, &HU = cm.HU;
+  std::vector<int>& gid = cm.gid;
+  MatrixXd& At = cm.At;
+  int nd = 0;
+  At = A_;
+  for (int k = 0; k < ng; ++k) {
+    const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
+    if (F.norm() <= kFreeForce * kscale * a * h) continue;
+    const auto ku = static_cast<std::size_t>(nd);
+    if (ku == HU.size()) {
+      HU.emplace_back();
+      Bt.emplace_back();
+      gid.push_back(0);
+    }
+    // Turning (SSV): H = ĥ nᵀ and nᵀ S = U W, so H S = F n U W (n = e_x
+    // for the orthogonal cut: F's first column).
+    if (U_.rows() == 1 && p.orthogonal_turning())
+      HU[ku].noalias() = (F.col(0) / h) * U_;
+    else if (U_.rows() == 1)
+      HU[ku].noalias() = ((F * p.chip_direction(a)) / h) * U_;
+    else
+      HU[ku].noalias() = (F / h) * U_;
+    Bt[ku].noalias() = B_ * HU[ku];
+    At.noalias() -= Bt[ku] * Wx_;
+    gid[ku] = k;
+    ++nd;
+  }
+  return nd;
+}
+
+// A cutting step's P, R0_k and R1_k from Ã = cm.At and the nd delay
+// groups' Bt_k = B H̄_k U (cm.Bt, cm.HU), by one augmented exponential
+// (docs/sdm.md "Real cutters"; the workspace is cm's).
+void step_inputs(const MatrixXd& B_, int nd, int nr, double h, CutterMap& cm, CutterStep& st) {
+  std::vector<MatrixXd>&Bt = cm.Bt, &R0 = cm.R0, &R1 = cm.R1, &HU = cm.HU;
+  MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1, &Xh = cm.Xh, &Yh = cm.Yh, &G1 = cm.G1,
+           &G2 = cm.G2;
+  const int n2 = static_cast<int>(At.rows());
+  // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
+  // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
+  const int nb = static_cast<int>(B_.cols());
+  const bool stacked = nd * nr <= nb;
+  const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
+  // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
+  // the exponential scale by sc and sc², undone below): the norm of the
+  // augmented matrix is then that of Ã h, so the Padé degree and the
+  // squarings stay low (with I of norm 1, every step took degree 9).
+  Xh = At * h;
+  const double sc = std::clamp(Xh.cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
+  const int nk = stacked ? nd * nr : nb;  // input columns
+  Yh.resize(n2, nk);
+  if (stacked) {
+    for (int k = 0; k < nd; ++k) Yh.middleCols(k * nr, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
+  } else {
+    Yh = B_ * (h * sc);
+  }
+  // The blocks of the exponential: by blocks for the common sizes (1 or
+  // 2 modes, augmented_exp), else of the whole matrix, stack-allocated up
+  // to kSmallAugmented (no heap traffic), else dynamic.
+  if (!augmented_exp(Xh, Yh, sc, st.P, G1, G2)) {
+    aug.setZero(na, na);
+    aug.topLeftCorner(n2, n2) = Xh;
+    aug.block(0, n2, n2, nk) = Yh;
+    aug.block(n2, n2 + nk, nk, nk) = MatrixXd::Identity(nk, nk) * sc;
+    if (na <= kSmallAugmented)
+      small_exp(aug, E);
+    else
+      E = aug.exp();
+    st.P = E.topLeftCorner(n2, n2);
+    G1 = E.block(0, n2, n2, nk);
+    G2 = E.block(0, n2 + nk, n2, nk);
+  }
+  if (stacked) {
+    for (int k = 0; k < nd; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      R1[ku] = G2.middleCols(k * nr, nr) / (sc * sc);
+      R0[ku] = G1.middleCols(k * nr, nr) / sc - R1[ku];
+    }
+  } else {
+    Q1 = G2 / (sc * sc);
+    Q0 = G1 / sc - Q1;
+    for (int k = 0; k < nd; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      R0[ku].noalias() = Q0 * HU[ku];
+      R1[ku].noalias() = Q1 * HU[ku];
+    }
+  }
+}
+
+// The forced response's gain of a step (forced_periodic.cpp): G = ∫₀ʰ e^{Ã s} ds B,
+// the (1,2) block of exp([[Ã h, B h], [0, 0]]) (Xh = Ã h).
+MatrixXd forcing_gain(const MatrixXd& Xh, const MatrixXd& B, double h) {
+  const int n2 = static_cast<int>(Xh.rows()), nb = static_cast<int>(B.cols());
+  MatrixXd Pf, Gf, Gf2;
+  const MatrixXd Bh = B * h;
+  if (!augmented_exp(Xh, Bh, 0.0, Pf, Gf, Gf2)) {
+    MatrixXd augf = MatrixXd::Zero(n2 + nb, n2 + nb);
+    augf.topLeftCorner(n2, n2) = Xh;
+    augf.topRightCorner(n2, nb) = Bh;
+    const MatrixXd Ef = augf.exp();
+    Gf = Ef.topRightCorner(n2, nb);
+  }
+  return Gf;
+}
+
+}  // namespace
+
 // The real-cutter map at depth a (docs/sdm.md "Real cutters"). Step
 // boundaries: 0, T and every engagement event (tooth tip or top of the cut
 // entering or leaving the arc) in [0, T); between two events the cut is
@@ -79,31 +239,9 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
     cache.where.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(ng), Located{});
   }
   const double cbar = p.process_damping_per_depth(g.rpm);
-  const double kscale = cg.force_scale_n_per_m2;
   int gmin = 0;
-  auto locate = [&](double s, int& gi, double& w) {  // z(s) ≈ (1 − w) z_gi + w z_{gi+1}
-    const double per = std::floor(s / T);
-    const double loc = s - per * T;
-    int k = static_cast<int>(std::upper_bound(cm.t.begin(), cm.t.end(), loc) - cm.t.begin()) - 1;
-    k = std::clamp(k, 0, M - 1);
-    int pr = static_cast<int>(per);
-    const auto ku = static_cast<std::size_t>(k);
-    w = (loc - cm.t[ku]) / (cm.t[ku + 1] - cm.t[ku]);
-    if (w < kSnap) {
-      w = 0.0;
-    } else if (w > 1.0 - kSnap) {
-      w = 0.0;
-      if (++k == M) {
-        k = 0;
-        ++pr;
-      }
-    }
-    gi = pr * M + k;
-  };
-  std::vector<MatrixXd>&Bt = cm.Bt, &R0 = cm.R0, &R1 = cm.R1, &HU = cm.HU;
-  std::vector<int>& gid = cm.gid;
-  MatrixXd &At = cm.At, &aug = cm.aug, &E = cm.E, &Q0 = cm.Q0, &Q1 = cm.Q1, &Xh = cm.Xh, &Yh = cm.Yh, &G1 = cm.G1,
-           &G2 = cm.G2;
+  std::vector<MatrixXd>&R0 = cm.R0, &R1 = cm.R1;
+  const std::vector<int>& gid = cm.gid;
   int nd = 0;  // delay groups cutting in the current step: Bt, HU, gid [0, nd)
   for (int i = 0; i < M; ++i) {
     const auto iu = static_cast<std::size_t>(i);
@@ -133,114 +271,15 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
     if (repeat) {
       st.P = cm.steps[iu - 1].P;
     } else {
-      nd = 0;
-      At = A_;
-      for (int k = 0; k < ng; ++k) {
-        const Eigen::Matrix2d F = cg.F[iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(k)] * scale;
-        if (F.norm() <= kFreeForce * kscale * a * h) continue;
-        const auto ku = static_cast<std::size_t>(nd);
-        if (ku == HU.size()) {
-          HU.emplace_back();
-          Bt.emplace_back();
-          gid.push_back(0);
-        }
-        // Turning (SSV): H = ĥ nᵀ and nᵀ S = U W, so H S = F n U W (n = e_x
-        // for the orthogonal cut: F's first column).
-        if (U_.rows() == 1 && p.orthogonal_turning())
-          HU[ku].noalias() = (F.col(0) / h) * U_;
-        else if (U_.rows() == 1)
-          HU[ku].noalias() = ((F * p.chip_direction(a)) / h) * U_;
-        else
-          HU[ku].noalias() = (F / h) * U_;
-        Bt[ku].noalias() = B_ * HU[ku];
-        At.noalias() -= Bt[ku] * Wx_;
-        gid[ku] = k;
-        ++nd;
-      }
-      if (cbar > 0.0) At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
+      nd = cutting_groups(cg, iu, a, scale, p, A_, B_, Wx_, U_, cm);
+      if (cbar > 0.0) cm.At.noalias() -= (cbar * scale / h) * (B_ * cg.D[iu] * *Sv_);
       if (R0.size() < static_cast<std::size_t>(nd)) {
         R0.resize(static_cast<std::size_t>(nd));
         R1.resize(static_cast<std::size_t>(nd));
       }
-      // Every Bt_k = B (H̄_k U): with more delay columns than force inputs,
-      // augment with B once (R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U).
-      const int nb = static_cast<int>(B_.cols());
-      const bool stacked = nd * nr <= nb;
-      const int na = stacked ? n2 + 2 * nd * nr : n2 + 2 * nb;
-      // The input and identity blocks are scaled by sc ≈ ‖Ã h‖ (the blocks of
-      // the exponential scale by sc and sc², undone below): the norm of the
-      // augmented matrix is then that of Ã h, so the Padé degree and the
-      // squarings stay low (with I of norm 1, every step took degree 9).
-      Xh = At * h;
-      const double sc = std::clamp(Xh.cwiseAbs().colwise().sum().maxCoeff(), kMinBlockScale, 1.0);
-      const int nk = stacked ? nd * nr : nb;  // input columns
-      Yh.resize(n2, nk);
-      if (stacked) {
-        for (int k = 0; k < nd; ++k) Yh.middleCols(k * nr, nr) = Bt[static_cast<std::size_t>(k)] * (h * sc);
-      } else {
-        Yh = B_ * (h * sc);
-      }
-      // The blocks of the exponential: by blocks for the common sizes (1 or
-      // 2 modes, augmented_exp), else of the whole matrix, stack-allocated up
-      // to kSmallAugmented (no heap traffic), else dynamic.
-      if (!augmented_exp(Xh, Yh, sc, st.P, G1, G2)) {
-        aug.setZero(na, na);
-        aug.topLeftCorner(n2, n2) = Xh;
-        aug.block(0, n2, n2, nk) = Yh;
-        aug.block(n2, n2 + nk, nk, nk) = MatrixXd::Identity(nk, nk) * sc;
-        if (na <= kSmallAugmented)
-          small_exp(aug, E);
-        else
-          E = aug.exp();
-        st.P = E.topLeftCorner(n2, n2);
-        G1 = E.block(0, n2, n2, nk);
-        G2 = E.block(0, n2 + nk, n2, nk);
-      }
-      if (stacked) {
-        for (int k = 0; k < nd; ++k) {
-          const auto ku = static_cast<std::size_t>(k);
-          R1[ku] = G2.middleCols(k * nr, nr) / (sc * sc);
-          R0[ku] = G1.middleCols(k * nr, nr) / sc - R1[ku];
-        }
-      } else {
-        Q1 = G2 / (sc * sc);
-        Q0 = G1 / sc - Q1;
-        for (int k = 0; k < nd; ++k) {
-          const auto ku = static_cast<std::size_t>(k);
-          R0[ku].noalias() = Q0 * HU[ku];
-          R1[ku].noalias() = Q1 * HU[ku];
-        }
-      }
-      if (cm.forcing) {
-        // The forced response (forced_periodic.cpp): G = ∫₀ʰ e^{Ã s} ds B, the
-        // (1,2) block of exp([[Ã h, B h], [0, 0]]).
-        MatrixXd Pf, Gf, Gf2;
-        const MatrixXd Bh = B_ * h;
-        if (!augmented_exp(Xh, Bh, 0.0, Pf, Gf, Gf2)) {
-          MatrixXd augf = MatrixXd::Zero(n2 + nb, n2 + nb);
-          augf.topLeftCorner(n2, n2) = Xh;
-          augf.topRightCorner(n2, nb) = Bh;
-          const MatrixXd Ef = augf.exp();
-          Gf = Ef.topRightCorner(n2, nb);
-        }
-        st.G = Gf;
-      }
+      step_inputs(B_, nd, nr, h, cm, st);
+      if (cm.forcing) st.G = forcing_gain(cm.Xh, B_, h);
     }
-    auto add = [&](int gi, double w, const MatrixXd& C) {
-      if (w == 0.0) return;
-      gmin = std::min(gmin, gi);
-      for (int j = 0; j < st.n_terms; ++j) {
-        auto& [idx, mat] = st.terms[static_cast<std::size_t>(j)];
-        if (idx == gi) {
-          mat += w * C;
-          return;
-        }
-      }
-      if (static_cast<std::size_t>(st.n_terms) == st.terms.size()) st.terms.emplace_back();
-      auto& slot = st.terms[static_cast<std::size_t>(st.n_terms++)];
-      slot.first = gi;
-      slot.second = w * C;
-    };
     for (int k = 0; k < nd; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       const std::size_t key = iu * static_cast<std::size_t>(ng) + static_cast<std::size_t>(gid[ku]);
@@ -255,17 +294,17 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
         const double tau0 = cg.tau_at.empty() ? cg.gtau[gk] : cg.tau_at[iu * static_cast<std::size_t>(ng) + gk];
         const double tau1 =
             cg.tau_at.empty() ? cg.gtau[gk] : cg.tau_at[(iu + 1) * static_cast<std::size_t>(ng) + gk];
-        locate(cm.t[iu] - tau0, l.g0, l.w0);
-        locate(cm.t[iu + 1] - tau1, l.g1, l.w1);
+        locate_delayed(cm.t, T, cm.t[iu] - tau0, l.g0, l.w0);
+        locate_delayed(cm.t, T, cm.t[iu + 1] - tau1, l.g1, l.w1);
         if (shared) {
           cache.where[key] = l;
           cache.located[key] = 1;
         }
       }
-      add(l.g0, 1.0 - l.w0, R0[ku]);
-      add(l.g0 + 1, l.w0, R0[ku]);
-      add(l.g1, 1.0 - l.w1, R1[ku]);
-      add(l.g1 + 1, l.w1, R1[ku]);
+      add_term(st, l.g0, 1.0 - l.w0, R0[ku], gmin);
+      add_term(st, l.g0 + 1, l.w0, R0[ku], gmin);
+      add_term(st, l.g1, 1.0 - l.w1, R1[ku], gmin);
+      add_term(st, l.g1 + 1, l.w1, R1[ku], gmin);
     }
   }
   cm.L = -gmin;

@@ -41,6 +41,54 @@ constexpr int kMaxDescentSteps = 200;
 // its distance to the circle; a fall of ln ρ smaller than this is noise.
 constexpr double kDecideError = 0.1;
 
+// The largest multipliers at a depth: overall (ln ρ), and in the left
+// (Re μ < 0) and right half-planes.
+struct Radii {
+  double all = 0.0;
+  Cplx left{0.0, 0.0}, right{0.0, 0.0};
+};
+
+// At zero depth the multipliers are known exactly: e^{λτ} of the free modes
+// (poles λ, 1/s; slowest decay rate, 1/s; period τ, s).
+Radii zero_depth_radii(const std::vector<Cplx>& free_poles, double slowest_decay_per_s, double tau) {
+  Radii r;
+  r.all = -slowest_decay_per_s * tau;
+  for (const Cplx& l : free_poles) {
+    const Cplx mu = std::exp(l * tau);
+    Cplx& slot = mu.real() < 0.0 ? r.left : r.right;
+    if (std::abs(mu) > std::abs(slot)) slot = mu;
+  }
+  return r;
+}
+
+// The next climbing step (m) from depth lo (radii r_lo), the depth before it
+// a_prev (r_prev). The largest multipliers of the left half-plane (where flip
+// bands start: a pair meets on the negative real axis and one multiplier
+// runs out through −1, often for a short range of depth) and of the right
+// one are followed; from the distance each moved over the last step, the
+// step is sized so that neither is predicted to cover more than
+// kMoveFraction of its distance to the unit circle. The secant of ln ρ
+// shortens the step further to just beyond the predicted crossing, and the
+// ratio stays within [1 + kMinClimb, bracket_ratio⁴]. Early-stopped Arnoldi
+// values (large maps) are trusted only with ρ >= 1/4 and then move at most
+// by bracket_ratio; `accurate`: ρ is exact (branch roots).
+double climb_step(double a_prev, const Radii& r_prev, double lo, const Radii& r_lo, bool accurate,
+                  const SemiDiscretizationOptions& o) {
+  const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
+  double step = (std::pow(o.bracket_ratio, trusted ? 4 : 1) - 1.0) * lo;
+  double move = kInf;
+  for (auto [now, before] : {std::pair{r_lo.left, r_prev.left}, std::pair{r_lo.right, r_prev.right}}) {
+    const double moved = std::abs(now - before);
+    if (moved > 0.0) move = std::min(move, kMoveFraction * (1.0 - std::abs(now)) * (lo - a_prev) / moved);
+  }
+  // Never shorter than bracket_min_ratio − 1 of the depth on that account,
+  // or the approach of a multiplier to the circle would never end.
+  step = std::min(step, std::max(move, (o.bracket_min_ratio - 1.0) * lo));
+  const double slope = (r_lo.all - r_prev.all) / (lo - a_prev);
+  if (trusted && slope > 0.0) step = std::min(step, (-r_lo.all / slope) * (1.0 + kSecantOvershoot) + kSecantOvershoot * lo);
+  return std::max(step, kMinClimb * lo);
+}
+
 // Golden-section search for a point where ln ρ >= 0 inside a local maximum
 // bracketed by a < b < c with f(b) >= f(a) and f(b) > f(c) (fb = f(b)).
 // Returns true with the first such point found, false when the maximum found
@@ -66,6 +114,24 @@ bool find_band(F&& f, double a, double b, double c, double fb, double& at, doubl
     }
   }
   return false;
+}
+
+// ln ρ rose from a_prev (f_prev) to lo (flo), then fell to hi (fhi): looks
+// for a thin unstable band at the local maximum in (a_prev, hi). Found: the
+// bracket [lo, hi] of the first crossing becomes [lo, band] or, when the
+// band lies below lo, [a_prev, band]; true.
+template <class F>
+bool bracket_band(F&& log_rho, double a_prev, double f_prev, double& lo, double& flo, double& hi, double& fhi) {
+  double band = 0.0, fband = 0.0;
+  if (!find_band(log_rho, a_prev, lo, hi, log_rho(lo), band, fband)) return false;
+  const bool left = band < lo;  // the first crossing lies below the band
+  hi = band;
+  fhi = fband;
+  if (left) {
+    lo = a_prev;
+    flo = f_prev;
+  }
+  return true;
 }
 
 // The last two period maps of a depth search, by depth: a depth met again
@@ -143,12 +209,7 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
   const SdmKernel kernel(A_, B_, Wx_, U_, options_, &process_, &Sv_);
   MapCache maps(kernel, g);
   auto log_rho = [&](double a) { return std::log(std::abs(maps.dominant_at(a).mu)); };
-  // The largest multipliers at depth a: overall (ln ρ), and in the left
-  // (Re μ < 0) and right half-planes (early-stopped Arnoldi for large maps).
-  struct Radii {
-    double all = 0.0;
-    Cplx left{0.0, 0.0}, right{0.0, 0.0};
-  };
+  // Early-stopped Arnoldi for large maps.
   auto radii = [&](double a) {
     const Dominant d = kernel.dominant(maps.at(a), false, true);
     return Radii{std::log(std::abs(d.mu)), d.mu_left, d.mu_right};
@@ -158,14 +219,7 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
   // or >= 1 is sure (cheaper than a dense decomposition even for small maps),
   // except for the branch roots of low-speed turning, which are exact.
   const bool accurate = g.branch_roots;
-  // At zero depth the multipliers are known exactly: e^{λτ} of the free modes.
-  Radii r_zero;
-  r_zero.all = -slowest_decay_per_s_ * g.tau;
-  for (const Cplx& l : free_poles_) {
-    const Cplx mu = std::exp(l * g.tau);
-    Cplx& slot = mu.real() < 0.0 ? r_zero.left : r_zero.right;
-    if (std::abs(mu) > std::abs(slot)) slot = mu;
-  }
+  const Radii r_zero = zero_depth_radii(free_poles_, slowest_decay_per_s_, g.tau);
   double a = dmax / std::pow(options_.bracket_ratio, options_.bracket_steps);
   Radii r = radii(a);
   double lo = 0.0, flo = r_zero.all, hi = a, fhi = r.all;
@@ -180,16 +234,8 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
     fhi = down.at_hi;
   } else {
     // Climb from a towards the first crossing of ρ = 1 as a continuation in
-    // depth. The largest multipliers of the left half-plane (where flip bands
-    // start: a pair meets on the negative real axis and one multiplier runs
-    // out through −1, often for a short range of depth) and of the right one
-    // are followed; from the distance each moved over the last step, the next
-    // step is sized so that neither is predicted to cover more than
-    // kMoveFraction of its distance to the unit circle. The secant of ln ρ
-    // shortens the step further to just beyond the predicted crossing, and
-    // the ratio stays within [1 + kMinClimb, bracket_ratio⁴]. Early-stopped
-    // Arnoldi values (large maps) are trusted only with ρ >= 1/4 and then
-    // move at most by bracket_ratio.
+    // depth, following the largest multipliers of the left half-plane (where
+    // flip bands start) and of the right one (climb_step sizes the steps).
     double a_prev = 0.0;
     Radii r_prev = r_zero;
     lo = a;
@@ -211,38 +257,15 @@ StabilityLimit SemiDiscretizationSolver::search(double rpm, FloquetResult* floqu
         *above = true;
         return lim;
       }
-      const bool trusted = accurate || (r_lo.all > kLogQuarter && (a_prev == 0.0 || r_prev.all > kLogQuarter));
-      double step = (std::pow(options_.bracket_ratio, trusted ? 4 : 1) - 1.0) * lo;
-      double move = kInf;
-      for (auto [now, before] : {std::pair{r_lo.left, r_prev.left}, std::pair{r_lo.right, r_prev.right}}) {
-        const double moved = std::abs(now - before);
-        if (moved > 0.0) move = std::min(move, kMoveFraction * (1.0 - std::abs(now)) * (lo - a_prev) / moved);
-      }
-      // Never shorter than bracket_min_ratio − 1 of the depth on that account,
-      // or the approach of a multiplier to the circle would never end.
-      step = std::min(step, std::max(move, (options_.bracket_min_ratio - 1.0) * lo));
-      const double slope = (flo - r_prev.all) / (lo - a_prev);
-      if (trusted && slope > 0.0) step = std::min(step, (-flo / slope) * (1.0 + kSecantOvershoot) + kSecantOvershoot * lo);
-      step = std::max(step, kMinClimb * lo);
-      hi = std::min(lo + step, dmax);
+      hi = std::min(lo + climb_step(a_prev, r_prev, lo, r_lo, accurate, options_), dmax);
       const Radii r_hi = radii(hi);
       fhi = r_hi.all;
       if (fhi >= 0.0) break;
       // ln ρ rose, then fell: a local maximum lies in (a_prev, hi), where a
       // thin unstable band would sit. Look for it.
-      if (flo >= r_prev.all && fhi < flo - (accurate ? 0.0 : kDecideError * std::abs(flo)) && flo > kLogQuarter) {
-        double band = 0.0, fband = 0.0;
-        if (find_band(log_rho, a_prev, lo, hi, log_rho(lo), band, fband)) {
-          const bool left = band < lo;  // the first crossing lies below the band
-          hi = band;
-          fhi = fband;
-          if (left) {
-            lo = a_prev;
-            flo = r_prev.all;
-          }
-          break;
-        }
-      }
+      if (flo >= r_prev.all && fhi < flo - (accurate ? 0.0 : kDecideError * std::abs(flo)) && flo > kLogQuarter &&
+          bracket_band(log_rho, a_prev, r_prev.all, lo, flo, hi, fhi))
+        break;
       a_prev = lo;
       r_prev = r_lo;
       lo = hi;

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""No function in src/ or include/ longer than 100 lines (ctest `function_length`).
+
+A function is a brace block opened where only namespaces, classes, structs or
+`extern "C"` blocks enclose it, whose head (the text since the previous `;`,
+`{` or `}`) has a parameter list and is not an initialiser (`= {`). Its length
+counts its lines from the head's `{` to its `}`, lambdas and comments inside
+included. Comments and string and character literals are blanked first, so
+braces in them do not count. On failure the check names each function with
+its file, first line and length.
+
+    python3 tests/check_function_length.py [SOURCE_DIR] [--limit N]
+"""
+import os
+import re
+import sys
+
+ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
+ROOT = ARGS[0] if ARGS else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LIMIT = 100
+if "--limit" in sys.argv:
+    LIMIT = int(sys.argv[sys.argv.index("--limit") + 1])
+SCOPE = re.compile(r"\b(namespace|class|struct|union|enum)\b|extern\s*\"")
+CONTROL = re.compile(r"^\s*(else|if|for|while|switch|do|try|catch)\b")
+
+
+def blank(text):
+    """The text with comments and string/char literals replaced by spaces
+    (newlines kept, so line numbers hold)."""
+    out, i, n = [], 0, len(text)
+    while i < n:
+        c = text[i]
+        if text.startswith("//", i):
+            j = text.find("\n", i)
+            j = n if j < 0 else j
+            out.append(" " * (j - i))
+            i = j
+        elif text.startswith("/*", i):
+            j = text.find("*/", i + 2)
+            j = n if j < 0 else j + 2
+            out.append(re.sub(r"[^\n]", " ", text[i:j]))
+            i = j
+        elif text.startswith('R"', i):
+            m = re.match(r'R"([^(\s]*)\(', text[i:])
+            end = text.find(")" + (m.group(1) if m else "") + '"', i)
+            j = n if end < 0 else end + len(m.group(1) if m else "") + 2
+            out.append('"' + re.sub(r"[^\n]", " ", text[i + 1:j - 1]) + '"')
+            i = j
+        elif c in "\"'":
+            j = i + 1
+            while j < n and text[j] != c:
+                j += 2 if text[j] == "\\" else 1
+            out.append(c + " " * (j - i - 1) + c)
+            i = j + 1
+        else:
+            out.append(c)
+            i += 1
+    return "".join(out)
+
+
+def long_functions(path):
+    text = blank(open(path, encoding="utf-8").read())
+    found, stack, head_start = [], [], 0
+    line = 1
+    for i, c in enumerate(text):
+        if c == "\n":
+            line += 1
+        elif c in ";{}":
+            if c == "{":
+                head = "\n".join(l for l in text[head_start:i].split("\n") if not l.lstrip().startswith("#"))
+                if SCOPE.search(head) and "(" not in head:
+                    kind = "scope"
+                elif stack and stack[-1][0] != "scope":
+                    kind = "inner"
+                elif ")" in head and not CONTROL.search(head) and not re.search(r"=\s*$", head):
+                    kind = "function"
+                else:
+                    kind = "inner"
+                stack.append((kind, line, " ".join(head.split())[-80:]))
+            elif c == "}" and stack:
+                kind, first, head = stack.pop()
+                if kind == "function" and line - first + 1 > LIMIT:
+                    found.append((path, first, line - first + 1, head))
+            head_start = i + 1
+    return found
+
+
+def main():
+    bad = []
+    for top in ("src", "include"):
+        for folder, _, files in os.walk(os.path.join(ROOT, top)):
+            for f in sorted(files):
+                if f.endswith((".cpp", ".hpp", ".h")):
+                    bad += long_functions(os.path.join(folder, f))
+    for path, first, n, head in sorted(bad):
+        print(f"{os.path.relpath(path, ROOT)}:{first}: a function of {n} lines (limit {LIMIT}): {head}")
+    if bad:
+        print(f"{len(bad)} function(s) over {LIMIT} lines: split them (docs/architecture.md, Conventions)")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
