@@ -11,15 +11,16 @@ its file, first line and length.
 
     python3 tests/check_function_length.py [SOURCE_DIR] [--limit N]
 """
+import argparse
 import os
 import re
 import sys
 
-ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
-ROOT = ARGS[0] if ARGS else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIMIT = 100
-if "--limit" in sys.argv:
-    LIMIT = int(sys.argv[sys.argv.index("--limit") + 1])
+PARSER = argparse.ArgumentParser(description="No function over --limit lines in src/ and include/.")
+PARSER.add_argument("root", nargs="?", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PARSER.add_argument("--limit", type=int, default=100)
+OPTIONS = PARSER.parse_args()
+ROOT, LIMIT = OPTIONS.root, OPTIONS.limit
 SCOPE = re.compile(r"\b(namespace|class|struct|union|enum)\b|extern\s*\"")
 CONTROL = re.compile(r"^\s*(else|if|for|while|switch|do|try|catch)\b")
 
@@ -86,6 +87,9 @@ def long_functions(path):
 
 
 def main():
+    if not os.path.isdir(os.path.join(ROOT, "src")):
+        print(f"{ROOT}: no src/ here (give the source directory)")
+        return 2
     bad = []
     for top in ("src", "include"):
         for folder, _, files in os.walk(os.path.join(ROOT, top)):
