@@ -16,6 +16,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cpp_text import blank  # noqa: E402
+
 PARSER = argparse.ArgumentParser(description="No function over --limit lines in src/ and include/.")
 PARSER.add_argument("root", nargs="?", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PARSER.add_argument("--limit", type=int, default=100)
@@ -23,40 +26,6 @@ OPTIONS = PARSER.parse_args()
 ROOT, LIMIT = OPTIONS.root, OPTIONS.limit
 SCOPE = re.compile(r"\b(namespace|class|struct|union|enum)\b|extern\s*\"")
 CONTROL = re.compile(r"^\s*(else|if|for|while|switch|do|try|catch)\b")
-
-
-def blank(text):
-    """The text with comments and string/char literals replaced by spaces
-    (newlines kept, so line numbers hold)."""
-    out, i, n = [], 0, len(text)
-    while i < n:
-        c = text[i]
-        if text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            out.append(" " * (j - i))
-            i = j
-        elif text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            out.append(re.sub(r"[^\n]", " ", text[i:j]))
-            i = j
-        elif text.startswith('R"', i):
-            m = re.match(r'R"([^(\s]*)\(', text[i:])
-            end = text.find(")" + (m.group(1) if m else "") + '"', i)
-            j = n if end < 0 else end + len(m.group(1) if m else "") + 2
-            out.append('"' + re.sub(r"[^\n]", " ", text[i + 1:j - 1]) + '"')
-            i = j
-        elif c in "\"'":
-            j = i + 1
-            while j < n and text[j] != c:
-                j += 2 if text[j] == "\\" else 1
-            out.append(c + " " * (j - i - 1) + c)
-            i = j + 1
-        else:
-            out.append(c)
-            i += 1
-    return "".join(out)
 
 
 def long_functions(path):

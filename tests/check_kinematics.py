@@ -15,6 +15,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cpp_text import blank  # noqa: E402
+
 ROOT = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIXTY = re.compile(r"(?<![\w.])60(\.0*)?(?![\w.])")
 SPINDLE = re.compile(r"rpm|rev_per_s|spindle|omega|teeth|tooth", re.I)
@@ -22,33 +25,7 @@ SPINDLE = re.compile(r"rpm|rev_per_s|spindle|omega|teeth|tooth", re.I)
 
 def code_lines(text):
     """The text with comments and string/char literals blanked, split in lines."""
-    out, i, n = [], 0, len(text)
-    while i < n:
-        c = text[i]
-        if text.startswith("//", i):
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-        elif text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            seg = text[i:(n if j < 0 else j + 2)]
-            out.append("\n" * seg.count("\n"))
-            i = n if j < 0 else j + 2
-        elif c == "R" and text.startswith('R"', i) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
-            k = text.find("(", i)  # a raw string: R"delim( ... )delim"
-            end = text.find(")" + text[i + 2:k] + '"', k)
-            end = n if end < 0 or k < 0 else end + len(text[i + 2:k]) + 2
-            out.append(" " + "\n" * text[i:end].count("\n"))
-            i = end
-        elif c in "\"'":
-            j = i + 1
-            while j < n and text[j] != c:
-                j += 2 if text[j] == "\\" else 1
-            out.append(" " + "\n" * text[i:j].count("\n"))
-            i = j + 1
-        else:
-            out.append(c)
-            i += 1
-    return "".join(out).split("\n")
+    return blank(text).split("\n")
 
 
 def main():
