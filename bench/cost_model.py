@@ -11,6 +11,7 @@ grows) and the marginal cost per unit of n. docs/performance.md, "Cost model", h
 
     bench/cost_model.py [--build build]                # measure, print the table
     bench/cost_model.py --record bench/cost_baseline.json   # and record it
+    bench/cost_model.py --only "16 mm" --record bench/cost_baseline.json   # record some cases
     bench/cost_model.py --check  bench/cost_baseline.json   # fail if 2x slower
 
 --check re-measures every case at its largest size (best of 3) and exits
@@ -258,6 +259,16 @@ def main():
             print(f"| {name} | {param} | {', '.join(map(str, sizes))} | "
                   f"{', '.join('%.3f' % t for t in times)} | {marginal:.3g} | {p:.2f} |", flush=True)
         if a.record:
+            if a.only and os.path.exists(a.record):
+                # Some cases only: merged into the record, each dated; the
+                # others keep their figures (same machine only).
+                rec = json.load(open(a.record))
+                if rec.get("machine") != here:
+                    sys.exit(f"cost_model.py: {a.record} holds figures of {rec.get('machine')}, this is {here}: "
+                             "record every case here (without --only), not a mix")
+                for name, case in out["cases"].items():
+                    rec["cases"][name] = dict(case, date=out["date"])
+                out = rec
             with open(a.record, "w") as f:
                 json.dump(out, f, indent=1)
                 f.write("\n")

@@ -202,8 +202,9 @@ NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& W
 
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
                      const MatrixXd& Wx, const MatrixXd& U) {
-  if (g.cutter || g.constant || g.ssv || !p.rotating_edges())
+  if (g.path != MapPath::kToothSteps || g.constant || g.ssv || !p.rotating_edges())
     throw std::logic_error("add_collocation: not a straight-teeth milling grid (collocation_refusal lets it through)");
+  g.path = MapPath::kToothCollocation;
   g.nodes = nodes;
   const std::vector<double> c = gauss_nodes(nodes);
   const Index n2 = A.rows(), nr = Wx.rows(), snr = nodes * nr;

@@ -203,7 +203,7 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   pm.n2 = n2;
   pm.nr = nr;
   pm.tau = T;
-  pm.cutter = true;
+  pm.path = MapPath::kCutterCollocation;
   pm.nodes = s;
   pm.constant = pm.free_flight = pm.branch_roots = false;
   pm.E = nullptr;

@@ -201,7 +201,7 @@ MatrixXd forcing_gain(const MatrixXd& Xh, const MatrixXd& B, double h) {
 // I], [0, 0, 0]] and R0_k = Q0 H̄_k U, R1_k = Q1 H̄_k U (size 2n + 4,
 // independent of the number of delays: B has 2 columns, the force).
 void SdmKernel::build_cutter(const Grid& g, double a, PeriodMap& pm) const {
-  if (g.nodes > 0) return build_cutter_collocation(g, a, pm);
+  if (g.path == MapPath::kCutterCollocation) return build_cutter_collocation(g, a, pm);
   if (g.cutter_grid) return cutter_map(g, *g.cutter_grid, a, a / g.cutter_grid->depth, pm, &g.cutter_grid);
   const CutterGrid cg = g.ssv ? ssv_cutter_grid(*p_, g, o_.axial_slices, a) : cutter_grid(*p_, g, o_.axial_slices, a);
   cutter_map(g, cg, a, 1.0, pm, nullptr);
@@ -218,7 +218,7 @@ void SdmKernel::cutter_map(const Grid& g, const CutterGrid& cg, double a, double
   pm.n2 = n2;
   pm.nr = nr;
   pm.tau = T;
-  pm.cutter = true;
+  pm.path = MapPath::kCutterSteps;
   pm.nodes = 0;
   pm.constant = false;
   pm.free_flight = false;

@@ -100,7 +100,7 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     const double h = g.constant ? g.steps[0].h : g.steps[si].h;
     push(now, h);
     now += h;
-    if (pm.nodes > 0) {  // collocation: x_{i+1} = P x_i + Rc ζ_i
+    if (pm.path == MapPath::kToothCollocation) {  // collocation: x_{i+1} = P x_i + Rc ζ_i
       const int snr = pm.nodes * nr;
       const Eigen::VectorXcd zeta = vec.segment(n2 + i * snr, snr);
       xr_next.noalias() = s.P * xr;
@@ -146,7 +146,7 @@ PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodM
   const VectorXd yr = vec.real(), yi = vec.imag();
   VectorXd out(pm.dim);
   std::vector<double> rr, ri;
-  const bool nodes = pm.nodes > 0;  // collocation (pm.cc) or first-order steps (pm.cm)
+  const bool nodes = pm.path == MapPath::kCutterCollocation;  // pm.cc, or first-order steps (pm.cm)
   for (auto [y, rec] : {std::pair{&yr, &rr}, std::pair{&yi, &ri}}) {
     if (nodes)
       SdmKernel::apply_cutter_collocation(pm, y->data(), out.data(), rec);
@@ -201,7 +201,7 @@ double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const Peri
   const double alpha = arg / kTwoPi;  // f_k τ = k + α
   const double f_top = kFrequencyMarginFactor * f_max_hz + kFrequencyMarginMembers / tau;
   if (vec.size() != pm.dim || pm.nr == 0) return std::abs(alpha) / tau;  // nothing to look at: k = 0
-  PeriodSamples ps = pm.cutter ? cutter_solution_samples(vec, pm, A, Wx, f_top)
+  PeriodSamples ps = on_cutter_grid(pm.path) ? cutter_solution_samples(vec, pm, A, Wx, f_top)
                                : eigen_solution_samples(vec, pm, g, A, Wx, f_top);
   // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
   const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
@@ -284,7 +284,7 @@ FloquetResult floquet_of(const SdmKernel& kernel, const Grid& g, const PeriodMap
   r.chatter_frequency_hz = !std::isfinite(r.spectral_radius) ? std::numeric_limits<double>::quiet_NaN()
                            : d.branch_s != Cplx(0.0, 0.0)    ? std::abs(d.branch_s.imag()) / kTwoPi
                                                               : chatter_frequency(d.mu, d.vec, pm, g, A, Wx, f_max_hz);
-  r.steps = pm.cutter ? pm.m : g.m + (pm.free_flight ? 1 : 0);
+  r.steps = on_cutter_grid(pm.path) ? pm.m : g.m + (pm.free_flight ? 1 : 0);
   r.map_dimension = pm.dim;
   r.period_s = pm.tau;
   r.converged = d.converged;

@@ -217,7 +217,7 @@ Grid real_cutter_period(const Process& p, const SemiDiscretizationOptions& o, do
   // cutting law's regenerative side (cutter_grid; SdmKernel::build_cutter).
   // The straight uniform milling cutter and turning below are its fast
   // paths (tested equal to it: tests/test_regenerative_cut.cpp).
-  g.cutter = true;
+  g.path = MapPath::kCutterSteps;
   g.rpm = rpm;
   // Period: the shortest shift of teeth after which the pitch and helix
   // pattern repeats (Process::floquet_period_s): one tooth period for a
@@ -334,10 +334,12 @@ Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_
   Grid g = with_branch_choice(make_grid(p, o, f_max_hz, rpm, turning_hhat_of(p), A, B, U, Sv), slowest_decay, o,
                               A.rows(), Wx.rows());
   if (o.collocation_nodes > 0) {
-    if (g.cutter)
-      g.nodes = o.collocation_nodes;  // the step maps per depth (sdm_cutter_collocation.cpp)
-    else
+    if (on_cutter_grid(g.path)) {  // the step maps per depth (sdm_cutter_collocation.cpp)
+      g.path = MapPath::kCutterCollocation;
+      g.nodes = o.collocation_nodes;
+    } else {
       add_collocation(g, p, o.collocation_nodes, A, B, Wx, U);
+    }
   }
   return g;
 }

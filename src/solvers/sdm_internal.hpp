@@ -122,6 +122,22 @@ struct CutterGrid {
   std::vector<double> tau_at;
 };
 
+// The four ways the one-period map is built and applied, chosen once per
+// speed by period_grid (docs/sdm.md): on the tooth-period grid (straight
+// teeth and turning; turning's constant steps, branch roots and nose radius
+// are within kToothSteps) or on the real-cutter grid (a helix, variable
+// pitch or helix, a profile, two arcs, process damping in milling, speed
+// variation), each with first-order steps or Gauss collocation. Every
+// dispatch (SdmKernel::build_map, apply, the chatter-frequency samples)
+// switches on it.
+enum class MapPath {
+  kToothSteps,         // Grid::steps -> PeriodMap::steps (first-order step maps)
+  kToothCollocation,   // Grid::steps and their node weights -> PeriodMap::steps
+  kCutterSteps,        // a CutterGrid per depth -> PeriodMap::cm (CutterMap)
+  kCutterCollocation,  // a CutterGrid per depth -> PeriodMap::cc (CollocationCutterMap)
+};
+inline bool on_cutter_grid(MapPath p) { return p == MapPath::kCutterSteps || p == MapPath::kCutterCollocation; }
+
 // The step grid of one delay period at one spindle speed.
 struct Grid {
   double tau = 0.0;
@@ -141,10 +157,11 @@ struct Grid {
   const Process* nose = nullptr;
   double nose_cbar = 0.0;  // C_pd / V, N·s/m²
   MatrixXd nose_Sv;        // 2 × 2n, with process damping only
-  // Real cutter (milling with helix, variable pitch or helix, or process
-  // damping): steps are built per depth by SdmKernel::build_cutter; tau is
-  // then the period of H (tooth period, or one revolution).
-  bool cutter = false;
+  // The path (MapPath). On the real-cutter grid (milling with helix, variable
+  // pitch or helix, or process damping) the steps are built per depth by
+  // SdmKernel::build_cutter; tau is then the period of H (tooth period, or
+  // one revolution).
+  MapPath path = MapPath::kToothSteps;
   double rpm = 0.0;
   double h_target = 0.0;       // longest cutting step, s
   std::shared_ptr<const CutterGrid> cutter_grid;  // straight teeth: built once per speed at 1 m
@@ -152,7 +169,7 @@ struct Grid {
   // principal period (tau), with the time-varying delays of CutterGrid::tau_at.
   bool ssv = false;
   SpeedVariationPeriod ssv_period;
-  // Gauss collocation nodes per cutting step (0: first-order steps).
+  // Gauss collocation nodes per cutting step (0 unless the path collocates).
   int nodes = 0;
 };
 
@@ -265,10 +282,10 @@ struct PeriodMap {
   int n2 = 0, nr = 0, nz = 0, dim = 0;
   double tau = 0.0;             // s
   bool branch_roots = false;    // turning with many steps: multipliers from ν^m = g(ν)
-  bool cutter = false;          // the real-cutter map: `cm`, or `cc` with collocation (nodes > 0)
+  MapPath path = MapPath::kToothSteps;  // the grid's: `steps`, or on the real-cutter grid `cm` / `cc`
   CutterMap cm;
   CollocationCutterMap cc;
-  int nodes = 0;                // Gauss collocation nodes per step (0: first-order steps)
+  int nodes = 0;                // Gauss collocation nodes per step (0 unless the path collocates)
 };
 
 // Dominant eigenpair of the one-period map.

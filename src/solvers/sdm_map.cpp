@@ -30,25 +30,26 @@ bool step_exp_by_blocks(const XM& X, const YM& Y, StepMap& sm) {
 }  // namespace
 
 void SdmKernel::build_map(const Grid& g, double depth, PeriodMap& pm) const {
-  if (g.cutter) return build_cutter(g, depth, pm);
+  if (on_cutter_grid(g.path)) return build_cutter(g, depth, pm);
   const int n2 = static_cast<int>(A_.rows());
   const int nr = static_cast<int>(Wx_.rows());
   pm.n2 = n2;
   pm.nr = nr;
   pm.m = g.m;
+  pm.path = g.path;
   pm.nodes = g.nodes;
-  pm.cutter = false;
   pm.constant = g.constant;
   pm.free_flight = g.free_time > 0.0;
   // Stored samples: s per cutting step with collocation (none for free
   // flight); else one per step start, and one at the free flight's start.
-  pm.nz = g.nodes > 0 ? g.m * g.nodes : pm.free_flight ? g.m + 1 : g.m;
+  const bool collocating = g.path == MapPath::kToothCollocation;
+  pm.nz = collocating ? g.m * g.nodes : pm.free_flight ? g.m + 1 : g.m;
   pm.dim = n2 + pm.nz * nr;
   pm.E = pm.free_flight ? &g.E_free : nullptr;
   pm.tau = g.tau;
   pm.branch_roots = g.branch_roots && nr == 1;
   pm.steps.resize(g.steps.size());
-  if (g.nodes > 0) return build_collocation(g, depth, pm);
+  if (collocating) return build_collocation(g, depth, pm);
   if (n2 + 2 * nr <= kSmallAugmented)
     build_steps<SmallMatrix>(g, depth, pm);  // no heap traffic: most models
   else
@@ -97,9 +98,16 @@ void SdmKernel::build_steps(const Grid& g, double depth, PeriodMap& pm) const {
 // out = Φ y (both of length pm.dim, distinct). work: >= 2 n2 + nr doubles.
 // Dispatches to fixed-size loops for the common small models.
 void SdmKernel::apply(const PeriodMap& pm, const MatrixXd& Wx, const double* y, double* out, double* work) {
-  if (pm.cutter)
-    return pm.nodes > 0 ? apply_cutter_collocation(pm, y, out, nullptr) : apply_cutter(pm, Wx, y, out, nullptr);
-  if (pm.nodes > 0) return apply_collocation(pm, y, out, work);
+  switch (pm.path) {
+    case MapPath::kCutterCollocation:
+      return apply_cutter_collocation(pm, y, out, nullptr);
+    case MapPath::kCutterSteps:
+      return apply_cutter(pm, Wx, y, out, nullptr);
+    case MapPath::kToothCollocation:
+      return apply_collocation(pm, y, out, work);
+    case MapPath::kToothSteps:
+      break;
+  }
   if (pm.n2 == 2 && pm.nr == 1) return apply_n<2, 1>(pm, Wx, y, out, work);
   if (pm.n2 == 4 && pm.nr == 1) return apply_n<4, 1>(pm, Wx, y, out, work);
   if (pm.n2 == 4 && pm.nr == 2) return apply_n<4, 2>(pm, Wx, y, out, work);

@@ -49,7 +49,7 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
         "sdm with spindle speed variation does not model process damping (its C a / V follows the varying cutting "
         "speed): remove process.process_damping_coefficient_n_per_m or process.speed_variation");
   Grid g;
-  g.cutter = true;
+  g.path = MapPath::kCutterSteps;
   g.ssv = true;
   g.rpm = rpm;
   g.ssv_period = speed_variation_period(p, rpm);
