@@ -203,7 +203,7 @@ namespace {
 // --samples, the uncertainty block.
 std::string lobes_json(const LobesPlan& plan, const std::vector<StabilityLimit>& rows,
                        const std::vector<ExtraColumn>& extra, bool tolerance_met,
-                       const std::optional<UncertaintyOutputs>& mc) {
+                       const std::optional<AbsoluteLimit>& abs_lim, const std::optional<UncertaintyOutputs>& mc) {
   const Config& cfg = plan.cfg;
   const Sweep& s = plan.sweep;
   const LobeSolver& solver = *plan.built.solver;
@@ -222,7 +222,7 @@ std::string lobes_json(const LobesPlan& plan, const std::vector<StabilityLimit>&
     p.adaptive_tolerance_met = tolerance_met;
   }
   p.depth_max_mm = s.depth_max_mm;
-  p.absolute_limit = solver.known_absolute_limit();
+  p.absolute_limit = abs_lim;
   p.options = built.options;
   p.notes = built.notes;
   p.position_mm = plan.common.position_mm;
@@ -236,11 +236,11 @@ std::string lobes_json(const LobesPlan& plan, const std::vector<StabilityLimit>&
 
 // The summary for the person at the terminal: speeds, the absolute limit,
 // the deepest sampled row, the adaptive spacing's tolerance.
-std::string lobes_summary(const LobesPlan& plan, const std::vector<StabilityLimit>& rows, bool tolerance_met) {
+std::string lobes_summary(const LobesPlan& plan, const std::vector<StabilityLimit>& rows, bool tolerance_met,
+                          const std::optional<AbsoluteLimit>& abs_lim) {
   const Sweep& s = plan.sweep;
   const LobeSolver& solver = *plan.built.solver;
   const bool adaptive = plan.adaptive;
-  const std::optional<AbsoluteLimit> abs_lim = solver.known_absolute_limit();
   const StabilityLimit* best = nullptr;  // deepest stable cut in the sweep
   std::size_t bounded = 0;
   for (const auto& r : rows) {
@@ -274,14 +274,14 @@ std::string lobes_summary(const LobesPlan& plan, const std::vector<StabilityLimi
 // The plot (file and/or window): the uncertain lobes with --samples, else
 // the table's envelope refined where the line through its rows leaves it.
 void plot_lobe_outputs(const LobesPlan& plan, const std::vector<StabilityLimit>& rows,
-                       const std::optional<UncertaintyOutputs>& mc, PlotWindow* window, std::ostream& info) {
+                       const std::optional<AbsoluteLimit>& abs_lim, const std::optional<UncertaintyOutputs>& mc,
+                       PlotWindow* window, std::ostream& info) {
   const Config& cfg = plan.cfg;
   const Sweep& s = plan.sweep;
   const po::variables_map& vm = plan.vm;
   const LobeSolver& solver = *plan.built.solver;
   const std::string& plot_path = plan.plot_path;
   const std::optional<UncertaintyRequest>& uncertainty = plan.uncertainty;
-  const std::optional<AbsoluteLimit> abs_lim = solver.known_absolute_limit();
   const std::string plot_title = cfg.name + " (" + solver.method() + ")";
   if (mc) {
     const std::string title = cfg.name + " (" + solver.method() + ", " + std::to_string(uncertainty->samples) + " samples)";
@@ -355,6 +355,7 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
   const std::vector<StabilityLimit>& rows = nominal.rows;
   std::vector<ExtraColumn> extra = nominal.extra;
   const bool tolerance_met = nominal.tolerance_met;
+  const std::optional<AbsoluteLimit> abs_lim = plan.built.solver->known_absolute_limit();
   // --samples: the Monte Carlo at the table's speeds; its quantile lobes are
   // columns after the nominal ones.
   std::optional<UncertaintyOutputs> mc;
@@ -365,8 +366,8 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
 
   std::ostringstream csv;
   write_lobe_csv(csv, rows, extra);
-  const std::string json_text = json_path.empty() ? std::string() : lobes_json(plan, rows, extra, tolerance_met, mc);
-  const std::string summary = lobes_summary(plan, rows, tolerance_met);
+  const std::string json_text = json_path.empty() ? std::string() : lobes_json(plan, rows, extra, tolerance_met, abs_lim, mc);
+  const std::string summary = lobes_summary(plan, rows, tolerance_met, abs_lim);
 
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   if (!table_path.empty()) files.emplace_back(table_path, csv.str());
@@ -383,7 +384,7 @@ int write_lobes(const LobesPlan& plan, const NominalTable& nominal,
     info << "wrote probability table: " << uncertainty->probability_table << "\n";
   if (!table_path.empty()) info << "wrote lobe table: " << table_path << "\n";
   if (!json_path.empty() && !plan.json_to_stdout) info << "wrote JSON table: " << json_path << "\n";
-  if (!plan.plot_path.empty() || window) plot_lobe_outputs(plan, rows, mc, window, info);
+  if (!plan.plot_path.empty() || window) plot_lobe_outputs(plan, rows, abs_lim, mc, window, info);
   if (plan.planned_mm && !planned_depth_report(plan, rows)) return kExitChatter;
   return 0;
 }
