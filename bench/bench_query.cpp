@@ -79,7 +79,7 @@ void BM_ExactLimitAt_CaseA(benchmark::State& state) {
   const Queries q(50.0, 2000.0, 0.006, 1 << 12);
   std::size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(solver->limit_at(q.rpm[i]));
+    benchmark::DoNotOptimize(solver->limit_at(SpindleSpeed(q.rpm[i])));
     if (++i == q.rpm.size()) i = 0;
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));

@@ -63,7 +63,7 @@ void BM_CaseA_100rpm(benchmark::State& state) {
   const SemiDiscretizationSolver solver(case_a(), Process::turning({2.4e9}), o);
   StabilityLimit l;
   for (auto _ : state) {
-    l = solver.limit_at(100.0);
+    l = solver.limit_at(SpindleSpeed(100.0));
     benchmark::DoNotOptimize(&l);
   }
   state.SetLabel("depth " + std::to_string(l.depth_limit_m * 1e3) + " mm");
@@ -79,7 +79,7 @@ void BM_CaseA_LowSpeed(benchmark::State& state) {
   const SemiDiscretizationSolver solver(case_a(), Process::turning({2.4e9}), o);
   StabilityLimit l;
   for (auto _ : state) {
-    l = solver.limit_at(rpm);
+    l = solver.limit_at(SpindleSpeed(rpm));
     benchmark::DoNotOptimize(&l);
   }
   FloquetResult fr = solver.analyse(rpm, 1e-3);

@@ -77,7 +77,7 @@ void BM_CaseC_Helix80_Stable_20000rpm(benchmark::State& st) { run(st, 20000, 2e-
 
 void BM_CaseC_LimitAt_20000rpm(benchmark::State& state) {
   TimeDomainSolver td(case_c(), case_c_process());
-  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(20000).depth_limit_m);
+  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(SpindleSpeed(20000)).depth_limit_m);
 }
 
 StructuralModel issue27_tool() {
@@ -99,7 +99,7 @@ Process issue27_cutter() {
 // `chatter lobes --method time-domain` spends per row on one core.
 void BM_VariablePitchHelix_LimitAt(benchmark::State& state) {
   TimeDomainSolver td(issue27_tool(), issue27_cutter());
-  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(static_cast<double>(state.range(0))).depth_limit_m);
+  for (auto _ : state) benchmark::DoNotOptimize(td.limit_at(SpindleSpeed(static_cast<double>(state.range(0)))).depth_limit_m);
 }
 
 BENCHMARK(BM_CaseC_Stable_20000rpm)->Unit(benchmark::kMillisecond);

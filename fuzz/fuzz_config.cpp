@@ -190,7 +190,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // ~200 executions per second (docs/reliability.md); low speeds are in the
     // solver tests.
     for (double rpm : {1000.0, 3000.0, 20000.0}) {
-      const chatter::StabilityLimit l = solver.limit_at(rpm);
+      const chatter::StabilityLimit l = solver.limit_at(chatter::SpindleSpeed(rpm));
       if (std::isnan(l.depth_limit_m) || !(l.depth_limit_m > 0)) fail("depth limit NaN or non-positive");
       if (l.bounded() && !std::isfinite(l.chatter_frequency_hz)) fail("bounded limit without a frequency");
     }

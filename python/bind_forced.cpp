@@ -1,9 +1,9 @@
 // chatter.forced and chatter.sle (docs/python.md, docs/forced.md): the
 // forced response of `chatter forced` and the SLE sweep of `chatter sle`,
 // through the same library calls. chatter.forced returns the record of
-// `chatter forced --json` (io/forced_records.hpp: the same text, parsed)
-// plus the tool path as NumPy arrays; chatter.sle the table's columns as
-// NumPy arrays. An unstable cut is not an error here: stable is False and
+// `chatter forced --json` (chatter/records/forced.hpp, converted by
+// to_python) plus the tool path as NumPy arrays; chatter.sle the table's
+// columns as NumPy arrays (sle_columns). An unstable cut is not an error here: stable is False and
 // the response numbers are None (the CLI exits 3).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -94,12 +94,6 @@ chatter::ForcedOptions options_of(std::optional<int> steps, double depth_max_mm)
   return o;
 }
 
-py::array_t<double> scaled(const std::vector<double>& v, double factor) {
-  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
-  for (std::size_t i = 0; i < v.size(); ++i) a.mutable_data()[i] = v[i] * factor;
-  return a;
-}
-
 py::dict forced(const py::object& job, double rpm, double depth_mm, std::optional<double> feed_per_tooth_mm,
                 std::optional<double> feed_mm_per_rev, std::optional<double> radial_immersion,
                 std::optional<double> position_mm, std::optional<int> steps, bool record_path) {
@@ -119,7 +113,7 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
     st.feed_m = feed_mm * 1e-3;
     st.record_path = record_path;
     r = solver.response(st);
-    limit = solver.stability().limit_at(rpm);
+    limit = solver.stability().limit_at(chatter::SpindleSpeed(rpm));
   }
   chatter::ForcedRecordContext ctx;
   ctx.config = cfg.name;
@@ -133,16 +127,7 @@ py::dict forced(const py::object& job, double rpm, double depth_mm, std::optiona
   if (cfg.process.rotating_edges())
     ctx.radial_immersion = cfg.process.milling_parameters().radial_immersion;
   ctx.limit = limit;
-  py::dict out = chatter_py::to_python(chatter::forced_record(r, ctx)).cast<py::dict>();
-  if (record_path && r.stable && r.milling) {
-    py::dict path;
-    path["time_s"] = scaled(r.t_s, 1.0);
-    path["rel_x_um"] = scaled(r.rel_x_m, 1e6);
-    path["rel_y_um"] = scaled(r.rel_y_m, 1e6);
-    path["wall_normal_um"] = scaled(r.wall_normal_m, 1e6);
-    out["path"] = path;
-  }
-  return out;
+  return chatter_py::to_python(chatter::forced_columns(r, ctx, record_path));
 }
 
 py::dict sle(const py::object& job, std::optional<double> rpm_min, std::optional<double> rpm_max,
@@ -175,33 +160,13 @@ py::dict sle(const py::object& job, std::optional<double> rpm_min, std::optional
     const chatter::ForcedResponseSolver solver(cfg.model, cfg.process, options_of(steps, depth_max_mm));
     rows = chatter::sle_sweep(solver, speeds, depth_mm * 1e-3, feed_mm * 1e-3, static_cast<unsigned>(threads));
   }
-  const auto m = static_cast<py::ssize_t>(rows.size());
-  py::array_t<double> rpm(m), sle_um(m), ppx(m), ppy(m), chip(m);
-  py::array_t<bool> stable(m), leave(m);
-  const double nan = std::nan("");
-  for (py::ssize_t i = 0; i < m; ++i) {
-    const chatter::ForcedResponse& r = rows[static_cast<std::size_t>(i)];
-    rpm.mutable_data()[i] = r.spindle_rpm;
-    sle_um.mutable_data()[i] = r.stable ? r.surface_location_error_m * 1e6 : nan;
-    ppx.mutable_data()[i] = r.stable ? r.peak_to_peak_x_m * 1e6 : nan;
-    ppy.mutable_data()[i] = r.stable ? r.peak_to_peak_y_m * 1e6 : nan;
-    chip.mutable_data()[i] = r.stable ? r.min_chip_m * 1e6 : nan;
-    stable.mutable_data()[i] = r.stable;
-    leave.mutable_data()[i] = r.stable && r.teeth_leave_cut;
-  }
-  py::dict out;
-  out["config"] = cfg.name;
-  out["depth_mm"] = depth_mm;
-  out[py::str(std::string(cfg.process.feed_record_key()))] = feed_mm;
-  if (position_mm) out["position_mm"] = *position_mm;
-  out["spindle_rpm"] = rpm;
-  out["surface_location_error_um"] = sle_um;
-  out["peak_to_peak_x_um"] = ppx;
-  out["peak_to_peak_y_um"] = ppy;
-  out["min_chip_thickness_um"] = chip;
-  out["stable"] = stable;
-  out["teeth_leave_cut"] = leave;
-  return out;
+  chatter::SleContext ctx;
+  ctx.config = cfg.name;
+  ctx.depth_mm = depth_mm;
+  ctx.feed_mm = feed_mm;
+  ctx.feed_key = std::string(cfg.process.feed_record_key());
+  ctx.position_mm = position_mm;
+  return chatter_py::to_python(chatter::sle_columns(rows, ctx));
 }
 
 }  // namespace

@@ -100,58 +100,6 @@ py::object grind_fit(const py::object& tests, const std::string& model, const st
   return chatter_py::to_python(json);
 }
 
-// A CSV table of the io layer (a header, then rows) as NumPy arrays by
-// column name: numbers as float64 (empty cells NaN), other columns as str.
-py::dict csv_arrays(const std::string& csv) {
-  std::vector<std::string> names;
-  std::vector<std::vector<std::string>> cells;
-  std::size_t start = 0;
-  bool header = true;
-  while (start < csv.size()) {
-    std::size_t end = csv.find('\n', start);
-    if (end == std::string::npos) end = csv.size();
-    const std::string line = csv.substr(start, end - start);
-    start = end + 1;
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> fields;
-    for (std::size_t a = 0;;) {
-      const std::size_t comma = line.find(',', a);
-      fields.push_back(line.substr(a, comma == std::string::npos ? std::string::npos : comma - a));
-      if (comma == std::string::npos) break;
-      a = comma + 1;
-    }
-    if (header) {
-      names = fields;
-      cells.assign(names.size(), {});
-      header = false;
-      continue;
-    }
-    for (std::size_t c = 0; c < names.size(); ++c) cells[c].push_back(c < fields.size() ? fields[c] : "");
-  }
-  py::dict out;
-  const py::object np_array = py::module_::import("numpy").attr("array");
-  for (std::size_t c = 0; c < names.size(); ++c) {
-    std::vector<double> x;
-    bool numeric = true;
-    for (const std::string& v : cells[c]) {
-      if (v.empty()) {
-        x.push_back(std::nan(""));
-        continue;
-      }
-      char* end = nullptr;
-      const double d = std::strtod(v.c_str(), &end);
-      if (end != v.c_str() + v.size()) {
-        numeric = false;
-        break;
-      }
-      x.push_back(d);
-    }
-    if (numeric) out[py::str(names[c])] = chatter_py::array_of(x);
-    else out[py::str(names[c])] = np_array(py::cast(cells[c]), "dtype"_a = "str");
-  }
-  return out;
-}
-
 void positive(std::optional<double> x, const char* name, const char* unit) {
   if (x && !(std::isfinite(*x) && *x > 0.0))
     throw chatter::InputError(std::string(name) + " = " + chatter_py::fmt(*x) + ": must be > 0" + (*unit ? " " : "") +
@@ -171,7 +119,7 @@ auto prefixed(const char* what, F&& f) -> decltype(f()) {
 py::object grind_sweep(const py::object& config, double power_w_min, double power_w_max, int points,
                        const std::optional<std::vector<double>>& feed_mm_per_s_list, bool strict) {
   const std::string path = fspath(config);
-  std::string csv;
+  chatter::ColumnRecord table;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
@@ -180,9 +128,9 @@ py::object grind_sweep(const py::object& config, double power_w_min, double powe
       for (double f : *feed_mm_per_s_list) feeds.push_back(f * 1e-3);
     const auto curves = prefixed(
         "sweep", [&] { return chatter::grinding::sweep_power(c.process, power_w_min, power_w_max, points, feeds); });
-    csv = chatter::grinding_sweep_csv(curves);
+    table = chatter::grinding_sweep_columns(curves);
   }
-  return csv_arrays(csv);
+  return chatter_py::to_python(table);
 }
 
 py::object grind_plan(const py::object& config, std::optional<double> power_w, std::optional<double> current_a,
@@ -219,18 +167,13 @@ py::object grind_plan(const py::object& config, std::optional<double> power_w, s
     throw chatter::InputError("wheel_rpm_min/wheel_rpm_max go with objective (without it the config's wheel speed is used)");
   }
   const std::string path = fspath(config);
-  nlohmann::json json;
-  std::string csv;
+  chatter::ColumnRecord result;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
-    const chatter::GrindingPlanRun run = prefixed("plan", [&] { return chatter::run_grinding_plan(c, o); });
-    json = run.record;
-    csv = run.csv;
+    result = chatter::grinding_plan_columns(prefixed("plan", [&] { return chatter::run_grinding_plan(c, o); }));
   }
-  py::object record = chatter_py::to_python(json);
-  record["wheel_life"] = csv_arrays(csv);
-  return record;
+  return chatter_py::to_python(result);
 }
 
 py::object grind_impacts(const py::object& record_file, double wheel_rpm, std::optional<double> threshold_n,
@@ -239,8 +182,7 @@ py::object grind_impacts(const py::object& record_file, double wheel_rpm, std::o
   positive(threshold_n, "threshold_n", "N");
   positive(threshold_rpm, "threshold_rpm", "rev/min");
   const std::string path = fspath(record_file);
-  nlohmann::json json;
-  std::string csv;
+  chatter::ColumnRecord result;
   {
     py::gil_scoped_release release;
     const chatter::ImpactRecord rec = chatter::read_impact_record(path);
@@ -256,12 +198,9 @@ py::object grind_impacts(const py::object& record_file, double wheel_rpm, std::o
     chatter::grinding::ImpactCount c = prefixed(path.c_str(), [&] {
       return chatter::grinding::count_impacts(rec.time_s, rec.signal, rec.kind, o);
     });
-    json = chatter::grinding_impacts_record(c, rec, path, wheel_rpm);
-    csv = chatter::grinding_impacts_csv(c, rec);
+    result = chatter::grinding_impacts_columns(c, rec, path, wheel_rpm);
   }
-  py::object record = chatter_py::to_python(json);
-  record["turns_table"] = csv_arrays(csv);
-  return record;
+  return chatter_py::to_python(result);
 }
 
 py::object grind_simulate(const py::object& config, double power_w, int turns, int points_per_turn,
@@ -272,8 +211,7 @@ py::object grind_simulate(const py::object& config, double power_w, int turns, i
   o.power_loop_turns = power_loop_turns;
   o.series_turns = series_turns;
   const std::string path = fspath(config);
-  nlohmann::json json;
-  std::string csv;
+  chatter::ColumnRecord result;
   {
     py::gil_scoped_release release;
     const chatter::GrindingConfig c = load(path, strict);
@@ -283,12 +221,9 @@ py::object grind_simulate(const py::object& config, double power_w, int turns, i
     } catch (const chatter::InputError& e) {
       throw chatter::InputError(c.source.string() + ": " + e.what());
     }
-    json = chatter::grinding_simulation_record(r, c);
-    csv = chatter::grinding_series_csv(r);
+    result = chatter::grinding_simulation_columns(r, c);
   }
-  py::object record = chatter_py::to_python(json);
-  record["series"] = csv_arrays(csv);
-  return record;
+  return chatter_py::to_python(result);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "chatter/position.hpp"
 #include "chatter/records.hpp"
+#include "chatter/records/lobes.hpp"
 #include "chatter/report.hpp"
 #include "chatter/uncertainty.hpp"
 #include "chatter/usual_bands.hpp"
@@ -22,15 +23,10 @@ namespace {
 
 // What a table's dict does not hold (its keys are the CSV's columns): the
 // method used, the config's name and warnings, the method's notes, the depth
-// searched. The Python package keeps it beside the table (Lobes.info).
-py::dict table_info(const chatter::Config& cfg, const Built& built, double depth_max_mm) {
-  py::dict info;
-  info["method"] = built.solver->method();
-  info["name"] = cfg.name;
-  info["warnings"] = cfg.warnings;
-  info["notes"] = built.notes;
-  info["depth_max_mm"] = depth_max_mm;
-  return info;
+// searched (chatter::lobe_columns_fields). The Python package keeps it beside
+// the table (Lobes.info).
+chatter::LobeColumnsSource table_source(const chatter::Config& cfg, const Built& built, double depth_max_mm) {
+  return {built.solver->method(), &cfg, built.notes, depth_max_mm};
 }
 
 py::tuple lobes(const Job& job_in, const std::string& method, std::optional<double> rpm_min,
@@ -65,7 +61,7 @@ py::tuple lobes(const Job& job_in, const std::string& method, std::optional<doub
     if (!columns.empty()) {
       values.resize(speeds.size());
       chatter::parallel_for(speeds.size(), nthreads, [&](std::size_t i) {
-        chatter::DiagnosedLimit r = solver.limit_with_diagnostics(speeds[i]);
+        chatter::DiagnosedLimit r = solver.limit_with_diagnostics(chatter::SpindleSpeed(speeds[i]));
         rows[i] = r.limit;
         values[i] = std::move(r.values);
       });
@@ -74,50 +70,7 @@ py::tuple lobes(const Job& job_in, const std::string& method, std::optional<doub
     }
   }
 
-  const auto n = static_cast<py::ssize_t>(rows.size());
-  py::array_t<double> s(n), d(n), f(n);
-  py::array_t<int> k(n);
-  auto sp = s.mutable_unchecked<1>();
-  auto dp = d.mutable_unchecked<1>();
-  auto fp = f.mutable_unchecked<1>();
-  auto kp = k.mutable_unchecked<1>();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    const chatter::StabilityLimit& r = rows[static_cast<std::size_t>(i)];
-    sp(i) = r.spindle_rpm;
-    dp(i) = r.depth_limit_m * 1e3;  // +inf where unbounded, as the CSV
-    fp(i) = r.bounded() ? r.chatter_frequency_hz : std::nan("");
-    kp(i) = r.bounded() ? r.lobe : -1;
-  }
-  py::dict out;
-  out["spindle_rpm"] = s;
-  out["depth_limit_mm"] = d;
-  out["chatter_frequency_hz"] = f;
-  out["lobe"] = k;
-  const py::object np_array = py::module_::import("numpy").attr("array");
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    if (columns[c].numeric) {
-      py::array_t<double> col(n);
-      auto cp = col.mutable_unchecked<1>();
-      for (py::ssize_t i = 0; i < n; ++i) {
-        const auto& row = values[static_cast<std::size_t>(i)];
-        const chatter::SolverValue v = c < row.size() ? row[c] : chatter::SolverValue{};
-        if (const auto* x = std::get_if<double>(&v)) cp(i) = *x;
-        else if (const auto* j = std::get_if<int>(&v)) cp(i) = *j;
-        else cp(i) = std::nan("");
-      }
-      out[py::str(columns[c].name)] = col;
-    } else {
-      py::list col;
-      for (const auto& row : values) {
-        const chatter::SolverValue v = c < row.size() ? row[c] : chatter::SolverValue{};
-        if (const auto* t = std::get_if<std::string>(&v)) col.append(*t);
-        else if (const auto* b = std::get_if<bool>(&v)) col.append(*b ? "true" : "false");
-        else col.append("");
-      }
-      out[py::str(columns[c].name)] = np_array(col, "dtype"_a = "str");
-    }
-  }
-  return py::make_tuple(out, table_info(cfg, *built, dmax));
+  return to_python_table(chatter::lobe_columns(rows, columns, values, table_source(cfg, *built, dmax)));
 }
 
 // ------------------------------------------------------------------ point
@@ -167,7 +120,7 @@ double time_lobes_cpp(const Job& job, const std::string& method,
     const auto rows = chatter::lobe_envelope(*solver, speeds, n);
   } else {
     std::vector<chatter::DiagnosedLimit> rows(speeds.size());
-    chatter::parallel_for(speeds.size(), n, [&](std::size_t i) { rows[i] = solver->limit_with_diagnostics(speeds[i]); });
+    chatter::parallel_for(speeds.size(), n, [&](std::size_t i) { rows[i] = solver->limit_with_diagnostics(chatter::SpindleSpeed(speeds[i])); });
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -207,37 +160,10 @@ py::tuple surface(const Job& job, const std::string& requested, std::optional<do
     };
     rows = chatter::lobe_surface(cfg.model, cfg.position, pos.m, speeds, factory, nthreads);
   }
-  const auto n = static_cast<py::ssize_t>(pos.m.size() * speeds.size());
-  py::array_t<double> x(n), s(n), d(n), f(n);
-  py::array_t<int> k(n);
-  auto xp = x.mutable_unchecked<1>();
-  auto sp = s.mutable_unchecked<1>();
-  auto dp = d.mutable_unchecked<1>();
-  auto fp = f.mutable_unchecked<1>();
-  auto kp = k.mutable_unchecked<1>();
-  py::ssize_t i = 0;
-  for (std::size_t p = 0; p < rows.size(); ++p)
-    for (const chatter::StabilityLimit& r : rows[p]) {
-      xp(i) = pos.mm[p];
-      sp(i) = r.spindle_rpm;
-      dp(i) = r.depth_limit_m * 1e3;  // +inf where unbounded, as the CSV
-      fp(i) = r.bounded() ? r.chatter_frequency_hz : std::nan("");
-      kp(i) = r.bounded() ? r.lobe : -1;
-      ++i;
-    }
-  py::dict out;
-  out["position_mm"] = x;
-  out["spindle_rpm"] = s;
-  out["depth_limit_mm"] = d;
-  out["chatter_frequency_hz"] = f;
-  out["lobe"] = k;
-  py::dict info;
-  info["method"] = method;
-  info["name"] = cfg.name;
-  info["warnings"] = cfg.warnings;
-  info["notes"] = chatter::method_notes(requested, descriptor, cfg.process, values, "", chatter::ArgStyle::kKeyword);
-  info["depth_max_mm"] = dmax;
-  return py::make_tuple(out, info);
+  const chatter::LobeColumnsSource source{
+      method, &cfg,
+      chatter::method_notes(requested, descriptor, cfg.process, values, "", chatter::ArgStyle::kKeyword), dmax};
+  return to_python_table(chatter::surface_columns(pos.mm, rows, source));
 }
 
 // ------------------------------------------------------------------ Monte Carlo
@@ -293,39 +219,8 @@ py::dict uncertain_lobes(const Job& job_in, const std::string& method, long long
         rows, grid.depths_m,
         std::vector<double>(std::begin(chatter::kUncertaintyLevels), std::end(chatter::kUncertaintyLevels)));
   }
-  const auto n = static_cast<py::ssize_t>(speeds.size());
-  const auto nd = static_cast<py::ssize_t>(grid.depths_m.size());
-  py::array_t<double> s(n), d(n), depths(nd);
-  py::array_t<double> prob({n, nd});
-  auto sp = s.mutable_unchecked<1>();
-  auto dp = d.mutable_unchecked<1>();
-  auto gp = depths.mutable_unchecked<1>();
-  auto pp = prob.mutable_unchecked<2>();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    sp(i) = speeds[static_cast<std::size_t>(i)];
-    dp(i) = nominal[static_cast<std::size_t>(i)].depth_limit_m * 1e3;  // +inf where unbounded, as lobes()
-    for (py::ssize_t j = 0; j < nd; ++j)
-      pp(i, j) = mc.probability_stable[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-  }
-  for (py::ssize_t j = 0; j < nd; ++j) gp(j) = grid.depths_m[static_cast<std::size_t>(j)] * 1e3;
-  py::dict out;
-  out["method"] = built->solver->method();
-  out["warnings"] = cfg.warnings;
-  out["notes"] = built->notes;
-  out["samples"] = samples;
-  out["seed"] = seed;
-  out["spindle_rpm"] = s;
-  out["depth_limit_mm"] = d;
-  for (std::size_t l = 0; l < mc.levels.size(); ++l) {
-    py::array_t<double> q(n);
-    auto qp = q.mutable_unchecked<1>();
-    for (py::ssize_t i = 0; i < n; ++i) qp(i) = mc.quantile_depth_m[l][static_cast<std::size_t>(i)] * 1e3;
-    out[py::str(chatter::quantile_column_name(mc.levels[l]))] = q;
-  }
-  out["depth_mm"] = depths;
-  out["probability_stable"] = prob;
-  if (position_mm) out["position_mm"] = *position_mm;
-  return out;
+  return to_python(chatter::uncertain_lobe_columns(nominal, mc, table_source(cfg, *built, dmax), samples, seed,
+                                                    position_mm));
 }
 
 }  // namespace

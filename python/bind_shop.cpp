@@ -22,26 +22,7 @@ std::string fspath(const py::object& path) {
   return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
 }
 
-py::array_t<std::complex<double>> complex_array(const std::vector<std::complex<double>>& v) {
-  py::array_t<std::complex<double>> a(static_cast<py::ssize_t>(v.size()));
-  std::copy(v.begin(), v.end(), a.mutable_data());
-  return a;
-}
-
 // ------------------------------------------------------------------ coefficients
-
-// The record with 'fragment': the [process] text of --out, or None when the
-// tests give none (power tests; coefficients or exponents that are no valid
-// table: see warnings).
-template <class Fragment>
-py::dict with_fragment(py::dict out, Fragment&& fragment) {
-  try {
-    out["fragment"] = fragment();
-  } catch (const InputError&) {
-    out["fragment"] = py::none();
-  }
-  return out;
-}
 
 // Kienzle's law from turning tests (a table with feed_mm_per_rev), as the CLI.
 py::dict kienzle(const std::string& path, std::optional<double> lead_angle_deg) {
@@ -50,8 +31,7 @@ py::dict kienzle(const std::string& path, std::optional<double> lead_angle_deg) 
     py::gil_scoped_release release;
     r = chatter::fit_kienzle_tests(path, lead_angle_deg.value_or(90.0), chatter::ArgStyle::kKeyword);
   }
-  return with_fragment(to_python(chatter::kienzle_record(r)),
-                       [&] { return chatter::kienzle_fragment(r, chatter::ArgStyle::kKeyword); });
+  return to_python(chatter::kienzle_record_with_fragment(r, chatter::ArgStyle::kKeyword));
 }
 
 py::dict coefficients(const py::object& tests, std::optional<int> teeth, std::optional<double> radial_immersion,
@@ -82,8 +62,7 @@ py::dict coefficients(const py::object& tests, std::optional<int> teeth, std::op
     py::gil_scoped_release release;
     r = chatter::fit_cutting_coefficients(a, chatter::ArgStyle::kKeyword);
   }
-  return with_fragment(to_python(chatter::coefficients_record(r)),
-                       [&] { return chatter::coefficients_fragment(r, chatter::ArgStyle::kKeyword); });
+  return to_python(chatter::coefficients_record_with_fragment(r, chatter::ArgStyle::kKeyword));
 }
 
 // ------------------------------------------------------------------ detect
@@ -112,18 +91,10 @@ py::dict detect(const py::object& recording, double rpm, int teeth, std::optiona
     py::gil_scoped_release release;
     r = chatter::detect_recording(a, chatter::ArgStyle::kKeyword);
   }
-  py::dict out = to_python(chatter::detect_record(r));
-  py::dict spectrum;
-  spectrum["frequency_hz"] = array_of(r.detection.spectrum_frequency_hz);
-  spectrum["amplitude"] = array_of(r.detection.spectrum_amplitude);
-  out["spectrum"] = spectrum;
-  return out;
+  return to_python(chatter::detect_columns(r));
 }
 
 // ------------------------------------------------------------------ fit
-
-// Points of the fitted curve over the band (the CLI's fit plot draws as many).
-constexpr int kFittedPoints = 2001;
 
 py::dict fit(const py::object& file, const std::string& format, const std::string& quantity, double scale,
              const std::string& term, std::optional<int> record, std::optional<int> modes, bool residuals,
@@ -146,24 +117,7 @@ py::dict fit(const py::object& file, const std::string& format, const std::strin
     py::gil_scoped_release release;
     r = chatter::fit_frf_file(a, chatter::ArgStyle::kKeyword);
   }
-  py::dict out = to_python(chatter::fit_record(r));
-  // Per record, the measured lines and the fitted model over the band.
-  py::list records = out["records"];
-  for (std::size_t i = 0; i < r.records.size(); ++i) {
-    const chatter::FittedRecord& f = r.records[i];
-    py::dict rec = records[i];
-    rec["measured_frequency_hz"] = array_of(f.table.frequency_hz);
-    rec["measured_receptance_m_per_n"] = complex_array(f.table.value);
-    std::vector<double> hz(kFittedPoints);
-    std::vector<std::complex<double>> g(kFittedPoints);
-    for (int k = 0; k < kFittedPoints; ++k) {
-      hz[static_cast<std::size_t>(k)] = f.fit.f_min_hz + (f.fit.f_max_hz - f.fit.f_min_hz) * k / (kFittedPoints - 1);
-      g[static_cast<std::size_t>(k)] = f.fit.receptance(hz[static_cast<std::size_t>(k)]);
-    }
-    rec["fitted_frequency_hz"] = array_of(hz);
-    rec["fitted_receptance_m_per_n"] = complex_array(g);
-  }
-  return out;
+  return to_python(chatter::fit_columns(r));
 }
 
 }  // namespace

@@ -20,31 +20,6 @@ namespace {
 
 // ------------------------------------------------------------------ simulate
 
-py::dict series_dict(const std::vector<chatter::SeriesSample>& rows) {
-  const auto n = static_cast<py::ssize_t>(rows.size());
-  const char* const names[] = {"time_s",        "tool_x_um", "tool_y_um", "workpiece_x_um", "workpiece_y_um",
-                               "rel_x_um",      "rel_y_um",  "force_x_n", "force_y_n",      "chip_um"};
-  std::vector<py::array_t<double>> cols;
-  for (std::size_t c = 0; c < std::size(names); ++c) cols.emplace_back(n);
-  py::array_t<bool> in_cut(n);
-  std::vector<double*> p;
-  for (auto& c : cols) p.push_back(c.mutable_data());
-  bool* q = in_cut.mutable_data();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    const chatter::SeriesSample& r = rows[static_cast<std::size_t>(i)];
-    // The units of chatter simulate --out's columns.
-    const double v[] = {r.t_s,           r.tool_x_m * 1e6, r.tool_y_m * 1e6, r.workpiece_x_m * 1e6,
-                        r.workpiece_y_m * 1e6, r.rel_x_m * 1e6,  r.rel_y_m * 1e6,  r.force_x_n,
-                        r.force_y_n,     r.chip_m * 1e6};
-    for (std::size_t c = 0; c < std::size(names); ++c) p[c][i] = v[c];
-    q[i] = r.in_cut;
-  }
-  py::dict d;
-  for (std::size_t c = 0; c < std::size(names); ++c) d[names[c]] = cols[c];
-  d["in_cut"] = in_cut;
-  return d;
-}
-
 py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<double> feed_per_tooth_mm,
                   std::optional<int> revolutions, std::optional<int> periods, bool linear, bool multiple_regeneration,
                   double rtol, bool record_series, std::optional<double> position_mm) {
@@ -84,33 +59,14 @@ py::dict simulate(const Job& job_in, double rpm, double depth_mm, std::optional<
     sim.require_chip(st);  // a cut with no chip is refused, not judged (docs/results.md)
     r = sim.simulate(st);
   }
-  // The record of chatter simulate (chatter/records.hpp), then the arrays.
+  // The record of chatter simulate with its series and spectrum (chatter/records.hpp).
   chatter::RecordSource source = chatter::record_source(cfg, position_mm);
   // The keywords given (a feed from the config has had its warning there).
   std::vector<std::pair<std::string, double>> given{{"rpm", rpm}, {"depth_mm", depth_mm}};
   if (feed_per_tooth_mm) given.emplace_back("feed_per_tooth_mm", *feed_per_tooth_mm);
   for (std::string& w : chatter::unusual_arguments(given)) source.warnings.push_back(std::move(w));
-  py::dict j = chatter_py::to_python(chatter::simulation_record(
+  return chatter_py::to_python(chatter::simulation_columns(
       r, chatter::simulation_request(st, cfg.process, rtol, depth_mm, feed_mm), source));
-  j["series"] = series_dict(r.series);
-  j["periodic"] = series_dict(r.once_per_period);
-  // The spectrum of chatter simulate --spectrum (harmonic: 0 where not one).
-  const auto ns = static_cast<py::ssize_t>(r.spectrum_hz.size());
-  py::array_t<double> fr(ns), amp(ns);
-  py::array_t<int> harm(ns);
-  const std::vector<int> harmonic = chatter::spectrum_harmonics(r);
-  for (py::ssize_t k = 0; k < ns; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    fr.mutable_data()[k] = r.spectrum_hz[i];
-    amp.mutable_data()[k] = r.spectrum_amplitude_m[i] * 1e6;
-    harm.mutable_data()[k] = harmonic[i];
-  }
-  py::dict spec;
-  spec["frequency_hz"] = fr;
-  spec["amplitude_um"] = amp;
-  spec["harmonic"] = harm;
-  j["spectrum"] = spec;
-  return j;
 }
 
 }  // namespace

@@ -83,45 +83,13 @@ py::dict compare(const Job& job_in, const py::object& methods, std::optional<dou
     py::gil_scoped_release release;
     c = chatter::compare_methods(cfg, q);
   }
-  py::dict out = to_python(chatter::comparison_record(c, chatter::record_source(cfg, position_mm)));
-  out["spindle_rpm"] = array_of(c.speeds_rpm);
-  for (const auto& m : c.methods) {
-    std::vector<double> depth(m.rows.size());
-    for (std::size_t i = 0; i < m.rows.size(); ++i) depth[i] = m.rows[i].depth_limit_m * 1e3;  // inf: unbounded
-    out[py::str("depth_limit_mm_" + m.descriptor->name)] = array_of(depth);
-  }
-  const py::object np_array = py::module_::import("numpy").attr("array");
-  for (const auto& m : c.methods)
-    for (const std::string& col : m.descriptor->compare_columns) {
-      py::list cells;
-      for (std::size_t i = 0; i < m.rows.size(); ++i)
-        cells.append(m.rows[i].bounded() ? chatter::value_text(m.value(col, i)) : std::string());
-      out[py::str(col + "_" + m.descriptor->name)] = np_array(cells, "dtype"_a = "str");
-    }
-  return out;
+  return to_python(chatter::comparison_columns(c, chatter::record_source(cfg, position_mm)));
 }
 
 // ------------------------------------------------------------------ map
 
 // axes="radial-axial": immersion x axial depth at one speed (the CLI's
 // map --axes radial-axial, radial_stability_map).
-
-// The map's cells as arrays of shape (rows, cols): `spectral_radius` and,
-// when asked, `multiplier_type` ('' where stable: its type is not
-// computed; else hopf / flip / fold). Shared by the speed map and the
-// radial map.
-void add_map_cells(py::dict& out, const std::vector<double>& rho_cells,
-                   const std::vector<chatter::MultiplierType>& types, bool multiplier_types, py::ssize_t rows,
-                   py::ssize_t cols) {
-  py::array_t<double> rho({rows, cols});
-  std::copy(rho_cells.begin(), rho_cells.end(), rho.mutable_data());
-  out["spectral_radius"] = rho;
-  if (!multiplier_types) return;
-  py::list cells;
-  for (std::size_t i = 0; i < rho_cells.size(); ++i)
-    cells.append(rho_cells[i] >= 1.0 ? chatter::to_string(types[i]) : std::string());
-  out["multiplier_type"] = py::module_::import("numpy").attr("array")(cells, "dtype"_a = "str").attr("reshape")(rows, cols);
-}
 
 py::dict radial_map(const Job& job, const std::string& floquet, std::optional<double> rpm,
                     std::optional<double> immersion_min, std::optional<double> immersion_max,
@@ -150,26 +118,8 @@ py::dict radial_map(const Job& job, const std::string& floquet, std::optional<do
   }
   chatter::RecordSource source = chatter::record_source(cfg, position_mm);
   source.notes = built->notes;
-  py::dict out =
-      to_python(chatter::radial_map_record(grid, built->descriptor->effective_options(*built->solver), source));
-  const auto ni = static_cast<py::ssize_t>(immersions.size()), nd = static_cast<py::ssize_t>(depths.size());
-  out["radial_immersion"] = array_of(immersions);
-  if (grid.tool_diameter_m > 0.0) {
-    std::vector<double> ae(immersions.size());
-    for (std::size_t i = 0; i < ae.size(); ++i) ae[i] = immersions[i] * grid.tool_diameter_m * 1e3;
-    out["radial_depth_mm"] = array_of(ae);
-  }
-  std::vector<double> depth_mm(depths.size()), limit_mm(immersions.size()), freq(immersions.size());
-  for (std::size_t k = 0; k < depths.size(); ++k) depth_mm[k] = depths[k] * 1e3;
-  for (std::size_t i = 0; i < immersions.size(); ++i) {
-    limit_mm[i] = grid.limit[i].depth_limit_m * 1e3;
-    freq[i] = grid.limit[i].chatter_frequency_hz;
-  }
-  out["depth_mm"] = array_of(depth_mm);
-  out["depth_limit_mm"] = array_of(limit_mm);
-  out["chatter_frequency_hz"] = array_of(freq);
-  add_map_cells(out, grid.spectral_radius, grid.multiplier_type, multiplier_types, ni, nd);
-  return out;
+  return to_python(chatter::radial_map_columns(grid, built->descriptor->effective_options(*built->solver), source,
+                                               multiplier_types));
 }
 
 py::dict stability_map(const Job& job_in, const std::string& method, const std::string& axes_text,
@@ -210,15 +160,8 @@ py::dict stability_map(const Job& job_in, const std::string& method, const std::
   }
   chatter::RecordSource source = chatter::record_source(cfg, position_mm);
   source.notes = built->notes;
-  py::dict out = to_python(
-      chatter::stability_map_record(grid, built->descriptor->effective_options(*built->solver), source));
-  const auto ns = static_cast<py::ssize_t>(speeds.size()), nd = static_cast<py::ssize_t>(depths.size());
-  out["spindle_rpm"] = array_of(speeds);
-  std::vector<double> depth_mm(depths.size());
-  for (std::size_t k = 0; k < depths.size(); ++k) depth_mm[k] = depths[k] * 1e3;
-  out["depth_mm"] = array_of(depth_mm);
-  add_map_cells(out, grid.spectral_radius, grid.multiplier_type, multiplier_types, ns, nd);
-  return out;
+  return to_python(chatter::stability_map_columns(grid, built->descriptor->effective_options(*built->solver), source,
+                                                  multiplier_types));
 }
 
 // ------------------------------------------------------------------ frf
@@ -233,12 +176,7 @@ py::dict frf(const Job& job_in, std::optional<double> fmin, std::optional<double
     py::gil_scoped_release release;
     t = chatter::receptance_table(cfg.model, grid);
   }
-  py::dict out;
-  out["name"] = cfg.name;
-  out["warnings"] = cfg.warnings;
-  if (position_mm) out["position_mm"] = *position_mm;
-  for (std::size_t c = 0; c < t.names.size(); ++c) out[py::str(t.names[c])] = array_of(t.columns[c]);
-  return out;
+  return to_python(chatter::receptance_columns(t, chatter::record_source(cfg, position_mm)));
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "chatter/io/config.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/records.hpp"  // SolverRecipe
+#include "chatter/records/columns.hpp"
 #include "chatter/solvers.hpp"
 
 namespace chatter_py {
@@ -109,5 +110,13 @@ py::array_t<double> array_of(const std::vector<double>& v);
 /// dict, arrays -> list, numbers -> int/float, null -> None. The one place a
 /// record is handed to Python (no second hand-built copy of a CLI record).
 py::object to_python(const nlohmann::json& j);
+/// A table result (chatter/records/columns.hpp) as one dict: its fields
+/// (to_python), then every column as a NumPy array (numbers float64,
+/// integers int, booleans bool, text str, complex complex128; a grid column
+/// shaped rows × cols), then each group as a dict of such arrays.
+py::dict to_python(const chatter::ColumnRecord& r);
+/// The same split for the Result classes that keep fields aside (Lobes,
+/// Surface: dict = the columns, info = the fields): (columns, fields).
+py::tuple to_python_table(const chatter::ColumnRecord& r);
 
 }  // namespace chatter_py

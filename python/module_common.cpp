@@ -2,9 +2,13 @@
 #include "bindings.hpp"
 #include "module.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -160,6 +164,83 @@ py::array_t<double> array_of(const std::vector<double>& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
+}
+
+namespace {
+
+// One column as a NumPy array of its own dtype; a grid column reshaped.
+py::object column_array(const chatter::Column& c) {
+  py::object a = std::visit(
+      [](const auto& v) -> py::object {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        const auto n = static_cast<py::ssize_t>(v.size());
+        if constexpr (std::is_same_v<T, std::string>) {
+          py::list cells;
+          for (const std::string& t : v) cells.append(t);
+          return py::module_::import("numpy").attr("array")(cells, py::arg("dtype") = "str");
+        } else if constexpr (std::is_same_v<T, bool>) {
+          py::array_t<bool> out(n);
+          for (py::ssize_t i = 0; i < n; ++i) out.mutable_data()[i] = v[static_cast<std::size_t>(i)];
+          return out;
+        } else {
+          py::array_t<T> out(n);
+          std::copy(v.begin(), v.end(), out.mutable_data());
+          return out;
+        }
+      },
+      c.values);
+  if (c.cols > 0) {
+    const auto cols = static_cast<py::ssize_t>(c.cols);
+    a = a.attr("reshape")(py::len(a) / cols, cols);
+  }
+  return a;
+}
+
+py::dict columns_dict(const std::vector<chatter::Column>& columns) {
+  py::dict out;
+  for (const chatter::Column& c : columns) out[py::str(c.name)] = column_array(c);
+  return out;
+}
+
+// The dict a group's JSON pointer names ("/path", "/records/0"): dict keys
+// and list indices followed from `root`; a missing last key becomes {}.
+py::dict dict_at(py::dict root, const std::string& pointer) {
+  py::object node = root;
+  std::size_t start = 1;
+  while (start <= pointer.size()) {
+    const std::size_t slash = pointer.find('/', start);
+    const std::string token = pointer.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    const bool last = slash == std::string::npos;
+    if (py::isinstance<py::list>(node)) {
+      node = node.cast<py::list>()[std::stoul(token)];
+    } else {
+      py::dict d = node.cast<py::dict>();
+      if (!d.contains(token.c_str())) {
+        if (!last) throw std::logic_error("column group " + pointer + ": no key " + token);
+        d[py::str(token)] = py::dict();
+      }
+      node = d[py::str(token)];
+    }
+    if (last) break;
+    start = slash + 1;
+  }
+  return node.cast<py::dict>();
+}
+
+}  // namespace
+
+py::dict to_python(const chatter::ColumnRecord& r) {
+  py::dict out = to_python(r.fields).cast<py::dict>();
+  for (const chatter::Column& c : r.columns) out[py::str(c.name)] = column_array(c);
+  for (const chatter::ColumnGroup& g : r.groups) {
+    py::dict d = dict_at(out, g.at);
+    for (const chatter::Column& c : g.columns) d[py::str(c.name)] = column_array(c);
+  }
+  return out;
+}
+
+py::tuple to_python_table(const chatter::ColumnRecord& r) {
+  return py::make_tuple(columns_dict(r.columns), to_python(r.fields));
 }
 
 }  // namespace chatter_py

@@ -57,7 +57,7 @@ TEST(AnalyticCaseA, AbsoluteLimitIsTlustyClosedForm) {
 TEST(AnalyticCaseA, ResidualOfCharacteristicEquationAtReportedRoots) {
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.05));
   for (double rpm : {55.0, 100.0, 333.0, 612.0, 1000.0, 1234.5, 2000.0, 3600.0, 5000.0, 7000.0}) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(l.bounded()) << rpm;
     const double w = 2 * kPi * l.chatter_frequency_hz, tau = 60.0 / rpm;
     const C res = 1.0 + l.depth_limit_m * (1.0 - std::exp(C(0, -w * tau))) * kA_Kf * g1(w, kA_f, kA_zeta, kA_k);
@@ -104,7 +104,7 @@ TEST(AnalyticCaseA, EnvelopeEqualsBruteForceScan) {
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
   for (double rpm : {80.0, 450.0, 1500.0, 3000.0, 6500.0}) {
     const double brute = brute_force_envelope(s, 60.0 / rpm, 1);
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(std::isfinite(brute));
     EXPECT_NEAR(l.depth_limit_m / brute, 1.0, kBruteForce) << "at " << rpm << " rev/min";
   }
@@ -120,7 +120,7 @@ TEST(AnalyticOblique, EnvelopeEqualsBruteForceScanOnTwoBranches) {
   const AnalyticSolver s(m, p, depth_max(0.02));
   for (double rpm : {3000.0, 7000.0, 12000.0}) {
     const double brute = brute_force_envelope(s, p.delay_s(rpm), 2);
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(std::isfinite(brute)) << rpm;
     EXPECT_NEAR(l.depth_limit_m / brute, 1.0, kBruteForce) << "at " << rpm << " rev/min";
   }
@@ -189,7 +189,7 @@ TEST_P(ZerothOrderMilling1Dof, AbsoluteLimitAndRootsMatchClosedForm) {
   const AnalyticSolver s(m, p, depth_max(0.5));
   EXPECT_NEAR(s.absolute_limit().depth_m / closed, 1.0, kClosedForm) << "H0xx = " << h;
   for (double rpm : {5000.0, 9000.0, 14000.0, 21000.0}) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     if (!l.bounded()) continue;
     const double w = 2 * kPi * l.chatter_frequency_hz;
     const C lam = h * g1(w, f, zeta, k);
@@ -236,7 +236,7 @@ TEST(ZerothOrderMillingSymmetric, SlottingMatchesEigenvaluesOfH0) {
   }
   EXPECT_NEAR(s.absolute_limit().depth_m / closed, 1.0, kClosedForm);
   for (double rpm : {6000.0, 11000.0, 17000.0}) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(l.bounded());
     const double w = 2 * kPi * l.chatter_frequency_hz;
     const double d = std::min(depth(w, mu[0]), depth(w, mu[1]));
@@ -252,22 +252,22 @@ TEST(AnalyticInput, RefusesBadOptionsAndRigidModels) {
   EXPECT_THROW(AnalyticSolver(case_a_model(), Process::turning({kA_Kf}), depth_max(-1.0)), InputError);
   EXPECT_THROW(AnalyticSolver(StructuralModel{}, Process::turning({kA_Kf})), InputError);
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
-  EXPECT_THROW(s.limit_at(0.0), InputError);
-  EXPECT_THROW(s.limit_at(-100.0), InputError);
-  EXPECT_THROW(s.limit_at(NAN), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(0.0)), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(-100.0)), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(NAN)), InputError);
 }
 
 TEST(AnalyticInput, AbsurdlyLowSpeedIsRefusedNotLooped) {
   // 0.001 rev/min: one revolution holds ~14 million vibration cycles.
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
   try {
-    s.limit_at(0.001);
+    s.limit_at(SpindleSpeed(0.001));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("spindle speed 0.001 rev/min"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("raise the spindle speed"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(s.lobe_curves(0.001, 1.0), InputError);
+  EXPECT_THROW(s.lobe_curves(SpindleSpeed(0.001), SpindleSpeed(1.0)), InputError);
 }
 
 TEST(AnalyticPhysics, ModeOrthogonalToTheChipCannotChatter) {
@@ -278,16 +278,16 @@ TEST(AnalyticPhysics, ModeOrthogonalToTheChipCannotChatter) {
   const AnalyticSolver a(m, Process::turning({684e6}), depth_max(0.02));
   const CoupledSolver c(m, Process::turning({684e6}), depth_max(0.02));
   for (double rpm : {500.0, 5000.0}) {
-    EXPECT_FALSE(a.limit_at(rpm).bounded());
-    EXPECT_FALSE(c.limit_at(rpm).bounded());
+    EXPECT_FALSE(a.limit_at(SpindleSpeed(rpm)).bounded());
+    EXPECT_FALSE(c.limit_at(SpindleSpeed(rpm)).bounded());
   }
   EXPECT_FALSE(std::isfinite(a.absolute_limit().depth_m));
-  EXPECT_TRUE(a.lobe_curves(500, 5000).empty());
+  EXPECT_TRUE(a.lobe_curves(SpindleSpeed(500), SpindleSpeed(5000)).empty());
 }
 
 TEST(AnalyticCurves, LobePointsLieOnTheEnvelopeOrAbove) {
   const AnalyticSolver s(case_a_model(), Process::turning({kA_Kf}), depth_max(0.02));
-  const auto curves = s.lobe_curves(500, 3000);
+  const auto curves = s.lobe_curves(SpindleSpeed(500), SpindleSpeed(3000));
   ASSERT_FALSE(curves.empty());
   std::size_t checked = 0;
   for (const auto& c : curves)
@@ -295,7 +295,7 @@ TEST(AnalyticCurves, LobePointsLieOnTheEnvelopeOrAbove) {
       const LobePoint& p = c.points[i];
       ASSERT_GE(p.spindle_rpm, 500);
       ASSERT_LE(p.spindle_rpm, 3000);
-      const StabilityLimit l = s.limit_at(p.spindle_rpm);
+      const StabilityLimit l = s.limit_at(SpindleSpeed(p.spindle_rpm));
       EXPECT_LE(l.depth_limit_m, p.depth_m * (1 + 1e-9));
       ++checked;
     }

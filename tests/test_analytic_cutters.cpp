@@ -114,7 +114,7 @@ void expect_general_equals_phase_search(const StructuralModel& m, const MillingP
   int bounded = 0;
   for (int i = 0; i < count; ++i) {
     const double rpm = rpm_lo + (rpm_hi - rpm_lo) * i / (count - 1);
-    const StabilityLimit a = reference.limit_at(rpm), b = g.limit_at(rpm);
+    const StabilityLimit a = reference.limit_at(SpindleSpeed(rpm)), b = g.limit_at(rpm);
     ASSERT_EQ(a.bounded(), b.bounded()) << rpm << " rev/min: " << a.depth_limit_m << " vs " << b.depth_limit_m;
     if (!a.bounded()) continue;
     ++bounded;
@@ -143,7 +143,7 @@ TEST(GeneralSearch, UniformTurningEqualsPhaseSearch) {
   const AnalyticSolver reference(case_a(), p, depth_max(0.05));
   const detail::MultiDelaySearch g = general(case_a(), p, 0.05);
   for (double rpm : {300.0, 612.0, 1234.5, 2000.0, 3600.0, 7000.0}) {
-    const StabilityLimit a = reference.limit_at(rpm), b = g.limit_at(rpm);
+    const StabilityLimit a = reference.limit_at(SpindleSpeed(rpm)), b = g.limit_at(rpm);
     ASSERT_TRUE(a.bounded() && b.bounded()) << rpm;
     EXPECT_NEAR(b.depth_limit_m / a.depth_limit_m, 1.0, kSameEquation) << rpm << ": " << b.depth_limit_m
                                                                         << " vs " << a.depth_limit_m;
@@ -217,14 +217,14 @@ TEST(ProcessDamping, TurningOneModeEqualsExactBoundaryAtLowSpeed) {
   const AnalyticSolver undamped(case_a(), Process::turning({kA_Kf}), depth_max(0.05));
   for (double rpm : {40.0, 60.0, 100.0, 150.0, 237.0, 400.0, 800.0}) {
     const Exact e = exact_turning_with_process_damping(rpm, kCpd, kDw);
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(std::isfinite(e.depth_m) && l.bounded()) << rpm << ": " << e.depth_m << " vs " << l.depth_limit_m;
     EXPECT_NEAR(l.depth_limit_m / e.depth_m, 1.0, kIndependentExact)
         << rpm << " rev/min: analytic " << l.depth_limit_m << " m vs exact " << e.depth_m << " m";
     EXPECT_NEAR(l.chatter_frequency_hz / (e.omega / kTwoPi), 1.0, kIndependentExact)
         << rpm << " rev/min: " << l.chatter_frequency_hz << " Hz vs " << e.omega / kTwoPi << " Hz";
     // The known effect: at low speed process damping raises the limit.
-    EXPECT_GT(l.depth_limit_m, undamped.limit_at(rpm).depth_limit_m) << rpm;
+    EXPECT_GT(l.depth_limit_m, undamped.limit_at(SpindleSpeed(rpm)).depth_limit_m) << rpm;
   }
 }
 
@@ -235,7 +235,7 @@ TEST(ProcessDamping, VanishesAtHighSpeed) {
   const AnalyticSolver undamped(case_a(), Process::turning({kA_Kf}), depth_max(0.05));
   const double wn = kTwoPi * kA_f, c = 2.0 * kA_zeta * kA_k / wn;
   for (double rpm : {3000.0, 4500.0, 5500.0, 8000.0}) {
-    const StabilityLimit a = s.limit_at(rpm), b = undamped.limit_at(rpm);
+    const StabilityLimit a = s.limit_at(SpindleSpeed(rpm)), b = undamped.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(a.bounded() && b.bounded());
     const double v = kPi * kDw * rpm / 60.0;
     const double first_order = 2.0 * (kCpd * a.depth_limit_m / v) / c;
@@ -262,7 +262,7 @@ TEST(ProcessDamping, MeasuredFrfOfOneModeEqualsModal) {
   const AnalyticSolver a(case_a(), turning_pd(kCpd, kDw), depth_max(0.05));
   const AnalyticSolver b(measured, turning_pd(kCpd, kDw), depth_max(0.05));
   for (double rpm : {100.0, 400.0, 3000.0}) {
-    const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded() && lb.bounded()) << rpm;
     EXPECT_NEAR(lb.depth_limit_m / la.depth_limit_m, 1.0, kMeasuredSingleMode)
         << rpm << ": measured " << lb.depth_limit_m << " vs modal " << la.depth_limit_m;
@@ -299,7 +299,7 @@ TEST(VariablePitch, ResidualOfCharacteristicEquationIsZero) {
   int bounded = 0;
   for (int i = 0; i < 60; ++i) {
     const double rpm = 2000.0 + 200.0 * i;
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     if (!l.bounded()) continue;
     ++bounded;
     const double w = kTwoPi * l.chatter_frequency_hz, a = l.depth_limit_m;
@@ -373,7 +373,7 @@ TEST(VariablePitch, SymmetricSlottingEqualsClosedFormH0) {
   for (int i = 0; i < 25; ++i) {
     const double rpm = 4000.0 + 833.0 * i;
     const Exact e = symmetric_slotting_exact(pitch, rpm);
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(std::isfinite(e.depth_m) && l.bounded()) << rpm << ": " << e.depth_m << " vs " << l.depth_limit_m;
     EXPECT_NEAR(l.depth_limit_m / e.depth_m, 1.0, kIndependentExact)
         << rpm << " rev/min: analytic " << l.depth_limit_m << " m vs closed form " << e.depth_m << " m";
@@ -393,13 +393,13 @@ TEST(VariablePitch, PitchTunedForOneSpeedRaisesTheLimitThere) {
   const double rpm = 10000.0;
   const Process equal = Process::milling(milling(4, 1.0, MillingDirection::kDown));
   const AnalyticSolver s_equal(symmetric(), equal, depth_max(0.05));
-  const StabilityLimit l_equal = s_equal.limit_at(rpm);
+  const StabilityLimit l_equal = s_equal.limit_at(SpindleSpeed(rpm));
   ASSERT_TRUE(l_equal.bounded());
   const double omega_spindle = kTwoPi * rpm / 60.0;
   const double d = kPi * omega_spindle / (2.0 * kTwoPi * l_equal.chatter_frequency_hz);
   const Process tuned = Process::milling(milling(4, 1.0, MillingDirection::kDown, alternating_pitch(4, d)));
   const AnalyticSolver s_tuned(symmetric(), tuned, depth_max(0.05));
-  const StabilityLimit l_tuned = s_tuned.limit_at(rpm);
+  const StabilityLimit l_tuned = s_tuned.limit_at(SpindleSpeed(rpm));
   EXPECT_GT(l_tuned.depth_limit_m, kMinimumGain * l_equal.depth_limit_m)
       << "tuned pitch d = " << d << " rad: " << l_tuned.depth_limit_m << " m vs equal pitch "
       << l_equal.depth_limit_m << " m";
@@ -432,7 +432,7 @@ TEST(VariableHelix, ResidualWithSliceQuadratureOfTheDelays) {
     const Eigen::Matrix2cd h0 = (p.average_directional_matrix() / 4.0).cast<C>();
     int bounded = 0;
     for (double rpm : {2180.0, 3320.0, 4000.0, 6100.0, 8000.0, 11000.0, 13500.0}) {
-      const StabilityLimit l = s.limit_at(rpm);
+      const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
       if (!l.bounded()) continue;
       ++bounded;
       const double w = kTwoPi * l.chatter_frequency_hz, a = l.depth_limit_m, omega_s = kTwoPi * rpm / 60.0;
@@ -466,7 +466,7 @@ TEST(VariableHelix, TinyHelixDifferenceEqualsUniformHelix) {
   const AnalyticSolver varied(two_modes(), variable_helix(b, b + 1e-9), depth_max(0.02));
   ASSERT_TRUE(varied.per_speed_search());
   for (double rpm : {3000.0, 6100.0, 9000.0, 12000.0}) {
-    const StabilityLimit a = uniform.limit_at(rpm), v = varied.limit_at(rpm);
+    const StabilityLimit a = uniform.limit_at(SpindleSpeed(rpm)), v = varied.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(a.bounded() && v.bounded()) << rpm;
     EXPECT_NEAR(v.depth_limit_m / a.depth_limit_m, 1.0, kTinyDifference) << rpm << ": " << v.depth_limit_m
                                                                           << " vs " << a.depth_limit_m;
@@ -530,7 +530,7 @@ TEST(RealCutterRegistry, HelixIsAcceptedAndChangesNothing) {
     const auto a = make_lobe_solver(method, case_c(), straight, 0.01);
     const auto b = make_lobe_solver(method, case_c(), helix, 0.01);
     for (double rpm : {6000.0, 11000.0, 19000.0}) {
-      const StabilityLimit la = a->limit_at(rpm), lb = b->limit_at(rpm);
+      const StabilityLimit la = a->limit_at(SpindleSpeed(rpm)), lb = b->limit_at(SpindleSpeed(rpm));
       EXPECT_EQ(la.depth_limit_m, lb.depth_limit_m) << method << " " << rpm;
       EXPECT_EQ(la.chatter_frequency_hz, lb.chatter_frequency_hz) << method << " " << rpm;
     }
@@ -544,8 +544,8 @@ TEST(RealCutterRegistry, PerSpeedSearchHasNoAbsoluteLimitOrCurves) {
   const AnalyticSolver s(case_a(), turning_pd(kCpd, kDw), depth_max(0.05));
   EXPECT_FALSE(s.known_absolute_limit().has_value());
   EXPECT_THROW((void)s.absolute_limit(), InputError);
-  EXPECT_TRUE(s.lobe_curves(100.0, 1000.0).empty());
-  EXPECT_THROW((void)s.limit_at(-1.0), InputError);
+  EXPECT_TRUE(s.lobe_curves(SpindleSpeed(100.0), SpindleSpeed(1000.0)).empty());
+  EXPECT_THROW((void)s.limit_at(SpindleSpeed(-1.0)), InputError);
 }
 
 }  // namespace

@@ -720,7 +720,7 @@ TEST_F(CliTest, LobesAdaptiveSpacingMeetsItsMidpointTolerance) {
   for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
     ASSERT_LT(rows[i].rpm, rows[i + 1].rpm) << "row " << i;
     const double n = 0.5 * (rows[i].rpm + rows[i + 1].rpm);
-    const double exact = solver.limit_at(n).depth_limit_m * 1e3;
+    const double exact = solver.limit_at(chatter::SpindleSpeed(n)).depth_limit_m * 1e3;
     const double line = 0.5 * (rows[i].depth_mm + rows[i + 1].depth_mm);
     EXPECT_LE(std::abs(line - exact), kMidpointRelTol * exact + 1e-4)
         << "midpoint " << n << " rev/min: exact " << exact << " mm, line " << line << " mm";

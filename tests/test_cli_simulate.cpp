@@ -36,7 +36,7 @@ class CliSimulate : public CliFixture {};
 
 double sdm_limit_mm(const std::string& config, double rpm) {
   const chatter::Config cfg = chatter::load_config(config);
-  return chatter::SemiDiscretizationSolver(cfg.model, cfg.process).limit_at(rpm).depth_limit_m * 1e3;
+  return chatter::SemiDiscretizationSolver(cfg.model, cfg.process).limit_at(chatter::SpindleSpeed(rpm)).depth_limit_m * 1e3;
 }
 
 TEST_F(CliSimulate, VerdictsEitherSideOfTheSdmLimitWithTheDocumentedKeys) {

@@ -46,7 +46,7 @@ void expect_same_envelope(const TransferFunctionSolver& a, const TransferFunctio
                           const std::vector<double>& speeds) {
   int bounded = 0;
   for (double rpm : speeds) {
-    const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
     ASSERT_EQ(la.bounded(), lb.bounded()) << rpm;
     if (!la.bounded()) continue;
     ++bounded;
@@ -74,7 +74,7 @@ TEST_P(CaseB, ResidualOfTheTwoBodyEquation) {
   const Mode& t = m.tool.modes[0];
   const Mode& w = m.workpiece.modes[0];
   for (double rpm : {700.0, 2500.0, 6100.0, 9000.0, 14000.0}) {
-    const StabilityLimit l = c.limit_at(rpm);
+    const StabilityLimit l = c.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(l.bounded()) << rpm;
     const double om = 2 * kPi * l.chatter_frequency_hz, tau = 60.0 / rpm;
     auto mphi = [&](const Mode& md) {
@@ -107,7 +107,7 @@ TEST(Coupled, VeryStiffToolReproducesTheOneDofWorkpiece) {
   const AnalyticSolver ref(one, Process::turning({2.4e9}), depth_max(0.02));
   const CoupledSolver c(two, Process::turning({2.4e9}), depth_max(0.02));
   for (double rpm : evenly_spaced_speeds(60.0, 6000.0, 60)) {
-    const StabilityLimit lr = ref.limit_at(rpm), lc = c.limit_at(rpm);
+    const StabilityLimit lr = ref.limit_at(SpindleSpeed(rpm)), lc = c.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(lr.bounded() && lc.bounded()) << rpm;
     EXPECT_NEAR(lc.depth_limit_m / lr.depth_limit_m, 1.0, kRigidLimit) << rpm;
     EXPECT_NEAR(lc.chatter_frequency_hz / lr.chatter_frequency_hz, 1.0, kRigidLimit) << rpm;
@@ -131,7 +131,7 @@ TEST(Coupled, SeedSignErrorWouldGiveDifferentLobes) {
   // the correct G = G₁ + G₂ gives the reported depth, G₁ − G₂ does not.
   const StructuralModel m = case_b(1);
   const CoupledSolver c(m, Process::turning({kKf}), depth_max(0.05));
-  const StabilityLimit l = c.limit_at(3000.0);
+  const StabilityLimit l = c.limit_at(SpindleSpeed(3000.0));
   ASSERT_TRUE(l.bounded());
   const double w = 2 * kPi * l.chatter_frequency_hz;
   const C g1 = m.tool.modes[0].receptance(w), g2 = m.workpiece.modes[0].receptance(w);

@@ -114,9 +114,9 @@ TEST(CutterProfileSolvers, FlatThroughGeneralPathGivesTodaysLimits) {
   const AnalyticSolver ag(m, general, tf_opts()), af(m, flat, tf_opts());
   const SemiDiscretizationSolver sg(m, general, sdm_opts()), sf(m, flat, sdm_opts());
   for (const double rpm : {9000.0, 14000.0, 21000.0}) {
-    const double a_flat = af.limit_at(rpm).depth_limit_m, a_gen = ag.limit_at(rpm).depth_limit_m;
+    const double a_flat = af.limit_at(SpindleSpeed(rpm)).depth_limit_m, a_gen = ag.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_TRUE(RelNear(a_gen, a_flat, kFlatGeneralAnalytic)) << "analytic at " << rpm << " rev/min";
-    const double s_flat = sf.limit_at(rpm).depth_limit_m, s_gen = sg.limit_at(rpm).depth_limit_m;
+    const double s_flat = sf.limit_at(SpindleSpeed(rpm)).depth_limit_m, s_gen = sg.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_TRUE(RelNear(s_gen, s_flat, kFlatGeneralSdm)) << "sdm at " << rpm << " rev/min";
   }
   // The time domain: the flat cutter on the profile's 20 slices (on its
@@ -128,10 +128,10 @@ TEST(CutterProfileSolvers, FlatThroughGeneralPathGivesTodaysLimits) {
 TEST(CutterProfileSolvers, SdmLimitConvergesWithSlices) {
   const StructuralModel m = ball_tool();
   const double rpm = 14000.0;
-  const double ref = SemiDiscretizationSolver(m, Process::milling(ball(0.5, 256)), sdm_opts()).limit_at(rpm).depth_limit_m;
+  const double ref = SemiDiscretizationSolver(m, Process::milling(ball(0.5, 256)), sdm_opts()).limit_at(SpindleSpeed(rpm)).depth_limit_m;
   double previous = 1.0;
   for (const int s : {4, 8, 16, 32}) {
-    const double a = SemiDiscretizationSolver(m, Process::milling(ball(0.5, s)), sdm_opts()).limit_at(rpm).depth_limit_m;
+    const double a = SemiDiscretizationSolver(m, Process::milling(ball(0.5, s)), sdm_opts()).limit_at(SpindleSpeed(rpm)).depth_limit_m;
     const double err = std::abs(a - ref) / ref;
     EXPECT_LT(err, previous) << s << " slices: limit " << a << " vs " << ref << " (256 slices), error " << err;
     previous = err;
@@ -152,9 +152,9 @@ void expect_slot_methods_agree(MillingParameters mp, const char* what) {
   const AnalyticSolver analytic(m, p, tf_opts());
   const CoupledSolver coupled(m, p, tf_opts());
   for (const double rpm : {10000.0, 14000.0, 18000.0, 22000.0}) {
-    const double a_sdm = sdm.limit_at(rpm).depth_limit_m, a_an = analytic.limit_at(rpm).depth_limit_m;
+    const double a_sdm = sdm.limit_at(SpindleSpeed(rpm)).depth_limit_m, a_an = analytic.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_TRUE(RelNear(a_an, a_sdm, kSdmVsAnalyticSlot)) << what << " at " << rpm << " rev/min: analytic vs sdm";
-    EXPECT_TRUE(RelNear(coupled.limit_at(rpm).depth_limit_m, a_an, kCoupledVsAnalytic)) << rpm << " rev/min";
+    EXPECT_TRUE(RelNear(coupled.limit_at(SpindleSpeed(rpm)).depth_limit_m, a_an, kCoupledVsAnalytic)) << rpm << " rev/min";
   }
 }
 
@@ -199,7 +199,7 @@ TEST(CutterProfileSolvers, BullNoseLinearGrowthMatchesSdmAtNarrowImmersion) {
   const Process p = Process::milling(bull_nose(0.1, 64));
   const SemiDiscretizationSolver sdm(m, p, sdm_opts(128));
   const double rpm = 14000.0;
-  const StabilityLimit lim = sdm.limit_at(rpm);
+  const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
   ASSERT_TRUE(lim.bounded());
   const double a = 1.1 * lim.depth_limit_m;
   const double rho = sdm.analyse(rpm, a).spectral_radius;

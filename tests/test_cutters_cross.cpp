@@ -79,7 +79,7 @@ void expect_growth_matches_sdm(const StructuralModel& model, const Process& proc
                                int periods) {
   SemiDiscretizationSolver sdm(model, process);
   for (const double rpm : rpms) {
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(lim.bounded()) << rpm;
     for (const double f : {kBelow, kAbove}) {
       const double a = f * lim.depth_limit_m;
@@ -139,8 +139,8 @@ TEST(CuttersAcrossMethods, VariablePitchSdmNearAnalyticAtFullImmersion) {
   const auto analytic_u = make_lobe_solver("analytic", model, uniform, 0.05);
   for (double rpm = 4000.0; rpm <= 12000.0; rpm += 1000.0) {
     SCOPED_TRACE(std::to_string(rpm) + " rev/min");
-    const StabilityLimit s = sdm->limit_at(rpm), a = analytic->limit_at(rpm);
-    const StabilityLimit su = sdm_u->limit_at(rpm), au = analytic_u->limit_at(rpm);
+    const StabilityLimit s = sdm->limit_at(SpindleSpeed(rpm)), a = analytic->limit_at(SpindleSpeed(rpm));
+    const StabilityLimit su = sdm_u->limit_at(SpindleSpeed(rpm)), au = analytic_u->limit_at(SpindleSpeed(rpm));
     EXPECT_NEAR(a.depth_limit_m / s.depth_limit_m, 1.0, kDepthSpread) << a.depth_limit_m << " vs " << s.depth_limit_m;
     EXPECT_NEAR(a.chatter_frequency_hz / s.chatter_frequency_hz, 1.0, kFrequencySpread);
     EXPECT_NEAR(au.depth_limit_m / su.depth_limit_m, 1.0, kUniformSpread);

@@ -56,7 +56,7 @@ TEST_P(Damping, AbsoluteLimitIsTheClosedFormAtBothEnds) {
   const AnalyticSolver s(one_mode(94.22, zeta, k), Process::turning({kf}), depth_max(std::max(0.02, 10 * closed)));
   EXPECT_NEAR(s.absolute_limit().depth_m / closed, 1.0, kClosedForm);
   for (double rpm : {300.0, 3000.0}) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(l.bounded()) << rpm;
     EXPECT_GE(l.depth_limit_m, closed * (1 - kClosedForm));
     const double w = kTwoPi * l.chatter_frequency_hz, tau = 60 / rpm;
@@ -75,7 +75,7 @@ TEST(EdgeCases, ModesOneMillionthApartAgreeAcrossMethods) {
   // Two identical modes in series act as one of stiffness k/2.
   EXPECT_NEAR(a.absolute_limit().depth_m / tlusty_min(1e7, 0.02, 1e9), 1.0, kTwinModes);
   for (double rpm : {400.0, 2500.0, 6000.0}) {
-    const StabilityLimit la = a.limit_at(rpm), lc = c.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lc = c.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded() && lc.bounded()) << rpm;
     EXPECT_NEAR(lc.depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree) << rpm;
   }
@@ -88,7 +88,7 @@ TEST(EdgeCases, VeryStiffNextToVerySoftAgreeAcrossMethods) {
   const AnalyticSolver a(m, Process::turning({1e9}), depth_max(0.05));
   const CoupledSolver c(m, Process::turning({1e9}), depth_max(0.05));
   for (double rpm : {200.0, 2000.0}) {
-    const StabilityLimit la = a.limit_at(rpm), lc = c.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lc = c.limit_at(SpindleSpeed(rpm));
     ASSERT_EQ(la.bounded(), lc.bounded()) << rpm;
     if (la.bounded()) {
       EXPECT_NEAR(lc.depth_limit_m / la.depth_limit_m, 1.0, kStiffRatioAgree) << rpm;
@@ -104,7 +104,7 @@ TEST(EdgeCases, SpindleSpeedsAtTheExtremes) {
   // 1 rev/min (5 650 vibration cycles per revolution) and 30 000 rev/min (a
   // revolution a fifth of a vibration period): exact roots.
   for (double rpm : {1.0, 30000.0}) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(l.bounded()) << rpm;
     const double w = kTwoPi * l.chatter_frequency_hz, tau = 60 / rpm;
     const C g = s.model().workpiece.modes[0].receptance(w);
@@ -112,9 +112,9 @@ TEST(EdgeCases, SpindleSpeedsAtTheExtremes) {
   }
   // 10⁶ rev/min: the first lobe would chatter above 8 kHz, far above the
   // mode, at a depth beyond half a metre: no limit below the searched depth.
-  EXPECT_FALSE(s.limit_at(1e6).bounded());
+  EXPECT_FALSE(s.limit_at(SpindleSpeed(1e6)).bounded());
   // Far below: refused with a message, not computed for minutes.
-  EXPECT_THROW(s.limit_at(1e-6), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(1e-6)), InputError);
 }
 
 TEST(EdgeCases, ImmersionNearZeroAndExactlyOne) {
@@ -131,7 +131,7 @@ TEST(EdgeCases, ImmersionNearZeroAndExactlyOne) {
     const double floor = 2.0 * mode.stiffness_n_per_m * mode.damping_ratio * (1.0 + mode.damping_ratio) / hxx;
     const AnalyticSolver s(m, p, depth_max(0.05));
     for (double rpm : {6000.0, 20000.0}) {
-      const StabilityLimit l = s.limit_at(rpm);
+      const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
       if (!l.bounded()) {
         EXPECT_EQ(l.depth_limit_m, std::numeric_limits<double>::infinity()) << "a_e/D " << ae << ", " << rpm;
         continue;
@@ -152,7 +152,7 @@ TEST(EdgeCases, ImmersionNearZeroAndExactlyOne) {
   EXPECT_GE(bounded, 2) << "full immersion must be bounded at both speeds";
   // a_e/D → 0: the average force vanishes, so no limit below 5 cm.
   const AnalyticSolver thin(m, Process::milling({2, 6e8, 2e8, 1e-9, MillingDirection::kDown}), depth_max(0.05));
-  EXPECT_FALSE(thin.limit_at(10000).bounded());
+  EXPECT_FALSE(thin.limit_at(SpindleSpeed(10000)).bounded());
   EXPECT_THROW(Process::milling({2, 6e8, 2e8, 0.0, MillingDirection::kDown}), chatter::InputError);
   EXPECT_THROW(Process::milling({2, 6e8, 2e8, 1.0 + 1e-12, MillingDirection::kDown}), chatter::InputError);
 }
@@ -165,7 +165,7 @@ TEST(EdgeCases, DelayMuchShorterThanAVibrationPeriodSdmAgreesWithAnalytic) {
   o.depth_max_m = 0.5;
   const SemiDiscretizationSolver s(m, Process::turning({2.4e9}), o);
   for (double rpm : {30000.0, 60000.0}) {
-    const StabilityLimit la = a.limit_at(rpm), ls = s.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), ls = s.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded() && ls.bounded()) << rpm;
     EXPECT_NEAR(ls.depth_limit_m / la.depth_limit_m, 1.0, kSdmAccuracy) << rpm;
   }

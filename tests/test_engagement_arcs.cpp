@@ -155,8 +155,8 @@ TEST(EngagementArcs, AnalyticLimitIsTheHarmonicSumOfEachArcsLimit) {
   const AnalyticSolver first(one_mode_x(), arcs_process({arcs[0]}));
   const AnalyticSolver second(one_mode_x(), arcs_process({arcs[1]}));
   for (const double rpm : {6000.0, 9000.0, 14000.0, 21000.0}) {
-    const double a = both.limit_at(rpm).depth_limit_m;
-    const double a1 = first.limit_at(rpm).depth_limit_m, a2 = second.limit_at(rpm).depth_limit_m;
+    const double a = both.limit_at(SpindleSpeed(rpm)).depth_limit_m;
+    const double a1 = first.limit_at(SpindleSpeed(rpm)).depth_limit_m, a2 = second.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(a, 1.0 / (1.0 / a1 + 1.0 / a2), 1e-6 * a) << rpm;
   }
 }
@@ -165,7 +165,7 @@ TEST(EngagementArcs, SdmVerdictMatchesTheTestsOwnDelayEquation) {
   const Process p = arcs_process(kArcs);
   const SemiDiscretizationSolver sdm(one_mode_x(), p);
   for (const double rpm : {9000.0, 16000.0}) {
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(lim.bounded()) << rpm;
     for (const double f : {0.85, 1.15}) {
       const double g = dde_growth(kArcs, rpm, f * lim.depth_limit_m, 240);
@@ -188,7 +188,7 @@ TEST(EngagementArcs, TimeDomainGrowthMatchesSdmsMultiplier) {
   const SemiDiscretizationSolver sdm(model, p, o);
   TimeDomainSimulator sim(model, p);
   for (const double rpm : {9000.0, 16000.0}) {
-    const double lim = sdm.limit_at(rpm).depth_limit_m;
+    const double lim = sdm.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     // Near the limit (ρ within ~10 % of 1): the growth's measurement over
     // 120 periods is sharpest there (as tests/test_cutters_cross.cpp).
     for (const double f : {0.92, 1.08}) {
@@ -212,8 +212,8 @@ TEST(EngagementArcs, OneWindowPathsRefuseOrGiveWay) {
   SemiDiscretizationOptions fine;
   fine.collocation_nodes = 0;
   fine.steps_per_period = fine.steps_per_vibration_cycle = 256;
-  const StabilityLimit lc = SemiDiscretizationSolver(one_mode_x(), p).limit_at(9000.0);
-  const StabilityLimit lf = SemiDiscretizationSolver(one_mode_x(), p, fine).limit_at(9000.0);
+  const StabilityLimit lc = SemiDiscretizationSolver(one_mode_x(), p).limit_at(SpindleSpeed(9000.0));
+  const StabilityLimit lf = SemiDiscretizationSolver(one_mode_x(), p, fine).limit_at(SpindleSpeed(9000.0));
   ASSERT_TRUE(lc.bounded() && lf.bounded());
   EXPECT_NEAR(lc.depth_limit_m / lf.depth_limit_m, 1.0, 1e-3);
   try {

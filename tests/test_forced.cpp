@@ -512,7 +512,7 @@ TEST(Forced, UnstableCutHasNoForcedResponse) {
   EXPECT_FALSE(r.linear_limit_holds);
   EXPECT_TRUE(std::isnan(r.surface_location_error_m));
   EXPECT_TRUE(r.t_s.empty());
-  EXPECT_LT(s.stability().limit_at(20000.0).depth_limit_m, 3e-3);
+  EXPECT_LT(s.stability().limit_at(chatter::SpindleSpeed(20000.0)).depth_limit_m, 3e-3);
 }
 
 TEST(Forced, BadInputNamesTheRule) {

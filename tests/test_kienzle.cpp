@@ -108,15 +108,15 @@ TEST(Kienzle, RegenerativeCoefficientIsTheTangentAtTheProcessFeed) {
   for (const char* method : {"analytic", "sdm"}) {
     const auto thick = make_lobe_solver(method, c.model, c.process, 0.01);
     const auto thin_solver = make_lobe_solver(method, c.model, thin, 0.01);
-    const double a1 = thick->limit_at(3654.0).depth_limit_m, a2 = thin_solver->limit_at(3654.0).depth_limit_m;
+    const double a1 = thick->limit_at(SpindleSpeed(3654.0)).depth_limit_m, a2 = thin_solver->limit_at(SpindleSpeed(3654.0)).depth_limit_m;
     EXPECT_NEAR(a2 / a1, ratio, 2e-3 * ratio) << method;
   }
   // And a linear config with K_f = the tangent gives the same limit bitwise.
   TurningParameters p = c.process.turning_parameters();
   p.kienzle.reset();
   const auto linear = make_lobe_solver("analytic", c.model, Process::turning(p), 0.01);
-  EXPECT_EQ(linear->limit_at(3654.0).depth_limit_m,
-            make_lobe_solver("analytic", c.model, c.process, 0.01)->limit_at(3654.0).depth_limit_m);
+  EXPECT_EQ(linear->limit_at(SpindleSpeed(3654.0)).depth_limit_m,
+            make_lobe_solver("analytic", c.model, c.process, 0.01)->limit_at(SpindleSpeed(3654.0)).depth_limit_m);
 }
 
 TEST(Kienzle, InsertWithNoseRadiusTakesTheTangentAtTheChordsChip) {
@@ -144,7 +144,7 @@ TEST(Kienzle, NonlinearSimulationFeelsTheSecantStaticallyAndTheTangentDynamicall
   const Config c = seed003("kienzle");
   const double rpm = 3654.0, feed = 0.2e-3;
   const Process p = c.process.at_feed(feed);
-  const double limit = make_lobe_solver("analytic", c.model, p, 0.01)->limit_at(rpm).depth_limit_m;
+  const double limit = make_lobe_solver("analytic", c.model, p, 0.01)->limit_at(SpindleSpeed(rpm)).depth_limit_m;
   const TimeDomainSimulator sim(c.model, p);
   SimulationSettings s;
   s.spindle_rpm = rpm;
@@ -201,15 +201,15 @@ TEST(Kienzle, OptimisationReadsTheSecantForceAndTheTangentLimitAtEachFeed) {
   const OptimizationModel me(k.model, k.position, k.process, *k.optimization, at_end);
   const auto solve = make_lobe_solver(me.method(), model_at_position(k, 0.08), k.process.at_feed(0.089e-3),
                                       me.depth_search_m());
-  EXPECT_NEAR(me.evaluate(sp).depth_limit_m, solve->limit_at(sp.spindle_rpm).depth_limit_m,
+  EXPECT_NEAR(me.evaluate(sp).depth_limit_m, solve->limit_at(SpindleSpeed(sp.spindle_rpm)).depth_limit_m,
               1e-6 * pk.depth_limit_m);
 }
 
 TEST(Kienzle, ForcedResponseAndRecommendJudgeStabilityAtTheirOwnFeed) {
   const Config c = seed003("kienzle");
   const double rpm = 3654.0;
-  const double thin = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.01)->limit_at(rpm).depth_limit_m;
-  const double thick = make_lobe_solver("analytic", c.model, c.process.at_feed(0.35e-3), 0.01)->limit_at(rpm).depth_limit_m;
+  const double thin = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.01)->limit_at(SpindleSpeed(rpm)).depth_limit_m;
+  const double thick = make_lobe_solver("analytic", c.model, c.process.at_feed(0.35e-3), 0.01)->limit_at(SpindleSpeed(rpm)).depth_limit_m;
   ASSERT_LT(thin, thick);  // the thin chip's tangent is the larger
   const ForcedResponseSolver forced(c.model, c.process);
   ForcedSettings st;
@@ -228,7 +228,7 @@ TEST(Kienzle, ForcedResponseAndRecommendJudgeStabilityAtTheirOwnFeed) {
   o.diameter_m = 0.025;
   o.depth_max_m = 0.01;
   const Recommendation r = recommend(c.model, c.process, o);
-  const double at = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.05)->limit_at(r.spindle_rpm).depth_limit_m;
+  const double at = make_lobe_solver("analytic", c.model, c.process.at_feed(0.089e-3), 0.05)->limit_at(SpindleSpeed(r.spindle_rpm)).depth_limit_m;
   ASSERT_TRUE(r.limit.bounded());
   EXPECT_NEAR(r.limit.depth_limit_m, at, 1e-6 * at);
 }

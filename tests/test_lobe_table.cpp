@@ -21,6 +21,7 @@
 #include <thread>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@
 
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
+#include "chatter/io/columns.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/records/lobes.hpp"
 #include "chatter/lobes.hpp"
@@ -231,6 +233,54 @@ TEST(WriteLobeCsv, UnboundedRowNeverPrintsNanEvenWithJunkFields) {
   const auto lines = split_lines(os.str());
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[1], "2000,inf,,");
+}
+
+// The columns of a table result (chatter/io/columns.hpp) as the CLI's CSV:
+// numbers as table_number, NaN empty, +inf "inf", booleans 1/0, text as is.
+TEST(ColumnsCsv, CellsAsEveryTableWritesThem) {
+  const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+  const std::vector<chatter::Column> t = {{"a_mm", std::vector<double>{1.0 / 3.0, nan, inf}},
+                                          {"k", std::vector<int>{3, -1, 0}},
+                                          {"stable", std::vector<bool>{true, false, true}},
+                                          {"type", std::vector<std::string>{"hopf", "", "flip"}}};
+  EXPECT_EQ(chatter::columns_csv(t), "a_mm,k,stable,type\n0.3333333333,3,1,hopf\n,-1,0,\ninf,0,1,flip\n");
+  EXPECT_EQ(chatter::columns_csv({{"x", std::vector<double>{}}}), "x\n");
+  // A grid, a complex column or columns of two lengths are no CSV table.
+  EXPECT_THROW(chatter::columns_csv({{"rho", std::vector<double>{1, 2, 3, 4}, 2}}), std::logic_error);
+  EXPECT_THROW(chatter::columns_csv({{"g", std::vector<std::complex<double>>{{1, 2}}}}), std::logic_error);
+  EXPECT_THROW(chatter::columns_csv({{"a", std::vector<double>{1}}, {"b", std::vector<double>{1, 2}}}),
+               std::logic_error);
+}
+
+// Python's lobe table (lobe_columns, full precision) against the CLI's CSV
+// (write_lobe_csv, a separate writer): the same columns in the same order,
+// every number equal to the printed one within its 10 digits, +inf where the
+// CSV says inf, NaN frequency and lobe -1 where its cells are empty.
+TEST(LobeColumns, AreTheCsvColumnsAtFullPrecision) {
+  const std::vector<StabilityLimit> rows = {bounded_row(), unbounded_row()};
+  std::ostringstream os;
+  chatter::write_lobe_csv(os, rows);
+  const auto lines = split_lines(os.str());
+  const chatter::ColumnRecord r = chatter::lobe_columns(rows, {}, {}, {"sdm", nullptr, {"a note"}, 12.0});
+  std::string header;
+  for (const chatter::Column& c : r.columns) header += (header.empty() ? "" : ",") + c.name;
+  EXPECT_EQ(header, lines[0]);
+  const auto& rpm = std::get<std::vector<double>>(r.columns[0].values);
+  const auto& depth = std::get<std::vector<double>>(r.columns[1].values);
+  const auto& freq = std::get<std::vector<double>>(r.columns[2].values);
+  const auto& lobe = std::get<std::vector<int>>(r.columns[3].values);
+  const auto b = split_fields(lines[1]);
+  expect_rel_near(std::stod(b[0]), rpm[0], kPrintedRelTol, "rpm");
+  expect_rel_near(std::stod(b[1]), depth[0], kPrintedRelTol, "depth_limit_mm");
+  expect_rel_near(std::stod(b[2]), freq[0], kPrintedRelTol, "frequency");
+  EXPECT_EQ(std::to_string(lobe[0]), b[3]);
+  EXPECT_EQ(lines[2], "2000,inf,,");
+  EXPECT_TRUE(std::isinf(depth[1]) && depth[1] > 0.0);
+  EXPECT_TRUE(std::isnan(freq[1]));
+  EXPECT_EQ(lobe[1], -1);
+  EXPECT_EQ(r.fields["method"], "sdm");
+  EXPECT_EQ(r.fields["notes"], nlohmann::json::array({"a note"}));
+  EXPECT_EQ(r.fields["depth_max_mm"], 12.0);
 }
 
 TEST(WriteLobeCsv, ByteIdenticalForIdenticalInput) {
@@ -510,7 +560,7 @@ TEST(RefineEnvelope, CaseACuspsAreTheCrossingsOfNeighbouringLobes) {
     EXPECT_LE(std::abs(d_rows - d_star), kCuspDepthRelTol * d_star)
         << "cusp at " << n_star << " rev/min: rows " << d_rows << " m, crossing " << d_star << " m";
     // The exact solve at the crossing is the crossing's depth.
-    const StabilityLimit exact = solver.limit_at(n_star);
+    const StabilityLimit exact = solver.limit_at(chatter::SpindleSpeed(n_star));
     EXPECT_LE(std::abs(exact.depth_limit_m - d_star), kExactRelTol * d_star)
         << "limit_at(" << n_star << ") = " << exact.depth_limit_m << " m, closed form " << d_star << " m";
     worst_depth = std::max(worst_depth, std::abs(d_rows - d_star) / d_star);
@@ -531,7 +581,7 @@ TEST(RefineEnvelope, CaseALineStaysWithinToleranceAtRandomSpeeds) {
   double worst = 0;
   for (int i = 0; i < 3000; ++i) {
     const double n = i < 1500 ? speed(rng) : 50.0 + 250.0 * (i - 1500) / 1500.0 + 0.0137;  // dense lobes below 300
-    const double line = interpolate(r.rows, n), exact = solver.limit_at(n).depth_limit_m;
+    const double line = interpolate(r.rows, n), exact = solver.limit_at(chatter::SpindleSpeed(n)).depth_limit_m;
     const double tol = kRefineRelTol * exact + 1e-7;
     EXPECT_LE(line - exact, tol) << "above the exact envelope at " << n << " rev/min: line " << line
                                  << " m, exact " << exact << " m";
@@ -559,7 +609,7 @@ TEST(RefineEnvelope, SameRowsWhateverTheThreadCount) {
 TEST(RefineEnvelope, AdaptiveSdmTableSameRowsWhateverTheThreadCount) {
   const chatter::Config cfg = chatter::load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/milling_up_ae05_2dof.toml");
   const chatter::SemiDiscretizationSolver sdm(cfg.model, cfg.process);
-  const auto limit = [&](double rpm) { return sdm.limit_at(rpm); };
+  const auto limit = [&](double rpm) { return sdm.limit_at(chatter::SpindleSpeed(rpm)); };
   const chatter::EnvelopeRefinement o;
   const auto one = chatter::adaptive_envelope(limit, 5000, 25000, 120, o, 1);
   for (unsigned threads : {2u, 3u}) {
@@ -587,7 +637,7 @@ TEST(RefineEnvelope, KeepsToTheSolveBudget) {
   const auto r = chatter::refine_envelope(
       [&](double n) {
         ++calls;
-        return solver.limit_at(n);
+        return solver.limit_at(chatter::SpindleSpeed(n));
       },
       start, o, 2);
   EXPECT_EQ(r.solves, 57u);
@@ -679,7 +729,7 @@ TEST(AdaptiveEnvelope, CaseAEveryMidpointIsWithinToleranceOfTheLine) {
   o.depth_rel_tol = kRefineRelTol;
   o.cusp_rel_tol = 1e-5;
   const int budget = 8000;
-  const auto r = chatter::adaptive_envelope([&](double n) { return solver.limit_at(n); }, 50, 2000, budget, o, 2);
+  const auto r = chatter::adaptive_envelope([&](double n) { return solver.limit_at(chatter::SpindleSpeed(n)); }, 50, 2000, budget, o, 2);
   ASSERT_TRUE(r.converged) << "budget " << budget << " too small";
   ASSERT_LE(r.rows.size(), static_cast<std::size_t>(budget));
   EXPECT_EQ(r.rows.size(), r.solves);
@@ -691,7 +741,7 @@ TEST(AdaptiveEnvelope, CaseAEveryMidpointIsWithinToleranceOfTheLine) {
     ASSERT_LT(a.spindle_rpm, b.spindle_rpm);
     if (a.spindle_rpm < 300) ++below_300;
     const double n = 0.5 * (a.spindle_rpm + b.spindle_rpm);
-    const double exact = solver.limit_at(n).depth_limit_m;
+    const double exact = solver.limit_at(chatter::SpindleSpeed(n)).depth_limit_m;
     const double line = 0.5 * (a.depth_limit_m + b.depth_limit_m);
     EXPECT_LE(std::abs(line - exact), kRefineRelTol * exact + o.depth_abs_tol_m)
         << "midpoint " << n << " rev/min: exact " << exact << " m, line " << line << " m";

@@ -69,7 +69,7 @@ TEST(MeasuredLobes, SingleModeEqualsModalLobes) {
   o.depth_max_m = 0.02;
   const AnalyticSolver a(modal, Process::turning({2.4e9}), o), b(measured, Process::turning({2.4e9}), o);
   for (double rpm : {100.0, 500.0, 1234.0, 2000.0, 5000.0}) {
-    const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded() && lb.bounded()) << rpm;
     EXPECT_NEAR(lb.depth_limit_m / la.depth_limit_m, 1.0, kSingleModeExact * 100) << rpm;
     EXPECT_EQ(lb.lobe, la.lobe);
@@ -91,7 +91,7 @@ TEST(MeasuredLobes, TwoModeTapTestEqualsModalLobes) {
   const AnalyticSolver a(modal, Process::turning({684e6}), o), b(measured, Process::turning({684e6}), o);
   double worst = 0;
   for (double rpm = 600; rpm <= 12000; rpm += 300) {
-    const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
     ASSERT_EQ(la.bounded(), lb.bounded()) << rpm;
     if (la.bounded()) worst = std::max(worst, std::abs(lb.depth_limit_m / la.depth_limit_m - 1));
   }

@@ -114,7 +114,7 @@ bool contains(const std::string& hay, const std::string& needle) { return hay.fi
 // Exact limit (mm) from a fresh analytic solver searching up to `depth_max_m`.
 double exact_limit_mm(const Config& cfg, const Process& p, double rpm, double depth_max_m = 0.05) {
   const auto s = make_lobe_solver("analytic", cfg.model, p, depth_max_m);
-  return s->limit_at(rpm).depth_limit_m * 1e3;
+  return s->limit_at(SpindleSpeed(rpm)).depth_limit_m * 1e3;
 }
 
 // =========================================================== operations file
@@ -257,7 +257,7 @@ TEST(Check, VerdictsMatchExactLimitsOnStableUnstableAndBorderlineOperations) {
   // An independent solver searching deeper than any row (different grid).
   const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.1);
   std::vector<double> scan_limits;  // brute-force maximum of the exact limit over the range
-  for (int i = 0; i <= 4000; ++i) scan_limits.push_back(ref->limit_at(50.0 + 1950.0 * i / 4000.0).depth_limit_m);
+  for (int i = 0; i <= 4000; ++i) scan_limits.push_back(ref->limit_at(SpindleSpeed(50.0 + 1950.0 * i / 4000.0)).depth_limit_m);
   const double scan_best = *std::max_element(scan_limits.begin(), scan_limits.end());
 
   for (std::size_t i = 0; i < rep.checks.size(); ++i) {
@@ -265,7 +265,7 @@ TEST(Check, VerdictsMatchExactLimitsOnStableUnstableAndBorderlineOperations) {
     SCOPED_TRACE(c.op.id);
     EXPECT_EQ(c.method, "analytic");
     EXPECT_EQ(c.stable, expected_stable[i]);
-    const StabilityLimit exact = ref->limit_at(c.op.spindle_rpm);
+    const StabilityLimit exact = ref->limit_at(SpindleSpeed(c.op.spindle_rpm));
     ASSERT_TRUE(exact.bounded());
     ASSERT_TRUE(c.limit.bounded());
     EXPECT_NEAR(c.limit.depth_limit_m, exact.depth_limit_m, kSameRootRelTol * exact.depth_limit_m);
@@ -285,7 +285,7 @@ TEST(Check, VerdictsMatchExactLimitsOnStableUnstableAndBorderlineOperations) {
     EXPECT_GE(s.spindle_rpm, opt.machine.rpm_min);
     EXPECT_LE(s.spindle_rpm, opt.machine.rpm_max);
     // Re-checked with the exact solver: stable, and the reported limit is right.
-    const StabilityLimit there = ref->limit_at(s.spindle_rpm);
+    const StabilityLimit there = ref->limit_at(SpindleSpeed(s.spindle_rpm));
     EXPECT_LT(c.op.depth_m, there.depth_limit_m);
     EXPECT_NEAR(s.depth_limit_m, there.depth_limit_m, kSameRootRelTol * there.depth_limit_m);
     EXPECT_DOUBLE_EQ(c.suggestion_margin, s.depth_limit_m / c.op.depth_m);
@@ -395,7 +395,7 @@ void expect_feasible_turning(const Recommendation& r, const Scenario& s) {
   EXPECT_GE(r.spindle_rpm, o.machine.rpm_min);
   EXPECT_LE(r.spindle_rpm, o.machine.rpm_max);
   const auto ref = make_lobe_solver("analytic", s.cfg.model, s.cfg.process, 0.1);
-  const StabilityLimit exact = ref->limit_at(r.spindle_rpm);
+  const StabilityLimit exact = ref->limit_at(SpindleSpeed(r.spindle_rpm));
   EXPECT_LE(r.depth_m, o.safety * exact.depth_limit_m * (1 + kSameRootRelTol));
   if (r.limit.bounded())
     EXPECT_NEAR(r.limit.depth_limit_m, exact.depth_limit_m, kSameRootRelTol * exact.depth_limit_m);
@@ -435,7 +435,7 @@ TEST(Recommend, StabilityBindsAndTheOptimumBeatsADenseScan) {
   double best = 0.0;
   for (int i = 0; i <= 4000; ++i) {
     const double n = 50.0 + 1950.0 * i / 4000.0;
-    best = std::max(best, n * std::min(0.8 * ref->limit_at(n).depth_limit_m, s.opt.depth_max_m));
+    best = std::max(best, n * std::min(0.8 * ref->limit_at(SpindleSpeed(n)).depth_limit_m, s.opt.depth_max_m));
   }
   EXPECT_GE(r.spindle_rpm * r.depth_m, best * (1 - kOptimumRelTol)) << "scan: " << best;
 }
@@ -572,7 +572,7 @@ void expect_error_bound(const Config& cfg, const Process& p, double lo, double h
   int wrong_sure_verdicts = 0;
   for (int i = 0; i < kRandomQueries; ++i) {
     const double rpm = u(rng);
-    const StabilityLimit e = solver->limit_at(rpm);
+    const StabilityLimit e = solver->limit_at(SpindleSpeed(rpm));
     const double g = e.bounded() ? std::min(e.depth_limit_m, depth_max_m) : depth_max_m;
     double q = table.depth_limit(rpm);
     if (std::isinf(q)) q = depth_max_m;
@@ -619,7 +619,7 @@ TEST(LobeTableQuery, ExplicitToleranceAndValidation) {
   // Table points are the exact solver values.
   for (std::size_t i = 0; i < t.size(); i += 97) {
     const auto& p = t.points()[i];
-    EXPECT_EQ(p.depth_limit_m, solver->limit_at(p.spindle_rpm).depth_limit_m);
+    EXPECT_EQ(p.depth_limit_m, solver->limit_at(SpindleSpeed(p.spindle_rpm)).depth_limit_m);
     EXPECT_DOUBLE_EQ(t.depth_limit(p.spindle_rpm), std::min(p.depth_limit_m, 0.02));
   }
   o.base_points = 1;
@@ -652,7 +652,7 @@ double expect_band_stable(const LobeSolver& ref, double rpm, double tol, double 
   double worst = std::numeric_limits<double>::infinity();
   for (int i = 0; i < samples; ++i) {
     const double n = rpm * (1.0 - tol + 2.0 * tol * i / (samples - 1));
-    const double lim = ref.limit_at(n).depth_limit_m;
+    const double lim = ref.limit_at(SpindleSpeed(n)).depth_limit_m;
     worst = std::min(worst, lim);
     EXPECT_GT(lim, threshold_m) << "at " << n << " rev/min (band of " << rpm << ")";
   }
@@ -666,13 +666,13 @@ void expect_pocket_edges(const LobeSolver& ref, const SpeedPocket& p, double thr
   const double n = p.limit.spindle_rpm;
   EXPECT_LE(p.pocket_min_rpm, n * (1.0 - p.speed_tolerance) * (1 + kEdgeRel));
   EXPECT_GE(p.pocket_max_rpm, std::min(n * (1.0 + p.speed_tolerance), rpm_max) * (1 - kEdgeRel));
-  EXPECT_GT(ref.limit_at(p.pocket_min_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m);
-  EXPECT_GT(ref.limit_at(p.pocket_max_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m);
+  EXPECT_GT(ref.limit_at(SpindleSpeed(p.pocket_min_rpm * (1 + kEdgeProbeRel))).depth_limit_m, threshold_m);
+  EXPECT_GT(ref.limit_at(SpindleSpeed(p.pocket_max_rpm * (1 - kEdgeProbeRel))).depth_limit_m, threshold_m);
   if (p.pocket_min_rpm > rpm_min) {
-    EXPECT_LE(ref.limit_at(p.pocket_min_rpm * (1 - kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_min_rpm;
+    EXPECT_LE(ref.limit_at(SpindleSpeed(p.pocket_min_rpm * (1 - kEdgeProbeRel))).depth_limit_m, threshold_m) << p.pocket_min_rpm;
   }
   if (p.pocket_max_rpm < rpm_max) {
-    EXPECT_LE(ref.limit_at(p.pocket_max_rpm * (1 + kEdgeProbeRel)).depth_limit_m, threshold_m) << p.pocket_max_rpm;
+    EXPECT_LE(ref.limit_at(SpindleSpeed(p.pocket_max_rpm * (1 + kEdgeProbeRel))).depth_limit_m, threshold_m) << p.pocket_max_rpm;
   }
 }
 
@@ -701,7 +701,7 @@ TEST(RobustSpeed, CaseASuggestionLeavesTheCuspAndHoldsOverTheBand) {
     EXPECT_DOUBLE_EQ(p.worst_margin, p.worst_limit_m / c.op.depth_m);
     expect_pocket_edges(*ref, p, c.op.depth_m, 50, 2000);
     // The verdict is still the exact limit at the row's own speed.
-    EXPECT_NEAR(c.limit.depth_limit_m, ref->limit_at(c.op.spindle_rpm).depth_limit_m,
+    EXPECT_NEAR(c.limit.depth_limit_m, ref->limit_at(SpindleSpeed(c.op.spindle_rpm)).depth_limit_m,
                 kSameRootRelTol * c.limit.depth_limit_m);
     // The row's own worst margin: no larger than its exact-speed margin.
     EXPECT_LE(c.worst_margin, c.margin * (1 + kSameRootRelTol));
@@ -709,7 +709,7 @@ TEST(RobustSpeed, CaseASuggestionLeavesTheCuspAndHoldsOverTheBand) {
   // The exact-speed cusp loses: its band minimum is below the suggestion's.
   double cusp_band = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kBandSamples; ++i)
-    cusp_band = std::min(cusp_band, ref->limit_at(1922.2 * (0.98 + 0.04 * i / (kBandSamples - 1))).depth_limit_m);
+    cusp_band = std::min(cusp_band, ref->limit_at(SpindleSpeed(1922.2 * (0.98 + 0.04 * i / (kBandSamples - 1)))).depth_limit_m);
   EXPECT_LT(cusp_band, rep.checks[0].suggestion_pocket->worst_limit_m);
 }
 
@@ -725,8 +725,8 @@ TEST(RobustSpeed, TurningRecommendationsSurviveTheSpeedError) {
     const auto ref = make_lobe_solver("analytic", cfg.model, cfg.process, 0.2);
     const Recommendation r = recommend(cfg.model, cfg.process, o);
     const double threshold = r.depth_m / o.safety;
-    EXPECT_GE(ref->limit_at(r.spindle_rpm * 1.006).depth_limit_m, threshold);
-    EXPECT_GE(ref->limit_at(r.spindle_rpm * 0.994).depth_limit_m, threshold);
+    EXPECT_GE(ref->limit_at(SpindleSpeed(r.spindle_rpm * 1.006)).depth_limit_m, threshold);
+    EXPECT_GE(ref->limit_at(SpindleSpeed(r.spindle_rpm * 0.994)).depth_limit_m, threshold);
     const double dense = expect_band_stable(*ref, r.spindle_rpm, o.speed_tolerance, threshold * (1 - kBindingRelTol));
     EXPECT_LE(r.pocket.worst_limit_m, dense * (1 + kSameRootRelTol));
     EXPECT_GE(r.pocket.worst_margin, 1.0 / o.safety * (1 - kBindingRelTol));
@@ -737,8 +737,8 @@ TEST(RobustSpeed, TurningRecommendationsSurviveTheSpeedError) {
     exact.speed_tolerance = 0.0;
     const Recommendation e = recommend(cfg.model, cfg.process, exact);
     const double te = e.depth_m / o.safety;
-    EXPECT_LT(std::min(ref->limit_at(e.spindle_rpm * 1.006).depth_limit_m,
-                       ref->limit_at(e.spindle_rpm * 0.994).depth_limit_m), te);
+    EXPECT_LT(std::min(ref->limit_at(SpindleSpeed(e.spindle_rpm * 1.006)).depth_limit_m,
+                       ref->limit_at(SpindleSpeed(e.spindle_rpm * 0.994)).depth_limit_m), te);
   }
 }
 
@@ -774,7 +774,7 @@ TEST(RobustSpeed, TwoModeMillingCheckEqualsSdmPointAndHoldsOverTheBand) {
   const auto ref = make_lobe_solver("sdm", cfg.model, cfg.process, 0.05);
   const OperationCheck& c = rep.checks[0];
   EXPECT_EQ(c.method, "sdm");
-  const double point = ref->limit_at(12000).depth_limit_m;
+  const double point = ref->limit_at(SpindleSpeed(12000)).depth_limit_m;
   EXPECT_NEAR(c.limit.depth_limit_m, point, kCheckEqualsPointRel * point);
   ASSERT_TRUE(c.suggestion_pocket.has_value());
   expect_band_stable(*ref, c.suggestion->spindle_rpm, kDefaultSpeedTolerance, c.op.depth_m, kBandSamplesSdm);
@@ -938,12 +938,12 @@ TEST(Check, LowSpeedMillingRowIsCheckedWithTheExactVerdict) {
   const OperationCheck& c = rep.checks[0];
   EXPECT_EQ(c.method, "sdm");
   const auto ref = make_lobe_solver("sdm", cfg.model, cfg.process, c.search_depth_m);
-  EXPECT_EQ(c.limit.depth_limit_m, ref->limit_at(200).depth_limit_m);  // the same solver, the same bits
+  EXPECT_EQ(c.limit.depth_limit_m, ref->limit_at(SpindleSpeed(200)).depth_limit_m);  // the same solver, the same bits
   EXPECT_TRUE(c.stable);
   EXPECT_LE(c.worst_margin, c.margin);
   double sampled = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kLowSpeedBandSamples; ++i)
-    sampled = std::min(sampled, ref->limit_at(200.0 * (0.98 + 0.04 * i / (kLowSpeedBandSamples - 1))).depth_limit_m);
+    sampled = std::min(sampled, ref->limit_at(SpindleSpeed(200.0 * (0.98 + 0.04 * i / (kLowSpeedBandSamples - 1)))).depth_limit_m);
   EXPECT_NEAR(c.worst_margin * c.op.depth_m, sampled, kManyLobesRel * sampled);
   ASSERT_TRUE(c.suggestion_pocket.has_value());
   const SpeedPocket& p = *c.suggestion_pocket;

@@ -238,10 +238,10 @@ TEST(PitchDesign, TableEqualsASeparatelyBuiltSdmSolverBitwise) {
   const auto solver = make_lobe_solver("sdm", symmetric(), designed, 0.02);
   const auto equal_solver = make_lobe_solver("sdm", symmetric(), slotting(), 0.02);
   for (std::size_t i : {std::size_t{0}, std::size_t{7}, std::size_t{13}, d.speeds_rpm.size() - 1}) {
-    const StabilityLimit l = solver->limit_at(d.speeds_rpm[i]);
+    const StabilityLimit l = solver->limit_at(SpindleSpeed(d.speeds_rpm[i]));
     EXPECT_EQ(l.depth_limit_m, d.designed.limits[i].depth_limit_m) << d.speeds_rpm[i] << " rev/min";
     EXPECT_EQ(l.chatter_frequency_hz, d.designed.limits[i].chatter_frequency_hz) << d.speeds_rpm[i];
-    EXPECT_EQ(equal_solver->limit_at(d.speeds_rpm[i]).depth_limit_m, d.equal.limits[i].depth_limit_m)
+    EXPECT_EQ(equal_solver->limit_at(SpindleSpeed(d.speeds_rpm[i])).depth_limit_m, d.equal.limits[i].depth_limit_m)
         << d.speeds_rpm[i];
   }
 }

@@ -144,7 +144,7 @@ LobeData seed_lobes(double depth_max_mm, int rpm_points = 200) {
   const chatter::AnalyticSolver solver(d.cfg.model, d.cfg.process, opt);
   const double lo = d.cfg.sweep.rpm_min.value(), hi = d.cfg.sweep.rpm_max.value();
   d.envelope = chatter::lobe_envelope(solver, chatter::evenly_spaced_speeds(lo, hi, rpm_points));
-  d.curves = solver.lobe_curves(lo, hi);
+  d.curves = solver.lobe_curves(chatter::SpindleSpeed(lo), chatter::SpindleSpeed(hi));
   d.absolute = solver.absolute_limit();
   d.depth_max_m = solver.depth_max_m();
   return d;
@@ -611,7 +611,7 @@ std::vector<chatter::MethodLimits> case_c_methods(int points) {
   m[1].method = "sdm";
   for (double rpm : speeds) {
     chatter::FloquetResult f;
-    m[1].limits.push_back(sdm.limit_at(rpm, &f));
+    m[1].limits.push_back(sdm.limit_at(chatter::SpindleSpeed(rpm), &f));
     m[1].multiplier_type.push_back(f.type);
   }
   return m;

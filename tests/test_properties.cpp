@@ -77,7 +77,7 @@ TEST(Properties, RandomModelsGiveValidLimitsAndBothSolversAgree) {
     const CoupledSolver c(d.model, d.process, depth_max(0.05));
     const AbsoluteLimit abs_lim = a.absolute_limit();
     for (double rpm : evenly_spaced_speeds(500, 30000, 25)) {
-      const StabilityLimit la = a.limit_at(rpm), lc = c.limit_at(rpm);
+      const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lc = c.limit_at(SpindleSpeed(rpm));
       ++total;
       ASSERT_FALSE(std::isnan(la.depth_limit_m)) << "trial " << trial << " rpm " << rpm;
       ASSERT_GT(la.depth_limit_m, 0.0);
@@ -118,7 +118,7 @@ TEST(Properties, ScalingStiffnessesAndCuttingCoefficientsLeavesLobesUnchanged) {
     const AnalyticSolver a(d.model, d.process, depth_max(0.05));
     const AnalyticSolver b(scaled.model, scaled.process, depth_max(0.05));
     for (double rpm : evenly_spaced_speeds(1000, 20000, 20)) {
-      const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+      const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
       ASSERT_EQ(la.bounded(), lb.bounded());
       if (!la.bounded()) continue;
       EXPECT_NEAR(lb.depth_limit_m / la.depth_limit_m, 1.0, kInvariance) << "trial " << trial << ", factor " << s;
@@ -138,7 +138,7 @@ TEST(Properties, SwappingBodiesLeavesLobesUnchanged) {
     const AnalyticSolver a(d.model, d.process, depth_max(0.05));
     const CoupledSolver b(swapped, d.process, depth_max(0.05));
     for (double rpm : evenly_spaced_speeds(1000, 20000, 20)) {
-      const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+      const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
       ASSERT_EQ(la.bounded(), lb.bounded());
       if (la.bounded()) {
         EXPECT_NEAR(lb.depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree);
@@ -166,7 +166,7 @@ TEST(Properties, ScalingTheCuttingCoefficientsAloneScalesTheDepthInversely) {
     const AnalyticSolver a(d.model, d.process, depth_max(0.05));
     const AnalyticSolver b(d.model, scaled, depth_max(0.05 / c));
     for (double rpm : evenly_spaced_speeds(800, 24000, 15)) {
-      const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+      const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
       ASSERT_EQ(la.bounded(), lb.bounded()) << "trial " << trial << " rpm " << rpm;
       if (!la.bounded()) continue;
       EXPECT_NEAR(lb.depth_limit_m * c / la.depth_limit_m, 1.0, kInvariance)
@@ -191,7 +191,7 @@ TEST(Properties, OneModeTurningMeetsTheClosedForms) {
     EXPECT_NEAR(s.absolute_limit().depth_m / closed, 1.0, kClosedForm) << "trial " << trial;
     int bounded = 0;
     for (double rpm : evenly_spaced_speeds(0.02 * 60 * f, 2.0 * 60 * f, 12)) {  // 0.02 … 2 revolutions per vibration
-      const StabilityLimit l = s.limit_at(rpm);
+      const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
       if (!l.bounded()) continue;
       ++bounded;
       const double w = 2.0 * std::numbers::pi * l.chatter_frequency_hz, tau = 60.0 / rpm;
@@ -220,12 +220,12 @@ TEST(Properties, ALimitDoesNotDependOnTheOtherQueries) {
     std::shuffle(order.begin(), order.end(), g);
     const AnalyticSolver shuffled(d.model, d.process, depth_max(0.05));
     for (std::size_t i : order) {
-      const StabilityLimit l = shuffled.limit_at(speeds[i]);
+      const StabilityLimit l = shuffled.limit_at(SpindleSpeed(speeds[i]));
       EXPECT_EQ(l.depth_limit_m, rows[i].depth_limit_m) << "trial " << trial << " rpm " << speeds[i];  // bitwise
       EXPECT_EQ(l.lobe, rows[i].lobe);
     }
     const std::size_t one = order.front();
-    const StabilityLimit alone = AnalyticSolver(d.model, d.process, depth_max(0.05)).limit_at(speeds[one]);
+    const StabilityLimit alone = AnalyticSolver(d.model, d.process, depth_max(0.05)).limit_at(SpindleSpeed(speeds[one]));
     EXPECT_EQ(alone.depth_limit_m, rows[one].depth_limit_m) << "trial " << trial;
   }
 }

@@ -183,7 +183,7 @@ void expect_paths_agree(const StructuralModel& m, const Process& p, const std::v
   const SemiDiscretizationSolver a(m, p, fast), b(m, p, general);
   for (const double rpm : speeds) {
     SCOPED_TRACE(std::to_string(rpm) + " rev/min");
-    const StabilityLimit la = a.limit_at(rpm), lb = b.limit_at(rpm);
+    const StabilityLimit la = a.limit_at(SpindleSpeed(rpm)), lb = b.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded() && lb.bounded());
     EXPECT_NEAR(lb.depth_limit_m / la.depth_limit_m, 1.0, kPathsAgree)
         << "general " << lb.depth_limit_m << " vs fast " << la.depth_limit_m;

@@ -74,8 +74,8 @@ TEST(Registry, EveryMethodBuildsOnAShippedConfigItAccepts) {
       ASSERT_TRUE(eff.count("depth_max_m")) << d.name;
       EXPECT_EQ(std::get<double>(eff.at("depth_max_m")), kDepthMaxM) << d.name;
       if (d.kind == SolverKind::kSimulation) break;  // slow: one config is enough
-      const StabilityLimit plain = s->limit_at(kRpm);
-      const DiagnosedLimit diag = s->limit_with_diagnostics(kRpm);
+      const StabilityLimit plain = s->limit_at(SpindleSpeed(kRpm));
+      const DiagnosedLimit diag = s->limit_with_diagnostics(SpindleSpeed(kRpm));
       EXPECT_EQ(diag.values.size(), d.columns.size()) << d.name;
       if (plain.bounded())
         EXPECT_LE(std::abs(diag.limit.depth_limit_m - plain.depth_limit_m), kSameLimit)
@@ -163,7 +163,7 @@ TEST(Registry, DiagnosticsAgreeWithTheLimit) {
     const auto s = make_lobe_solver(d.name, cfg.model, cfg.process, 0.02);
     EXPECT_EQ(s->known_absolute_limit().has_value(), d.kind == SolverKind::kAveraged) << d.name;
     for (double rpm : {6000.0, 9000.0, 12000.0}) {
-      const DiagnosedLimit r = s->limit_with_diagnostics(rpm);
+      const DiagnosedLimit r = s->limit_with_diagnostics(SpindleSpeed(rpm));
       ASSERT_EQ(r.values.size(), d.columns.size()) << d.name;
       for (std::size_t c = 0; c < d.columns.size(); ++c) {
         const SolverValue& v = r.values[c];
@@ -177,8 +177,8 @@ TEST(Registry, DiagnosticsAgreeWithTheLimit) {
         }
       }
       if (!r.limit.bounded()) continue;
-      const PointAnalysis below = s->analyse_point(rpm, kBelow * r.limit.depth_limit_m);
-      const PointAnalysis above = s->analyse_point(rpm, kAbove * r.limit.depth_limit_m);
+      const PointAnalysis below = s->analyse_point(SpindleSpeed(rpm), kBelow * r.limit.depth_limit_m);
+      const PointAnalysis above = s->analyse_point(SpindleSpeed(rpm), kAbove * r.limit.depth_limit_m);
       if (!below.stable) continue;  // the method judges from limit_at alone
       ASSERT_TRUE(above.stable.has_value()) << d.name;
       ++verdicts_checked;

@@ -91,8 +91,8 @@ TransferFunctionOptions tf_options(double depth_max_m) {
 double wrap_pi(double x) { return std::remainder(x, kTwoPi); }  // into [−π, π]
 
 void expect_agree(const SemiDiscretizationSolver& sdm, const TransferFunctionSolver& tf, double rpm, double tol) {
-  const StabilityLimit s = sdm.limit_at(rpm);
-  const StabilityLimit t = tf.limit_at(rpm);
+  const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm));
+  const StabilityLimit t = tf.limit_at(SpindleSpeed(rpm));
   ASSERT_TRUE(t.bounded()) << rpm;
   ASSERT_TRUE(s.bounded()) << rpm;
   EXPECT_NEAR(s.depth_limit_m / t.depth_limit_m, 1.0, tol)
@@ -120,7 +120,7 @@ TEST(SdmTurning, CaseAAtTheAbsoluteLimitSpeed) {
   const double eps = std::fmod(3 * kPi + 2 * std::arg(an.eigenvalues(w)[0]), kTwoPi);
   const double rpm = 60.0 / ((eps + 2 * kPi * 2) / w);
   const SemiDiscretizationSolver sdm(case_a(), p, sdm_options(0.05));
-  const StabilityLimit s = sdm.limit_at(rpm);
+  const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm));
   const double closed = 2 * kA_k * kA_zeta * (1 + kA_zeta) / kA_Kf;  // 1.2783 mm
   EXPECT_NEAR(s.depth_limit_m / closed, 1.0, kTurningAgree) << s.depth_limit_m << " vs " << closed << " at " << rpm;
   EXPECT_EQ(s.lobe, 2);
@@ -137,7 +137,7 @@ TEST(SdmTurning, StableUpToDepthMaxIsInfinity) {
   // 0.5 mm is below the absolute limit 1.2783 mm of case A.
   const SemiDiscretizationSolver sdm(case_a(), Process::turning({kA_Kf}), sdm_options(0.0005));
   for (double rpm : {300.0, 2500.0}) {
-    const StabilityLimit s = sdm.limit_at(rpm);
+    const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm));
     EXPECT_FALSE(s.bounded()) << rpm;
     EXPECT_EQ(s.lobe, -1);
     EXPECT_TRUE(std::isnan(s.chatter_frequency_hz));
@@ -151,7 +151,7 @@ TEST(SdmKnownAnswer, MultiplierAtTheAnalyticBoundaryIsOnTheUnitCircle) {
   const AnalyticSolver an(case_a(), p, tf_options(0.05));
   const SemiDiscretizationSolver sdm(case_a(), p, sdm_options(0.05, 192));
   for (double rpm : {1000.0, 3000.0}) {
-    const StabilityLimit t = an.limit_at(rpm);
+    const StabilityLimit t = an.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(t.bounded());
     const double tau = 60.0 / rpm, w = kTwoPi * t.chatter_frequency_hz;
     const FloquetResult f = sdm.analyse(rpm, t.depth_limit_m);
@@ -191,8 +191,8 @@ TEST(SdmMilling, LowImmersionFlipLobeThatTheTransferFunctionMisses) {
   // 16 000 rev/min: analytic finds nothing below 10 mm, sdm a flip lobe.
   {
     FloquetResult f;
-    const StabilityLimit s = sdm.limit_at(16000.0, &f);
-    EXPECT_FALSE(an.limit_at(16000.0).bounded());
+    const StabilityLimit s = sdm.limit_at(SpindleSpeed(16000.0), &f);
+    EXPECT_FALSE(an.limit_at(SpindleSpeed(16000.0)).bounded());
     ASSERT_TRUE(s.bounded());
     EXPECT_EQ(f.type, MultiplierType::kFlip);
     EXPECT_NEAR(std::abs(f.dominant_multiplier + 1.0), 0.0, kFlipMultiplier);
@@ -203,8 +203,8 @@ TEST(SdmMilling, LowImmersionFlipLobeThatTheTransferFunctionMisses) {
   // 17 500 and 18 000 rev/min: sdm's flip limit is far below analytic's.
   for (double rpm : {17500.0, 18000.0}) {
     FloquetResult f;
-    const StabilityLimit s = sdm.limit_at(rpm, &f);
-    const StabilityLimit t = an.limit_at(rpm);
+    const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm), &f);
+    const StabilityLimit t = an.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(s.bounded() && t.bounded()) << rpm;
     EXPECT_EQ(f.type, MultiplierType::kFlip) << rpm;
     EXPECT_LT(s.depth_limit_m, 0.5 * t.depth_limit_m) << "sdm " << s.depth_limit_m << " vs analytic " << t.depth_limit_m;
@@ -213,7 +213,7 @@ TEST(SdmMilling, LowImmersionFlipLobeThatTheTransferFunctionMisses) {
   // 2·922/5 Hz ≈ 11 000 rev/min aside): complex multipliers at the limit.
   for (double rpm : {5000.0, 8000.0, 12000.0}) {
     FloquetResult f;
-    const StabilityLimit s = sdm.limit_at(rpm, &f);
+    const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm), &f);
     ASSERT_TRUE(s.bounded()) << rpm;
     EXPECT_EQ(f.type, MultiplierType::kHopf) << rpm;
     EXPECT_NEAR(f.spectral_radius, 1.0, 1e-3);
@@ -398,7 +398,7 @@ TEST(SdmMap, SpectralRadiusMapIsRowMajorAndMatchesAnalyse) {
 TEST(SdmMap, LimitSeparatesStableFromUnstable) {
   const SemiDiscretizationSolver sdm(case_c(), case_c_process(2, 0.05), sdm_options(0.01));
   for (double rpm : {7000.0, 17000.0, 23000.0}) {
-    const StabilityLimit s = sdm.limit_at(rpm);
+    const StabilityLimit s = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(s.bounded()) << rpm;
     EXPECT_LT(sdm.analyse(rpm, s.depth_limit_m * (1 - 1e-3)).spectral_radius, 1.0) << rpm;
     EXPECT_GT(sdm.analyse(rpm, s.depth_limit_m * (1 + 1e-3)).spectral_radius, 1.0) << rpm;
@@ -435,12 +435,12 @@ TEST(SdmInput, RefusesBadOptionsNamingTheRule) {
   EXPECT_TRUE(SemiDiscretizationOptions{}.validate().empty());
   EXPECT_THROW(SemiDiscretizationSolver(StructuralModel{}, Process::turning({kA_Kf})), InputError);
   const SemiDiscretizationSolver s(case_a(), Process::turning({kA_Kf}));
-  EXPECT_THROW(s.limit_at(0.0), InputError);
-  EXPECT_THROW(s.limit_at(NAN), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(0.0)), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(NAN)), InputError);
   EXPECT_THROW(s.analyse(1000.0, -1e-3), InputError);
   EXPECT_THROW(s.spectral_radius_map({-5.0}, {1e-3}), InputError);
   // 0.1 rev/min: 600 s per revolution, ≈3.6 million steps at the defaults.
-  EXPECT_THROW(s.limit_at(0.1), InputError);
+  EXPECT_THROW(s.limit_at(SpindleSpeed(0.1)), InputError);
   EXPECT_EQ(s.method(), "sdm");
   EXPECT_EQ(to_string(MultiplierType::kFlip), "flip");
 }

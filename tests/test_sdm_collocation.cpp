@@ -56,7 +56,7 @@ SemiDiscretizationOptions options(int nodes, int steps, double depth_tolerance =
 
 double limit(const SemiDiscretizationOptions& o, double rpm) {
   const SemiDiscretizationSolver s(peers_model(), peers_process(), o);
-  const StabilityLimit l = s.limit_at(rpm);
+  const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
   EXPECT_TRUE(l.bounded()) << rpm;
   return l.depth_limit_m;
 }
@@ -106,9 +106,9 @@ TEST(SdmCollocation, SeveralTeethInTheCutSlottingAndOneToothAgree) {
       SemiDiscretizationOptions coll = options(3, kCollocationSteps);
       coll.depth_max_m = 0.02;
       FloquetResult ff, fc;
-      const StabilityLimit a = SemiDiscretizationSolver(m, p, fine).limit_at(rpm, &ff);
-      const StabilityLimit b = SemiDiscretizationSolver(m, p, finer).limit_at(rpm);
-      const StabilityLimit k = SemiDiscretizationSolver(m, p, coll).limit_at(rpm, &fc);
+      const StabilityLimit a = SemiDiscretizationSolver(m, p, fine).limit_at(SpindleSpeed(rpm), &ff);
+      const StabilityLimit b = SemiDiscretizationSolver(m, p, finer).limit_at(SpindleSpeed(rpm));
+      const StabilityLimit k = SemiDiscretizationSolver(m, p, coll).limit_at(SpindleSpeed(rpm), &fc);
       ASSERT_TRUE(a.bounded() && b.bounded() && k.bounded());
       const double ref = b.depth_limit_m + (b.depth_limit_m - a.depth_limit_m) / 3.0;
       EXPECT_NEAR(k.depth_limit_m / ref, 1.0, kDefaultStepsAgree);
@@ -140,8 +140,8 @@ TEST(SdmCollocation, TypeFrequencyAndRadiusAreTheFirstOrdersFlipAndHopf) {
   const SemiDiscretizationSolver coll(m, p, options(3, kCollocationSteps));
   for (double rpm : {5000.0, 12000.0, 16000.0, 18000.0}) {
     FloquetResult ff, fc;
-    const StabilityLimit a = first.limit_at(rpm, &ff);
-    const StabilityLimit b = coll.limit_at(rpm, &fc);
+    const StabilityLimit a = first.limit_at(SpindleSpeed(rpm), &ff);
+    const StabilityLimit b = coll.limit_at(SpindleSpeed(rpm), &fc);
     ASSERT_TRUE(a.bounded() && b.bounded()) << rpm;
     EXPECT_EQ(fc.type, ff.type) << rpm;
     EXPECT_NEAR(b.depth_limit_m / a.depth_limit_m, 1.0, 1e-3) << rpm;
@@ -154,10 +154,10 @@ TEST(SdmCollocation, TypeFrequencyAndRadiusAreTheFirstOrdersFlipAndHopf) {
     }
   }
   FloquetResult f16;
-  coll.limit_at(16000.0, &f16);
+  coll.limit_at(SpindleSpeed(16000.0), &f16);
   EXPECT_EQ(f16.type, MultiplierType::kFlip);
   FloquetResult f5;
-  coll.limit_at(5000.0, &f5);
+  coll.limit_at(SpindleSpeed(5000.0), &f5);
   EXPECT_EQ(f5.type, MultiplierType::kHopf);
   // The map holds 3 samples per cutting step (n_r = 1: one direction), none
   // for free flight.
@@ -167,7 +167,7 @@ TEST(SdmCollocation, TypeFrequencyAndRadiusAreTheFirstOrdersFlipAndHopf) {
 TEST(SdmCollocation, AnalyseAgreesWithTheSearchAtTheLimit) {
   const SemiDiscretizationSolver s(peers_model(), peers_process(), options(3, kCollocationSteps));
   FloquetResult at;
-  const StabilityLimit l = s.limit_at(7000.0, &at);
+  const StabilityLimit l = s.limit_at(SpindleSpeed(7000.0), &at);
   ASSERT_TRUE(l.bounded());
   const FloquetResult again = s.analyse(7000.0, l.depth_limit_m);
   EXPECT_EQ(again.spectral_radius, at.spectral_radius);
@@ -180,7 +180,7 @@ void expect_refused(const StructuralModel& m, const Process& p, const SemiDiscre
                     const std::string& words) {
   try {
     const SemiDiscretizationSolver s(m, p, o);
-    s.limit_at(5000.0);
+    s.limit_at(SpindleSpeed(5000.0));
     ADD_FAILURE() << "no InputError; expected: " << words;
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();

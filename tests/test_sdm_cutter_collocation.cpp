@@ -114,7 +114,7 @@ SemiDiscretizationOptions options(int nodes, int steps, double depth_max_m = 0.0
   return o;
 }
 double limit(const StructuralModel& m, const Process& p, const SemiDiscretizationOptions& o, double rpm) {
-  const StabilityLimit l = SemiDiscretizationSolver(m, p, o).limit_at(rpm);
+  const StabilityLimit l = SemiDiscretizationSolver(m, p, o).limit_at(SpindleSpeed(rpm));
   EXPECT_TRUE(l.bounded()) << rpm;
   return l.depth_limit_m;
 }
@@ -263,7 +263,7 @@ TEST(SdmCutterCollocation, TypeFrequencyAndLobeAreTheFirstOrders) {
   const SemiDiscretizationSolver first(m, p, options(0, 128)), coll(m, p, options(kRealCutterNodes, kRealCutterSteps));
   for (double rpm : {1000.0, 5000.0, 12000.0, 20000.0}) {
     FloquetResult ff, fc;
-    const StabilityLimit a = first.limit_at(rpm, &ff), b = coll.limit_at(rpm, &fc);
+    const StabilityLimit a = first.limit_at(SpindleSpeed(rpm), &ff), b = coll.limit_at(SpindleSpeed(rpm), &fc);
     ASSERT_TRUE(a.bounded() && b.bounded()) << rpm;
     EXPECT_EQ(fc.type, ff.type) << rpm;
     EXPECT_EQ(b.lobe, a.lobe) << rpm;

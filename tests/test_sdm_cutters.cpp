@@ -152,7 +152,7 @@ TEST(SdmCutters, ExplicitEqualPitchAndZeroHelixEqualTheDefaultProcess) {
       const SemiDiscretizationSolver a(model, Process::milling(plain), opts(0.01));
       const SemiDiscretizationSolver b(model, Process::milling(given), opts(0.01));
       for (double rpm : {9500.0, 17000.0}) {
-        const double la = a.limit_at(rpm).depth_limit_m, lb = b.limit_at(rpm).depth_limit_m;
+        const double la = a.limit_at(SpindleSpeed(rpm)).depth_limit_m, lb = b.limit_at(SpindleSpeed(rpm)).depth_limit_m;
         EXPECT_NEAR(lb / la, 1.0, kSamePath) << immersion << " at " << rpm << ": " << lb << " vs " << la;
       }
     }
@@ -167,7 +167,7 @@ TEST(SdmCutters, EqualPitchThroughTheMultiDelayPathEqualsTheUniformPath) {
     const SemiDiscretizationSolver uni(model, p, opts(0.01));
     const SemiDiscretizationSolver gen(model, p, general);
     for (double rpm : {9500.0, 12000.0, 17000.0}) {
-      const StabilityLimit lu = uni.limit_at(rpm), lg = gen.limit_at(rpm);
+      const StabilityLimit lu = uni.limit_at(SpindleSpeed(rpm)), lg = gen.limit_at(SpindleSpeed(rpm));
       ASSERT_TRUE(lu.bounded() && lg.bounded()) << rpm;
       EXPECT_NEAR(lg.depth_limit_m / lu.depth_limit_m, 1.0, kGeneralVsUniform)
           << rpm << ": general " << lg.depth_limit_m << " vs uniform " << lu.depth_limit_m;
@@ -194,7 +194,7 @@ TEST(SdmCutters, HelixMatchesBruteForceMonodromy) {
   const SemiDiscretizationSolver fine(case_c(), p, opts(0.01, 256));
   // 16 000 rev/min: a flip lobe of case C at a_e/D = 0.05; 9 500: Hopf.
   for (double rpm : {16000.0, 9500.0}) {
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(lim.bounded()) << rpm;
     for (double frac : {0.6, 1.0}) {
       const double a = frac * lim.depth_limit_m;
@@ -214,12 +214,12 @@ TEST(SdmCutters, HelixMatchesBruteForceMonodromy) {
 TEST(SdmCutters, HelixConvergesWithSecondOrder) {
   const Process p = helix_process(0.05, 30.0);
   for (double rpm : {9500.0, 16000.0}) {
-    const double ref = SemiDiscretizationSolver(case_c(), p, opts(0.01, 512)).limit_at(rpm).depth_limit_m;
+    const double ref = SemiDiscretizationSolver(case_c(), p, opts(0.01, 512)).limit_at(SpindleSpeed(rpm)).depth_limit_m;
     std::vector<double> err;
     for (int s : {16, 32, 64}) {
       SemiDiscretizationOptions o = opts(0.01, s);
       o.depth_tolerance = 1e-7;
-      err.push_back(std::abs(SemiDiscretizationSolver(case_c(), p, o).limit_at(rpm).depth_limit_m - ref));
+      err.push_back(std::abs(SemiDiscretizationSolver(case_c(), p, o).limit_at(SpindleSpeed(rpm)).depth_limit_m - ref));
     }
     for (std::size_t i = 0; i + 1 < err.size(); ++i) {
       const double ratio = err[i] / err[i + 1];
@@ -244,7 +244,7 @@ TEST(SdmCutters, VariablePitchMatchesBruteForceMonodromy) {
   const SemiDiscretizationSolver sdm(case_c(), p, opts(0.01));
   const SemiDiscretizationSolver fine(case_c(), p, opts(0.01, 256));
   for (double rpm : {10000.0, 14000.0}) {
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(lim.bounded()) << rpm;
     for (double frac : {0.6, 1.0}) {
       const double a = frac * lim.depth_limit_m;
@@ -272,7 +272,7 @@ TEST(SdmCutters, RepeatingPitchPatternUsesTheShorterPeriod) {
     // ρ over half a revolution is the square root of ρ over a revolution.
     EXPECT_NEAR(fh.spectral_radius * fh.spectral_radius, ff.spectral_radius, kRhoAgree)
         << rpm << ": half " << fh.spectral_radius << " squared vs full " << ff.spectral_radius;
-    const double lh = half.limit_at(rpm).depth_limit_m, lf = full.limit_at(rpm).depth_limit_m;
+    const double lh = half.limit_at(SpindleSpeed(rpm)).depth_limit_m, lf = full.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(lh / lf, 1.0, kGeneralVsUniform) << rpm << ": half " << lh << " vs full " << lf;
   }
 }
@@ -286,7 +286,7 @@ TEST(SdmCutters, VariablePitchRaisesTheLimitWhereItIsTuned) {
   constexpr double kRpm = 8500.0;
   const SemiDiscretizationSolver uni(case_c(), Process::milling(case_c_cutter(2, 0.5)), opts(0.02));
   const SemiDiscretizationSolver var(case_c(), variable_pitch(0.5), opts(0.02));
-  const StabilityLimit lu = uni.limit_at(kRpm), lv = var.limit_at(kRpm);
+  const StabilityLimit lu = uni.limit_at(SpindleSpeed(kRpm)), lv = var.limit_at(SpindleSpeed(kRpm));
   const double phase = kTwoPi * lu.chatter_frequency_hz * 2 * (kPitchDeltaDeg * kPi / 180.0) / (kTwoPi * kRpm / 60.0);
   EXPECT_NEAR(phase / kPi, 1.0, 0.2) << "the pitch is not tuned for this speed";
   constexpr double kRaise = 3.0;  // measured 4.1× (docs/sdm.md)
@@ -308,7 +308,7 @@ TEST(SdmCutters, NearlyEqualVariableHelixEqualsTheUniformHelix) {
   const SemiDiscretizationSolver uni(case_c(), helix_process(0.5, 30.0), opts(0.02));
   const SemiDiscretizationSolver var(case_c(), variable_helix(30.0, 30.000001), opts(0.02));
   for (double rpm : {8500.0, 12000.0}) {
-    const double lu = uni.limit_at(rpm).depth_limit_m, lv = var.limit_at(rpm).depth_limit_m;
+    const double lu = uni.limit_at(SpindleSpeed(rpm)).depth_limit_m, lv = var.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(lv / lu, 1.0, kGeneralVsUniform) << rpm << ": variable " << lv << " vs uniform " << lu;
   }
 }
@@ -321,9 +321,9 @@ TEST(SdmCutters, VariableHelixConvergesInAxialSlices) {
   for (double rpm : {8500.0, 12000.0}) {
     SemiDiscretizationOptions o = opts(0.02);
     o.depth_tolerance = 1e-6;
-    const double def = SemiDiscretizationSolver(case_c(), p, o).limit_at(rpm).depth_limit_m;
+    const double def = SemiDiscretizationSolver(case_c(), p, o).limit_at(SpindleSpeed(rpm)).depth_limit_m;
     o.axial_slices = 64;
-    const double ref = SemiDiscretizationSolver(case_c(), p, o).limit_at(rpm).depth_limit_m;
+    const double ref = SemiDiscretizationSolver(case_c(), p, o).limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(def / ref, 1.0, kSlicesAgree) << rpm << ": 8 slices " << def << " vs 64 slices " << ref;
   }
 }
@@ -340,9 +340,9 @@ TEST(SdmCutters, MillingProcessDampingVanishesAtHighSpeed) {
   const SemiDiscretizationSolver plain(case_c(), Process::milling(mp), o);
   mp.process_damping_coefficient_n_per_m = 10.0;
   const SemiDiscretizationSolver pd(case_c(), Process::milling(mp), o);
-  const double hi_pd = pd.limit_at(20000.0).depth_limit_m, hi = plain.limit_at(20000.0).depth_limit_m;
+  const double hi_pd = pd.limit_at(SpindleSpeed(20000.0)).depth_limit_m, hi = plain.limit_at(SpindleSpeed(20000.0)).depth_limit_m;
   EXPECT_NEAR(hi_pd / hi, 1.0, kProcessDampingAgree) << hi_pd << " vs " << hi;
-  const double lo_pd = pd.limit_at(500.0).depth_limit_m, lo = plain.limit_at(500.0).depth_limit_m;
+  const double lo_pd = pd.limit_at(SpindleSpeed(500.0)).depth_limit_m, lo = plain.limit_at(SpindleSpeed(500.0)).depth_limit_m;
   // Measured +0.07 %: C_pd a/V is 2.6e-2 N·s/m against c = 5.1 N·s/m, on
   // part of the revolution; ask for a third of it, far above the depth
   // tolerance (1e-6).
@@ -407,13 +407,13 @@ TEST(SdmCutters, TurningProcessDampingMatchesTheExactBoundary) {
   for (double rpm : {5.0, 10.0, 7500.0}) {
     const double exact = exact_process_damping_limit(rpm, kA_Cpd);
     const double undamped_exact = exact_process_damping_limit(rpm, 0.0);
-    const double got = pd.limit_at(rpm).depth_limit_m;
+    const double got = pd.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(got / exact, 1.0, kProcessDampingAgree)
         << rpm << " rev/min: sdm " << got << " vs exact " << exact << " (undamped exact " << undamped_exact << ")";
     if (rpm < 100.0) {  // 5, 10 rev/min: V = 26, 52 mm/s
       EXPECT_GT(exact, 1.3 * undamped_exact) << "process damping should raise the low-speed limit a lot";
     } else {
-      const double undamped = plain.limit_at(rpm).depth_limit_m;
+      const double undamped = plain.limit_at(SpindleSpeed(rpm)).depth_limit_m;
       EXPECT_NEAR(got / undamped, 1.0, kProcessDampingAgree) << rpm << ": " << got << " vs undamped " << undamped;
     }
   }

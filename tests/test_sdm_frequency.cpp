@@ -115,13 +115,13 @@ TEST(SdmFrequency, ReportedUpMillingFlipShowsOneAndAHalfToothPassing) {
   expect_same_line(c);
   // Against the analytic solver's frequency at its limit (1 237.7 Hz).
   const AnalyticSolver analytic(cfg.model, cfg.process);
-  const StabilityLimit an = analytic.limit_at(rpm);
+  const StabilityLimit an = analytic.limit_at(SpindleSpeed(rpm));
   EXPECT_NEAR(c.sdm.chatter_frequency_hz / an.chatter_frequency_hz, 1.0, kAnalyticFrequency)
       << c.sdm.chatter_frequency_hz << " vs analytic " << an.chatter_frequency_hz;
   // The lobe at the sdm limit is floor(f τ) = 1 (1.5 chatter waves per tooth period).
   const SemiDiscretizationSolver sdm(cfg.model, cfg.process);
   FloquetResult at_limit;
-  const StabilityLimit lim = sdm.limit_at(rpm, &at_limit);
+  const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm), &at_limit);
   EXPECT_EQ(at_limit.type, MultiplierType::kFlip);
   EXPECT_NEAR(lim.chatter_frequency_hz, c.sdm.chatter_frequency_hz, kBins * c.bin_hz)
       << lim.chatter_frequency_hz << " vs " << c.sdm.chatter_frequency_hz;
@@ -139,7 +139,7 @@ TEST(SdmFrequency, CaseCFlipAndHopfLobesMatchSimulation) {
     MultiplierType type;
   };
   for (const Point& p : {Point{17000, MultiplierType::kFlip}, Point{12000, MultiplierType::kHopf}}) {
-    const StabilityLimit lim = sdm.limit_at(p.rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(p.rpm));
     ASSERT_TRUE(lim.bounded()) << p.rpm;
     const Compared c = compare_at(cfg.model, cfg.process, p.rpm, kAboveLimit * lim.depth_limit_m);
     EXPECT_EQ(c.sdm.type, p.type) << c.where;
@@ -211,7 +211,7 @@ TEST(SdmFrequency, RandomModelsMatchSimulationInHopfAndFlipLobes) {
     SemiDiscretizationOptions deep;
     deep.depth_max_m = 0.5;
     const SemiDiscretizationSolver sdm(model, process, deep);
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     SCOPED_TRACE("case " + std::to_string(i) + (is_turning ? " turning" : " milling, " + std::to_string(teeth) +
                                                                               " teeth, a_e/D " +
                                                                               std::to_string(immersion)));

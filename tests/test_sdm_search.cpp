@@ -82,7 +82,7 @@ TEST(SdmSearch, NeverMissesACrossingADenseScanFinds) {
       const double cycles = 0.5 + 5.5 * U(rng);
       const double rpm = 60.0 * f_max / (teeth * cycles);
       FloquetResult fr;
-      const StabilityLimit lim = solver.limit_at(rpm, &fr);
+      const StabilityLimit lim = solver.limit_at(SpindleSpeed(rpm), &fr);
       const Scan scan = dense_scan(solver, rpm, o.depth_max_m / 300.0, o.depth_max_m);
       ++speeds;
       SCOPED_TRACE("model " + std::to_string(model_i) + ", " + std::to_string(rpm) + " rev/min");
@@ -117,7 +117,7 @@ TEST(SdmSearch, FindsThinFlipBandTips) {
                        Case{0.05, MillingDirection::kDown, 18132.83208}}) {
     const SemiDiscretizationSolver solver(m, Process::milling({2, 6e8, 2e8, c.immersion, c.dir}), o);
     FloquetResult fr;
-    const StabilityLimit lim = solver.limit_at(c.rpm, &fr);
+    const StabilityLimit lim = solver.limit_at(SpindleSpeed(c.rpm), &fr);
     const Scan scan = dense_scan(solver, c.rpm, 1e-4, o.depth_max_m);
     SCOPED_TRACE(std::to_string(c.rpm) + " rev/min");
     ASSERT_TRUE(std::isfinite(scan.unstable));
@@ -168,19 +168,19 @@ TEST(SdmSearch, LimitAboveAndStableAtAnswerAsTheFullSearch) {
   int asked = 0, above = 0;
   for (const Job& job : jobs)
     for (const double rpm : job.rpms) {
-      const StabilityLimit lim = job.solver.limit_at(rpm);
+      const StabilityLimit lim = job.solver.limit_at(SpindleSpeed(rpm));
       const double scale = lim.bounded() ? lim.depth_limit_m : o.depth_max_m;
       for (const double f : factors) {
         const double d = f * scale;
         SCOPED_TRACE(job.name + ", " + std::to_string(rpm) + " rev/min, depth " + std::to_string(d));
-        const bool a = job.solver.limit_above(rpm, d);
+        const bool a = job.solver.limit_above(SpindleSpeed(rpm), d);
         EXPECT_EQ(a, lim.depth_limit_m > d) << "limit " << lim.depth_limit_m;
         ++asked;
         above += a;
         if (std::abs(f - 1.0) > 1e-2) {
           const FloquetResult fr = job.solver.analyse(rpm, d);
           if (std::abs(fr.spectral_radius - 1.0) > 1e-3) {
-            const std::optional<bool> v = job.solver.stable_at(rpm, d);
+            const std::optional<bool> v = job.solver.stable_at(SpindleSpeed(rpm), d);
             ASSERT_TRUE(v.has_value());
             EXPECT_EQ(*v, fr.stable()) << "rho " << fr.spectral_radius;
           }
@@ -219,7 +219,7 @@ TEST(SdmSearch, ShippedConfigLimitsUnchanged) {
     const auto ref = read_reference(std::string(CHATTER_SOURCE_DIR) + "/tests/data/sdm_reference/" + name + ".csv");
     ASSERT_EQ(ref.size(), 100u);
     for (const auto& [rpm, depth] : ref) {
-      const double now = solver.limit_at(rpm).depth_limit_m;
+      const double now = solver.limit_at(SpindleSpeed(rpm)).depth_limit_m;
       if (std::isinf(depth)) {
         EXPECT_TRUE(std::isinf(now)) << rpm << " rev/min: " << now;
       } else {
@@ -272,7 +272,7 @@ TEST(SdmTurningBranches, LowSpeedLimitMatchesTransferFunction) {
   to.depth_max_m = 0.02;
   const AnalyticSolver exact(seed_turning(), Process::turning({2.4e9}), to);
   for (double rpm : {10.0, 30.0}) {
-    const double s = sdm.limit_at(rpm).depth_limit_m, e = exact.limit_at(rpm).depth_limit_m;
+    const double s = sdm.limit_at(SpindleSpeed(rpm)).depth_limit_m, e = exact.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(s, e, kLowSpeedAgree * e) << rpm << " rev/min";
   }
 }

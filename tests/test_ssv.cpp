@@ -19,7 +19,7 @@
 #include "chatter/error.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/solvers.hpp"
-#include "chatter/spindle_speed.hpp"
+#include "chatter/speed_variation.hpp"
 
 namespace chatter {
 namespace {
@@ -56,8 +56,8 @@ Process turning_a(double rva = 0.0, double rvf = 0.1) {
 
 // ------------------------------------------------- the speed and its delay
 
-TEST(SpindleSpeed, AngleIsTheIntegralOfTheSpeed) {
-  const SpindleSpeed s(600.0, {0.2, 0.3});
+TEST(ModulatedSpeed, AngleIsTheIntegralOfTheSpeed) {
+  const ModulatedSpeed s(600.0, {0.2, 0.3});
   // Trapezoid rule on a fine grid against the closed form.
   const double t_end = 0.37;
   const int n = 200000;
@@ -70,8 +70,8 @@ TEST(SpindleSpeed, AngleIsTheIntegralOfTheSpeed) {
   EXPECT_NEAR(s.time_at_angle(s.angle(t_end)), t_end, 1e-13);
 }
 
-TEST(SpindleSpeed, DelaySolvesTheAngleEquation) {
-  const SpindleSpeed s(300.0, {0.25, 0.05});
+TEST(ModulatedSpeed, DelaySolvesTheAngleEquation) {
+  const ModulatedSpeed s(300.0, {0.25, 0.05});
   for (double t : {0.0, 0.1, 1.3, 2.7, 4.0}) {
     const double tau = s.delay(t, kTwoPi);
     EXPECT_NEAR(s.angle(t) - s.angle(t - tau), kTwoPi, kAngleResidual) << "t = " << t;
@@ -80,10 +80,10 @@ TEST(SpindleSpeed, DelaySolvesTheAngleEquation) {
     EXPECT_LT(tau, 0.2 / 0.75);
   }
   // Constant speed: one revolution.
-  EXPECT_DOUBLE_EQ(SpindleSpeed(300.0, {}).delay(1.0, kTwoPi), 0.2);
+  EXPECT_DOUBLE_EQ(ModulatedSpeed(300.0, {}).delay(1.0, kTwoPi), 0.2);
 }
 
-TEST(SpindleSpeed, InvalidVariationIsRefusedWithTheRule) {
+TEST(ModulatedSpeed, InvalidVariationIsRefusedWithTheRule) {
   Process p = Process::turning({kA_Kf});
   EXPECT_THROW(p.set_speed_variation({1.0, 0.1}), InputError);
   EXPECT_THROW(p.set_speed_variation({-0.1, 0.1}), InputError);
@@ -140,7 +140,7 @@ TEST(SsvSdm, VanishingAmplitudeGivesTheConstantSpeedLimit) {
   for (double rpm : {300.0, 1200.0}) {
     const SemiDiscretizationSolver steady(case_a(), turning_a(0.0));
     const SemiDiscretizationSolver ssv(case_a(), turning_a(1e-9, 0.25));
-    const double a0 = steady.limit_at(rpm).depth_limit_m, a1 = ssv.limit_at(rpm).depth_limit_m;
+    const double a0 = steady.limit_at(SpindleSpeed(rpm)).depth_limit_m, a1 = ssv.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(a1 / a0, 1.0, kConstantLimit) << rpm << " rev/min: constant " << a0 * 1e3 << " mm, R_VA = 1e-9 "
                                                << a1 * 1e3 << " mm";
   }
@@ -160,8 +160,8 @@ TEST(SsvSdm, VanishingAmplitudeGivesTheConstantSpeedLimitInMilling) {
   Process tiny = steady;
   tiny.set_speed_variation({1e-9, 0.1});
   for (double rpm : {6000.0, 17000.0}) {
-    const double a0 = SemiDiscretizationSolver(m, steady).limit_at(rpm).depth_limit_m;
-    const double a1 = SemiDiscretizationSolver(m, tiny).limit_at(rpm).depth_limit_m;
+    const double a0 = SemiDiscretizationSolver(m, steady).limit_at(SpindleSpeed(rpm)).depth_limit_m;
+    const double a1 = SemiDiscretizationSolver(m, tiny).limit_at(SpindleSpeed(rpm)).depth_limit_m;
     EXPECT_NEAR(a1 / a0, 1.0, kConstantLimit) << rpm << " rev/min: constant " << a0 * 1e3 << " mm, R_VA = 1e-9 "
                                                << a1 * 1e3 << " mm";
   }
@@ -170,7 +170,7 @@ TEST(SsvSdm, VanishingAmplitudeGivesTheConstantSpeedLimitInMilling) {
 TEST(SsvSdm, TooLongAPeriodIsRefusedWithWhatToChange) {
   // 50 rev/min, R_VF = 0.001: 1 000 revolutions of 7 238 steps.
   try {
-    SemiDiscretizationSolver(case_a(), turning_a(0.1, 0.001)).limit_at(50.0);
+    SemiDiscretizationSolver(case_a(), turning_a(0.1, 0.001)).limit_at(SpindleSpeed(50.0));
     FAIL() << "no exception";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("frequency ratio"), std::string::npos) << e.what();
@@ -323,7 +323,7 @@ TEST(SsvSdm, CaseAGainAgreesWithTheIndependentSemiDiscretisation) {
   const SemiDiscretizationSolver steady(case_a(), turning_a(0.0), o), ssv(case_a(), turning_a(0.1, 0.1), o);
   double gain_low = 0.0, gain_peak = 0.0;
   for (double rpm : {300.0, 1900.0}) {
-    const double lib = ssv.limit_at(rpm).depth_limit_m / steady.limit_at(rpm).depth_limit_m;
+    const double lib = ssv.limit_at(SpindleSpeed(rpm)).depth_limit_m / steady.limit_at(SpindleSpeed(rpm)).depth_limit_m;
     const IndependentSsv with{kA_f, kA_zeta, kA_k, kA_Kf, rpm, 0.1, 0.1, kSteps};
     IndependentSsv without = with;
     without.rva = 0.0;

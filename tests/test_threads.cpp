@@ -34,7 +34,7 @@ TEST(Threads, OneSolverManyReaders) {
       std::vector<StabilityLimit> out(speeds.size());
       for (std::size_t k = 0; k < speeds.size(); ++k) {
         const std::size_t i = (k * kStride[t] + static_cast<std::size_t>(t)) % speeds.size();
-        out[i] = solver.limit_at(speeds[i]);
+        out[i] = solver.limit_at(SpindleSpeed(speeds[i]));
       }
       results[static_cast<std::size_t>(t)] = std::move(out);
     });

@@ -152,7 +152,7 @@ TEST(TimeDomainNonlinear, VerdictChangesAcrossTheSdmLimitInHopfAndFlipLobes) {
   bool saw_flip = false;
   for (double rpm : {8000.0, 12000.0, 17000.0, 20000.0}) {
     FloquetResult at_limit;
-    const StabilityLimit lim = sdm.limit_at(rpm, &at_limit);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm), &at_limit);
     ASSERT_TRUE(lim.bounded());
     for (double factor : {0.9, 1.1}) {
       SimulationSettings s;
@@ -183,7 +183,7 @@ TEST(TimeDomainNonlinear, UnstableRunStaysBoundedAndChattersNearSdmFrequency) {
   TimeDomainSimulator sim(cfg.model, cfg.process);
   for (double rpm : {12000.0, 20000.0}) {
     FloquetResult at_limit;
-    const StabilityLimit lim = sdm.limit_at(rpm, &at_limit);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm), &at_limit);
     SimulationSettings s;
     s.spindle_rpm = rpm;
     s.depth_m = 1.5 * lim.depth_limit_m;
@@ -273,8 +273,8 @@ TEST(TimeDomainLobes, LimitByBisectionMatchesSdm) {
     TimeDomainOptions o;
     o.periods = 200;
     TimeDomainSolver td(cfg.model, cfg.process, o);
-    const StabilityLimit a = td.limit_at(rpm);
-    const StabilityLimit b = sdm.limit_at(rpm);
+    const StabilityLimit a = td.limit_at(SpindleSpeed(rpm));
+    const StabilityLimit b = sdm.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(a.bounded());
     // Bracket width 1 %, sdm within 0.5 % of exact.
     EXPECT_NEAR(a.depth_limit_m / b.depth_limit_m, 1.0, kBisectionVsSdm)
@@ -312,7 +312,7 @@ TEST(TimeDomainProperties, RandomModelsAgreeWithSdm) {
                                     coin(g) ? MillingDirection::kDown : MillingDirection::kUp});
     const double rpm = turning ? log_uniform(1500, 6000) : log_uniform(4000, 20000);
     SemiDiscretizationSolver sdm(model, process);
-    const StabilityLimit lim = sdm.limit_at(rpm);
+    const StabilityLimit lim = sdm.limit_at(SpindleSpeed(rpm));
     if (!lim.bounded()) continue;
     const double depth = lim.depth_limit_m * (0.7 + 0.6 * unit(g));
     const FloquetResult f = sdm.analyse(rpm, depth);

@@ -494,7 +494,7 @@ TEST(TimeDomainCutters, LobeSearchWithVariablePitchCountsToothPeriods) {
   const TimeDomainSolver uniform(case_c(), Process::milling(case_c_cutter()), o);
   const TimeDomainSolver variable(case_c(), Process::milling(almost), o);
   EXPECT_EQ(variable.verdict_run(20000, 1e-3).periods, 100);
-  const double a_u = uniform.limit_at(20000).depth_limit_m, a_v = variable.limit_at(20000).depth_limit_m;
+  const double a_u = uniform.limit_at(SpindleSpeed(20000)).depth_limit_m, a_v = variable.limit_at(SpindleSpeed(20000)).depth_limit_m;
   ASSERT_TRUE(std::isfinite(a_u)) << "no limit below 10 mm";
   EXPECT_NEAR(a_v, a_u, kBisection * a_u) << "variable pitch " << a_v << " m, uniform " << a_u << " m";
 }

@@ -45,7 +45,7 @@ TimeDomainOptions options() {
 class RefusingSolver final : public LobeSolver {
  public:
   std::string method() const override { return "refusing"; }
-  StabilityLimit limit_at(double) const override { throw InputError("refused"); }
+  StabilityLimit limit_at(SpindleSpeed) const override { throw InputError("refused"); }
   double depth_max_m() const override { return 0.02; }
 };
 
@@ -64,7 +64,7 @@ TEST(TimeDomainGuess, CallerGuessIsUsedAndGivesTheSameSearch) {
   const TimeDomainSolver with(case_a(), process, options(), guess);
   const TimeDomainSolver without(case_a(), process, options());
   EXPECT_EQ(with.starting_guess(), guess.get());
-  const StabilityLimit a = with.limit_at(kRpm), b = without.limit_at(kRpm);
+  const StabilityLimit a = with.limit_at(SpindleSpeed(kRpm)), b = without.limit_at(SpindleSpeed(kRpm));
   ASSERT_TRUE(a.bounded());
   // The same guess: the same verdict runs, the same bits.
   EXPECT_EQ(a.depth_limit_m, b.depth_limit_m) << a.depth_limit_m << " vs " << b.depth_limit_m;
@@ -74,7 +74,7 @@ TEST(TimeDomainGuess, RefusedGuessOnlyMovesTheStartOfTheSearch) {
   const Process process = Process::turning({kFeedForce});
   const TimeDomainSolver refused(case_a(), process, options(), std::make_shared<const RefusingSolver>());
   const TimeDomainSolver analytic(case_a(), process, options());
-  const StabilityLimit a = refused.limit_at(kRpm), b = analytic.limit_at(kRpm);
+  const StabilityLimit a = refused.limit_at(SpindleSpeed(kRpm)), b = analytic.limit_at(SpindleSpeed(kRpm));
   ASSERT_TRUE(a.bounded());
   ASSERT_TRUE(b.bounded());
   const double width = kDepthTolerance * (1.0 + kDepthTolerance) * std::max(a.depth_limit_m, b.depth_limit_m);

@@ -4,7 +4,7 @@
 // of the same equation (turning case A at three speeds, milling case C);
 // the verdicts agree with sdm's limit on both sides of it; and an
 // integrator written here (fixed-step RK4, the delay solved by bisection
-// on the closed-form spindle angle, no SpindleSpeed) gives the same growth.
+// on the closed-form spindle angle, no ModulatedSpeed) gives the same growth.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,7 +20,7 @@
 #include "chatter/error.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/semi_discretization.hpp"
-#include "chatter/spindle_speed.hpp"
+#include "chatter/speed_variation.hpp"
 #include "chatter/time_domain.hpp"
 
 namespace chatter {
@@ -78,7 +78,7 @@ double sdm_rho(const StructuralModel& m, const Process& p, double rpm, double de
   SemiDiscretizationOptions o;
   o.steps_per_period *= 4;
   o.steps_per_vibration_cycle *= 4;
-  const PointAnalysis a = SemiDiscretizationSolver(m, p, o).analyse_point(rpm, depth_m);
+  const PointAnalysis a = SemiDiscretizationSolver(m, p, o).analyse_point(SpindleSpeed(rpm), depth_m);
   return a.spectral_radius.value_or(std::nan(""));
 }
 
@@ -200,7 +200,7 @@ TEST(TimeDomainSsv, GrowthPerPeriodIsSdmMultiplierInMilling) {
   const Process p = case_c(0.1, 0.3);
   for (const double rpm : {6000.0, 9000.0})
     for (const double f : {0.8, 1.0}) {
-      const double depth = f * SemiDiscretizationSolver(m, p).limit_at(rpm).depth_limit_m;
+      const double depth = f * SemiDiscretizationSolver(m, p).limit_at(SpindleSpeed(rpm)).depth_limit_m;
       const double rho = sdm_rho(m, p, rpm, depth);
       const double g = linear_run(m, p, rpm, depth, 12).growth_per_period;
       EXPECT_NEAR(g / rho, 1.0, kSdmGrowth) << rpm << " rev/min, " << depth * 1e3 << " mm: sdm |mu| = " << rho
@@ -234,7 +234,7 @@ TEST(TimeDomainSsv, VerdictsAgreeWithSdmLimitOnBothSides) {
   const Config a = config("ssv_turning_case_a.toml");
   for (const Case& c : {Case{a.model, a.process, 300.0, "case A"}, Case{a.model, a.process, 1200.0, "case A"},
                         Case{case_c_model(), case_c(0.1, 0.3), 6000.0, "case C"}}) {
-    const double limit = SemiDiscretizationSolver(c.model, c.process).limit_at(c.rpm).depth_limit_m;
+    const double limit = SemiDiscretizationSolver(c.model, c.process).limit_at(SpindleSpeed(c.rpm)).depth_limit_m;
     ASSERT_TRUE(std::isfinite(limit) && limit > 0.0) << c.name;
     TimeDomainOptions o;
     const TimeDomainSolver td(c.model, c.process, o);
@@ -341,7 +341,7 @@ struct Independent {
 TEST(TimeDomainSsv, GrowthMatchesAnIndependentIntegrator) {
   // Case A with R_VA 0.1, R_VF 0.1: at 300 rev/min the delay swings between
   // 0.182 and 0.222 s; the spindle's own angle and delay are recomputed
-  // here (closed form, bisection), not taken from SpindleSpeed.
+  // here (closed form, bisection), not taken from ModulatedSpeed.
   const Config a = config("ssv_turning_case_a.toml");
   const Mode& mode = a.model.workpiece.modes.at(0);
   const double wn = kTwoPi * mode.natural_frequency_hz;

@@ -175,9 +175,9 @@ TEST(InsertDefaults, NinetyDegreesAndNoNoseAreTheOrthogonalCutBitForBit) {
   so.depth_max_m = 0.02;
   SemiDiscretizationSolver s1(m, plain, so), s2(m, explicit_insert, so);
   for (const double rpm : {300.0, 1000.0, 1700.0}) {
-    EXPECT_EQ(a1.limit_at(rpm).depth_limit_m, a2.limit_at(rpm).depth_limit_m) << rpm;
-    EXPECT_EQ(c1.limit_at(rpm).depth_limit_m, c2.limit_at(rpm).depth_limit_m) << rpm;
-    EXPECT_EQ(s1.limit_at(rpm).depth_limit_m, s2.limit_at(rpm).depth_limit_m) << rpm;
+    EXPECT_EQ(a1.limit_at(SpindleSpeed(rpm)).depth_limit_m, a2.limit_at(SpindleSpeed(rpm)).depth_limit_m) << rpm;
+    EXPECT_EQ(c1.limit_at(SpindleSpeed(rpm)).depth_limit_m, c2.limit_at(SpindleSpeed(rpm)).depth_limit_m) << rpm;
+    EXPECT_EQ(s1.limit_at(SpindleSpeed(rpm)).depth_limit_m, s2.limit_at(SpindleSpeed(rpm)).depth_limit_m) << rpm;
   }
   TimeDomainSimulator t1(m, plain), t2(m, explicit_insert);
   SimulationSettings st;
@@ -243,7 +243,7 @@ TEST(InsertMethods, LeadAngleAnalyticCoupledAndSdmAgreeOnTwoModes) {
   SemiDiscretizationSolver sd(m, p, so);
   int bounded = 0;
   for (const double rpm : {1500.0, 2500.0, 3400.0, 4700.0, 6000.0, 8000.0}) {
-    const StabilityLimit la = an.limit_at(rpm), lc = co.limit_at(rpm), ls = sd.limit_at(rpm);
+    const StabilityLimit la = an.limit_at(SpindleSpeed(rpm)), lc = co.limit_at(SpindleSpeed(rpm)), ls = sd.limit_at(SpindleSpeed(rpm));
     ASSERT_TRUE(la.bounded()) << rpm;
     ++bounded;
     EXPECT_NEAR(lc.depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree) << rpm;
@@ -254,7 +254,7 @@ TEST(InsertMethods, LeadAngleAnalyticCoupledAndSdmAgreeOnTwoModes) {
   EXPECT_EQ(bounded, 6);
   // The insert matters: the orthogonal cut gives another limit.
   AnalyticSolver orth(m, insert(90.0, 0.0, 0.0, 684e6), depth_max(0.02));
-  EXPECT_GT(std::abs(orth.limit_at(2500).depth_limit_m / an.limit_at(2500).depth_limit_m - 1.0), 0.05);
+  EXPECT_GT(std::abs(orth.limit_at(SpindleSpeed(2500)).depth_limit_m / an.limit_at(SpindleSpeed(2500)).depth_limit_m - 1.0), 0.05);
 }
 
 TEST(InsertMethods, NoseRadiusAnalyticCoupledAndSdmAgreeAtTheirOwnChord) {
@@ -279,11 +279,11 @@ TEST(InsertMethods, NoseRadiusAnalyticCoupledAndSdmAgreeAtTheirOwnChord) {
     so.depth_max_m = 0.02;
     SemiDiscretizationSolver sd(m, p, so);
     EXPECT_FALSE(an.known_absolute_limit().has_value());
-    EXPECT_TRUE(an.lobe_curves(1000, 8000).empty());
+    EXPECT_TRUE(an.lobe_curves(SpindleSpeed(1000), SpindleSpeed(8000)).empty());
     int on_arc = 0;
     for (const double rpm : c.speeds) {
       SCOPED_TRACE(std::to_string(c.nose_mm) + " mm nose at " + std::to_string(rpm) + " rev/min");
-      const StabilityLimit la = an.limit_at(rpm), lc = co.limit_at(rpm), ls = sd.limit_at(rpm);
+      const StabilityLimit la = an.limit_at(SpindleSpeed(rpm)), lc = co.limit_at(SpindleSpeed(rpm)), ls = sd.limit_at(SpindleSpeed(rpm));
       ASSERT_TRUE(la.bounded());
       if (p.chord(la.depth_limit_m).nose_only) ++on_arc;
       EXPECT_NEAR(lc.depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree);
@@ -292,7 +292,7 @@ TEST(InsertMethods, NoseRadiusAnalyticCoupledAndSdmAgreeAtTheirOwnChord) {
       // Self-consistent: the sharp insert frozen at the chord of the limit
       // depth has its limit at that same depth.
       AnalyticSolver frozen(m, p.with_chord_at(la.depth_limit_m), depth_max(0.02));
-      EXPECT_NEAR(frozen.limit_at(rpm).depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree);
+      EXPECT_NEAR(frozen.limit_at(SpindleSpeed(rpm)).depth_limit_m / la.depth_limit_m, 1.0, kMethodsAgree);
     }
     EXPECT_EQ(on_arc, c.on_arc) << c.nose_mm << " mm";
   }
@@ -341,10 +341,10 @@ TEST(InsertMethods, ProcessDampingActsAlongTheChipDirectionInEveryMethod) {
     AnalyticSolver without(m, Process::turning(tp), depth_max(0.02));
     for (const double rpm : {200.0, 700.0}) {
       SCOPED_TRACE(std::to_string(nose_mm) + " mm nose at " + std::to_string(rpm) + " rev/min");
-      const StabilityLimit la = an.limit_at(rpm), ls = sd.limit_at(rpm);
+      const StabilityLimit la = an.limit_at(SpindleSpeed(rpm)), ls = sd.limit_at(SpindleSpeed(rpm));
       ASSERT_TRUE(la.bounded());
       EXPECT_NEAR(ls.depth_limit_m / la.depth_limit_m, 1.0, kSdmAgree);
-      EXPECT_GT(la.depth_limit_m, 1.05 * without.limit_at(rpm).depth_limit_m);  // the damping helps
+      EXPECT_GT(la.depth_limit_m, 1.05 * without.limit_at(SpindleSpeed(rpm)).depth_limit_m);  // the damping helps
     }
     TimeDomainSimulator sim(m, p);
     SimulationSettings s;
@@ -363,7 +363,7 @@ TEST(InsertMethods, NonlinearSimulationVerdictChangesAcrossTheLimit) {
   const StructuralModel m = one_mode({1.0, 0.0});
   const Process p = insert(60.0, 0.8);
   AnalyticSolver an(m, p, depth_max(0.05));
-  const double rpm = 1000.0, limit = an.limit_at(rpm).depth_limit_m;
+  const double rpm = 1000.0, limit = an.limit_at(SpindleSpeed(rpm)).depth_limit_m;
   TimeDomainSimulator sim(m, p);
   for (const double factor : {0.8, 1.3}) {
     SimulationSettings s;
@@ -448,7 +448,7 @@ TEST(InsertExample, ShippedConfigRowsSolveTheEquationAtTheirOwnChord) {
   AnalyticSolver s(cfg.model, cfg.process, depth_max(cfg.sweep.depth_max_mm.value_or(20.0) * 1e-3));
   int bounded = 0;
   for (const double rpm : evenly_spaced_speeds(*cfg.sweep.rpm_min, *cfg.sweep.rpm_max, 25)) {
-    const StabilityLimit l = s.limit_at(rpm);
+    const StabilityLimit l = s.limit_at(SpindleSpeed(rpm));
     if (!l.bounded()) continue;
     ++bounded;
     const double a = l.depth_limit_m, w = 2 * kPi * l.chatter_frequency_hz, tau = 60.0 / rpm;

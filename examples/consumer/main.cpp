@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
     const chatter::AnalyticSolver solver(cfg.model, cfg.process, opt);
     const struct { double rpm, depth_mm; } ops[] = {{1200, 1.0}, {1200, 1.5}, {1800, 2.5}};
     for (const auto& op : ops) {
-      const chatter::StabilityLimit lim = solver.limit_at(op.rpm);
+      const chatter::StabilityLimit lim = solver.limit_at(chatter::SpindleSpeed(op.rpm));
       const bool stable = op.depth_mm * 1e-3 < lim.depth_limit_m;
       std::printf("%.0f rev/min, %.2f mm: %s (limit %.4f mm)\n", op.rpm, op.depth_mm, stable ? "stable" : "CHATTER",
                   lim.depth_limit_m * 1e3);

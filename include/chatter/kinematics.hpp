@@ -10,11 +10,17 @@
 //   cutting speed V = π D N / 60  (D the tool's or workpiece's diameter)
 //   table speed v_f = f_rev N / 60  (f_rev the feed per revolution)
 //
+// SpindleSpeed is the type a spindle speed crosses an interface in (the
+// lobe solvers' methods, chatter/lobes.hpp): built from rev/min or rad/s by
+// name, never converted from a bare number by accident, and it answers the
+// same kinematic questions through the functions below.
+//
 // Units: rev/min for N, s, rad/s, Hz, m and m/s. Header-only, constexpr;
 // each formula keeps the order of its operations (the numbers every caller
 // had before it moved here, to the last bit).
 #pragma once
 
+#include <compare>
 #include <numbers>
 
 namespace chatter {
@@ -45,5 +51,32 @@ constexpr double cutting_speed_m_per_s(double diameter_m, double rpm) {
 }
 /// v_f (m/s) of a feed per revolution f (m) at N rev/min: f N / 60.
 constexpr double table_speed_m_per_s(double feed_per_rev_m, double rpm) { return feed_per_rev_m * rpm / 60.0; }
+
+/// A spindle speed N (rev/min). Explicit: `SpindleSpeed(12000.0)` is 12 000
+/// rev/min, `SpindleSpeed::from_rad_per_s(w)` an angular speed; a bare
+/// double never becomes one silently. No validity check here (a speed is
+/// checked where it enters: check_spindle_rpm, the config readers); the
+/// solvers' preconditions say > 0.
+class SpindleSpeed {
+ public:
+  constexpr explicit SpindleSpeed(double rpm) : rpm_(rpm) {}
+  static constexpr SpindleSpeed from_rad_per_s(double omega) { return SpindleSpeed(rpm_from_angular_speed(omega)); }
+
+  /// N, rev/min.
+  constexpr double rpm() const { return rpm_; }
+  /// Ω = 2π N / 60, rad/s.
+  constexpr double rad_per_s() const { return angular_speed_rad_per_s(rpm_); }
+  /// One revolution, s.
+  constexpr double revolution_s() const { return chatter::revolution_s(rpm_); }
+  /// The period between `n` equally spaced edges, s.
+  constexpr double tooth_period_s(int n) const { return chatter::tooth_period_s(rpm_, n); }
+  /// The passing frequency of `n` equally spaced edges, Hz.
+  constexpr double tooth_passing_hz(int n) const { return chatter::tooth_passing_hz(rpm_, n); }
+
+  constexpr auto operator<=>(const SpindleSpeed&) const = default;
+
+ private:
+  double rpm_;
+};
 
 }  // namespace chatter

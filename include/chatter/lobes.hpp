@@ -14,7 +14,8 @@
 #include <variant>
 #include <vector>
 
-#include "chatter/results.hpp"  // MultiplierType
+#include "chatter/kinematics.hpp"  // SpindleSpeed
+#include "chatter/results.hpp"     // MultiplierType
 
 namespace chatter {
 
@@ -115,8 +116,8 @@ class LobeSolver {
   virtual ~LobeSolver() = default;
   /// Short method name, the key of the solver registry (solvers.hpp).
   virtual std::string method() const = 0;
-  /// The exact envelope at one spindle speed (rev/min > 0).
-  virtual StabilityLimit limit_at(double spindle_rpm) const = 0;
+  /// The exact envelope at one spindle speed (> 0).
+  virtual StabilityLimit limit_at(SpindleSpeed speed) const = 0;
   /// Deepest cut (m) the solver searches; limits above it are reported as +inf.
   virtual double depth_max_m() const = 0;
 
@@ -125,23 +126,23 @@ class LobeSolver {
   /// limit_at() with the diagnostics of diagnostic_columns(), from the same
   /// search (no extra cost beyond what the solver keeps). The limit is
   /// bitwise the one limit_at() returns. Default: limit_at(), no values.
-  virtual DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const { return {limit_at(spindle_rpm), {}}; }
+  virtual DiagnosedLimit limit_with_diagnostics(SpindleSpeed speed) const { return {limit_at(speed), {}}; }
   /// The solver's own analysis at one point (rev/min > 0, depth m >= 0);
   /// empty by default (the caller then judges from limit_at()). Cost: one
   /// analysis at the point (sdm: one Floquet map; time-domain: one simulation).
-  virtual PointAnalysis analyse_point(double spindle_rpm, double depth_m) const {
-    (void)spindle_rpm;
+  virtual PointAnalysis analyse_point(SpindleSpeed speed, double depth_m) const {
+    (void)speed;
     (void)depth_m;
     return {};
   }
   /// Whether the depth limit at `spindle_rpm` lies above `depth_m` (m >= 0):
-  /// always the answer of limit_at(spindle_rpm).depth_limit_m > depth_m, and
+  /// always the answer of limit_at(speed).depth_limit_m > depth_m, and
   /// cheaper where the method can stop its search once the answer is sure
   /// (sdm: the depth climb up to just past `depth_m`, no refinement and no
   /// chatter frequency when the crossing is not near `depth_m`). Default:
   /// limit_at().
-  virtual bool limit_above(double spindle_rpm, double depth_m) const {
-    return limit_at(spindle_rpm).depth_limit_m > depth_m;
+  virtual bool limit_above(SpindleSpeed speed, double depth_m) const {
+    return limit_at(speed).depth_limit_m > depth_m;
   }
   /// The method's own stability verdict at one depth (true: stable) when it
   /// has one much cheaper than a limit search (sdm: ρ < 1 of one period map,
@@ -149,8 +150,8 @@ class LobeSolver {
   /// nullopt by default (compare with limit_at() then). An unstable verdict
   /// means a stability boundary at this speed lies below `depth_m`; a stable
   /// one says nothing about smaller depths (an unstable band may lie below).
-  virtual std::optional<bool> stable_at(double spindle_rpm, double depth_m) const {
-    (void)spindle_rpm;
+  virtual std::optional<bool> stable_at(SpindleSpeed speed, double depth_m) const {
+    (void)speed;
     (void)depth_m;
     return std::nullopt;
   }
@@ -159,9 +160,9 @@ class LobeSolver {
   virtual std::optional<AbsoluteLimit> known_absolute_limit() const { return std::nullopt; }
   /// The individual lobes between two speeds (rev/min) when the method
   /// traces them (transfer-function methods); empty by default.
-  virtual std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const {
-    (void)rpm_min;
-    (void)rpm_max;
+  virtual std::vector<LobeCurve> lobe_curves(SpindleSpeed from, SpindleSpeed to) const {
+    (void)from;
+    (void)to;
     return {};
   }
 };

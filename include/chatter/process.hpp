@@ -40,7 +40,7 @@
 
 #include "chatter/cutter_profile.hpp"
 #include "chatter/kienzle.hpp"
-#include "chatter/spindle_speed.hpp"
+#include "chatter/speed_variation.hpp"
 
 namespace chatter {
 
@@ -372,7 +372,7 @@ class Process {
   /// depth. What the averaged methods solve for a frozen chord. @pre turning.
   Process with_chord_at(double depth_m) const;
 
-  // ---- spindle speed variation (docs/ssv.md, chatter/spindle_speed.hpp) ----
+  // ---- spindle speed variation (docs/ssv.md, chatter/speed_variation.hpp) ----
   /// The modulation of the spindle speed; inactive (R_VA = 0) by default.
   const SpeedVariation& speed_variation() const { return speed_variation_; }
   /// True with R_VA > 0: the delay varies in time (only methods that accept

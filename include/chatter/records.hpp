@@ -19,6 +19,7 @@
 
 #include "chatter/io/config.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/records/columns.hpp"
 #include "chatter/operations.hpp"
 #include "chatter/optimization.hpp"
 #include "chatter/report.hpp"
@@ -146,6 +147,13 @@ nlohmann::json simulation_record(const SimulationResult& result, const Simulatio
 /// `harmonic` column of simulate --spectrum and of Python's spectrum; all 0
 /// for a result without it.
 std::vector<int> spectrum_harmonics(const SimulationResult& result);
+/// chatter.simulate's result: simulation_record's fields and the groups
+/// "series" and "periodic" (every sample, and one per Floquet period:
+/// time_s, tool_x_um, tool_y_um, workpiece_x_um, workpiece_y_um, rel_x_um,
+/// rel_y_um, force_x_n, force_y_n, chip_um, in_cut: simulate --out's
+/// columns) and "spectrum" (frequency_hz, amplitude_um, harmonic).
+ColumnRecord simulation_columns(const SimulationResult& result, const SimulationRequest& request,
+                                const RecordSource& source);
 
 /// `chatter check --json`: every operation (verdict, limit, margins,
 /// suggestion and pocket), the rows that could not be read (`rejected`) or

@@ -214,27 +214,27 @@ class SemiDiscretizationSolver final : public LobeSolver {
   /// reported limit, 1 to within the depth tolerance); empty at +inf limits.
   /// Defined with the registry entry (factory.cpp).
   std::vector<DiagnosticColumn> diagnostic_columns() const override;
-  DiagnosedLimit limit_with_diagnostics(double spindle_rpm) const override;
+  DiagnosedLimit limit_with_diagnostics(SpindleSpeed speed) const override;
   /// analyse() at the point: stable, spectral_radius, the dominant
   /// multiplier, its frequency and type, floquet_period_s, steps_per_period.
-  PointAnalysis analyse_point(double spindle_rpm, double depth_m) const override;
-  /// Depth limit (m) at `spindle_rpm`: the first depth from 0 up where the
+  PointAnalysis analyse_point(SpindleSpeed speed, double depth_m) const override;
+  /// Depth limit (m) at `speed`: the first depth from 0 up where the
   /// spectral radius reaches 1 (bracketing, then Brent's method on ln ρ to
   /// depth_tolerance); +inf if stable up to depth_max_m. `lobe` is the number
   /// of whole chatter waves per delay, floor(f_c τ); `branch` is −1.
   /// Cost: about 20–40 evaluations of ρ, each one matrix exponential per
   /// step (one in all for turning) plus O(m n²) per map product; measured
   /// 2.3 ms per speed for case C, 12 ms for case A at 100 rev/min.
-  /// @throws InputError if spindle_rpm is not > 0, or needs more than
+  /// @throws InputError if the speed is not > 0, or needs more than
   ///         max_steps_per_period steps.
-  StabilityLimit limit_at(double spindle_rpm) const override;
+  StabilityLimit limit_at(SpindleSpeed speed) const override;
   double depth_max_m() const override { return options_.depth_max_m; }
 
   /// Same search, also returning the Floquet analysis at the returned depth
   /// (ρ = 1 to within the depth tolerance), or at depth_max_m when the limit
   /// is +inf. `floquet` may be null.
-  StabilityLimit limit_at(double spindle_rpm, FloquetResult* floquet) const;
-  /// limit_at(spindle_rpm).depth_limit_m > depth_m, from the same depth
+  StabilityLimit limit_at(SpindleSpeed speed, FloquetResult* floquet) const;
+  /// limit_at(speed).depth_limit_m > depth_m, from the same depth
   /// climb stopped as soon as the answer is sure: once two climbed depths
   /// above depth_m are stable (or one with ρ <= 1/4, where no band search can
   /// start), or once the crossing is bracketed below depth_m. Only a bracket
@@ -242,11 +242,11 @@ class SemiDiscretizationSolver final : public LobeSolver {
   /// frequency is never computed. Cost at a third of the limit: a median
   /// 22–35 % of limit_at() (6 configs; case C at 200 rev/min: 3.5 ms
   /// against 22 ms).
-  bool limit_above(double spindle_rpm, double depth_m) const override;
+  bool limit_above(SpindleSpeed speed, double depth_m) const override;
   /// ρ < 1 at the point: one period map and its dominant multiplier, as
   /// spectral_radius_map() computes it (no eigenvector, no chatter
   /// frequency). Case C at 200 rev/min: ≈ 1.5 ms, against 10 ms for analyse().
-  std::optional<bool> stable_at(double spindle_rpm, double depth_m) const override;
+  std::optional<bool> stable_at(SpindleSpeed speed, double depth_m) const override;
 
   /// Floquet analysis at one point. @throws InputError if rpm <= 0 or
   /// depth < 0, or if the speed needs more than max_steps_per_period steps.

@@ -6,7 +6,7 @@
 // Each grid point is its own principal period (speed_variation_period), so
 // ρ is reported per spindle revolution, ρ_rev = ρ^(T_rev / T): comparable
 // across the grid (and with R_VA = 0, the constant-speed map over T_F), and
-// < 1 exactly where ρ < 1. Method and sources: chatter/spindle_speed.hpp,
+// < 1 exactly where ρ < 1. Method and sources: chatter/speed_variation.hpp,
 // chatter/semi_discretization.hpp.
 #pragma once
 

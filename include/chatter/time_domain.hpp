@@ -260,7 +260,7 @@ class TimeDomainSolver final : public LobeSolver {
   /// multiplier (if measured), the dominant frequency (if found),
   /// floquet_period_s; extra: verdict, verdict_measure, max_amplitude_mm,
   /// out_of_cut_fraction, periods. Defined with the registry entry (factory.cpp).
-  PointAnalysis analyse_point(double spindle_rpm, double depth_m) const override;
+  PointAnalysis analyse_point(SpindleSpeed speed, double depth_m) const override;
   /// The midpoint of the final bracket; `lobe` = floor(f_c τ), branch −1.
   /// With sdm's guess (a helical cutter) the search starts at the guess and
   /// brackets by 1.1, 1.21, 1.46, ... up or down. Otherwise it
@@ -268,7 +268,7 @@ class TimeDomainSolver final : public LobeSolver {
   /// depth_max_m), or of depth_max_m/4 without a guess, where the guess finds
   /// no limit, or where it refuses the speed (its InputError, e.g. too many
   /// lobes in one delay for the analytic phase search at very low speed).
-  StabilityLimit limit_at(double spindle_rpm) const override;
+  StabilityLimit limit_at(SpindleSpeed speed) const override;
   /// The guess solver in use, null if none.
   const LobeSolver* starting_guess() const { return starting_guess_.get(); }
   double depth_max_m() const override { return simulator_.options().depth_max_m; }

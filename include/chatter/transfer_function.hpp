@@ -90,14 +90,14 @@ struct SearchBand {
 class TransferFunctionSolver : public LobeSolver {
  public:
   ~TransferFunctionSolver() override;
-  StabilityLimit limit_at(double spindle_rpm) const override;
+  StabilityLimit limit_at(SpindleSpeed speed) const override;
   double depth_max_m() const override { return options_.depth_max_m; }
 
-  /// Lobe curves with speeds in [rpm_min, rpm_max], one per lobe number,
+  /// Lobe curves with speeds in [from, to], one per lobe number,
   /// branch and continuous piece; depths below depth_max only. Empty for a
   /// cutter with several delays (variable pitch or helix) or process damping (the per-speed search
   /// traces no lobes: its lobes are not curves of one frequency parameter).
-  std::vector<LobeCurve> lobe_curves(double rpm_min, double rpm_max) const override;
+  std::vector<LobeCurve> lobe_curves(SpindleSpeed from, SpindleSpeed to) const override;
   /// The speed-independent minimum over every lobe (depth in m).
   /// @throws InputError for a cutter with several delays (variable pitch or
   ///         helix) or process damping

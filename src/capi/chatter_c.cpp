@@ -255,7 +255,7 @@ chatter_status chatter_limit_at(const chatter_solver* solver, double spindle_rpm
   if (!solver || !out) return fail(CHATTER_NULL_ARGUMENT, "chatter_limit_at: solver and out must not be NULL");
   return guarded([&] {
     warn_unusual({{"rpm", spindle_rpm}});
-    *out = to_c(solver->solver->limit_at(spindle_rpm));
+    *out = to_c(solver->solver->limit_at(chatter::SpindleSpeed(spindle_rpm)));
   });
 }
 
@@ -267,7 +267,7 @@ chatter_status chatter_lobe_table(const chatter_solver* solver, double rpm_min, 
     if (!(rpm_max > rpm_min)) throw chatter::InputError("chatter_lobe_table: rpm_max must be > rpm_min");
     warn_unusual({{"rpm_min", rpm_min}, {"rpm_max", rpm_max}, {"rpm_points", points}});
     const auto speeds = chatter::evenly_spaced_speeds(rpm_min, rpm_max, points);
-    for (std::size_t i = 0; i < speeds.size(); ++i) rows[i] = to_c(solver->solver->limit_at(speeds[i]));
+    for (std::size_t i = 0; i < speeds.size(); ++i) rows[i] = to_c(solver->solver->limit_at(chatter::SpindleSpeed(speeds[i])));
   });
 }
 

@@ -46,7 +46,7 @@ chatter_status chatter_forced_response(const chatter_model* model, double spindl
     st.feed_m = feed_mm * 1e-3;
     st.record_path = false;
     const chatter::ForcedResponse r = solver.response(st);
-    const chatter::StabilityLimit limit = solver.stability().limit_at(spindle_rpm);
+    const chatter::StabilityLimit limit = solver.stability().limit_at(chatter::SpindleSpeed(spindle_rpm));
     const double nan = std::numeric_limits<double>::quiet_NaN();
     chatter_forced_result c{};
     c.stable = r.stable ? 1 : 0;

@@ -242,7 +242,7 @@ int cmd_forced(const std::vector<std::string>& args) {
   st.feed_m = feed_mm * 1e-3;
   st.record_path = !out_path.empty() || !plot_path.empty();
   const ForcedResponse r = solver.response(st);
-  const StabilityLimit limit = solver.stability().limit_at(rpm);
+  const StabilityLimit limit = solver.stability().limit_at(SpindleSpeed(rpm));
 
   ForcedRecordContext ctx;
   ctx.config = cfg.name;
@@ -343,7 +343,7 @@ int cmd_sle(const std::vector<std::string>& args) {
     {
       Progress progress(vm, speeds.size(), "lobes (sdm)");
       parallel_for(
-          speeds.size(), threads, [&](std::size_t i) { limits[i] = solver.stability().limit_at(speeds[i]); },
+          speeds.size(), threads, [&](std::size_t i) { limits[i] = solver.stability().limit_at(SpindleSpeed(speeds[i])); },
           [&](std::size_t done) { progress.tick(done); });
     }
     std::ostringstream title;

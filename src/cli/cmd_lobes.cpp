@@ -155,8 +155,8 @@ NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads, bool show_pr
     std::map<double, std::vector<SolverValue>> diagnostics;
     std::mutex diagnostics_mutex;
     const auto limit = [&](double rpm) {
-      if (columns.empty()) return solver.limit_at(rpm);
-      DiagnosedLimit r = solver.limit_with_diagnostics(rpm);
+      if (columns.empty()) return solver.limit_at(SpindleSpeed(rpm));
+      DiagnosedLimit r = solver.limit_with_diagnostics(SpindleSpeed(rpm));
       std::lock_guard<std::mutex> lock(diagnostics_mutex);
       diagnostics[rpm] = std::move(r.values);
       return r.limit;
@@ -177,7 +177,7 @@ NominalTable lobes_nominal(const LobesPlan& plan, unsigned threads, bool show_pr
       parallel_for(
           speeds.size(), threads,
           [&](std::size_t i) {
-            DiagnosedLimit r = solver.limit_with_diagnostics(speeds[i]);
+            DiagnosedLimit r = solver.limit_with_diagnostics(SpindleSpeed(speeds[i]));
             rows[i] = r.limit;
             values[i] = std::move(r.values);
           },
@@ -302,7 +302,7 @@ void plot_lobe_outputs(const LobesPlan& plan, const std::vector<StabilityLimit>&
     plot_refinement.depth_rel_tol = kEnvelopeDepthRelTol;
     plot_refinement.cusp_rel_tol = kPlotCuspRelTol;
     // Methods that give their absolute limit (transfer function) are cheap per solve.
-    const std::vector<LobeCurve> curves = solver.lobe_curves(s.rpm_min, s.rpm_max);
+    const std::vector<LobeCurve> curves = solver.lobe_curves(SpindleSpeed(s.rpm_min), SpindleSpeed(s.rpm_max));
     plot_refinement.max_solves = abs_lim ? kPlotSolvesTransferFunction : rows.size();
     std::vector<StabilityLimit> plotted;
     {

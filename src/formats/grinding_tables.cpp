@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "chatter/error.hpp"
+#include "chatter/io/columns.hpp"
 #include "chatter/io/grinding_io.hpp"
 #include "chatter/io/table_writer.hpp"
 #include "chatter/kinematics.hpp"
@@ -19,9 +20,6 @@ namespace chatter {
 namespace {
 
 namespace g = grinding;
-
-std::string cell(double x) { return std::isfinite(x) ? table_number(x) : std::string(); }
-std::string cell(const std::optional<double>& x, double scale = 1.0) { return x ? cell(*x * scale) : std::string(); }
 
 // [grinding.models.<name>.fit]: what grind predict needs for intervals
 // (docs/grinding.md, "Intervals"); nothing without a degree of freedom.
@@ -139,46 +137,88 @@ std::string grinding_fit_fragment(const GrindingFitReport& r, std::optional<doub
 
 
 
-std::string grinding_sweep_csv(const std::vector<g::SweepCurve>& curves) {
-  std::ostringstream o;
+namespace {
+
+// A table's number: NaN where the CSV cell is empty (not finite, or absent).
+double num_or_nan(double x) { return std::isfinite(x) ? x : std::nan(""); }
+double num_or_nan(const std::optional<double>& x, double scale = 1.0) {
+  return x ? num_or_nan(*x * scale) : std::nan("");
+}
+
+}  // namespace
+
+std::vector<Column> grinding_sweep_table(const std::vector<g::SweepCurve>& curves) {
   const bool mech = !curves.empty() && !curves.front().points.empty() && curves.front().points.front().friction_power_w;
   const bool emp = !curves.empty() && !curves.front().points.empty() && curves.front().points.front().empirical;
-  o << "feed_mm_per_s,power_w,removal_rate_mm3_per_s,max_depth_mm,groove_width_mm,depth_per_pass_mm,"
-       "tangential_force_n,normal_force_n,specific_energy_j_per_mm3";
-  if (mech) o << ",friction_power_w,chip_power_w,impacts_per_turn";
-  o << ",energy_partition,heat_into_part_w";
-  if (emp) o << ",empirical_removal_rate_mm3_per_s,empirical_normal_force_n,empirical_wear_rate_mm3_per_s";
-  o << "\n";
+  std::vector<double> feed, power, removal, depth, width, pass, ft, fn, energy, friction, chip, impacts, partition,
+      heat, e_removal, e_normal, e_wear;
   for (const auto& c : curves)
     for (const g::Prediction& p : c.points) {
-      o << cell(c.feed_m_per_s * 1e3) << ',' << cell(p.power_w) << ',' << cell(p.removal_rate_m3_per_s * 1e9) << ','
-        << cell(p.max_depth_m * 1e3) << ',' << cell(p.groove_width_m * 1e3) << ',' << cell(p.depth_per_pass_m * 1e3)
-        << ',' << cell(p.tangential_force_n) << ',' << cell(p.normal_force_n) << ','
-        << cell(p.specific_energy_j_per_m3 * 1e-9);
-      if (mech) o << ',' << cell(p.friction_power_w) << ',' << cell(p.chip_power_w) << ',' << cell(p.impacts_per_turn);
-      o << ',' << (p.energy_partition ? cell(p.energy_partition->fraction) : "") << ','
-        << (p.energy_partition ? cell(p.energy_partition->heat_into_part_w) : "");
-      if (emp)
-        o << ',' << cell(p.empirical->removal_rate_m3_per_s, 1e9) << ',' << cell(p.empirical->normal_force_n) << ','
-          << cell(p.empirical->wear_rate_m3_per_s, 1e9);
-      o << "\n";
+      feed.push_back(num_or_nan(c.feed_m_per_s * 1e3));
+      power.push_back(num_or_nan(p.power_w));
+      removal.push_back(num_or_nan(p.removal_rate_m3_per_s * 1e9));
+      depth.push_back(num_or_nan(p.max_depth_m * 1e3));
+      width.push_back(num_or_nan(p.groove_width_m * 1e3));
+      pass.push_back(num_or_nan(p.depth_per_pass_m * 1e3));
+      ft.push_back(num_or_nan(p.tangential_force_n));
+      fn.push_back(num_or_nan(p.normal_force_n));
+      energy.push_back(num_or_nan(p.specific_energy_j_per_m3 * 1e-9));
+      friction.push_back(num_or_nan(p.friction_power_w));
+      chip.push_back(num_or_nan(p.chip_power_w));
+      impacts.push_back(num_or_nan(p.impacts_per_turn));
+      partition.push_back(p.energy_partition ? num_or_nan(p.energy_partition->fraction) : std::nan(""));
+      heat.push_back(p.energy_partition ? num_or_nan(p.energy_partition->heat_into_part_w) : std::nan(""));
+      if (emp) {
+        e_removal.push_back(num_or_nan(p.empirical->removal_rate_m3_per_s, 1e9));
+        e_normal.push_back(num_or_nan(p.empirical->normal_force_n));
+        e_wear.push_back(num_or_nan(p.empirical->wear_rate_m3_per_s, 1e9));
+      }
     }
-  return o.str();
+  std::vector<Column> t = {{"feed_mm_per_s", std::move(feed)},         {"power_w", std::move(power)},
+                           {"removal_rate_mm3_per_s", std::move(removal)}, {"max_depth_mm", std::move(depth)},
+                           {"groove_width_mm", std::move(width)},     {"depth_per_pass_mm", std::move(pass)},
+                           {"tangential_force_n", std::move(ft)},     {"normal_force_n", std::move(fn)},
+                           {"specific_energy_j_per_mm3", std::move(energy)}};
+  if (mech) {
+    t.emplace_back("friction_power_w", std::move(friction));
+    t.emplace_back("chip_power_w", std::move(chip));
+    t.emplace_back("impacts_per_turn", std::move(impacts));
+  }
+  t.emplace_back("energy_partition", std::move(partition));
+  t.emplace_back("heat_into_part_w", std::move(heat));
+  if (emp) {
+    t.emplace_back("empirical_removal_rate_mm3_per_s", std::move(e_removal));
+    t.emplace_back("empirical_normal_force_n", std::move(e_normal));
+    t.emplace_back("empirical_wear_rate_mm3_per_s", std::move(e_wear));
+  }
+  return t;
 }
 
-std::string grinding_series_csv(const g::DynamicsResult& r) {
-  std::ostringstream o;
-  o << "time_s,depth_mm,surface_mm,contact_force_n,push_n\n";
-  for (const auto& s : r.series)
-    o << cell(s.time_s) << ',' << cell(s.depth_m * 1e3) << ',' << cell(s.surface_m * 1e3) << ','
-      << cell(s.contact_force_n) << ',' << cell(s.push_n) << "\n";
-  return o.str();
+std::string grinding_sweep_csv(const std::vector<g::SweepCurve>& curves) {
+  return columns_csv(grinding_sweep_table(curves));
 }
 
-std::string grinding_impacts_csv(const g::ImpactCount& c, const ImpactRecord& record) {
-  std::ostringstream o;
-  o << "turn,impacts,first_peak_time_s,largest_peak_" << (record.kind == g::ImpactSignal::kNormalForce ? "n" : "rpm_drop")
-    << "\n";
+std::vector<Column> grinding_series_table(const g::DynamicsResult& r) {
+  std::vector<double> t, depth, surface, force, push;
+  for (const auto& s : r.series) {
+    t.push_back(num_or_nan(s.time_s));
+    depth.push_back(num_or_nan(s.depth_m * 1e3));
+    surface.push_back(num_or_nan(s.surface_m * 1e3));
+    force.push_back(num_or_nan(s.contact_force_n));
+    push.push_back(num_or_nan(s.push_n));
+  }
+  return {{"time_s", std::move(t)},
+          {"depth_mm", std::move(depth)},
+          {"surface_mm", std::move(surface)},
+          {"contact_force_n", std::move(force)},
+          {"push_n", std::move(push)}};
+}
+
+std::string grinding_series_csv(const g::DynamicsResult& r) { return columns_csv(grinding_series_table(r)); }
+
+std::vector<Column> grinding_impacts_table(const g::ImpactCount& c, const ImpactRecord& record) {
+  std::vector<int> turn, impacts;
+  std::vector<double> first_peak, largest_peak;
   std::size_t k = 0;  // peaks are in time order, as the turns
   for (std::size_t i = 0; i < c.per_turn.size(); ++i) {
     double first = NAN, largest = NAN;
@@ -186,21 +226,42 @@ std::string grinding_impacts_csv(const g::ImpactCount& c, const ImpactRecord& re
       if (n == 0) first = c.peak_time_s[k];
       largest = std::isnan(largest) ? c.peak_value[k] : std::max(largest, c.peak_value[k]);
     }
-    o << i << ',' << c.per_turn[i] << ',' << cell(first) << ',' << cell(largest) << "\n";
+    turn.push_back(static_cast<int>(i));
+    impacts.push_back(c.per_turn[i]);
+    first_peak.push_back(num_or_nan(first));
+    largest_peak.push_back(num_or_nan(largest));
   }
-  return o.str();
+  return {{"turn", std::move(turn)},
+          {"impacts", std::move(impacts)},
+          {"first_peak_time_s", std::move(first_peak)},
+          {record.kind == g::ImpactSignal::kNormalForce ? "largest_peak_n" : "largest_peak_rpm_drop",
+           std::move(largest_peak)}};
 }
 
-std::string grinding_plan_csv(const g::Plan& p) {
-  std::ostringstream o;
-  o << "wheel_diameter_mm,removal_rate_mm3_per_s,wear_rate_mm3_per_s,g_ratio,removed_mm3,time_s,wheel_rpm,"
-       "cutting_speed_m_per_s,power_w\n";
-  for (const auto& s : p.life)
-    o << cell(s.diameter_m * 1e3) << ',' << cell(s.removal_rate_m3_per_s * 1e9) << ','
-      << cell(s.wear_rate_m3_per_s * 1e9) << ',' << cell(s.removal_rate_m3_per_s / s.wear_rate_m3_per_s) << ','
-      << cell(s.removed_m3 * 1e9) << ',' << cell(s.time_s) << ',' << cell(s.wheel_rpm) << ','
-      << cell(s.cutting_speed_m_per_s) << ',' << cell(s.power_w) << "\n";
-  return o.str();
+std::string grinding_impacts_csv(const g::ImpactCount& c, const ImpactRecord& record) {
+  return columns_csv(grinding_impacts_table(c, record));
 }
+
+std::vector<Column> grinding_plan_table(const g::Plan& p) {
+  std::vector<double> diameter, removal, wear, ratio, removed, time, rpm, speed, power;
+  for (const auto& s : p.life) {
+    diameter.push_back(num_or_nan(s.diameter_m * 1e3));
+    removal.push_back(num_or_nan(s.removal_rate_m3_per_s * 1e9));
+    wear.push_back(num_or_nan(s.wear_rate_m3_per_s * 1e9));
+    ratio.push_back(num_or_nan(s.removal_rate_m3_per_s / s.wear_rate_m3_per_s));
+    removed.push_back(num_or_nan(s.removed_m3 * 1e9));
+    time.push_back(num_or_nan(s.time_s));
+    rpm.push_back(num_or_nan(s.wheel_rpm));
+    speed.push_back(num_or_nan(s.cutting_speed_m_per_s));
+    power.push_back(num_or_nan(s.power_w));
+  }
+  return {{"wheel_diameter_mm", std::move(diameter)}, {"removal_rate_mm3_per_s", std::move(removal)},
+          {"wear_rate_mm3_per_s", std::move(wear)},    {"g_ratio", std::move(ratio)},
+          {"removed_mm3", std::move(removed)},         {"time_s", std::move(time)},
+          {"wheel_rpm", std::move(rpm)},               {"cutting_speed_m_per_s", std::move(speed)},
+          {"power_w", std::move(power)}};
+}
+
+std::string grinding_plan_csv(const g::Plan& p) { return columns_csv(grinding_plan_table(p)); }
 
 }  // namespace chatter

@@ -1,4 +1,5 @@
 #include "chatter/io/table_writer.hpp"
+#include "chatter/io/columns.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -6,6 +7,8 @@
 #include <fstream>
 #include <iostream>
 #include <numbers>
+#include <sstream>
+#include <stdexcept>
 
 #include "chatter/error.hpp"
 
@@ -105,6 +108,39 @@ void write_text_files(const std::vector<std::pair<std::filesystem::path, std::st
 
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
   write_text_files({{path, text}});
+}
+
+std::size_t Column::size() const {
+  return std::visit([](const auto& v) { return v.size(); }, values);
+}
+
+std::string columns_csv(const std::vector<Column>& columns) {
+  std::ostringstream o;
+  for (std::size_t c = 0; c < columns.size(); ++c) o << (c ? "," : "") << columns[c].name;
+  o << '\n';
+  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
+  for (const Column& c : columns)
+    if (c.cols != 0 || c.size() != rows || std::holds_alternative<std::vector<std::complex<double>>>(c.values))
+      throw std::logic_error("columns_csv: column " + c.name + " is a grid, complex or of another length");
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) o << ',';
+      std::visit(
+          [&](const auto& v) {
+            using T = typename std::decay_t<decltype(v)>::value_type;
+            if constexpr (std::is_same_v<T, double>) {
+              if (!std::isnan(v[r])) o << table_number(v[r]);
+            } else if constexpr (std::is_same_v<T, bool>) {
+              o << (v[r] ? '1' : '0');
+            } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, std::string>) {
+              o << v[r];
+            }
+          },
+          columns[c].values);
+    }
+    o << '\n';
+  }
+  return o.str();
 }
 
 }  // namespace chatter

@@ -209,7 +209,7 @@ int run_surface(const std::vector<std::string>& args, MPI_Comm comm, int rank, i
     const auto solver = cli::surface_solver(*plan, model);
     std::vector<chatter::StabilityLimit> row(it.count);
     chatter::parallel_for(it.count, threads,
-                          [&](std::size_t k) { row[k] = solver->limit_at(plan->speeds_rpm[it.first + k]); });
+                          [&](std::size_t k) { row[k] = solver->limit_at(chatter::SpindleSpeed(plan->speeds_rpm[it.first + k])); });
     return row;
   };
 

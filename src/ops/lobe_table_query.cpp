@@ -35,7 +35,7 @@ void solve_nodes(const LobeSolver& solver, const std::vector<double>& us, const 
                  unsigned threads, std::vector<Node>& nodes) {
   const double depth_max = solver.depth_max_m();
   std::vector<StabilityLimit> lims(us.size());
-  parallel_for(us.size(), threads, [&](std::size_t i) { lims[i] = solver.limit_at(rpms[i]); });
+  parallel_for(us.size(), threads, [&](std::size_t i) { lims[i] = solver.limit_at(SpindleSpeed(rpms[i])); });
   for (std::size_t i = 0; i < us.size(); ++i) {
     Node n{us[i], lims[i], depth_max};
     if (n.lim.bounded()) n.g = std::min(n.lim.depth_limit_m, depth_max);
@@ -234,7 +234,7 @@ StabilityLimit best_speed(const LobeSolver& solver, const LobeTableQuery& table)
   const double a = pts[best == 0 ? 0 : best - 1].spindle_rpm;
   const double b = pts[std::min(best + 1, pts.size() - 1)].spindle_rpm;
   auto f = [&](double rpm) {
-    const StabilityLimit l = solver.limit_at(rpm);
+    const StabilityLimit l = solver.limit_at(SpindleSpeed(rpm));
     if (l.depth_limit_m > top.depth_limit_m) top = l;  // +inf wins too
     return l.depth_limit_m;
   };

@@ -123,7 +123,7 @@ std::pair<double, std::size_t> OptimizationModel::depth_limit_m(double rpm, doub
   double best = kInf;
   std::size_t where = 0;
   for (std::size_t i = 0; i < solvers.size(); ++i) {
-    const StabilityLimit l = solvers[i]->limit_at(rpm);
+    const StabilityLimit l = solvers[i]->limit_at(SpindleSpeed(rpm));
     const double d = l.bounded() ? l.depth_limit_m : kInf;
     if (d < best) best = d, where = i;
   }

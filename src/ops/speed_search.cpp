@@ -39,7 +39,7 @@ SpeedSearch::SpeedSearch(const LobeSolver& solver, double rpm_min, double rpm_ma
 const StabilityLimit& SpeedSearch::at(double rpm) {
   auto it = cache_.find(rpm);
   if (it == cache_.end()) {
-    it = cache_.emplace(rpm, solver_.limit_at(rpm)).first;
+    it = cache_.emplace(rpm, solver_.limit_at(SpindleSpeed(rpm))).first;
     ++solves_;
     if (on_solve) on_solve();
   }
@@ -59,7 +59,7 @@ void SpeedSearch::solve_all(const std::vector<double>& all) {
     if (!cache_.count(r)) rpms.push_back(r);
   std::vector<StabilityLimit> lims(rpms.size());
   parallel_for(rpms.size(), threads_, [&](std::size_t i) {
-    lims[i] = solver_.limit_at(rpms[i]);
+    lims[i] = solver_.limit_at(SpindleSpeed(rpms[i]));
     if (on_solve) on_solve();
   });
   for (std::size_t i = 0; i < rpms.size(); ++i) cache_.emplace(rpms[i], lims[i]);
@@ -388,7 +388,7 @@ double SpeedSearch::dense_cannot_beat(double depth) {
       if (!known_low(x) && !cache_.count(x)) todo.push_back(x);
     std::vector<std::optional<bool>> stable(todo.size());
     parallel_for(todo.size(), threads_, [&](std::size_t i) {
-      stable[i] = solver_.stable_at(todo[i], depth);
+      stable[i] = solver_.stable_at(SpindleSpeed(todo[i]), depth);
       if (on_solve) on_solve();
     });
     std::vector<double> exact;
@@ -463,7 +463,7 @@ bool SpeedSearch::above(double rpm, double depth) {
   if (const auto it = cache_.find(rpm); it != cache_.end()) return it->second.depth_limit_m > depth;
   const auto key = std::make_pair(rpm, depth);
   if (const auto it = above_.find(key); it != above_.end()) return it->second;
-  const bool r = solver_.limit_above(rpm, depth);
+  const bool r = solver_.limit_above(SpindleSpeed(rpm), depth);
   if (on_solve) on_solve();
   return above_[key] = r;
 }
@@ -499,7 +499,7 @@ double SpeedSearch::edge(double rpm, double threshold, int dir) {
       if (next.size() > 1) {
         std::vector<char> r(next.size(), 0);
         parallel_for(next.size(), threads_, [&](std::size_t i) {
-          r[i] = solver_.limit_above(next[i], threshold) ? 1 : 0;
+          r[i] = solver_.limit_above(SpindleSpeed(next[i]), threshold) ? 1 : 0;
           if (on_solve) on_solve();
         });
         for (std::size_t i = 0; i < next.size(); ++i) above_[{next[i], threshold}] = r[i] != 0;

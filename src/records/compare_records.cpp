@@ -376,10 +376,10 @@ Comparison compare_methods(const Config& cfg, const CompareRequest& q) {
         n, q.threads,
         [&](std::size_t i) {
           if (r.columns.empty()) {
-            r.rows[i] = solver.limit_at(q.speeds_rpm[i]);
+            r.rows[i] = solver.limit_at(SpindleSpeed(q.speeds_rpm[i]));
             return;
           }
-          DiagnosedLimit d = solver.limit_with_diagnostics(q.speeds_rpm[i]);
+          DiagnosedLimit d = solver.limit_with_diagnostics(SpindleSpeed(q.speeds_rpm[i]));
           r.rows[i] = d.limit;
           r.values[i] = std::move(d.values);
         },
@@ -461,6 +461,25 @@ std::vector<MethodLimits> comparison_plot_lines(const Comparison& c) {
     }
   }
   return lines;
+}
+
+ColumnRecord comparison_columns(const Comparison& c, const RecordSource& source) {
+  ColumnRecord out;
+  out.fields = comparison_record(c, source);
+  out.columns.emplace_back("spindle_rpm", c.speeds_rpm);
+  for (const auto& m : c.methods) {
+    std::vector<double> depth;
+    for (const StabilityLimit& r : m.rows) depth.push_back(r.depth_limit_m * 1e3);  // +inf where unbounded
+    out.columns.emplace_back("depth_limit_mm_" + m.descriptor->name, std::move(depth));
+  }
+  for (const auto& m : c.methods)
+    for (const std::string& col : m.descriptor->compare_columns) {
+      std::vector<std::string> cells;
+      for (std::size_t i = 0; i < m.rows.size(); ++i)
+        cells.push_back(m.rows[i].bounded() ? value_text(m.value(col, i)) : std::string());
+      out.columns.emplace_back(col + "_" + m.descriptor->name, std::move(cells));
+    }
+  return out;
 }
 
 }  // namespace chatter

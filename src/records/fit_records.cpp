@@ -430,4 +430,24 @@ json fit_record(const FitReport& r) {
           {"fragment", r.fragment}};
 }
 
+ColumnRecord fit_columns(const FitReport& r) {
+  ColumnRecord out;
+  out.fields = fit_record(r);
+  for (std::size_t i = 0; i < r.records.size(); ++i) {
+    const FittedRecord& f = r.records[i];
+    std::vector<double> hz(kFittedPoints);
+    std::vector<std::complex<double>> g(kFittedPoints);
+    for (std::size_t k = 0; k < hz.size(); ++k) {
+      hz[k] = f.fit.f_min_hz + (f.fit.f_max_hz - f.fit.f_min_hz) * static_cast<double>(k) / (kFittedPoints - 1);
+      g[k] = f.fit.receptance(hz[k]);
+    }
+    out.groups.push_back({"/records/" + std::to_string(i),
+                          {{"measured_frequency_hz", f.table.frequency_hz},
+                           {"measured_receptance_m_per_n", f.table.value},
+                           {"fitted_frequency_hz", std::move(hz)},
+                           {"fitted_receptance_m_per_n", std::move(g)}}});
+  }
+  return out;
+}
+
 }  // namespace chatter

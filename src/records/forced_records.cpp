@@ -2,6 +2,7 @@
 #include "chatter/records/forced.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -77,6 +78,47 @@ json forced_check_record(const ForcedResponse& r, std::optional<double> max_erro
   j["max_error_um"] = max_error_m ? json(*max_error_m * 1e6) : json(nullptr);
   j["within_tolerance"] = within_tolerance ? json(*within_tolerance) : json(nullptr);
   return j;
+}
+
+ColumnRecord forced_columns(const ForcedResponse& r, const ForcedRecordContext& context, bool with_path) {
+  ColumnRecord out;
+  out.fields = forced_record(r, context);
+  if (!(with_path && r.stable && r.milling)) return out;
+  auto scaled = [](const std::vector<double>& v, double k) {
+    std::vector<double> s;
+    s.reserve(v.size());
+    for (const double x : v) s.push_back(x * k);
+    return s;
+  };
+  out.groups.push_back({"/path",
+                        {{"time_s", r.t_s},
+                         {"rel_x_um", scaled(r.rel_x_m, 1e6)},
+                         {"rel_y_um", scaled(r.rel_y_m, 1e6)},
+                         {"wall_normal_um", scaled(r.wall_normal_m, 1e6)}}});
+  return out;
+}
+
+ColumnRecord sle_columns(const std::vector<ForcedResponse>& rows, const SleContext& context) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  ColumnRecord out;
+  out.fields = {{"config", context.config}, {"depth_mm", context.depth_mm}, {context.feed_key, context.feed_mm}};
+  if (context.position_mm) out.fields["position_mm"] = *context.position_mm;
+  std::vector<double> rpm, sle, ppx, ppy, chip;
+  std::vector<bool> stable, leave;
+  for (const ForcedResponse& r : rows) {
+    rpm.push_back(r.spindle_rpm);
+    sle.push_back(r.stable ? r.surface_location_error_m * 1e6 : kNaN);
+    ppx.push_back(r.stable ? r.peak_to_peak_x_m * 1e6 : kNaN);
+    ppy.push_back(r.stable ? r.peak_to_peak_y_m * 1e6 : kNaN);
+    chip.push_back(r.stable ? r.min_chip_m * 1e6 : kNaN);
+    stable.push_back(r.stable);
+    leave.push_back(r.stable && r.teeth_leave_cut);
+  }
+  out.columns = {{"spindle_rpm", std::move(rpm)},       {"surface_location_error_um", std::move(sle)},
+                 {"peak_to_peak_x_um", std::move(ppx)}, {"peak_to_peak_y_um", std::move(ppy)},
+                 {"min_chip_thickness_um", std::move(chip)}, {"stable", std::move(stable)},
+                 {"teeth_leave_cut", std::move(leave)}};
+  return out;
 }
 
 std::string forced_path_csv(const ForcedResponse& r) {

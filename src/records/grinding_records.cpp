@@ -319,4 +319,23 @@ GrindingPlanRun run_grinding_plan(const GrindingConfig& config, const g::PlanOpt
   return r;
 }
 
+ColumnRecord grinding_sweep_columns(const std::vector<grinding::SweepCurve>& curves) {
+  ColumnRecord out;
+  out.columns = grinding_sweep_table(curves);
+  return out;
+}
+
+ColumnRecord grinding_plan_columns(const GrindingPlanRun& run) {
+  return {run.record, {}, {{"/wheel_life", grinding_plan_table(run.plan)}}};
+}
+
+ColumnRecord grinding_impacts_columns(const grinding::ImpactCount& c, const ImpactRecord& record,
+                                      const std::string& file, double wheel_rpm) {
+  return {grinding_impacts_record(c, record, file, wheel_rpm), {}, {{"/turns_table", grinding_impacts_table(c, record)}}};
+}
+
+ColumnRecord grinding_simulation_columns(const grinding::DynamicsResult& r, const GrindingConfig& config) {
+  return {grinding_simulation_record(r, config), {}, {{"/series", grinding_series_table(r)}}};
+}
+
 }  // namespace chatter

@@ -2,6 +2,7 @@
 // --samples` (include/chatter/records/lobes.hpp): the contract CAM
 // integrators parse, built once here; the CSV is io's (write_lobe_csv).
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/records/lobes.hpp"
+#include "chatter/uncertainty.hpp"
 
 namespace chatter {
 namespace {
@@ -168,6 +170,120 @@ nlohmann::json uncertainty_record(const UncertaintySpreads& s, bool milling, con
           {"probability_depth_max_mm", in.depth_grid_top_mm},
           {"probability_depth_points", in.depth_points},
           {"summary", in.summary}};
+}
+
+// ------------------------------------------- the lobe tables as columns (Python)
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// spindle_rpm, depth_limit_mm, chatter_frequency_hz, lobe of `rows`,
+// appended to the columns already there (in the same order).
+void add_limit_columns(const std::vector<StabilityLimit>& rows, std::vector<double>& rpm, std::vector<double>& depth,
+                       std::vector<double>& freq, std::vector<int>& lobe) {
+  for (const StabilityLimit& r : rows) {
+    rpm.push_back(r.spindle_rpm);
+    depth.push_back(r.depth_limit_m * 1e3);  // +inf where unbounded, as the CSV
+    freq.push_back(r.bounded() ? r.chatter_frequency_hz : kNaN);
+    lobe.push_back(r.bounded() ? r.lobe : -1);
+  }
+}
+
+// One diagnostic column over every row: numbers (NaN where none) or text.
+Column diagnostic_column(const DiagnosticColumn& d, std::size_t c, const std::vector<std::vector<SolverValue>>& values) {
+  auto value_of = [&](const std::vector<SolverValue>& row) { return c < row.size() ? row[c] : SolverValue{}; };
+  if (d.numeric) {
+    std::vector<double> col;
+    for (const auto& row : values) {
+      const SolverValue v = value_of(row);
+      if (const auto* x = std::get_if<double>(&v)) col.push_back(*x);
+      else if (const auto* i = std::get_if<int>(&v)) col.push_back(*i);
+      else col.push_back(kNaN);
+    }
+    return {d.name, std::move(col)};
+  }
+  std::vector<std::string> col;
+  for (const auto& row : values) {
+    const SolverValue v = value_of(row);
+    if (const auto* t = std::get_if<std::string>(&v)) col.push_back(*t);
+    else if (const auto* b = std::get_if<bool>(&v)) col.push_back(*b ? "true" : "false");
+    else col.emplace_back();
+  }
+  return {d.name, std::move(col)};
+}
+
+}  // namespace
+
+nlohmann::json lobe_columns_fields(const LobeColumnsSource& source) {
+  return {{"method", source.method},
+          {"name", source.config ? source.config->name : std::string()},
+          {"warnings", source.config ? source.config->warnings : std::vector<std::string>{}},
+          {"notes", source.notes},
+          {"depth_max_mm", source.depth_max_mm}};
+}
+
+ColumnRecord lobe_columns(const std::vector<StabilityLimit>& rows, const std::vector<DiagnosticColumn>& diagnostics,
+                          const std::vector<std::vector<SolverValue>>& values, const LobeColumnsSource& source) {
+  std::vector<double> rpm, depth, freq;
+  std::vector<int> lobe;
+  add_limit_columns(rows, rpm, depth, freq, lobe);
+  ColumnRecord out;
+  out.fields = lobe_columns_fields(source);
+  out.columns = {{"spindle_rpm", std::move(rpm)},
+                 {"depth_limit_mm", std::move(depth)},
+                 {"chatter_frequency_hz", std::move(freq)},
+                 {"lobe", std::move(lobe)}};
+  if (!values.empty())
+    for (std::size_t c = 0; c < diagnostics.size(); ++c) out.columns.push_back(diagnostic_column(diagnostics[c], c, values));
+  return out;
+}
+
+ColumnRecord surface_columns(const std::vector<double>& positions_mm,
+                             const std::vector<std::vector<StabilityLimit>>& rows, const LobeColumnsSource& source) {
+  std::vector<double> x, rpm, depth, freq;
+  std::vector<int> lobe;
+  for (std::size_t p = 0; p < rows.size(); ++p) {
+    x.insert(x.end(), rows[p].size(), positions_mm.at(p));
+    add_limit_columns(rows[p], rpm, depth, freq, lobe);
+  }
+  ColumnRecord out;
+  out.fields = lobe_columns_fields(source);
+  out.columns = {{"position_mm", std::move(x)},
+                 {"spindle_rpm", std::move(rpm)},
+                 {"depth_limit_mm", std::move(depth)},
+                 {"chatter_frequency_hz", std::move(freq)},
+                 {"lobe", std::move(lobe)}};
+  return out;
+}
+
+ColumnRecord uncertain_lobe_columns(const std::vector<StabilityLimit>& nominal, const UncertainLobes& mc,
+                                    const LobeColumnsSource& source, long long samples, long long seed,
+                                    std::optional<double> position_mm) {
+  ColumnRecord out;
+  out.fields = {{"method", source.method},
+                {"warnings", source.config ? source.config->warnings : std::vector<std::string>{}},
+                {"notes", source.notes},
+                {"samples", samples},
+                {"seed", seed}};
+  if (position_mm) out.fields["position_mm"] = *position_mm;
+  std::vector<double> rpm, depth;
+  for (const StabilityLimit& r : nominal) {
+    rpm.push_back(r.spindle_rpm);
+    depth.push_back(r.depth_limit_m * 1e3);  // +inf where unbounded, as lobes()
+  }
+  out.columns = {{"spindle_rpm", std::move(rpm)}, {"depth_limit_mm", std::move(depth)}};
+  for (std::size_t l = 0; l < mc.levels.size(); ++l) {
+    std::vector<double> q;
+    for (const double d : mc.quantile_depth_m[l]) q.push_back(d * 1e3);
+    out.columns.emplace_back(quantile_column_name(mc.levels[l]), std::move(q));
+  }
+  std::vector<double> grid, prob;
+  for (const double d : mc.depths_m) grid.push_back(d * 1e3);
+  for (const auto& row : mc.probability_stable) prob.insert(prob.end(), row.begin(), row.end());
+  out.columns.emplace_back("depth_mm", std::move(grid));
+  out.columns.emplace_back("probability_stable", std::move(prob), mc.depths_m.size());
+  return out;
 }
 
 }  // namespace chatter

@@ -123,7 +123,7 @@ void solve_keys(Solves& out, const Engaged& eng, const std::map<int, ToolSetup>&
         configure_solver(kAutoMethod, sv.config, depth_max_mm.at(t.tool->number) * 1e-3, {}, ArgStyle::kFlag);
     sv.method = c.method;
     sv.solver = std::move(c.solver);
-    sv.limit_m = sv.solver->limit_at(s.rpm).depth_limit_m;
+    sv.limit_m = sv.solver->limit_at(SpindleSpeed(s.rpm)).depth_limit_m;
     tick();
   });
 }

@@ -24,12 +24,12 @@ namespace {
 using json = nlohmann::json;
 
 // The columns in record order: name, and the row's value (NaN = null / empty).
-struct Column {
+struct ProgramColumn {
   const char* name;
   double (*get)(const ProgramRow&);
   bool milling, turning;
 };
-const Column kColumns[] = {
+const ProgramColumn kColumns[] = {
     {"spindle_rpm", [](const ProgramRow& r) { return r.spindle_rpm; }, true, true},
     {"feed_per_tooth_mm", [](const ProgramRow& r) { return r.air ? NAN : r.feed; }, true, false},
     {"feed_per_rev_mm", [](const ProgramRow& r) { return r.air ? NAN : r.feed; }, false, true},
@@ -53,7 +53,7 @@ const Column kColumns[] = {
     {"time_s", [](const ProgramRow& r) { return r.time_s; }, true, true},
 };
 
-bool shown(const Column& c, bool turning) { return turning ? c.turning : c.milling; }
+bool shown(const ProgramColumn& c, bool turning) { return turning ? c.turning : c.milling; }
 
 std::string cell(double x) { return std::isfinite(x) ? table_number(x) : (std::isinf(x) ? "inf" : ""); }
 
@@ -72,7 +72,7 @@ json program_record(const ProgramReport& rep) {
     j["line"] = r.line;
     j["tool"] = r.tool;
     j["air"] = r.air;
-    for (const Column& c : kColumns)
+    for (const ProgramColumn& c : kColumns)
       if (shown(c, rep.turning)) j[c.name] = finite_or_null(c.get(r));
     if (!rep.turning) {  // every engaged arc (one unless the stock gave two): [[entry, exit], ...], degrees
       json arcs = json::array();
@@ -150,13 +150,13 @@ ProgramPlotData program_plot_data(const ProgramReport& rep, double max_power_kw)
 std::string program_csv(const ProgramReport& rep) {
   std::ostringstream os;
   os << "line,tool,air";
-  for (const Column& c : kColumns)
+  for (const ProgramColumn& c : kColumns)
     if (shown(c, rep.turning)) os << "," << c.name;
   if (!rep.turning) os << ",engaged_arcs_deg";
   os << ",stable,overloaded\n";
   for (const ProgramRow& r : rep.rows) {
     os << r.line << "," << r.tool << "," << (r.air ? "true" : "false");
-    for (const Column& c : kColumns)
+    for (const ProgramColumn& c : kColumns)
       if (shown(c, rep.turning)) os << "," << cell(c.get(r));
     if (!rep.turning) {  // "entry-exit" per arc, ';' between arcs
       os << ",";

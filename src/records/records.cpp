@@ -239,4 +239,46 @@ json simulation_record(const SimulationResult& r, const SimulationRequest& q, co
   return j;
 }
 
+namespace {
+
+// A series in simulate --out's columns and units.
+std::vector<Column> series_columns(const std::vector<SeriesSample>& rows) {
+  std::vector<double> t, tx, ty, wx, wy, rx, ry, fx, fy, chip;
+  std::vector<bool> in_cut;
+  for (const SeriesSample& r : rows) {
+    t.push_back(r.t_s);
+    tx.push_back(r.tool_x_m * 1e6);
+    ty.push_back(r.tool_y_m * 1e6);
+    wx.push_back(r.workpiece_x_m * 1e6);
+    wy.push_back(r.workpiece_y_m * 1e6);
+    rx.push_back(r.rel_x_m * 1e6);
+    ry.push_back(r.rel_y_m * 1e6);
+    fx.push_back(r.force_x_n);
+    fy.push_back(r.force_y_n);
+    chip.push_back(r.chip_m * 1e6);
+    in_cut.push_back(r.in_cut);
+  }
+  return {{"time_s", std::move(t)},          {"tool_x_um", std::move(tx)}, {"tool_y_um", std::move(ty)},
+          {"workpiece_x_um", std::move(wx)}, {"workpiece_y_um", std::move(wy)}, {"rel_x_um", std::move(rx)},
+          {"rel_y_um", std::move(ry)},       {"force_x_n", std::move(fx)}, {"force_y_n", std::move(fy)},
+          {"chip_um", std::move(chip)},      {"in_cut", std::move(in_cut)}};
+}
+
+}  // namespace
+
+ColumnRecord simulation_columns(const SimulationResult& result, const SimulationRequest& request,
+                                const RecordSource& source) {
+  ColumnRecord out;
+  out.fields = simulation_record(result, request, source);
+  std::vector<double> amp;
+  for (const double a : result.spectrum_amplitude_m) amp.push_back(a * 1e6);
+  out.groups = {{"/series", series_columns(result.series)},
+                {"/periodic", series_columns(result.once_per_period)},
+                {"/spectrum",
+                 {{"frequency_hz", result.spectrum_hz},
+                  {"amplitude_um", std::move(amp)},
+                  {"harmonic", spectrum_harmonics(result)}}}};
+  return out;
+}
+
 }  // namespace chatter

@@ -298,7 +298,7 @@ DetectResult detect_recording(const DetectArgs& a, ArgStyle style) {
     r.check_method = c.method;
     for (const std::string& n : c.notes) det.warnings.push_back(n);
     for (const SpeedSuggestion& s : det.suggestions) {
-      const StabilityLimit l = c.solver->limit_at(s.spindle_rpm);
+      const StabilityLimit l = c.solver->limit_at(SpindleSpeed(s.spindle_rpm));
       r.checks.push_back({l.bounded(), l.depth_limit_m * 1e3, l.depth_limit_m * 1e3 / r.depth_mm});
     }
   }
@@ -399,6 +399,39 @@ json detect_record(const DetectResult& r) {
   j["peaks"] = peaks;
   j["warnings"] = det.warnings;
   return j;
+}
+
+ColumnRecord detect_columns(const DetectResult& r) {
+  ColumnRecord out;
+  out.fields = detect_record(r);
+  out.groups.push_back({"/spectrum",
+                        {{"frequency_hz", r.detection.spectrum_frequency_hz},
+                         {"amplitude", r.detection.spectrum_amplitude}}});
+  return out;
+}
+
+namespace {
+
+// `record` with "fragment": the text `fragment` returns, or null when it
+// refuses (InputError: no table to write).
+template <class Fragment>
+json with_fragment(json record, Fragment&& fragment) {
+  try {
+    record["fragment"] = fragment();
+  } catch (const InputError&) {
+    record["fragment"] = nullptr;
+  }
+  return record;
+}
+
+}  // namespace
+
+json coefficients_record_with_fragment(const CoefficientResult& r, ArgStyle style) {
+  return with_fragment(coefficients_record(r), [&] { return coefficients_fragment(r, style); });
+}
+
+json kienzle_record_with_fragment(const KienzleResult& r, ArgStyle style) {
+  return with_fragment(kienzle_record(r), [&] { return kienzle_fragment(r, style); });
 }
 
 }  // namespace chatter

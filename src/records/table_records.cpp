@@ -193,7 +193,7 @@ RadialStabilityMapGrid radial_stability_map(const Process& process, double spind
         }
         const auto col = sdm->spectral_radius_map({spindle_rpm}, depths);
         std::copy(col.begin(), col.end(), grid.spectral_radius.begin() + static_cast<std::ptrdiff_t>(i * nd));
-        grid.limit[i] = sdm->limit_at(spindle_rpm);
+        grid.limit[i] = sdm->limit_at(SpindleSpeed(spindle_rpm));
         if (multiplier_types)
           for (std::size_t k = 0; k < nd; ++k)
             if (grid.spectral_radius[i * nd + k] >= 1.0)
@@ -343,6 +343,70 @@ std::string named_columns_csv(const NamedColumns& t) {
     os << '\n';
   }
   return os.str();
+}
+
+// ------------------------------------------------- the tables as columns (Python)
+
+namespace {
+
+// The grids of a map: spectral_radius and, when asked, multiplier_type
+// ("" where ρ < 1: the type of a stable point is not computed).
+void add_map_grids(ColumnRecord& out, const std::vector<double>& rho, const std::vector<MultiplierType>& types,
+                   std::size_t cols, bool multiplier_types) {
+  out.columns.emplace_back("spectral_radius", rho, cols);
+  if (!multiplier_types) return;
+  std::vector<std::string> cells;
+  cells.reserve(rho.size());
+  for (std::size_t i = 0; i < rho.size(); ++i) cells.push_back(rho[i] >= 1.0 ? to_string(types.at(i)) : std::string());
+  out.columns.emplace_back("multiplier_type", std::move(cells), cols);
+}
+
+std::vector<double> in_mm(const std::vector<double>& m) {
+  std::vector<double> mm;
+  mm.reserve(m.size());
+  for (const double x : m) mm.push_back(x * 1e3);
+  return mm;
+}
+
+}  // namespace
+
+ColumnRecord stability_map_columns(const StabilityMapGrid& grid, const SolverValues& solver_options,
+                                   const RecordSource& source, bool multiplier_types) {
+  ColumnRecord out;
+  out.fields = stability_map_record(grid, solver_options, source);
+  out.columns = {{"spindle_rpm", grid.spindle_rpm}, {"depth_mm", in_mm(grid.depth_m)}};
+  add_map_grids(out, grid.spectral_radius, grid.multiplier_type, grid.depth_m.size(), multiplier_types);
+  return out;
+}
+
+ColumnRecord radial_map_columns(const RadialStabilityMapGrid& grid, const SolverValues& solver_options,
+                                const RecordSource& source, bool multiplier_types) {
+  ColumnRecord out;
+  out.fields = radial_map_record(grid, solver_options, source);
+  out.columns.emplace_back("radial_immersion", grid.radial_immersion);
+  if (grid.tool_diameter_m > 0.0) {
+    std::vector<double> ae;
+    for (const double e : grid.radial_immersion) ae.push_back(e * grid.tool_diameter_m * 1e3);
+    out.columns.emplace_back("radial_depth_mm", std::move(ae));
+  }
+  std::vector<double> limit_mm, freq;
+  for (const StabilityLimit& l : grid.limit) {
+    limit_mm.push_back(l.depth_limit_m * 1e3);  // +inf where unbounded
+    freq.push_back(l.chatter_frequency_hz);     // NaN there
+  }
+  out.columns.emplace_back("depth_mm", in_mm(grid.depth_m));
+  out.columns.emplace_back("depth_limit_mm", std::move(limit_mm));
+  out.columns.emplace_back("chatter_frequency_hz", std::move(freq));
+  add_map_grids(out, grid.spectral_radius, grid.multiplier_type, grid.depth_m.size(), multiplier_types);
+  return out;
+}
+
+ColumnRecord receptance_columns(const NamedColumns& t, const RecordSource& source) {
+  ColumnRecord out;
+  out.fields = {{"name", source.config_name}, {"warnings", source.warnings}};
+  if (source.position_mm) out.fields["position_mm"] = *source.position_mm;
+  for (std::size_t c = 0; c < t.names.size(); ++c) out.columns.emplace_back(t.names[c], t.columns[c]);
+  return out;
 }
 
 }  // namespace chatter

@@ -83,7 +83,8 @@ void TransferFunctionSolver::build_general_search() {
       model_, process_, detail::MultiDelayOptions{options_.depth_max_m, options_.max_phase_step_rad});
 }
 
-StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
+StabilityLimit TransferFunctionSolver::limit_at(SpindleSpeed speed) const {
+  const double rpm = speed.rpm();
   if (!(std::isfinite(rpm) && rpm > 0.0)) {
     std::ostringstream os;
     os << "spindle speed " << rpm << " rev/min: must be > 0";
@@ -129,7 +130,7 @@ StabilityLimit TransferFunctionSolver::limit_at(double rpm) const {
 // multi_delay.cpp). A root where h jumps between lobes is the jump depth.
 StabilityLimit TransferFunctionSolver::chord_limit_at(double rpm) const {
   const double depth_max = options_.depth_max_m;
-  auto limit_with = [&](double a) { return with_process(process_.at_depth(a))->limit_at(rpm); };
+  auto limit_with = [&](double a) { return with_process(process_.at_depth(a))->limit_at(SpindleSpeed(rpm)); };
   auto h_of = [&](const StabilityLimit& l, double a) {
     return (l.bounded() ? l.depth_limit_m : depth_max + 1.0) - a;  // finite, > 0 when unbounded
   };
@@ -164,7 +165,8 @@ StabilityLimit TransferFunctionSolver::chord_limit_at(double rpm) const {
   return l;
 }
 
-std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(double rpm_min, double rpm_max) const {
+std::vector<LobeCurve> TransferFunctionSolver::lobe_curves(SpindleSpeed from, SpindleSpeed to) const {
+  const double rpm_min = from.rpm(), rpm_max = to.rpm();
   if (!(rpm_min > 0.0 && rpm_max >= rpm_min)) throw InputError("lobe curves: need 0 < rpm_min <= rpm_max");
   std::vector<LobeCurve> out;
   if (general_ || chord_iteration_) return out;

@@ -382,20 +382,20 @@ std::vector<DiagnosticColumn> SemiDiscretizationSolver::diagnostic_columns() con
   return {{"multiplier_type", false}, {"spectral_radius_check", true}};
 }
 
-DiagnosedLimit SemiDiscretizationSolver::limit_with_diagnostics(double spindle_rpm) const {
+DiagnosedLimit SemiDiscretizationSolver::limit_with_diagnostics(SpindleSpeed speed) const {
   // The type of the dominant multiplier and the spectral radius at the
   // reported limit (1 to within the depth tolerance).
   FloquetResult f;
-  DiagnosedLimit r{limit_at(spindle_rpm, &f), {}};
+  DiagnosedLimit r{limit_at(speed, &f), {}};
   if (r.limit.bounded()) r.values = {to_string(f.type), f.spectral_radius};
   else r.values = {std::monostate{}, std::monostate{}};
   return r;
 }
 
-PointAnalysis SemiDiscretizationSolver::analyse_point(double spindle_rpm, double depth_m) const {
+PointAnalysis SemiDiscretizationSolver::analyse_point(SpindleSpeed speed, double depth_m) const {
   // The Floquet analysis at the point itself (the limit's values come from
   // limit_with_diagnostics).
-  const FloquetResult f = analyse(spindle_rpm, depth_m);
+  const FloquetResult f = analyse(speed.rpm(), depth_m);
   PointAnalysis a;
   a.stable = f.stable();
   a.spectral_radius = f.spectral_radius;  // +inf (null in JSON) when the map overflowed
@@ -409,9 +409,9 @@ PointAnalysis SemiDiscretizationSolver::analyse_point(double spindle_rpm, double
   return a;
 }
 
-PointAnalysis TimeDomainSolver::analyse_point(double spindle_rpm, double depth_m) const {
+PointAnalysis TimeDomainSolver::analyse_point(SpindleSpeed speed, double depth_m) const {
   // The simulation at the point itself.
-  const SimulationResult r = verdict_run(spindle_rpm, depth_m);
+  const SimulationResult r = verdict_run(speed.rpm(), depth_m);
   PointAnalysis a;
   a.stable = r.verdict == SimulationVerdict::kStable;
   if (std::isfinite(r.growth_per_period)) {

@@ -20,7 +20,7 @@ std::vector<std::vector<StabilityLimit>> lobe_surface(const StructuralModel& bas
       [&](std::size_t p) {
         const std::unique_ptr<LobeSolver> solver = make_solver(models[p]);
         std::vector<StabilityLimit> row(speeds_rpm.size());
-        for (std::size_t s = 0; s < speeds_rpm.size(); ++s) row[s] = solver->limit_at(speeds_rpm[s]);
+        for (std::size_t s = 0; s < speeds_rpm.size(); ++s) row[s] = solver->limit_at(SpindleSpeed(speeds_rpm[s]));
         rows[p] = std::move(row);
       },
       per_position);

@@ -69,7 +69,7 @@ std::vector<StabilityLimit> lobe_envelope(const LobeSolver& solver, const std::v
                                           unsigned threads, const std::function<void(std::size_t done)>& per_speed) {
   std::vector<StabilityLimit> rows(speeds_rpm.size());
   parallel_for(
-      speeds_rpm.size(), threads, [&](std::size_t i) { rows[i] = solver.limit_at(speeds_rpm[i]); }, per_speed);
+      speeds_rpm.size(), threads, [&](std::size_t i) { rows[i] = solver.limit_at(SpindleSpeed(speeds_rpm[i])); }, per_speed);
   return rows;
 }
 
@@ -217,7 +217,7 @@ RefinedEnvelope refine_envelope(const std::function<StabilityLimit(double)>& lim
 RefinedEnvelope refine_envelope(const LobeSolver& solver, std::vector<StabilityLimit> start,
                                 const EnvelopeRefinement& options, unsigned threads,
                                 const std::function<void(std::size_t done)>& per_speed) {
-  return refine_envelope([&solver](double rpm) { return solver.limit_at(rpm); }, std::move(start), options,
+  return refine_envelope([&solver](double rpm) { return solver.limit_at(SpindleSpeed(rpm)); }, std::move(start), options,
                          threads, per_speed);
 }
 

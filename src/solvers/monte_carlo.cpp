@@ -27,7 +27,7 @@ std::vector<std::vector<StabilityLimit>> monte_carlo_limits(
       [&](std::size_t k) {
         const std::unique_ptr<LobeSolver> solver = make_solver(samples[k].model, samples[k].process);
         std::vector<StabilityLimit> row(speeds_rpm.size());
-        for (std::size_t s = 0; s < speeds_rpm.size(); ++s) row[s] = solver->limit_at(speeds_rpm[s]);
+        for (std::size_t s = 0; s < speeds_rpm.size(); ++s) row[s] = solver->limit_at(SpindleSpeed(speeds_rpm[s]));
         rows[k] = std::move(row);
       },
       per_sample);

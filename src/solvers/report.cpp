@@ -68,11 +68,11 @@ PointReport report_point(const LobeSolver& solver, const Process& process, doubl
   r.spindle_rpm = spindle_rpm;
   r.depth_m = depth_m;
   r.depth_max_m = solver.depth_max_m();
-  r.limit = solver.limit_with_diagnostics(spindle_rpm);
+  r.limit = solver.limit_with_diagnostics(SpindleSpeed(spindle_rpm));
   r.columns = solver.diagnostic_columns();
   r.tooth_passing_hz = process.tooth_passing_hz(spindle_rpm);
   r.tooth_period_s = process.delay_s(spindle_rpm);
-  r.at_depth = solver.analyse_point(spindle_rpm, depth_m);
+  r.at_depth = solver.analyse_point(SpindleSpeed(spindle_rpm), depth_m);
   const bool below_limit = depth_m < r.limit.limit.depth_limit_m;
   r.stable = r.at_depth.stable.value_or(below_limit);
   r.margin = r.limit.limit.bounded() ? r.limit.limit.depth_limit_m / depth_m : std::numeric_limits<double>::infinity();
@@ -94,7 +94,7 @@ PointReport report_point(const LobeSolver& solver, const Process& process, doubl
     SpeedVariationGain g;
     g.asked = process.speed_variation();
     g.period = speed_variation_period(process, spindle_rpm);
-    const StabilityLimit base = constant_speed->limit_at(spindle_rpm);
+    const StabilityLimit base = constant_speed->limit_at(SpindleSpeed(spindle_rpm));
     g.constant_speed_limit_m = base.depth_limit_m;
     if (base.bounded() && r.limit.limit.bounded()) g.gain = r.limit.limit.depth_limit_m / base.depth_limit_m;
     r.speed_variation = g;

@@ -176,20 +176,20 @@ class MapCache {
 }  // namespace
 
 
-StabilityLimit SemiDiscretizationSolver::limit_at(double rpm) const { return limit_at(rpm, nullptr); }
+StabilityLimit SemiDiscretizationSolver::limit_at(SpindleSpeed speed) const { return limit_at(speed, nullptr); }
 
-StabilityLimit SemiDiscretizationSolver::limit_at(double rpm, FloquetResult* floquet) const {
-  return search(rpm, floquet, std::numeric_limits<double>::quiet_NaN(), nullptr);
+StabilityLimit SemiDiscretizationSolver::limit_at(SpindleSpeed speed, FloquetResult* floquet) const {
+  return search(speed.rpm(), floquet, std::numeric_limits<double>::quiet_NaN(), nullptr);
 }
 
-bool SemiDiscretizationSolver::limit_above(double rpm, double depth_m) const {
+bool SemiDiscretizationSolver::limit_above(SpindleSpeed speed, double depth_m) const {
   if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
     std::ostringstream os;
     os << "depth " << depth_m << " m: must be >= 0 and finite";
     throw InputError(os.str());
   }
   bool above = false;
-  search(rpm, nullptr, depth_m, &above);
+  search(speed.rpm(), nullptr, depth_m, &above);
   return above;
 }
 

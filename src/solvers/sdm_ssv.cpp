@@ -77,7 +77,7 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
 
 CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a) {
   const SpeedVariation asked = p.speed_variation();
-  const SpindleSpeed speed(g.rpm, {asked.amplitude_ratio, g.ssv_period.frequency_ratio_used});
+  const ModulatedSpeed speed(g.rpm, {asked.amplitude_ratio, g.ssv_period.frequency_ratio_used});
   const double T = g.tau, omega0 = speed.mean_rad_s();
   CutterGrid cg;
   cg.depth = a;

@@ -92,7 +92,8 @@ FloquetResult SemiDiscretizationSolver::analyse(double rpm, double depth_m) cons
   return floquet_of(kernel, g, pm, rpm, depth_m, A_, Wx_, f_max_hz_);
 }
 
-std::optional<bool> SemiDiscretizationSolver::stable_at(double rpm, double depth_m) const {
+std::optional<bool> SemiDiscretizationSolver::stable_at(SpindleSpeed speed, double depth_m) const {
+  const double rpm = speed.rpm();
   if (!(std::isfinite(rpm) && rpm > 0.0)) throw InputError(bad_speed(rpm));
   if (!(std::isfinite(depth_m) && depth_m >= 0.0)) {
     std::ostringstream os;

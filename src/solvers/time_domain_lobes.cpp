@@ -112,7 +112,8 @@ SimulationResult TimeDomainSolver::verdict_run(double rpm, double depth_m) const
   return (search_simulator_ ? *search_simulator_ : simulator_).simulate(st);
 }
 
-StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
+StabilityLimit TimeDomainSolver::limit_at(SpindleSpeed speed) const {
+  const double rpm = speed.rpm();
   if (!(rpm > 0.0 && std::isfinite(rpm))) throw InputError("spindle speed must be > 0 rev/min");
   const TimeDomainOptions& o = simulator_.options();
   StabilityLimit out;
@@ -123,7 +124,7 @@ StabilityLimit TimeDomainSolver::limit_at(double rpm) const {
   if (starting_guess_) {
     std::optional<StabilityLimit> g;
     try {
-      g = starting_guess_->limit_at(rpm);
+      g = starting_guess_->limit_at(SpindleSpeed(speed));
     } catch (const InputError&) {
       // The guess refuses this speed (documented in the header): no guess.
     }

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "chatter/process.hpp"
-#include "chatter/spindle_speed.hpp"
+#include "chatter/speed_variation.hpp"
 #include "chatter/structural_model.hpp"
 #include "chatter/time_domain.hpp"
 #include "time_domain_parts.hpp"
@@ -171,7 +171,7 @@ class Model {
   bool ssv() const { return ssv_; }
   /// The modulated speed the run integrates (frequency ratio: the one the
   /// principal period is exact for, SpeedVariationPeriod::frequency_ratio_used).
-  const SpindleSpeed& speed() const { return speed_; }
+  const ModulatedSpeed& speed() const { return speed_; }
   /// Mean-speed time t' = θ(t)/Ω₀ at which the constant-speed spindle has
   /// turned as far as the modulated one at t (s); t at constant speed.
   double mean_time(double t) const { return ssv_ ? speed_.angle(t) / omega_spindle_ : t; }
@@ -271,7 +271,7 @@ class Model {
   // Spindle speed variation: on, the modulated speed, and the uniform
   // path's delay at the mean speed (tooth period; one revolution in turning), s.
   bool ssv_ = false;
-  SpindleSpeed speed_{1.0, {}};
+  ModulatedSpeed speed_{1.0, {}};
   double mean_delay_ = 0.0;
   // Turning insert at this run's depth (docs/turning_inserts.md): chip
   // direction n, force vector d (the force on the tool is −b h d), chip

@@ -3,16 +3,16 @@
 // events that move with it. Part of Model (time_domain_model.hpp).
 //
 // The spindle turns θ(t) = Ω₀ t + (R_VA / R_VF)(1 − cos(R_VF Ω₀ t)) (rad,
-// chatter/spindle_speed.hpp). Every angle of the constant-speed model is
+// chatter/speed_variation.hpp). Every angle of the constant-speed model is
 // kept, read at the mean-speed time t' = θ(t)/Ω₀ instead of t:
 //  - the tooth angles φ_j(t) = θ(t) + …;
 //  - the delay of a surface left by the tooth the angle Ω₀ d before (d the
 //    constant-speed delay: a tooth period, a pitch over Ω₀, one revolution
-//    in turning) is τ(t) with θ(t) − θ(t − τ) = Ω₀ d (SpindleSpeed::delay,
+//    in turning) is τ(t) with θ(t) − θ(t − τ) = Ω₀ d (ModulatedSpeed::delay,
 //    Newton to round-off), read from the history at t − τ(t);
 //  - the arc events, start images and the delay images of a chip zero
 //    crossing are the constant-speed ones in t', at the real times
-//    t = θ⁻¹(Ω₀ t') (SpindleSpeed::time_at_angle);
+//    t = θ⁻¹(Ω₀ t') (ModulatedSpeed::time_at_angle);
 //  - process damping C_pd a / V follows the cutting speed V ∝ Ω(t).
 // The run's period is the principal period p T_m = q T_F of
 // speed_variation_period (sdm's), and the modulation is integrated with the
@@ -54,7 +54,7 @@ void Model::init_speed_variation() {
                      "\", docs/cutter_geometry.md): remove process.speed_variation or use a flat cutter");
   const SpeedVariationPeriod per = speed_variation_period(process_, settings_.spindle_rpm);
   ssv_ = true;
-  speed_ = SpindleSpeed(settings_.spindle_rpm, {process_.speed_variation().amplitude_ratio, per.frequency_ratio_used});
+  speed_ = ModulatedSpeed(settings_.spindle_rpm, {process_.speed_variation().amplitude_ratio, per.frequency_ratio_used});
   mean_delay_ = process_.delay_s(settings_.spindle_rpm);
 }
 

@@ -68,3 +68,49 @@ def test_python_result_keys_are_the_cli_json_keys(name):
     assert isinstance(got, dict), type(got)
     missing, extra = keys(want) - keys(got), keys(got) - keys(want)
     assert not missing and not extra, f"{name}: missing in Python {sorted(missing)}, only in Python {sorted(extra)}"
+
+
+# Results that also hold tables (chatter/records/columns.hpp): their keys are
+# the CLI's JSON keys plus each table's columns, read from the header of the
+# CSV the CLI writes for that table ("": the columns sit in the result
+# itself; a name: in the dict under that key). Each: the CLI's record, the
+# tables as (key, CLI arguments, the CSV's flag), the Python call.
+SIM = ("simulate", CASE_C, "--rpm", "14000", "--depth-mm", "0.5", "--periods", "30")
+TABLE_CASES = {
+    "map": (lambda: cli_record("map", CASE_C, "--rpm-points", "4", "--depth-points", "3"),
+            [("", ("map", CASE_C, "--rpm-points", "4", "--depth-points", "3"), "--out")],
+            lambda: chatter.map(chatter.load(CASE_C), rpm_points=4, depth_points=3)),
+    "compare": (lambda: cli_record("compare", CASE_C, "--rpm-points", "3"),
+                [("", ("compare", CASE_C, "--rpm-points", "3"), "--table")],
+                lambda: chatter.compare(chatter.load(CASE_C), rpm_points=3)),
+    "simulate": (lambda: simulate_record(), [("series", SIM, "--out"), ("periodic", SIM, "--periodic"), ("spectrum", SIM, "--spectrum")],
+                 lambda: chatter.simulate(chatter.load(CASE_C), rpm=14000, depth_mm=0.5, periods=30)),
+}
+
+
+def simulate_record():
+    """chatter simulate prints its record on standard output (no --json)."""
+    status, out, err = run_cli(*SIM)
+    assert status in (0, 3), f"{SIM}: exit {status}: {err}"
+    return json.loads(out)
+
+
+def csv_header(args, flag, path):
+    status, _, err = run_cli(*args, flag, path)
+    assert status in (0, 3), f"{args} {flag}: exit {status}: {err}"
+    with open(path) as f:
+        return next(line for line in f if not line.startswith("#")).strip().split(",")
+
+
+@pytest.mark.parametrize("name", sorted(TABLE_CASES))
+def test_python_table_keys_are_the_cli_json_keys_and_csv_columns(name, tmp_path):
+    record, tables, call = TABLE_CASES[name]
+    want = keys(record())
+    for k, (key, table_args, flag) in enumerate(tables):
+        columns = csv_header(table_args, flag, tmp_path / f"table{k}.csv")
+        want |= {(key + "." if key else "") + c for c in columns}
+        if key:
+            want.add(key)
+    got = call()
+    missing, extra = want - keys(got), keys(got) - want
+    assert not missing and not extra, f"{name}: missing in Python {sorted(missing)}, only in Python {sorted(extra)}"

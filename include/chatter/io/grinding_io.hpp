@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "chatter/io/columns.hpp"
 #include "chatter/grinding.hpp"
 #include "chatter/grinding_data.hpp"
 #include "chatter/io/grinding_config.hpp"
@@ -116,14 +117,26 @@ std::string grinding_fit_fragment(const GrindingFitReport& r, std::optional<doub
 
 
 /// The sweep table: one row per (feed, power), the prediction's quantities
-/// with their units in the column names; empirical columns when the config
-/// has those models.
+/// with their units in the column names (feed_mm_per_s, power_w,
+/// removal_rate_mm3_per_s, max_depth_mm, groove_width_mm, depth_per_pass_mm,
+/// tangential_force_n, normal_force_n, specific_energy_j_per_mm3; the
+/// mechanistic model's friction_power_w, chip_power_w, impacts_per_turn;
+/// energy_partition, heat_into_part_w; empirical columns when the config has
+/// those models). NaN where a value is absent or not finite (an empty cell).
+std::vector<Column> grinding_sweep_table(const std::vector<grinding::SweepCurve>& curves);
+/// The simulated series: time_s, depth_mm, surface_mm, contact_force_n, push_n.
+std::vector<Column> grinding_series_table(const grinding::DynamicsResult& r);
+/// The impacts per turn: turn, impacts, first_peak_time_s and the largest
+/// peak (largest_peak_n or largest_peak_rpm_drop, by the record's signal).
+std::vector<Column> grinding_impacts_table(const grinding::ImpactCount& c, const ImpactRecord& record);
+/// A wheel's life: wheel_diameter_mm, removal_rate_mm3_per_s,
+/// wear_rate_mm3_per_s, g_ratio, removed_mm3, time_s, wheel_rpm,
+/// cutting_speed_m_per_s, power_w.
+std::vector<Column> grinding_plan_table(const grinding::Plan& p);
+/// Each table as CSV (columns_csv).
 std::string grinding_sweep_csv(const std::vector<grinding::SweepCurve>& curves);
-/// The simulated series (time_s, depth_mm, surface_mm, contact_force_n, push_n).
 std::string grinding_series_csv(const grinding::DynamicsResult& r);
-/// The impacts per turn (turn, impacts) and the peaks (time_s, peak).
 std::string grinding_impacts_csv(const grinding::ImpactCount& c, const ImpactRecord& record);
-/// A wheel's life (diameter_mm, removal_rate_mm3_per_s, wear_rate_mm3_per_s, removed_mm3, time_s).
 std::string grinding_plan_csv(const grinding::Plan& p);
 
 }  // namespace chatter

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "chatter/lobes.hpp"
+#include "chatter/records/columns.hpp"
 #include "chatter/results.hpp"  // ForcedResponse, ShaftDeflection: plain data
 
 namespace chatter {
@@ -41,6 +42,26 @@ struct ForcedRecordContext {
 /// are null. The CLI prints it, Python converts it (to_python), as every
 /// record of the records layer.
 nlohmann::json forced_record(const ForcedResponse& r, const ForcedRecordContext& context);
+
+/// chatter.forced's result: forced_record's fields and, when `with_path`
+/// and the cut is a stable milling cut, the group "path" (time_s, rel_x_um,
+/// rel_y_um, wall_normal_um: the tool path over one period, the columns of
+/// forced_path_csv at full precision).
+ColumnRecord forced_columns(const ForcedResponse& r, const ForcedRecordContext& context, bool with_path);
+
+/// What chatter.sle's columns do not hold.
+struct SleContext {
+  std::string config;                 ///< the config's name
+  double depth_mm = 0.0;              ///< the axial (milling) or radial (turning) depth
+  double feed_mm = 0.0;               ///< per tooth (milling) or per revolution (turning)
+  std::string feed_key;               ///< Process::feed_record_key(): which of the two
+  std::optional<double> position_mm;  ///< the tool position, when one was given
+};
+/// chatter.sle's result: fields config, depth_mm, <feed_key>, [position_mm];
+/// columns spindle_rpm, surface_location_error_um, peak_to_peak_x_um,
+/// peak_to_peak_y_um, min_chip_thickness_um (NaN where the cut is unstable:
+/// sle_table_csv's empty cells), stable, teeth_leave_cut (booleans).
+ColumnRecord sle_columns(const std::vector<ForcedResponse>& rows, const SleContext& context);
 
 /// The `forced` object of one `chatter check --json` operation (issue 27,
 /// docs/operations.md): stable, surface_location_error_um (milling) or

@@ -15,6 +15,7 @@
 #include "chatter/grinding_dynamics.hpp"
 #include "chatter/io/grinding_config.hpp"
 #include "chatter/io/grinding_io.hpp"
+#include "chatter/records/columns.hpp"
 
 namespace chatter {
 
@@ -52,5 +53,16 @@ struct GrindingPlanRun {
 };
 /// @throws InputError as plan_repair / compare_plan_objectives.
 GrindingPlanRun run_grinding_plan(const GrindingConfig& config, const grinding::PlanOptions& o);
+
+/// The grinding results with their tables as columns (Python: chatter.grind_sweep,
+/// grind_plan, grind_impacts, grind_simulate), each table the CSV the CLI
+/// writes (grinding_io.hpp): the sweep table alone; the plan's record with
+/// "wheel_life"; the impacts record with "turns_table"; the simulation's
+/// record with "series".
+ColumnRecord grinding_sweep_columns(const std::vector<grinding::SweepCurve>& curves);
+ColumnRecord grinding_plan_columns(const GrindingPlanRun& run);
+ColumnRecord grinding_impacts_columns(const grinding::ImpactCount& c, const ImpactRecord& record,
+                                      const std::string& file, double wheel_rpm);
+ColumnRecord grinding_simulation_columns(const grinding::DynamicsResult& r, const GrindingConfig& config);
 
 }  // namespace chatter

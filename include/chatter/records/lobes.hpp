@@ -21,6 +21,7 @@
 #include "chatter/uncertainty.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/records.hpp"
+#include "chatter/records/columns.hpp"
 #include "chatter/solvers.hpp"
 
 namespace chatter {
@@ -69,6 +70,42 @@ struct UncertaintyRecordInputs {
 /// the distribution, the generator, the quantile definition and columns,
 /// the probability grid and the summary.
 nlohmann::json uncertainty_record(const UncertaintySpreads& s, bool milling, const UncertaintyRecordInputs& in);
+
+// ------------------------------------------- the lobe tables as columns (Python)
+
+/// What a lobe table's columns do not hold: the method, the config's name
+/// and warnings, the method's notes, the depth searched (mm).
+struct LobeColumnsSource {
+  std::string method;
+  const Config* config = nullptr;  ///< name and warnings (null: none)
+  std::vector<std::string> notes;
+  double depth_max_mm = 0.0;
+};
+/// Its fields: method, name, warnings, notes, depth_max_mm.
+nlohmann::json lobe_columns_fields(const LobeColumnsSource& source);
+
+/// The lobe table as columns (chatter.lobes; the CSV's columns, full
+/// precision): spindle_rpm, depth_limit_mm (+inf where no limit below the
+/// searched depth), chatter_frequency_hz (NaN there), lobe (−1 there), then
+/// each diagnostic column: numbers (NaN where none) or text ("" where none).
+/// Fields: lobe_columns_fields. @pre values is empty or has rows.size() rows.
+ColumnRecord lobe_columns(const std::vector<StabilityLimit>& rows, const std::vector<DiagnosticColumn>& diagnostics,
+                          const std::vector<std::vector<SolverValue>>& values, const LobeColumnsSource& source);
+
+/// The lobe surface as columns (chatter.surface), one row per (position,
+/// speed), positions outer: position_mm, then lobe_columns' four.
+/// @pre positions_mm.size() == rows.size().
+ColumnRecord surface_columns(const std::vector<double>& positions_mm,
+                             const std::vector<std::vector<StabilityLimit>>& rows, const LobeColumnsSource& source);
+
+/// Monte Carlo lobes as columns (chatter.uncertain_lobes): fields method,
+/// warnings, notes, samples, seed, [position_mm]; columns spindle_rpm,
+/// depth_limit_mm (the nominal model's), one quantile column per level
+/// (quantile_column_name), depth_mm (the probability grid) and
+/// probability_stable (speeds × depths).
+ColumnRecord uncertain_lobe_columns(const std::vector<StabilityLimit>& nominal, const UncertainLobes& mc,
+                                    const LobeColumnsSource& source, long long samples, long long seed,
+                                    std::optional<double> position_mm);
 
 // ------------------------------------------------------------------ compare
 
@@ -141,6 +178,10 @@ std::string comparison_csv(const Comparison& c);
 /// The record: config, name, methods, speeds and depth searched,
 /// solver_options by method, warnings, notes, pairs, explanation.
 nlohmann::json comparison_record(const Comparison& c, const RecordSource& source);
+/// chatter.compare's result: comparison_record's fields; columns
+/// spindle_rpm, depth_limit_mm_<method> (+inf where no limit) and each
+/// method's compare columns as text, <column>_<method> ("" where no limit).
+ColumnRecord comparison_columns(const Comparison& c, const RecordSource& source);
 /// The methods' limits in the form plot_compare draws (flip rows marked).
 std::vector<MethodLimits> comparison_plot_lines(const Comparison& c);
 
@@ -169,6 +210,11 @@ std::size_t unstable_points(const StabilityMapGrid& grid);
 /// unstable_points, solver_options (`chatter map --json`).
 nlohmann::json stability_map_record(const StabilityMapGrid& grid, const SolverValues& solver_options,
                                     const RecordSource& source);
+/// chatter.map's result: stability_map_record's fields; columns
+/// spindle_rpm, depth_mm and the grids (speeds × depths) spectral_radius
+/// and, with `multiplier_types`, multiplier_type ("" where ρ < 1).
+ColumnRecord stability_map_columns(const StabilityMapGrid& grid, const SolverValues& solver_options,
+                                   const RecordSource& source, bool multiplier_types);
 
 // ------------------------------------------------------- radial x axial map
 
@@ -215,6 +261,13 @@ std::string radial_map_csv(const RadialStabilityMapGrid& grid);
 /// null, chatter_frequency_hz or null, lobe), solver_options, source.
 nlohmann::json radial_map_record(const RadialStabilityMapGrid& grid, const SolverValues& solver_options,
                                  const RecordSource& source);
+/// chatter.map(axes="radial-axial")'s result: radial_map_record's fields;
+/// columns radial_immersion, [radial_depth_mm] (with a tool diameter),
+/// depth_mm, depth_limit_mm and chatter_frequency_hz per immersion (+inf,
+/// NaN where no limit), and the grids (immersions × depths) as
+/// stability_map_columns.
+ColumnRecord radial_map_columns(const RadialStabilityMapGrid& grid, const SolverValues& solver_options,
+                                const RecordSource& source, bool multiplier_types);
 
 // ------------------------------------------------------------------ frf
 
@@ -241,5 +294,8 @@ struct NamedColumns {
 NamedColumns receptance_table(const StructuralModel& model, const FrfGrid& grid);
 /// The columns as CSV, every cell with 10 significant digits (%.10g).
 std::string named_columns_csv(const NamedColumns& t);
+/// chatter.frf's result: fields name, warnings, [position_mm]; the columns
+/// of receptance_table.
+ColumnRecord receptance_columns(const NamedColumns& t, const RecordSource& source);
 
 }  // namespace chatter

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "chatter/records/columns.hpp"
 #include "chatter/frf_data.hpp"
 #include "chatter/io/config.hpp"
 #include "chatter/io/shop_io.hpp"
@@ -83,6 +84,13 @@ std::string coefficients_report(const CoefficientResult& r);
 /// for power tests (no radial coefficient) or coefficients that are no valid
 /// [process] table (K_tc <= 0 or K_rc < 0).
 std::string coefficients_fragment(const CoefficientResult& r, ArgStyle style);
+/// The record with its fragment beside it (Python's chatter.coefficients,
+/// whose result holds what the CLI writes to --out): "fragment" the
+/// [process] text, or null when the tests give none (power tests;
+/// coefficients or exponents that make no valid table: see warnings).
+nlohmann::json coefficients_record_with_fragment(const CoefficientResult& r, ArgStyle style);
+/// The same for Kienzle's law (kienzle_fragment).
+nlohmann::json kienzle_record_with_fragment(const KienzleResult& r, ArgStyle style);
 
 // ------------------------------------------------------------------ detect
 
@@ -129,6 +137,9 @@ DetectResult detect_recording(const DetectArgs& args, ArgStyle style);
 void check_detect_args(const DetectArgs& args, ArgStyle style);
 /// The record (`chatter detect --json`).
 nlohmann::json detect_record(const DetectResult& r);
+/// chatter.detect's result: detect_record's fields and the group "spectrum"
+/// (frequency_hz, amplitude: the spectrum the detection read).
+ColumnRecord detect_columns(const DetectResult& r);
 /// The report the CLI prints (verdict, evidence, speeds to try).
 std::string detect_report(const DetectResult& r);
 
@@ -181,6 +192,14 @@ FitReport fit_frf_file(const FitArgs& args, ArgStyle style);
 /// fractions, null if not defined), fit error, iterations,
 /// residual terms; warnings; the fragment.
 nlohmann::json fit_record(const FitReport& r);
+/// chatter.fit's result: fit_record's fields and, in each of its records,
+/// measured_frequency_hz and measured_receptance_m_per_n (complex, m/N: the
+/// file's lines) and fitted_frequency_hz and fitted_receptance_m_per_n (the
+/// fitted model on kFittedPoints evenly spaced over the band, as the fit
+/// plot draws it).
+ColumnRecord fit_columns(const FitReport& r);
+/// Points of the fitted curve over the band.
+inline constexpr int kFittedPoints = 2001;
 /// "x", "y" or "[ux, uy]".
 std::string direction_text(const Eigen::Vector2d& u);
 

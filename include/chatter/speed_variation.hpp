@@ -47,10 +47,10 @@ inline constexpr double kLargeSpeedVariation = 0.3;
 
 /// The modulated speed at one mean speed: Ω(t), θ(t), their inverse and the
 /// time-varying delay. Cheap to copy; all members are pure.
-class SpindleSpeed {
+class ModulatedSpeed {
  public:
   /// @pre mean_rpm > 0; v valid (SpeedVariation::validate), or inactive.
-  SpindleSpeed(double mean_rpm, SpeedVariation v);
+  ModulatedSpeed(double mean_rpm, SpeedVariation v);
 
   double mean_rad_s() const { return omega0_; }
   const SpeedVariation& variation() const { return v_; }

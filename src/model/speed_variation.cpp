@@ -1,7 +1,7 @@
 // The modulated spindle speed, its angle, the time-varying delay and the
-// principal period of the delay equation (chatter/spindle_speed.hpp,
+// principal period of the delay equation (chatter/speed_variation.hpp,
 // docs/ssv.md).
-#include "chatter/spindle_speed.hpp"
+#include "chatter/speed_variation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,22 +60,22 @@ std::string SpeedVariation::validate() const {
   return "";
 }
 
-SpindleSpeed::SpindleSpeed(double mean_rpm, SpeedVariation v)
+ModulatedSpeed::ModulatedSpeed(double mean_rpm, SpeedVariation v)
     : omega0_(angular_speed_rad_per_s(mean_rpm)), v_(v), nu_(v.frequency_ratio * angular_speed_rad_per_s(mean_rpm)) {
   if (!v_.active()) v_ = {};
 }
 
-double SpindleSpeed::omega(double t) const {
+double ModulatedSpeed::omega(double t) const {
   if (!v_.active()) return omega0_;
   return omega0_ * (1.0 + v_.amplitude_ratio * std::sin(nu_ * t));
 }
 
-double SpindleSpeed::angle(double t) const {
+double ModulatedSpeed::angle(double t) const {
   if (!v_.active()) return omega0_ * t;
   return omega0_ * t + (v_.amplitude_ratio / v_.frequency_ratio) * (1.0 - std::cos(nu_ * t));
 }
 
-double SpindleSpeed::time_at_angle(double phi) const {
+double ModulatedSpeed::time_at_angle(double phi) const {
   if (!v_.active()) return phi / omega0_;
   const double a = v_.amplitude_ratio;
   // |θ(t) − Ω₀ t| <= 2 R_VA / R_VF: the root lies within that of φ / Ω₀.
@@ -85,7 +85,7 @@ double SpindleSpeed::time_at_angle(double phi) const {
                           x0 - spread, x0 + spread, x0);
 }
 
-double SpindleSpeed::delay(double t, double phi) const {
+double ModulatedSpeed::delay(double t, double phi) const {
   if (!v_.active()) return phi / omega0_;
   const double a = v_.amplitude_ratio;
   // Ω between (1 − R_VA) Ω₀ and (1 + R_VA) Ω₀: τ between φ/Ω_max and φ/Ω_min.
@@ -95,7 +95,7 @@ double SpindleSpeed::delay(double t, double phi) const {
                           phi, lo, hi, std::clamp(phi / omega0_, lo, hi));
 }
 
-double SpindleSpeed::modulation_period_s() const {
+double ModulatedSpeed::modulation_period_s() const {
   if (!v_.active()) return std::numeric_limits<double>::infinity();
   return kTwoPi / nu_;
 }
