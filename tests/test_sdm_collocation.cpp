@@ -194,11 +194,6 @@ TEST(SdmCollocation, RefusesWhatItDoesNotModelNamingTheOption) {
   TurningParameters t;
   t.feed_force_coefficient_n_per_m2 = 2.4e9;
   expect_refused(m, Process::turning(t), o, "collocation_nodes");
-  MillingParameters damped{2, 6e8, 2e8, 0.5, MillingDirection::kDown};
-  damped.helix_angles_rad = {30.0 * 3.141592653589793 / 180.0};
-  damped.tool_diameter_m = 0.012;
-  damped.process_damping_coefficient_n_per_m = 1e4;
-  expect_refused(peers_model(), Process::milling(damped), o, "has process damping");
   o.collocation_nodes = 4;
   expect_refused(peers_model(), peers_process(), o, "collocation_nodes = 4: must be in [0, 3]");
   o.collocation_nodes = -2;

@@ -420,6 +420,9 @@ class Process {
   /// The same integral of the process-damping direction n nᵀ, n = (sin φ,
   /// cos φ) (m · s).
   Eigen::Matrix2d tooth_damping_integral(int j, double t_a, double t_b, double a_m, double rpm) const;
+  /// Its integrand in t: ∫_0^a g(φ) n nᵀ dz at one instant (m; what
+  /// collocation samples at its nodes). @pre as tooth_force_integral.
+  Eigen::Matrix2d tooth_damping_rate(int j, double t_s, double a_m, double rpm) const;
   /// n nᵀ at φ (dimensionless; the process-damping direction of a slice).
   static Eigen::Matrix2d damping_direction(double phi);
   /// Process damping per unit depth, C_pd / V (N·s/m²); 0 without it.

@@ -77,6 +77,9 @@ class RegenerativeCut {
   virtual Eigen::Matrix2d total_force_integral(double t_a, double t_b) const = 0;
   /// ∫_{t_a}^{t_b} D(t) dt (m·s): zero without process damping.
   virtual Eigen::Matrix2d damping_integral(double t_a, double t_b) const = 0;
+  /// D(t) at one instant (m): the integrand of damping_integral, for
+  /// methods that sample it (collocation); zero without process damping.
+  virtual Eigen::Matrix2d damping_rate(double t) const = 0;
   /// A scale of the cutting coefficients (N/m²: K_t + K_r in milling, K_f +
   /// K_r in turning) against which an integral is called zero (free flight).
   virtual double force_scale_n_per_m2() const = 0;

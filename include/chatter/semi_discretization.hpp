@@ -25,8 +25,8 @@
 //    sequence of step maps (cost O(m n²) per product, no dense product).
 // Error: O(h²) in the step h (second-order convergence, see docs/sdm.md).
 //
-// Collocation (collocation_nodes = s > 0, milling at constant speed without
-// process damping): each cutting step instead collocates the cutting term at
+// Collocation (collocation_nodes = s > 0, milling at constant speed; with
+// process damping the velocity at the nodes too): each cutting step instead collocates the cutting term at
 // its s Gauss–Legendre nodes (H sampled there, the delayed state read at the
 // nodes one period back, interpolated in degree 2s − 1 where a delay is not
 // the period), the free dynamics still exact; error O(h^{2s}) measured
@@ -145,7 +145,7 @@ struct SemiDiscretizationOptions {
   /// tooth-period grid, the constant turning step; byte-identical tables).
   bool general_cutter_path = false;
   /// Gauss collocation nodes per cutting step (0 … 3, or kAutoCollocation;
-  /// milling at constant speed without process damping). 0: first-order
+  /// milling at constant speed). 0: first-order
   /// semi-discretisation (H averaged over the step, the delayed term linear
   /// between samples; error O(h²)). s >= 1: exponential collocation at the s
   /// Gauss–Legendre nodes of each step — the free dynamics still exact, H
@@ -158,8 +158,8 @@ struct SemiDiscretizationOptions {
   /// kCollocationSteps) the peers' 2-DOF case is within 0.014 % of its
   /// converged limits, the default first-order steps within 1.2 %.
   /// The map holds s samples per cutting step (none for free flight).
-  /// The solver's constructor throws InputError for turning, process
-  /// damping or speed variation. kAutoCollocation (the default): chosen by
+  /// The solver's constructor throws InputError for turning or speed
+  /// variation. kAutoCollocation (the default): chosen by
   /// the cut (see kAutoCollocation); the solver's options() say which.
   int collocation_nodes = kAutoCollocation;
 

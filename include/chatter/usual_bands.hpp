@@ -44,6 +44,8 @@ inline constexpr Usual kFluteLengthMm{0.1, 500.0, "the 0.1 to 500 mm of cutting 
 inline constexpr Usual kRadialImmersion{2e-3, 1.0, "the 0.002 to 1 of milling (a_e/D, a ratio)", 1e-2, "percent"};
 inline constexpr Usual kFeedMm{0.001, 1.0, "the 0.001 to 1 mm of a chip's feed", 1e3, "m", 1e-3, "um"};
 inline constexpr Usual kCuttingCoefficientNPerM2{1e8, 1e10, "the 1e8 to 1e10 N/m^2 of metal cutting", 1e6, "N/mm^2"};
+inline constexpr Usual kProcessDampingNPerM{1e3, 1e7, "the 1e3 to 1e7 N/m of process-damping coefficients", 1e3,
+                                            "N/mm"};
 inline constexpr Usual kCuttingSpeedMPerMin{5.0, 3000.0, "the 5 to 3 000 m/min of cutting speeds", 60.0, "m/s"};
 inline constexpr Usual kPowerKw{0.05, 1000.0, "the 0.05 to 1 000 kW of machine spindles", 1e-3, "W"};
 inline constexpr Usual kTorqueNm{0.1, 10000.0, "the 0.1 to 10 000 N m of machine spindles", 1e-3, "N mm"};

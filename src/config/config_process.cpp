@@ -23,6 +23,7 @@ constexpr const Usual& kToolDiameterUsual = usual::kToolDiameterMm;
 constexpr const Usual& kWorkpieceDiameterUsual = usual::kWorkpieceDiameterMm;
 constexpr const Usual& kFluteLengthUsual = usual::kFluteLengthMm;
 constexpr const Usual& kImmersionUsual = usual::kRadialImmersion;
+constexpr const Usual& kProcessDampingUsual = usual::kProcessDampingNPerM;
 /// A nose radius below this (mm, but > 0: 0 is a sharp corner) is metres typed as mm.
 constexpr double kTinyNoseRadiusMm = 0.01;
 /// A radial depth thinner than this (mm) is a cut below a sharp edge's radius:
@@ -232,6 +233,7 @@ Process read_turning(const Table& t, std::size_t mark, std::optional<double>* fe
              "a nose radius of " + number_text(*nose) + " mm is below the 0.1 to 2.4 mm of turning inserts (0 is a "
              "sharp corner); is it in m (nose_radius_mm = " + number_text(*nose * 1e3) + ")?");
   warn_usual(*process, "workpiece_diameter_mm", dw, kWorkpieceDiameterUsual);
+  if (cpd && *cpd > 0.0) warn_usual(*process, "process_damping_coefficient_n_per_m", cpd, kProcessDampingUsual);
   if (nose && *nose > kLargeNoseRadiusMm)
     doc.warn(process->path_of("nose_radius_mm"), *process->find("nose_radius_mm"),
              "a nose radius of " + number_text(*nose) + " mm is above the 0.1 to 2.4 mm of turning inserts (round "
@@ -466,6 +468,7 @@ Process read_milling(const Table& t, std::size_t mark, std::optional<double>* fe
   const auto pitch = process->number_list("pitch_angles_deg", kPositive);
   const auto runout = process->number_list("runout_um", kAnyNumber);
   const auto cpd = process->number("process_damping_coefficient_n_per_m", kNonNegative);
+  if (cpd && *cpd > 0.0) warn_usual(*process, "process_damping_coefficient_n_per_m", cpd, kProcessDampingUsual);
   auto need_diameter = [&](std::string_view key, std::string_view why) {
     if (process->has(key) && !process->has("tool_diameter_mm"))
       doc.error(process->path_of(key), *process->find(key), "needs process.tool_diameter_mm (" + std::string(why) + ")");

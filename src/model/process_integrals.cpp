@@ -71,4 +71,10 @@ Eigen::Matrix2d Process::tooth_damping_integral(int j, double t_a, double t_b, d
   });
 }
 
+Eigen::Matrix2d Process::tooth_damping_rate(int j, double t, double a_m, double rpm) const {
+  return over_arcs(damping_trig(), arcs_, [&](const auto& w) {
+    return height_integral(w, angular_speed_rad_per_s(rpm), tooth_offset_rad(j), helix_lag_rad_per_m(j), t, a_m);
+  });
+}
+
 }  // namespace chatter

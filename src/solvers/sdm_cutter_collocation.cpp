@@ -1,6 +1,7 @@
 // Gauss collocation on the real-cutter grid of the `sdm` solver (helix,
-// variable pitch or helix, a profile, two engaged arcs, the general path;
-// docs/sdm.md "Collocation on real cutters"): the step maps at one depth
+// variable pitch or helix, a profile, two engaged arcs, process damping, the
+// general path; docs/sdm.md "Collocation on real cutters", "Collocation with
+// process damping"): the step maps at one depth
 // (SdmKernel::build_cutter_collocation) and Φ y
 // (SdmKernel::apply_cutter_collocation). Part of the `sdm` solver
 // (sdm_internal.hpp).
@@ -168,6 +169,31 @@ void step_matrices(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr, int
   st.Rd = VB - VBH.lazyProduct(Qd);
 }
 
+// The same with process damping (docs/sdm.md "Collocation with process
+// damping"): the node unknowns are z_k and v_k = Sv x(t_k), the force at node
+// k is d_k − Hs_k z_k − Dn_k v_k (Dn_k = C̄ D(t_k), 2 × 2 each in Dn), so
+//   (I + Gc K) Y = Ec x_i + Gc d,   Y = [Z; V], Gc = [G; Gv], Ec = [WxEc; SvEc],
+// K = the node blocks [Hs_k at z_k, Dn_k at v_k]; x_{i+1} = Eh x_i + VB d −
+// VB K Y. Only Y's z rows are kept (Qx, Qd): the delayed reads and Φ y need
+// no more. Run-time sizes (process damping is the rarer case).
+void step_matrices_damped(const NodeWeights& w, const MatrixXd& Hs, const MatrixXd& Dn, int n2, int nr, int s,
+                          CollocationStep& st) {
+  const int snr = s * nr, nd = 2 * s, ny = snr + nd;
+  MatrixXd Gc(ny, nd), Ec(ny, n2), K = MatrixXd::Zero(nd, ny);
+  Gc << w.G, w.Gv;
+  Ec << w.WxEc, w.SvEc;
+  for (int k = 0; k < s; ++k) {
+    K.block(2 * k, k * nr, 2, nr) = Hs.middleCols(k * nr, nr);
+    K.block(2 * k, snr + 2 * k, 2, 2) = Dn.middleCols(2 * k, 2);
+  }
+  const Eigen::PartialPivLU<MatrixXd> lu(MatrixXd::Identity(ny, ny) + Gc * K);
+  const MatrixXd Qx = lu.solve(Ec), Qd = lu.solve(Gc), VBK = w.VB * K;
+  st.Qx = Qx.topRows(snr);
+  st.Qd = Qd.topRows(snr);
+  st.P = w.Eh - VBK * Qx;
+  st.Rd = w.VB - VBK * Qd;
+}
+
 void step_matrices_any(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr, int s, CollocationStep& st) {
   if (nr == 2 && s == 3 && n2 == 8) return step_matrices<8, 6, 6>(w, Hs, n2, nr, s, st);
   if (nr == 2 && s == 3 && n2 == 4) return step_matrices<4, 6, 6>(w, Hs, n2, nr, s, st);
@@ -196,6 +222,9 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   const RegenerativeCut* cut = cg.cut.get();  // at cg.depth
   if (!cut) throw std::logic_error("sdm collocation: a grid without its cut (speed variation is refused)");
   const double T = g.tau, h_zero = kFreeForce * cg.force_scale_n_per_m2 * a;  // N/m: a group not cutting
+  // Process damping: C̄ D(t) Sv x at every node (C̄ = C_pd / V).
+  const double cbar = p.process_damping_per_depth(g.rpm);
+  const bool damped = cbar > 0.0 && Sv_ && Sv_->size() > 0;
   const std::vector<double> c = gauss_nodes(s);
   const NodeLayout layout(cg, c, T);
   const int M = static_cast<int>(cg.h.size()), ng = static_cast<int>(cg.gtau.size());
@@ -222,7 +251,7 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
     cc.weights_nodes = s;
   }
   std::vector<Eigen::Matrix2d> per_edge, Hg(static_cast<std::size_t>(ng));
-  MatrixXd Hs(2, snr), HU(2, nr);
+  MatrixXd Hs(2, snr), HU(2, nr), Dn(2, 2 * s);
   int lowest = 0;
   int sample[2 * kMaxCollocationNodes];
   double weight[2 * kMaxCollocationNodes];
@@ -237,12 +266,21 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
       continue;
     }
     auto it = cc.weights.find(st.h);
-    if (it == cc.weights.end()) it = cc.weights.emplace(st.h, node_weights(A_, B_, Wx_, st.h, c)).first;
+    if (it == cc.weights.end()) {
+      NodeWeights w = node_weights(A_, B_, Wx_, st.h, c);
+      if (damped) {
+        NodeWeights v = node_weights(A_, B_, *Sv_, st.h, c);
+        w.SvEc = std::move(v.WxEc);
+        w.Gv = std::move(v.G);
+      }
+      it = cc.weights.emplace(st.h, std::move(w)).first;
+    }
     st.first_node = layout.first_node(i);
     st.first_term = static_cast<int>(cc.terms.size());
     for (int k = 0; k < s; ++k) {
       const double tk = cg.t[iu] + c[static_cast<std::size_t>(k)] * st.h;
       cut->force_rates(tk, per_edge);
+      if (damped) Dn.middleCols(2 * k, 2) = (cbar * scale) * cut->damping_rate(tk);
       for (auto& m : Hg) m.setZero();
       for (std::size_t e = 0; e < per_edge.size(); ++e) Hg[static_cast<std::size_t>(cg.edge_group[e])] += per_edge[e];
       Hs.middleCols(k * nr, nr).setZero();
@@ -260,7 +298,8 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
       }
     }
     st.n_terms = static_cast<int>(cc.terms.size()) - st.first_term;
-    step_matrices_any(it->second, Hs, n2, nr, s, st);
+    if (damped) step_matrices_damped(it->second, Hs, Dn, n2, nr, s, st);
+    else step_matrices_any(it->second, Hs, n2, nr, s, st);
   }
   cc.L = -lowest;
   pm.nz = cc.L;

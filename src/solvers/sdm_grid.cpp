@@ -185,6 +185,10 @@ bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o) {
 SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, const Process& p) {
   if (o.collocation_nodes != kAutoCollocation) return o;
   const SemiDiscretizationOptions defaults;
+  // Process damping keeps the first order unless collocation is asked for:
+  // Gauss collocation is not L-stable, and where C̄ a is far above the modes'
+  // own damping its stiff, damped motion gets multipliers near −1 per step
+  // (docs/sdm.md "Collocation with process damping").
   const bool real = real_cutter_grid(p, o) && !o.general_cutter_path && p.rotating_edges() &&
                     !p.has_speed_variation() && !p.has_process_damping();
   o.collocation_nodes = real ? kRealCutterNodes : 0;
@@ -196,14 +200,13 @@ SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, cons
 
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
   if (o.collocation_nodes <= 0) return "";
-  const char* what = !p.rotating_edges()          ? "is turning"
-                     : p.has_speed_variation()     ? "has spindle speed variation"
-                     : p.has_process_damping()     ? "has process damping"
-                                                   : nullptr;
+  const char* what = !p.rotating_edges()      ? "is turning"
+                     : p.has_speed_variation() ? "has spindle speed variation"
+                                               : nullptr;
   if (!what) return "";
   std::ostringstream os;
   os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for milling "
-     << "at constant speed without process damping; this cut " << what << ": use collocation 0 (the first-order steps)";
+     << "at constant speed; this cut " << what << ": use collocation 0 (the first-order steps)";
   return os.str();
 }
 

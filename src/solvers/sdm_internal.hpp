@@ -246,9 +246,12 @@ struct NodeTerm {
 };
 // The depth-independent weights of one step length as a collocation step
 // reads them (node_weights; both collocation grids): WxEc = [Wx e^{A c_j h}]_j (s n_r
-// × 2n), G = [Wx W_jk B]_jk (s n_r × 2s), VB = [V_k B]_k (2n × 2s), Eh = e^{A h}.
+// × 2n), G = [Wx W_jk B]_jk (s n_r × 2s), VB = [V_k B]_k (2n × 2s), Eh = e^{A h};
+// with process damping also SvEc and Gv, the same two for ṙ = Sv x (empty
+// otherwise).
 struct NodeWeights {
   MatrixXd Eh, WxEc, G, VB;
+  MatrixXd SvEc, Gv;
 };
 struct CollocationCutterMap {
   std::vector<double> t;  // step boundaries t_0 = 0 … t_M = T

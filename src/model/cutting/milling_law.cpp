@@ -280,6 +280,13 @@ class MillingCut final : public RegenerativeCut {
     return d;
   }
 
+  Eigen::Matrix2d damping_rate(double t) const override {
+    Eigen::Matrix2d d = Eigen::Matrix2d::Zero();
+    if (!process_.has_process_damping()) return d;
+    for (int j = 0; j < teeth_; ++j) d += process_.tooth_damping_rate(j, t, depth_m_, rpm_);
+    return d;
+  }
+
   double force_scale_n_per_m2() const override { return scale_; }
 
  private:

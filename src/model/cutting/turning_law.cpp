@@ -86,6 +86,7 @@ class TurningCut final : public RegenerativeCut {
   void force_rates(double /*t*/, std::vector<Eigen::Matrix2d>& per_edge) const override { per_edge.assign(1, force_); }
   Eigen::Matrix2d total_force_integral(double t_a, double t_b) const override { return force_ * (t_b - t_a); }
   Eigen::Matrix2d damping_integral(double t_a, double t_b) const override { return damping_ * (t_b - t_a); }
+  Eigen::Matrix2d damping_rate(double /*t*/) const override { return damping_; }
   double force_scale_n_per_m2() const override { return scale_; }
 
  private:
