@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "bindings.hpp"
@@ -23,6 +22,7 @@
 #include "chatter/usual_bands.hpp"
 #include "module.hpp"
 #include "chatter/lobes.hpp"
+#include "chatter/number_text.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -37,12 +37,7 @@ constexpr double kDefaultDepthMaxMm = 50.0;
 constexpr int kDefaultRpmPoints = 400;
 constexpr long long kMaxRpmPoints = 1'000'000;
 
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string fmt(double x) { return chatter::number_text(x); }
 
 // The job's config, at the tool position if one is given, with the radial
 // immersion replaced if one is given (keyword names in messages).

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 #include <variant>
@@ -15,15 +14,11 @@
 #include "chatter/operations.hpp"
 #include "chatter/records.hpp"
 #include "chatter/report.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter_py {
 
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string fmt(double x) { return chatter::number_text(x); }
 
 Job job_from(chatter::Config c, bool strict) {
   if (strict && !c.warnings.empty()) {

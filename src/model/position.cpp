@@ -8,6 +8,7 @@
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 namespace {
@@ -28,12 +29,7 @@ double raw_shape(double xi) {
 // of one direction, "x" and [1, 0], agree to rounding).
 constexpr double kDirectionTol = 1e-9;
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 10); }
 
 // Fritsch–Carlson monotone cubic Hermite slopes (harmonic-mean interior
 // slopes after Fritsch & Butland; the one-sided three-point end slopes,

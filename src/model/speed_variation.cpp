@@ -7,11 +7,11 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include "chatter/error.hpp"
 #include "chatter/process.hpp"
 #include "chatter/kinematics.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 namespace {
@@ -23,12 +23,7 @@ constexpr int kNewtonIterations = 60;
 // A fraction p/q within this (relative) of the asked ratio is the ratio.
 constexpr double kExactRatio = 1e-9;
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 6); }
 
 // Solves g(x) = target for an increasing g with derivative dg >= gmin > 0 on
 // [lo, hi] (g(lo) <= target <= g(hi)): Newton, kept inside the bracket

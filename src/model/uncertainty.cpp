@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <boost/math/special_functions/erf.hpp>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "chatter/error.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 namespace {
@@ -27,12 +27,7 @@ std::uint64_t splitmix64(std::uint64_t x) {
 // Parameter numbers of the stream (the header's table).
 constexpr std::uint64_t kParamTangential = 0, kParamRadial = 1, kParamFirstMode = 2;
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 10); }
 
 double of(const std::vector<double>& list, std::size_t m) {
   if (list.empty()) return 0.0;

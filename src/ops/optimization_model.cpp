@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <tuple>
 
 #include "chatter/cutting_force.hpp"
@@ -11,6 +10,7 @@
 #include "chatter/error.hpp"
 #include "chatter/optimization.hpp"
 #include "chatter/solvers.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 
@@ -23,12 +23,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // satisfies the constraint anyway.
 constexpr double kDepthSearchFactor = 2.0;
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 6); }
 
 // The positions evaluated over a part: a cantilever's clamp is rigid (the
 // workpiece does not move there), so position_points from L/n to L; stations

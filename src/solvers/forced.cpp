@@ -16,6 +16,7 @@
 #include "chatter/error.hpp"
 #include "chatter/lobes.hpp"
 #include "chatter/kinematics.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 namespace {
@@ -31,12 +32,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // 1 − cos(π/32) = 0.5 % of the true one, usually far closer).
 constexpr int kSamplesPerVibrationCycle = 32;
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 6); }
 
 // True when the motion repeats every tooth period and the regenerative term
 // vanishes in steady state (the Fourier path applies).

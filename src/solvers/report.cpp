@@ -8,6 +8,7 @@
 #include "chatter/error.hpp"
 #include "chatter/semi_discretization.hpp"
 #include "chatter/time_domain.hpp"
+#include "chatter/number_text.hpp"
 
 namespace chatter {
 
@@ -22,12 +23,7 @@ int lobe_number(double chatter_frequency_hz, double tooth_passing_hz) {
 
 namespace {
 
-std::string number(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
+std::string number(double x) { return number_text(x, 6); }
 
 }  // namespace
 
