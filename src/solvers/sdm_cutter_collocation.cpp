@@ -63,11 +63,9 @@ class NodeLayout {
   // z(t) on the global time axis (t < 0: earlier periods) as Σ w z_sample,
   // from nodes whose sample index is below `before`. Returns the count.
   int stencil(double t, int before, int* sample, double* w) const {
-    const double per = std::floor(t / T_);
-    const double loc = t - per * T_;
-    int k = static_cast<int>(std::upper_bound(cg_.t.begin(), cg_.t.end(), loc) - cg_.t.begin()) - 1;
-    k = std::clamp(k, 0, M_ - 1);
-    int p = static_cast<int>(per);
+    const GridTime at = grid_time(cg_.t, T_, t);
+    const double loc = at.loc;
+    int k = at.k, p = at.period;
     if (free(k)) {  // only at an event, to round-off: the nearer cutting neighbour
       const bool back = loc - cg_.t[static_cast<std::size_t>(k)] < cg_.t[static_cast<std::size_t>(k) + 1] - loc;
       step_by(back ? -1 : 1, k, p);

@@ -34,13 +34,10 @@ namespace {
 // kSnap of a step of a sample is that sample (w = 0).
 void locate_delayed(const std::vector<double>& t, double T, double s, int& gi, double& w) {
   const int M = static_cast<int>(t.size()) - 1;
-  const double per = std::floor(s / T);
-  const double loc = s - per * T;
-  int k = static_cast<int>(std::upper_bound(t.begin(), t.end(), loc) - t.begin()) - 1;
-  k = std::clamp(k, 0, M - 1);
-  int pr = static_cast<int>(per);
+  const GridTime at = grid_time(t, T, s);
+  int k = at.k, pr = at.period;
   const auto ku = static_cast<std::size_t>(k);
-  w = (loc - t[ku]) / (t[ku + 1] - t[ku]);
+  w = (at.loc - t[ku]) / (t[ku + 1] - t[ku]);
   if (w < kSnap) {
     w = 0.0;
   } else if (w > 1.0 - kSnap) {

@@ -25,6 +25,7 @@
 // Method and references: include/chatter/semi_discretization.hpp, docs/sdm.md.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -318,6 +319,25 @@ inline void free_flight_step(const MatrixXd& E, int n2, const double* x, double*
 
 // "spindle speed N rev/min: must be > 0 and finite".
 std::string bad_speed(double rpm);
+
+// Where a time s on the global axis (s < 0: earlier periods) falls on a
+// period's step grid with boundaries t (t[0] = 0 … t[M] = T): s = period T +
+// loc, step k with t[k] <= loc < t[k + 1] (clamped to 0 … M − 1 against
+// round-off at the ends). Both real-cutter maps read their delayed samples
+// through it (sdm_cutter_map.cpp, sdm_cutter_collocation.cpp).
+struct GridTime {
+  int k = 0, period = 0;
+  double loc = 0.0;
+};
+inline GridTime grid_time(const std::vector<double>& t, double T, double s) {
+  GridTime g;
+  const double per = std::floor(s / T);
+  g.loc = s - per * T;
+  g.k = static_cast<int>(std::upper_bound(t.begin(), t.end(), g.loc) - t.begin()) - 1;
+  g.k = std::clamp(g.k, 0, static_cast<int>(t.size()) - 2);
+  g.period = static_cast<int>(per);
+  return g;
+}
 
 // ---------------------------------------------------------------- grid
 // (sdm_grid.cpp)
