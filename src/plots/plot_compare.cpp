@@ -247,13 +247,8 @@ std::string compare_plot_clauses(const std::vector<MethodLimits>& methods, const
                                  const std::vector<std::array<std::size_t, 3>>& marks, bool gaps, bool any_bounded) {
   const std::vector<MethodStyle>& kMethodStyles = method_styles();
   const std::size_t rows = methods.front().limits.size();
-  std::ostringstream gp;
-  gp << "plot";
-  bool first = true;
-  auto add = [&](const std::string& clause) {
-    gp << (first ? " \\\n  " : ", \\\n  ") << clause;
-    first = false;
-  };
+  PlotCommand gp;
+  auto add = [&](const std::string& clause) { gp.add(clause); };
   // Lines widest first (untitled), then the key in the methods' order.
   std::vector<std::size_t> order(methods.size());
   for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;

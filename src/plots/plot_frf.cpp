@@ -105,13 +105,8 @@ std::string frequency_axis(double f_min_hz, double f_max_hz, bool log_frequency)
 // One plot command over the bodies and terms for part p (0 magnitude,
 // 1 phase, 2 real, 3 imaginary).
 std::string frf_plot_command(const std::vector<Term>& terms, int p, bool has_y, bool tool_flex, bool work_flex) {
-  std::ostringstream pl;
-  pl << "plot";
-  bool first = true;
-  auto add = [&](const std::string& clause) {
-    pl << (first ? " \\\n  " : ", \\\n  ") << clause;
-    first = false;
-  };
+  PlotCommand pl;
+  auto add = [&](const std::string& clause) { pl.add(clause); };
   for (std::size_t ti = 0; ti < terms.size(); ++ti) {
     const std::string tn = terms[ti].name;
     const std::string dash = ti == 0 ? "" : " dt (6,4)";

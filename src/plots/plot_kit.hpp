@@ -55,6 +55,21 @@ std::string num(double x, int digits = 10);
 std::string short_num(double x, int digits = 4);
 /// gnuplot_quote.
 std::string quote(const std::string& s);
+/// A gnuplot `plot` command built clause by clause, each on its own
+/// continued line ("plot", then " \\", a line break and two spaces before
+/// the first clause and ", \\" and the same before each next one).
+class PlotCommand {
+ public:
+  void add(const std::string& clause) {
+    text_ += (first_ ? " \\\n  " : ", \\\n  ") + clause;
+    first_ = false;
+  }
+  const std::string& str() const { return text_; }
+
+ private:
+  std::string text_ = "plot";
+  bool first_ = true;
+};
 /// Text for a `#` comment line: line breaks become spaces.
 std::string one_line(std::string s);
 /// A shell word for the "run this" hint in messages.
