@@ -22,7 +22,6 @@
 #include "chatter/usual_bands.hpp"
 #include "module.hpp"
 #include "chatter/lobes.hpp"
-#include "chatter/number_text.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -30,14 +29,14 @@ using chatter::InputError;
 
 namespace {
 
-// As the CLI (src/cli/cmd_forced.cpp, cli_common.hpp).
+// As the CLI (src/cli/cmd_forced.cpp, cli_common.hpp); the defaults every
+// binding shares and the message number come from module.hpp.
 constexpr double kMaxFeedMm = 100.0;
 constexpr double kMaxDepthMm = 1000.0;
-constexpr double kDefaultDepthMaxMm = 50.0;
-constexpr int kDefaultRpmPoints = 400;
-constexpr long long kMaxRpmPoints = 1'000'000;
-
-std::string fmt(double x) { return chatter::number_text(x); }
+using chatter_py::fmt;
+using chatter_py::kDefaultDepthMaxMm;
+using chatter_py::kDefaultRpmPoints;
+using chatter_py::kMaxRpmPoints;
 
 // The job's config, at the tool position if one is given, with the radial
 // immersion replaced if one is given (keyword names in messages).
