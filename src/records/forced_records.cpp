@@ -84,12 +84,6 @@ ColumnRecord forced_columns(const ForcedResponse& r, const ForcedRecordContext& 
   ColumnRecord out;
   out.fields = forced_record(r, context);
   if (!(with_path && r.stable && r.milling)) return out;
-  auto scaled = [](const std::vector<double>& v, double k) {
-    std::vector<double> s;
-    s.reserve(v.size());
-    for (const double x : v) s.push_back(x * k);
-    return s;
-  };
   out.groups.push_back({"/path",
                         {{"time_s", r.t_s},
                          {"rel_x_um", scaled(r.rel_x_m, 1e6)},

@@ -273,15 +273,11 @@ ColumnRecord uncertain_lobe_columns(const std::vector<StabilityLimit>& nominal, 
     depth.push_back(r.depth_limit_m * 1e3);  // +inf where unbounded, as lobes()
   }
   out.columns = {{"spindle_rpm", std::move(rpm)}, {"depth_limit_mm", std::move(depth)}};
-  for (std::size_t l = 0; l < mc.levels.size(); ++l) {
-    std::vector<double> q;
-    for (const double d : mc.quantile_depth_m[l]) q.push_back(d * 1e3);
-    out.columns.emplace_back(quantile_column_name(mc.levels[l]), std::move(q));
-  }
-  std::vector<double> grid, prob;
-  for (const double d : mc.depths_m) grid.push_back(d * 1e3);
+  for (std::size_t l = 0; l < mc.levels.size(); ++l)
+    out.columns.emplace_back(quantile_column_name(mc.levels[l]), scaled(mc.quantile_depth_m[l], 1e3));
+  std::vector<double> prob;
   for (const auto& row : mc.probability_stable) prob.insert(prob.end(), row.begin(), row.end());
-  out.columns.emplace_back("depth_mm", std::move(grid));
+  out.columns.emplace_back("depth_mm", scaled(mc.depths_m, 1e3));
   out.columns.emplace_back("probability_stable", std::move(prob), mc.depths_m.size());
   return out;
 }

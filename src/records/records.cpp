@@ -270,13 +270,11 @@ ColumnRecord simulation_columns(const SimulationResult& result, const Simulation
                                 const RecordSource& source) {
   ColumnRecord out;
   out.fields = simulation_record(result, request, source);
-  std::vector<double> amp;
-  for (const double a : result.spectrum_amplitude_m) amp.push_back(a * 1e6);
   out.groups = {{"/series", series_columns(result.series)},
                 {"/periodic", series_columns(result.once_per_period)},
                 {"/spectrum",
                  {{"frequency_hz", result.spectrum_hz},
-                  {"amplitude_um", std::move(amp)},
+                  {"amplitude_um", scaled(result.spectrum_amplitude_m, 1e6)},
                   {"harmonic", spectrum_harmonics(result)}}}};
   return out;
 }

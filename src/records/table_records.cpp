@@ -361,20 +361,13 @@ void add_map_grids(ColumnRecord& out, const std::vector<double>& rho, const std:
   out.columns.emplace_back("multiplier_type", std::move(cells), cols);
 }
 
-std::vector<double> in_mm(const std::vector<double>& m) {
-  std::vector<double> mm;
-  mm.reserve(m.size());
-  for (const double x : m) mm.push_back(x * 1e3);
-  return mm;
-}
-
 }  // namespace
 
 ColumnRecord stability_map_columns(const StabilityMapGrid& grid, const SolverValues& solver_options,
                                    const RecordSource& source, bool multiplier_types) {
   ColumnRecord out;
   out.fields = stability_map_record(grid, solver_options, source);
-  out.columns = {{"spindle_rpm", grid.spindle_rpm}, {"depth_mm", in_mm(grid.depth_m)}};
+  out.columns = {{"spindle_rpm", grid.spindle_rpm}, {"depth_mm", scaled(grid.depth_m, 1e3)}};
   add_map_grids(out, grid.spectral_radius, grid.multiplier_type, grid.depth_m.size(), multiplier_types);
   return out;
 }
@@ -394,7 +387,7 @@ ColumnRecord radial_map_columns(const RadialStabilityMapGrid& grid, const Solver
     limit_mm.push_back(l.depth_limit_m * 1e3);  // +inf where unbounded
     freq.push_back(l.chatter_frequency_hz);     // NaN there
   }
-  out.columns.emplace_back("depth_mm", in_mm(grid.depth_m));
+  out.columns.emplace_back("depth_mm", scaled(grid.depth_m, 1e3));
   out.columns.emplace_back("depth_limit_mm", std::move(limit_mm));
   out.columns.emplace_back("chatter_frequency_hz", std::move(freq));
   add_map_grids(out, grid.spectral_radius, grid.multiplier_type, grid.depth_m.size(), multiplier_types);

@@ -29,6 +29,15 @@ struct Column {
   std::size_t size() const;
 };
 
+/// `v` times `factor`, element by element: a column in the unit its name
+/// says (m to mm: 1e3, m to um: 1e6).
+inline std::vector<double> scaled(const std::vector<double>& v, double factor) {
+  std::vector<double> out;
+  out.reserve(v.size());
+  for (const double x : v) out.push_back(x * factor);
+  return out;
+}
+
 /// The columns (one-value-per-row, all the same length) as CSV: a header of
 /// the names, then one line per row; numbers as table_number (10
 /// significant digits), NaN empty, booleans 1 or 0, text as is.
