@@ -59,7 +59,10 @@ Radii zero_depth_radii(const std::vector<Cplx>& free_poles, double slowest_decay
   Radii r;
   r.all = -slowest_decay_per_s * tau;
   for (const Cplx& l : free_poles) {
-    const Cplx mu = std::exp(l * tau);
+    // The member of a conjugate pair with Im μ >= 0, as Dominant's mu_left
+    // and mu_right (half_plane_radii): the climb measures how far each moved.
+    Cplx mu = std::exp(l * tau);
+    if (mu.imag() < 0.0) mu = std::conj(mu);
     Cplx& slot = mu.real() < 0.0 ? r.left : r.right;
     if (std::abs(mu) > std::abs(slot)) slot = mu;
   }
