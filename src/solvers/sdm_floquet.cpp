@@ -60,15 +60,38 @@ Cplx filon_weight(double u, const Cplx& e_minus_ju) {
 // The eigen-solution over one period [0, τ]: the cut-seen displacement
 // z = W q at the sample points, stored as runs of equally spaced samples
 // (one run per milling segment, one for free flight, one for turning).
+// Sample-major storage, no allocation per sample: the free flight alone has
+// hundreds of samples, and a vector per sample cost as much as the rest of
+// the analysis.
 struct PeriodSamples {
   struct Run {
     double t0 = 0.0, h = 0.0;  // first sample time and spacing, s
     std::size_t first = 0;     // index of the first sample; the run has n + 1 samples
     std::size_t n = 0;         // intervals
   };
-  std::vector<Run> runs;             // consecutive runs share their end samples
-  std::vector<Eigen::VectorXcd> z;   // n_r components per sample
-  std::vector<double> t;             // sample times, s
+  explicit PeriodSamples(int components) : nr(components), zr_(components), zi_(components) {}
+  std::vector<Run> runs;  // consecutive runs share their end samples
+  int nr;                 // components of z
+  std::vector<double> zr, zi;  // Re z, Im z of sample i, component c at i nr + c
+  std::vector<double> t;       // sample times, s
+  std::size_t size() const { return t.size(); }
+  // Appends the sample z = Wx (x_re + j x_im) at time `at`.
+  void add(double at, const MatrixXd& Wx, const VectorXd& x_re, const VectorXd& x_im) {
+    zr_.noalias() = Wx * x_re;
+    zi_.noalias() = Wx * x_im;
+    zr.insert(zr.end(), zr_.data(), zr_.data() + nr);
+    zi.insert(zi.end(), zi_.data(), zi_.data() + nr);
+    t.push_back(at);
+  }
+  // The same, opening an interval of length h (a new run when h changes).
+  void add_opening(double at, double h, const MatrixXd& Wx, const VectorXd& x_re, const VectorXd& x_im) {
+    if (runs.empty() || runs.back().h != h) runs.push_back({at, h, size(), 0});
+    ++runs.back().n;
+    add(at, Wx, x_re, x_im);
+  }
+
+ private:
+  VectorXd zr_, zi_;  // one sample's product, reused
 };
 
 // From the dominant eigenvector `vec` = [x(0); z(t_i − τ), i < n_z] of Φ:
@@ -78,27 +101,15 @@ struct PeriodSamples {
 PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMap& pm, const Grid& g,
                                      const MatrixXd& A, const MatrixXd& Wx, double f_top_hz) {
   const int n2 = pm.n2, nr = pm.nr;
-  PeriodSamples out;
+  PeriodSamples out(nr);
   VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), xr_next(n2), xi_next(n2);
-  auto z_of = [&](const VectorXd& a, const VectorXd& b) {
-    Eigen::VectorXcd z(nr);
-    z.real() = Wx * a;
-    z.imag() = Wx * b;
-    return z;
-  };
-  const Eigen::VectorXcd z_start = z_of(xr, xi);
-  auto push = [&](double t, double h) {  // sample at t, opening an interval of length h
-    if (out.runs.empty() || out.runs.back().h != h) out.runs.push_back({t, h, out.z.size(), 0});
-    ++out.runs.back().n;
-    out.t.push_back(t);
-    out.z.push_back(z_of(xr, xi));
-  };
+  const VectorXd x0r = xr, x0i = xi;
   double now = 0.0;
   for (int i = 0; i < pm.m; ++i) {
     const auto si = static_cast<std::size_t>(i);
     const StepMap& s = pm.constant ? pm.steps[0] : pm.steps[si];
     const double h = g.constant ? g.steps[0].h : g.steps[si].h;
-    push(now, h);
+    out.add_opening(now, h, Wx, xr, xi);
     now += h;
     if (pm.path == MapPath::kToothCollocation) {  // collocation: x_{i+1} = P x_i + Rc ζ_i
       const int snr = pm.nodes * nr;
@@ -112,7 +123,13 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
       continue;
     }
     const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
-    const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
+    Eigen::VectorXcd z1(nr);
+    if (i + 1 < pm.nz) {
+      z1 = vec.segment(n2 + (i + 1) * nr, nr);
+    } else {  // the period's end reads its start: z(0) = W x(0)
+      z1.real() = Wx * x0r;
+      z1.imag() = Wx * x0i;
+    }
     xr_next.noalias() = s.P * xr;
     xr_next.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
     xi_next.noalias() = s.P * xi;
@@ -125,15 +142,14 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
     const double dt = g.free_time / pieces;
     const MatrixXd E = (A * dt).exp();
     for (int j = 0; j < pieces; ++j) {
-      push(now + j * dt, dt);
+      out.add_opening(now + j * dt, dt, Wx, xr, xi);
       xr_next.noalias() = E * xr;
       xi_next.noalias() = E * xi;
       xr.swap(xr_next);
       xi.swap(xi_next);
     }
   }
-  out.t.push_back(g.tau);
-  out.z.push_back(z_of(xr, xi));
+  out.add(g.tau, Wx, xr, xi);
   return out;
 }
 
@@ -153,16 +169,7 @@ PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodM
     else
       SdmKernel::apply_cutter(pm, Wx, y->data(), out.data(), rec);
   }
-  PeriodSamples ps;
-  auto push = [&](double t, double h, const VectorXd& xr, const VectorXd& xi) {
-    if (ps.runs.empty() || ps.runs.back().h != h) ps.runs.push_back({t, h, ps.z.size(), 0});
-    ++ps.runs.back().n;
-    ps.t.push_back(t);
-    Eigen::VectorXcd z(nr);
-    z.real() = Wx * xr;
-    z.imag() = Wx * xi;
-    ps.z.push_back(z);
-  };
+  PeriodSamples ps(nr);
   const std::vector<double>& t = nodes ? pm.cc.t : pm.cm.t;
   const std::size_t M = t.size() - 1;
   VectorXd xr(n2), xi(n2);
@@ -171,24 +178,22 @@ PeriodSamples cutter_solution_samples(const Eigen::VectorXcd& vec, const PeriodM
     xi = Eigen::Map<const VectorXd>(ri.data() + i * n2, n2);
     const double h = nodes ? pm.cc.steps[i].h : pm.cm.steps[i].h;
     if (!(nodes ? pm.cc.steps[i].free : pm.cm.steps[i].free)) {
-      push(t[i], h, xr, xi);
+      ps.add_opening(t[i], h, Wx, xr, xi);
       continue;
     }
     const int pieces = std::max(1, static_cast<int>(std::ceil(h * f_top_hz * kFreeFlightSamplesPerCycle)));
     const double dt = h / pieces;
     const MatrixXd E = (A * dt).exp();
     for (int j = 0; j < pieces; ++j) {
-      push(t[i] + j * dt, dt, xr, xi);
+      ps.add_opening(t[i] + j * dt, dt, Wx, xr, xi);
       xr = E * xr;
       xi = E * xi;
     }
   }
   const std::size_t last = M * n2;
-  Eigen::VectorXcd z(nr);
-  z.real() = Wx * Eigen::Map<const VectorXd>(rr.data() + last, n2);
-  z.imag() = Wx * Eigen::Map<const VectorXd>(ri.data() + last, n2);
-  ps.t.push_back(pm.tau);
-  ps.z.push_back(z);
+  xr = Eigen::Map<const VectorXd>(rr.data() + last, n2);
+  xi = Eigen::Map<const VectorXd>(ri.data() + last, n2);
+  ps.add(pm.tau, Wx, xr, xi);
   return ps;
 }
 
@@ -205,7 +210,19 @@ double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const Peri
                                : eigen_solution_samples(vec, pm, g, A, Wx, f_top);
   // p(t) = z(t) μ^{−t/τ}: periodic for the exact eigen-solution.
   const double log_rho = std::abs(mu) > 0.0 ? std::log(std::abs(mu)) : 0.0;
-  for (std::size_t i = 0; i < ps.t.size(); ++i) ps.z[i] *= std::exp(Cplx(-log_rho, -arg) * (ps.t[i] / tau));
+  const std::size_t ns = ps.size();
+  const auto nr = static_cast<std::size_t>(pm.nr);
+  // Component-major: component c of sample i at c ns + i.
+  std::vector<double> zr(ns * nr), zi(zr.size());
+  for (std::size_t i = 0; i < ns; ++i) {
+    const Cplx e = std::exp(Cplx(-log_rho, -arg) * (ps.t[i] / tau));
+    for (std::size_t comp = 0; comp < nr; ++comp) {
+      Cplx z(ps.zr[i * nr + comp], ps.zi[i * nr + comp]);
+      z *= e;
+      zr[comp * ns + i] = z.real();
+      zi[comp * ns + i] = z.imag();
+    }
+  }
   const int k_lo = static_cast<int>(std::ceil(-f_top * tau - alpha));
   const int k_hi = static_cast<int>(std::floor(f_top * tau - alpha));
   const int nk = k_hi - k_lo + 1;
@@ -216,13 +233,6 @@ double chatter_frequency(const Cplx& mu, const Eigen::VectorXcd& vec, const Peri
   // Samples as contiguous real and imaginary parts per component, and the
   // products written out in real arithmetic (std::complex's operator* guards
   // against NaN through a library call: 5× slower in this inner loop).
-  const std::size_t ns = ps.z.size();
-  std::vector<double> zr(ns * static_cast<std::size_t>(pm.nr)), zi(zr.size());
-  for (int comp = 0; comp < pm.nr; ++comp)
-    for (std::size_t i = 0; i < ns; ++i) {
-      zr[comp * ns + i] = ps.z[i](comp).real();
-      zi[comp * ns + i] = ps.z[i](comp).imag();
-    }
   Eigen::MatrixXcd c = Eigen::MatrixXcd::Zero(pm.nr, nk);
   for (const PeriodSamples::Run& run : ps.runs) {
     for (int j = 0; j < nk; ++j) {

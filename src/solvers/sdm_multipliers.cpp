@@ -294,7 +294,7 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
         break;
       }
       V.col(j + 1) = w / beta;
-      if (j + 1 >= 8 && j + 1 < k && (j + 1) % 6 == 2) {
+      if (j + 1 >= (decide ? 8 : 14) && j + 1 < k && (j + 1) % 6 == 2) {
         // Early verdict (decide) or early convergence of the dominant Ritz
         // pair: a short Krylov space is often enough (the Ritz vector, when
         // asked for, has the same residual as a restarted one's).
