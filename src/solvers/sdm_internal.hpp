@@ -462,6 +462,15 @@ class SdmKernel {
   const SemiDiscretizationOptions& o_;
   const Process* p_;    // real-cutter path only
   const MatrixXd* Sv_;  // 2 × 2n, ṙ = Sv x
+  // Arnoldi's Krylov basis, Hessenberg matrix and vectors, kept between the
+  // calls of one kernel (a depth search evaluates ~10 maps of one size): a
+  // kernel serves one thread.
+  struct ArnoldiWorkspace {
+    MatrixXd V, H;
+    VectorXd v, w, h, h2;
+    std::vector<double> work;
+  };
+  mutable ArnoldiWorkspace arnoldi_work_;
 };
 
 // ---------------------------------------------------------------- Floquet
