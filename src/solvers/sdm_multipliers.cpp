@@ -247,6 +247,20 @@ void SdmKernel::hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::Vect
   if (eigs) *eigs = ev;
 }
 
+namespace {
+
+// V y for a real basis V and complex coefficients y, as two real products
+// (the same values as V.cast<Cplx>() * y, without complex arithmetic on the
+// zero imaginary parts of V).
+Eigen::VectorXcd basis_times(const Eigen::Ref<const MatrixXd>& V, const Eigen::VectorXcd& y) {
+  Eigen::VectorXcd out(V.rows());
+  out.real().noalias() = V * y.real();
+  out.imag().noalias() = V * y.imag();
+  return out;
+}
+
+}  // namespace
+
 // Restarted Arnoldi on Φ applied as the sequence of step maps. In `decide`
 // mode it stops as soon as the residual of the dominant Ritz value cannot
 // change the verdict ρ < 1 or ρ >= 1 (bracketing needs no more).
@@ -315,7 +329,7 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
         if ((decide && std::abs(std::abs(th) - 1.0) > kDecideFactor * res) || res <= kArnoldiTol * std::abs(th)) {
           out.mu = th;
           half_plane_radii(eigs, out);
-          if (want_vector) out.vec = V.leftCols(j + 1).cast<Cplx>() * yy;
+          if (want_vector) out.vec = basis_times(V.leftCols(j + 1), yy);
           return out;
         }
       }
@@ -331,12 +345,12 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
     const bool decided = decide && std::abs(mag - 1.0) > kDecideFactor * resid;
     if (converged || decided || restart == kArnoldiMaxRestarts) {
       out.converged = converged || decided;
-      if (want_vector) out.vec = V.leftCols(kk).cast<Cplx>() * y;
+      if (want_vector) out.vec = basis_times(V.leftCols(kk), y);
       return out;
     }
     // Restart with the real span of the dominant Ritz vector, plus a little
     // of the next Ritz vectors so that a near-tie is not lost.
-    const Eigen::VectorXcd yc = V.leftCols(kk).cast<Cplx>() * y;
+    const Eigen::VectorXcd yc = basis_times(V.leftCols(kk), y);
     v = yc.real() + yc.imag();
     for (std::size_t t = 1; t < std::min<std::size_t>(order.size(), 5); ++t) {
       const Cplx ti = eigs(order[t].second);
@@ -345,7 +359,7 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
                                      Eigen::MatrixXcd::Identity(kk, kk);
       Eigen::VectorXcd yi = T.partialPivLu().solve(Eigen::VectorXcd::Ones(kk));
       yi /= yi.norm();
-      const Eigen::VectorXcd zi = V.leftCols(kk).cast<Cplx>() * yi;
+      const Eigen::VectorXcd zi = basis_times(V.leftCols(kk), yi);
       v += 0.1 * (zi.real() + zi.imag());
     }
     if (!(v.norm() > 0.0)) v = V.col(0);
