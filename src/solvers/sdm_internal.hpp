@@ -469,6 +469,16 @@ class SdmKernel {
     MatrixXd V, H;
     VectorXd v, w, h, h2;
     std::vector<double> work;
+    // Map dimension d, Krylov dimension k, apply()'s workspace in doubles.
+    void size_for(int d, int k, std::size_t work_doubles) {
+      V.resize(d, k + 1);
+      H.resize(k + 1, k);
+      v.resize(d);
+      w.resize(d);
+      h.resize(k + 1);
+      h2.resize(k + 1);
+      work.resize(work_doubles);
+    }
   };
   mutable ArnoldiWorkspace arnoldi_work_;
 };

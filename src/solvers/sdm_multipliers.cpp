@@ -268,26 +268,17 @@ Dominant SdmKernel::arnoldi(const PeriodMap& pm, bool want_vector, bool decide) 
   const int d = pm.dim;
   const int k = std::min(d, o_.krylov_dimension);
   ArnoldiWorkspace& ws = arnoldi_work_;
+  ws.size_for(d, k, static_cast<std::size_t>(2 * pm.n2 + pm.nr + 1));
   MatrixXd& V = ws.V;
   MatrixXd& H = ws.H;  // zeroed at each (re)start below
-  V.resize(d, k + 1);
-  H.resize(k + 1, k);
+  VectorXd &v = ws.v, &w = ws.w, &h = ws.h, &h2 = ws.h2;
   std::vector<double>& work = ws.work;
-  work.resize(static_cast<std::size_t>(2 * pm.n2 + pm.nr + 1));
   // Deterministic, generic start vector.
-  VectorXd& v = ws.v;
-  v.resize(d);
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
   for (int i = 0; i < d; ++i) {
     state = state * 6364136223846793005ull + 1442695040888963407ull;
     v(i) = 0.5 + static_cast<double>(state >> 11) * 0x1.0p-53;
   }
-  VectorXd& w = ws.w;
-  VectorXd& h = ws.h;
-  VectorXd& h2 = ws.h2;
-  w.resize(d);
-  h.resize(k + 1);
-  h2.resize(k + 1);
   Dominant out;
   std::vector<std::pair<double, Index>> order;
   Eigen::VectorXcd eigs;
