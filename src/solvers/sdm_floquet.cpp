@@ -103,7 +103,9 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
   const int n2 = pm.n2, nr = pm.nr;
   PeriodSamples out(nr);
   VectorXd xr = vec.head(n2).real(), xi = vec.head(n2).imag(), xr_next(n2), xi_next(n2);
-  const VectorXd x0r = xr, x0i = xi;
+  Eigen::VectorXcd z_start(nr);  // z(0) = W x(0), read again at the period's end
+  z_start.real() = Wx * xr;
+  z_start.imag() = Wx * xi;
   double now = 0.0;
   for (int i = 0; i < pm.m; ++i) {
     const auto si = static_cast<std::size_t>(i);
@@ -123,13 +125,7 @@ PeriodSamples eigen_solution_samples(const Eigen::VectorXcd& vec, const PeriodMa
       continue;
     }
     const Eigen::VectorXcd z0 = vec.segment(n2 + i * nr, nr);
-    Eigen::VectorXcd z1(nr);
-    if (i + 1 < pm.nz) {
-      z1 = vec.segment(n2 + (i + 1) * nr, nr);
-    } else {  // the period's end reads its start: z(0) = W x(0)
-      z1.real() = Wx * x0r;
-      z1.imag() = Wx * x0i;
-    }
+    const Eigen::VectorXcd z1 = (i + 1 < pm.nz) ? Eigen::VectorXcd(vec.segment(n2 + (i + 1) * nr, nr)) : z_start;
     xr_next.noalias() = s.P * xr;
     xr_next.noalias() += s.R0 * z0.real() + s.R1 * z1.real();
     xi_next.noalias() = s.P * xi;

@@ -431,6 +431,10 @@ class SdmKernel {
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const;
   // Turning: the multipliers from the branch roots of the constant step map.
   bool branches(const PeriodMap& pm, Dominant& out) const;
+  // The largest of `eigs` in the left (Re μ < 0) and right half-planes into
+  // out's rho_left/mu_left and rho_right/mu_right, each μ the member of its
+  // conjugate pair with Im μ >= 0 (the depth climb follows them).
+  static void half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out);
 
  private:
   template <class M>
@@ -450,7 +454,6 @@ class SdmKernel {
                              std::vector<double>* record, bool forcing);
   static bool better(const Cplx& a, const Cplx& b);
   Dominant dense(const PeriodMap& pm, bool want_vector) const;
-  static void half_plane_radii(const Eigen::VectorXcd& eigs, Dominant& out);
   static void hessenberg_dominant(const MatrixXd& Hk, Cplx& theta, Eigen::VectorXcd& y,
                                   std::vector<std::pair<double, Index>>* order, Eigen::VectorXcd* eigs);
   Dominant arnoldi(const PeriodMap& pm, bool want_vector, bool decide) const;

@@ -54,19 +54,14 @@ struct Radii {
 };
 
 // At zero depth the multipliers are known exactly: e^{λτ} of the free modes
-// (poles λ, 1/s; slowest decay rate, 1/s; period τ, s).
+// (poles λ, 1/s; slowest decay rate, 1/s; period τ, s), followed as every
+// later depth's (SdmKernel::half_plane_radii).
 Radii zero_depth_radii(const std::vector<Cplx>& free_poles, double slowest_decay_per_s, double tau) {
-  Radii r;
-  r.all = -slowest_decay_per_s * tau;
-  for (const Cplx& l : free_poles) {
-    // The member of a conjugate pair with Im μ >= 0, as Dominant's mu_left
-    // and mu_right (half_plane_radii): the climb measures how far each moved.
-    Cplx mu = std::exp(l * tau);
-    if (mu.imag() < 0.0) mu = std::conj(mu);
-    Cplx& slot = mu.real() < 0.0 ? r.left : r.right;
-    if (std::abs(mu) > std::abs(slot)) slot = mu;
-  }
-  return r;
+  Eigen::VectorXcd mu(static_cast<Eigen::Index>(free_poles.size()));
+  for (std::size_t i = 0; i < free_poles.size(); ++i) mu(static_cast<Eigen::Index>(i)) = std::exp(free_poles[i] * tau);
+  Dominant d;
+  SdmKernel::half_plane_radii(mu, d);
+  return Radii{-slowest_decay_per_s * tau, d.mu_left, d.mu_right};
 }
 
 // The next climbing step (m) from depth lo (radii r_lo), the depth before it
