@@ -392,9 +392,9 @@ static void check_options(void) {
   CHECK(strstr(chatter_last_error(), "must be an integer") != NULL);
   CHECK(chatter_solver_create_with_options(model, "sdm", 0.0, "collocation=3", &solver) == CHATTER_INPUT_ERROR);
   CHECK(chatter_solver_create_with_options(NULL, "sdm", 10.0, "collocation=3", &solver) == CHATTER_NULL_ARGUMENT);
-  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/seed_turning_1dof.toml", &turning) == CHATTER_OK);
+  CHECK(chatter_model_load(CHATTER_SOURCE_DIR "/configs/turning_insert_lead_angle.toml", &turning) == CHATTER_OK);
   CHECK(chatter_solver_create_with_options(turning, "sdm", 10.0, "collocation=3", &solver) == CHATTER_INPUT_ERROR);
-  CHECK(strstr(chatter_last_error(), "is turning") != NULL);
+  CHECK(strstr(chatter_last_error(), "is turning with a nose radius") != NULL);
   chatter_model_free(turning);
   chatter_model_free(model);
 }

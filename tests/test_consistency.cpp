@@ -380,12 +380,12 @@ TEST_F(ConsistencyCli, CollocationRowEqualsPointAndNamesItsScheme) {
     types.insert(row["multiplier_type"].get<std::string>());
   }
   EXPECT_EQ(types, (std::set<std::string>{"hopf", "flip"}));  // 5 000: hopf; 10 500, 16 000: flip
-  const std::string turning = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "seed_turning_1dof.toml").string();
+  const std::string nose = (fs::path(CHATTER_SOURCE_DIR) / "configs" / "turning_insert_lead_angle.toml").string();
   const fs::path none = path("none.csv");
-  const RunResult bad = run({"lobes", turning, "--method", "sdm", "--collocation", "3", "--table", none.string(),
+  const RunResult bad = run({"lobes", nose, "--method", "sdm", "--collocation", "3", "--table", none.string(),
                              "--quiet"});
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_TRUE(contains(bad.err, "--collocation") && contains(bad.err, "is turning")) << bad.err;
+  EXPECT_TRUE(contains(bad.err, "--collocation") && contains(bad.err, "is turning with a nose radius")) << bad.err;
   EXPECT_FALSE(fs::exists(none));
 }
 

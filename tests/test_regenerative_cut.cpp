@@ -178,6 +178,7 @@ void expect_paths_agree(const StructuralModel& m, const Process& p, const std::v
   SemiDiscretizationOptions fast;
   fast.depth_max_m = depth_max_m;
   fast.depth_tolerance = 1e-7;
+  fast.collocation_nodes = 0;  // the first-order scheme on both paths
   SemiDiscretizationOptions general = fast;
   general.general_cutter_path = true;
   const SemiDiscretizationSolver a(m, p, fast), b(m, p, general);

@@ -352,9 +352,13 @@ TEST(SdmCrossCheck, TimeDomainGrowthRateMatchesSpectralRadius) {
   }
 }
 
-// Spectral radius at a fixed point for N steps per period and per vibration cycle.
+// Spectral radius at a fixed point for N steps per period and per vibration
+// cycle, with the first-order steps (turning's default collocation:
+// tests/test_sdm_collocation.cpp).
 double rho(const StructuralModel& m, const Process& p, double rpm, double depth, int steps) {
-  return SemiDiscretizationSolver(m, p, sdm_options(0.05, steps)).analyse(rpm, depth).spectral_radius;
+  SemiDiscretizationOptions o = sdm_options(0.05, steps);
+  o.collocation_nodes = 0;
+  return SemiDiscretizationSolver(m, p, o).analyse(rpm, depth).spectral_radius;
 }
 
 void expect_second_order(const StructuralModel& m, const Process& p, double rpm, double depth) {

@@ -4,7 +4,8 @@
 // discretisation), its own order of convergence (2s at s nodes), the
 // multiplier type and chatter frequency the first order reports (flip and
 // Hopf lobes), ρ = 1 at the reported limit, and the cuts it refuses (real
-// cutters: tests/test_sdm_cutter_collocation.cpp).
+// cutters: tests/test_sdm_cutter_collocation.cpp; turning:
+// tests/test_sdm_turning_collocation.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -189,11 +190,10 @@ void expect_refused(const StructuralModel& m, const Process& p, const SemiDiscre
 
 TEST(SdmCollocation, RefusesWhatItDoesNotModelNamingTheOption) {
   SemiDiscretizationOptions o = options(3, 8);
-  StructuralModel m;
-  m.workpiece.modes.push_back(Mode::from_stiffness(94.22, 0.033, 45e6, {1.0, 0.0}));
-  TurningParameters t;
-  t.feed_force_coefficient_n_per_m2 = 2.4e9;
-  expect_refused(m, Process::turning(t), o, "collocation_nodes");
+  // Milling with speed variation (turning: tests/test_sdm_turning_collocation.cpp).
+  Process ssv = peers_process();
+  ssv.set_speed_variation({0.1, 0.3});
+  expect_refused(peers_model(), ssv, o, "milling with spindle speed variation");
   o.collocation_nodes = 4;
   expect_refused(peers_model(), peers_process(), o, "collocation_nodes = 4: must be in [0, 3]");
   o.collocation_nodes = -2;

@@ -215,6 +215,7 @@ TEST(SdmSearch, ShippedConfigLimitsUnchanged) {
     const Config cfg = load_config(std::string(CHATTER_SOURCE_DIR) + "/configs/" + name + ".toml");
     SemiDiscretizationOptions o;
     o.depth_max_m = cfg.sweep.depth_max_mm.value_or(50.0) * 1e-3;
+    o.collocation_nodes = 0;  // the references were recorded with the first-order steps
     const SemiDiscretizationSolver solver(cfg.model, cfg.process, o);
     const auto ref = read_reference(std::string(CHATTER_SOURCE_DIR) + "/tests/data/sdm_reference/" + name + ".csv");
     ASSERT_EQ(ref.size(), 100u);
@@ -244,19 +245,27 @@ StructuralModel seed_turning() {
 
 // The branch roots of low-speed turning and the Arnoldi iteration on the same
 // discretised map give the same spectral radius (they solve one eigenproblem
-// two ways); at 150 rev/min both are affordable.
+// two ways); at 150 rev/min both are affordable. Both schemes: the
+// first-order steps (ν^m = g(ν)) and the default collocation (the s sheets
+// g_j of sdm_branches.cpp).
 constexpr double kBranchVsArnoldi = 1e-7;  // relative, on ρ
 TEST(SdmTurningBranches, SameSpectralRadiusAsArnoldi) {
-  SemiDiscretizationOptions with, without;
-  without.turning_branch_roots = false;
-  const SemiDiscretizationSolver a(seed_turning(), Process::turning({2.4e9}), with);
-  const SemiDiscretizationSolver b(seed_turning(), Process::turning({2.4e9}), without);
-  for (double rpm : {150.0, 200.0}) {
-    for (double depth : {0.5e-3, 1.2e-3, 1.4e-3, 3e-3}) {
-      const FloquetResult ra = a.analyse(rpm, depth), rb = b.analyse(rpm, depth);
-      EXPECT_NEAR(ra.spectral_radius, rb.spectral_radius, kBranchVsArnoldi * rb.spectral_radius)
-          << rpm << " rev/min, " << depth << " m";
-      EXPECT_EQ(ra.type, rb.type);
+  for (const int nodes : {0, kAutoCollocation}) {
+    SCOPED_TRACE(nodes == 0 ? "first order" : "collocation");
+    SemiDiscretizationOptions with, without;
+    with.collocation_nodes = without.collocation_nodes = nodes;
+    without.turning_branch_roots = false;
+    const SemiDiscretizationSolver a(seed_turning(), Process::turning({2.4e9}), with);
+    const SemiDiscretizationSolver b(seed_turning(), Process::turning({2.4e9}), without);
+    for (double rpm : {150.0, 200.0}) {
+      for (double depth : {0.5e-3, 1.2e-3, 1.4e-3, 3e-3}) {
+        const FloquetResult ra = a.analyse(rpm, depth), rb = b.analyse(rpm, depth);
+        EXPECT_NEAR(ra.spectral_radius, rb.spectral_radius, kBranchVsArnoldi * rb.spectral_radius)
+            << rpm << " rev/min, " << depth << " m";
+        EXPECT_EQ(ra.type, rb.type);
+        EXPECT_NEAR(ra.chatter_frequency_hz, rb.chatter_frequency_hz, kBranchVsArnoldi * rb.chatter_frequency_hz)
+            << rpm << " rev/min, " << depth << " m";
+      }
     }
   }
 }

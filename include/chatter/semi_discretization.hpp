@@ -32,8 +32,11 @@
 // the period), the free dynamics still exact; error O(h^{2s}) measured
 // (docs/sdm.md "Collocation"; after Breda, Maset & Vermiglio, SIAM J.
 // Numer. Anal. 50 (2012) 1456–1483). The map holds s samples per cutting
-// step. By default (kAutoCollocation) real cutters take it (3 nodes,
-// kRealCutterSteps steps) and straight teeth keep the first-order steps.
+// step. By default (kAutoCollocation) real cutters and turning with a sharp
+// edge take it (3 nodes, kRealCutterSteps steps) and straight teeth keep the
+// first-order steps. Turning's constant step then finds its multipliers from
+// the s sheets of the branch roots at low speed (docs/sdm.md "Collocation in
+// turning").
 //
 // Real cutters (docs/physics.md §8, docs/sdm.md "Real cutters"): a helix,
 // variable pitch or helix, or process damping in milling take a second path.
@@ -78,10 +81,11 @@ inline constexpr int kMaxCollocationNodes = 3;
 inline constexpr int kCollocationSteps = 8;
 /// SemiDiscretizationOptions::collocation_nodes: chosen by the cut. A real
 /// cutter (a helix, variable pitch or helix, a profile, two engaged arcs;
-/// not on general_cutter_path) without process damping or speed variation
-/// takes kRealCutterNodes nodes, and kRealCutterSteps steps per period and
-/// per vibration cycle when those are left at their defaults (64, 64);
-/// every other cut the first-order steps.
+/// not on general_cutter_path) without process damping or speed variation,
+/// and turning with a sharp edge (no nose radius) without them, take
+/// kRealCutterNodes nodes, and kRealCutterSteps steps per period and per
+/// vibration cycle when those are left at their defaults (64, 64); every
+/// other cut the first-order steps.
 inline constexpr int kAutoCollocation = -1;
 /// 3 nodes at 4 steps per vibration cycle: the 16 mm 3-flute 30° helix end
 /// mill of docs/performance.md within 6e-5 of its converged limits over
@@ -145,7 +149,7 @@ struct SemiDiscretizationOptions {
   /// tooth-period grid, the constant turning step; byte-identical tables).
   bool general_cutter_path = false;
   /// Gauss collocation nodes per cutting step (0 … 3, or kAutoCollocation;
-  /// milling at constant speed). 0: first-order
+  /// milling, or turning with a sharp edge, at constant speed). 0: first-order
   /// semi-discretisation (H averaged over the step, the delayed term linear
   /// between samples; error O(h²)). s >= 1: exponential collocation at the s
   /// Gauss–Legendre nodes of each step — the free dynamics still exact, H
@@ -158,8 +162,9 @@ struct SemiDiscretizationOptions {
   /// kCollocationSteps) the peers' 2-DOF case is within 0.014 % of its
   /// converged limits, the default first-order steps within 1.2 %.
   /// The map holds s samples per cutting step (none for free flight).
-  /// The solver's constructor throws InputError for turning or speed
-  /// variation. kAutoCollocation (the default): chosen by
+  /// The solver's constructor throws InputError for speed variation and
+  /// for turning with a nose radius or process damping (collocation_refusal).
+  /// kAutoCollocation (the default): chosen by
   /// the cut (see kAutoCollocation); the solver's options() say which.
   int collocation_nodes = kAutoCollocation;
 

@@ -110,14 +110,15 @@ SolverDescriptor sdm_descriptor() {
                SolverFeature::kVariableHelix, SolverFeature::kSpeedVariation, SolverFeature::kCutterProfile};
   d.in_default_compare = true;
   d.options = {{"steps", Kind::kInt,
-                "steps per delay period (default 64 first order, 8 with --collocation, 4 with the real "
-                "cutters' automatic collocation; the step is also at most that fraction of the shortest "
-                "natural period); more steps: more accurate, slower",
+                "steps per delay period (default 64 first order, 8 with --collocation, 4 with the "
+                "automatic collocation of real cutters and turning; the step is also at most that fraction "
+                "of the shortest natural period); more steps: more accurate, slower",
                 1.0, std::numeric_limits<double>::infinity(), "", true},
                {"collocation", Kind::kInt,
                 "Gauss collocation nodes per step, 0-3 (default: 3 for a helix, variable pitch or a profile, "
-                "else 0: first order). 3 with its default 8 steps: limits within ~0.02 % where first order "
-                "is within ~1 %, and faster; milling without process damping or speed variation",
+                "and for turning with a sharp edge; else 0: first order). 3 with its default 8 steps: limits "
+                "within ~0.02 % where first order is within ~1 %, and faster; not with process damping in "
+                "turning, a nose radius or speed variation",
                 0.0, static_cast<double>(kMaxCollocationNodes), "", true}};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
     SemiDiscretizationOptions s;

@@ -202,15 +202,19 @@ NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& W
 
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
                      const MatrixXd& Wx, const MatrixXd& U) {
-  if (g.path != MapPath::kToothSteps || g.constant || g.ssv || !p.rotating_edges())
-    throw std::logic_error("add_collocation: not a straight-teeth milling grid (collocation_refusal lets it through)");
+  const bool turning = g.constant && !p.rotating_edges() && !g.nose && g.damping.size() == 0;
+  if (g.path != MapPath::kToothSteps || g.ssv || (g.constant && !turning))
+    throw std::logic_error("add_collocation: not a straight-teeth milling grid or a sharp turning edge "
+                           "(collocation_refusal lets it through)");
   g.path = MapPath::kToothCollocation;
   g.nodes = nodes;
   const std::vector<double> c = gauss_nodes(nodes);
   const Index n2 = A.rows(), nr = Wx.rows(), snr = nodes * nr;
-  const double omega = angular_speed_rad_per_s(g.rpm);
-  const double t_entry = p.entry_angle() / omega;  // tooth 0 enters here (Process::directional_matrix)
-  std::map<double, NodeWeights> by_length;         // one per milling segment
+  // Turning: H = ĥ nᵀ is constant (Ĥ U, 2 × n_r, per unit depth at every node).
+  const MatrixXd turning_HU = turning ? MatrixXd(turning_hhat_of(p) * U) : MatrixXd();
+  const double omega = turning ? 0.0 : angular_speed_rad_per_s(g.rpm);
+  const double t_entry = turning ? 0.0 : p.entry_angle() / omega;  // tooth 0 enters here (Process::directional_matrix)
+  std::map<double, NodeWeights> by_length;  // one per milling segment
   for (Step& st : g.steps) {
     auto it = by_length.find(st.h);
     if (it == by_length.end()) it = by_length.emplace(st.h, node_weights(A, B, Wx, st.h, c)).first;
@@ -221,7 +225,7 @@ void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, co
     st.VB.resize(n2, snr);
     for (int k = 0; k < nodes; ++k) {
       const double t = t_entry + st.t0 + c[static_cast<std::size_t>(k)] * st.h;
-      const MatrixXd HU = p.directional_matrix(t, g.rpm) * U;  // 2 × n_r, per unit depth
+      const MatrixXd HU = turning ? turning_HU : MatrixXd(p.directional_matrix(t, g.rpm) * U);  // 2 × n_r, per unit depth
       st.VB.middleCols(k * nr, nr) = w.VB.middleCols(2 * k, 2) * HU;  // V_k B H U
       for (int j = 0; j < nodes; ++j)
         st.WxK.block(j * nr, k * nr, nr, nr) = w.G.block(j * nr, 2 * k, nr, 2) * HU;  // Wx W_jk B H U
@@ -286,7 +290,7 @@ void apply_collocation_n(const PeriodMap& pm, const double* y, double* out, doub
   double* xn = work + n2;
   std::copy(y, y + n2, x);
   for (int i = 0; i < pm.m; ++i) {
-    const StepMap& sm = pm.steps[static_cast<std::size_t>(i)];
+    const StepMap& sm = pm.constant ? pm.steps[0] : pm.steps[static_cast<std::size_t>(i)];
     const double* zeta = y + n2 + i * snr;
     double* zo = out + n2 + i * snr;
     const double* Q = sm.Qc.data();

@@ -1,7 +1,8 @@
 // Gauss collocation on the real-cutter grid of the `sdm` solver (helix,
 // variable pitch or helix, a profile, two engaged arcs, process damping, the
-// general path; docs/sdm.md "Collocation on real cutters", "Collocation with
-// process damping"): the step maps at one depth
+// general path, turning with spindle speed variation; docs/sdm.md
+// "Collocation on real cutters", "Collocation with process damping",
+// "Collocation in turning"): the step maps at one depth
 // (SdmKernel::build_cutter_collocation) and Φ y
 // (SdmKernel::apply_cutter_collocation). Part of the `sdm` solver
 // (sdm_internal.hpp).
@@ -16,6 +17,8 @@
 // straight-teeth grid (sdm_collocation.cpp, whose step weights it shares):
 //   (I + [G_jk Hs_k]) Z = WxEc x_i + G d,   x_{i+1} = e^{A h} x_i + VB d − VBH Z,
 // G_jk = Wx W_jk B, Hs_k = Σ_g H_g(t_k) U, d_k = Σ_g H_g(t_k) U z(t_k − τ_g).
+// With speed variation (turning: H = a ĥ nᵀ, one delay) the delay at each
+// node is τ(t_k), the time of one revolution back (NodeDelay).
 // The delayed z(t_k − τ_g) is read from the stored node samples: the sample
 // itself when it falls on a node (one delay equal to the period: a uniform
 // cutter), else the Lagrange polynomial through the 2s nodes of the step it
@@ -35,6 +38,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "chatter/regenerative_cut.hpp"
+#include "chatter/speed_variation.hpp"
 
 namespace chatter::sdm_detail {
 namespace {
@@ -132,6 +136,23 @@ class NodeLayout {
 
 namespace {
 
+// The delay at a node of turning with spindle speed variation: the time
+// τ(t) over which the spindle turns one revolution at the mean speed
+// (ModulatedSpeed::delay; the grid's principal period and frequency ratio,
+// as ssv_cutter_grid reads them at the step boundaries). `turning` false:
+// no speed variation (the cut's constant delays apply).
+struct NodeDelay {
+  NodeDelay() = default;
+  NodeDelay(const Process& p, const Grid& g)
+      : turning(!p.rotating_edges()),
+        speed(g.rpm, {p.speed_variation().amplitude_ratio, g.ssv_period.frequency_ratio_used}),
+        revolution(speed.mean_rad_s() * p.delay_s(g.rpm)) {}
+  double at(double t) const { return speed.delay(t, revolution); }
+  bool turning = false;
+  ModulatedSpeed speed{1.0, {}};
+  double revolution = 0.0;  // rad
+};
+
 // The step matrices of one cutting step from its weights and the node
 // matrices Hs = [Σ_g H_g(t_k) U]_k (2 × s n_r): Qx, Qd, P, Rd. N2, SNR, ND:
 // compile-time sizes of the common models (2n, s n_r, 2s), or Eigen::Dynamic
@@ -204,6 +225,21 @@ void step_matrices_any(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr,
 // its events with the depth, so the lengths of its spans change).
 constexpr std::size_t kWeightsKept = 256;
 
+// The weights of step length h from cc's cache, computed on first use (with
+// process damping, Sv non-null, also SvEc and Gv).
+const NodeWeights& step_weights(CollocationCutterMap& cc, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx,
+                                const MatrixXd* Sv, double h, const std::vector<double>& c) {
+  auto it = cc.weights.find(h);
+  if (it != cc.weights.end()) return it->second;
+  NodeWeights w = node_weights(A, B, Wx, h, c);
+  if (Sv) {
+    NodeWeights v = node_weights(A, B, *Sv, h, c);
+    w.SvEc = std::move(v.WxEc);
+    w.Gv = std::move(v.G);
+  }
+  return cc.weights.emplace(h, std::move(w)).first->second;
+}
+
 }  // namespace
 
 void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm) const {
@@ -218,7 +254,11 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   const CutterGrid& cg = g.cutter_grid ? *g.cutter_grid : local;
   const double scale = g.cutter_grid ? a / cg.depth : 1.0;
   const RegenerativeCut* cut = cg.cut.get();  // at cg.depth
-  if (!cut) throw std::logic_error("sdm collocation: a grid without its cut (speed variation is refused)");
+  // Turning with speed variation: H = a ĥ nᵀ at every node, one delay τ(t).
+  const NodeDelay ssv = g.ssv ? NodeDelay(p, g) : NodeDelay();
+  if (!cut && !ssv.turning)
+    throw std::logic_error("sdm collocation: a grid without its cut (milling speed variation is refused)");
+  const MatrixXd ssv_HU = ssv.turning ? MatrixXd(a * turning_hhat_of(p) * U_) : MatrixXd();
   const double T = g.tau, h_zero = kFreeForce * cg.force_scale_n_per_m2 * a;  // N/m: a group not cutting
   // Process damping: C̄ D(t) Sv x at every node (C̄ = C_pd / V).
   const double cbar = p.process_damping_per_depth(g.rpm);
@@ -263,20 +303,24 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
       st.P = (A_ * st.h).exp();
       continue;
     }
-    auto it = cc.weights.find(st.h);
-    if (it == cc.weights.end()) {
-      NodeWeights w = node_weights(A_, B_, Wx_, st.h, c);
-      if (damped) {
-        NodeWeights v = node_weights(A_, B_, *Sv_, st.h, c);
-        w.SvEc = std::move(v.WxEc);
-        w.Gv = std::move(v.G);
-      }
-      it = cc.weights.emplace(st.h, std::move(w)).first;
-    }
+    const NodeWeights& w = step_weights(cc, A_, B_, Wx_, damped ? Sv_ : nullptr, st.h, c);
     st.first_node = layout.first_node(i);
     st.first_term = static_cast<int>(cc.terms.size());
+    auto add_terms = [&](int k, const MatrixXd& hu, double delayed) {  // d_k += hu z(delayed)
+      const int n = layout.stencil(delayed, st.first_node, sample, weight);
+      for (int q = 0; q < n; ++q) {
+        lowest = std::min(lowest, sample[q]);
+        cc.terms.push_back({k, sample[q]});
+        for (int e = 0; e < 2 * nr; ++e) cc.term_c.push_back(weight[q] * hu.data()[e]);
+      }
+    };
     for (int k = 0; k < s; ++k) {
       const double tk = cg.t[iu] + c[static_cast<std::size_t>(k)] * st.h;
+      if (ssv.turning) {
+        Hs.middleCols(k * nr, nr) = ssv_HU;
+        add_terms(k, ssv_HU, tk - ssv.at(tk));
+        continue;
+      }
       cut->force_rates(tk, per_edge);
       if (damped) Dn.middleCols(2 * k, 2) = (cbar * scale) * cut->damping_rate(tk);
       for (auto& m : Hg) m.setZero();
@@ -287,17 +331,12 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
         if (H.norm() <= h_zero) continue;
         HU.noalias() = H * U_;  // 2 × n_r
         Hs.middleCols(k * nr, nr) += HU;
-        const int n = layout.stencil(tk - cg.gtau[static_cast<std::size_t>(gi)], st.first_node, sample, weight);
-        for (int q = 0; q < n; ++q) {
-          lowest = std::min(lowest, sample[q]);
-          cc.terms.push_back({k, sample[q]});
-          for (int e = 0; e < 2 * nr; ++e) cc.term_c.push_back(weight[q] * HU.data()[e]);
-        }
+        add_terms(k, HU, tk - cg.gtau[static_cast<std::size_t>(gi)]);
       }
     }
     st.n_terms = static_cast<int>(cc.terms.size()) - st.first_term;
-    if (damped) step_matrices_damped(it->second, Hs, Dn, n2, nr, s, st);
-    else step_matrices_any(it->second, Hs, n2, nr, s, st);
+    if (damped) step_matrices_damped(w, Hs, Dn, n2, nr, s, st);
+    else step_matrices_any(w, Hs, n2, nr, s, st);
   }
   cc.L = -lowest;
   pm.nz = cc.L;

@@ -191,8 +191,13 @@ SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, cons
   // (docs/sdm.md "Collocation with process damping").
   const bool real = real_cutter_grid(p, o) && !o.general_cutter_path && p.rotating_edges() &&
                     !p.has_speed_variation() && !p.has_process_damping();
-  o.collocation_nodes = real ? kRealCutterNodes : 0;
-  if (real && o.steps_per_period == defaults.steps_per_period &&
+  // Turning with a sharp edge: the constant step collocates too (its branch
+  // roots: sdm_branches.cpp); a nose radius's H depends on the depth.
+  const bool turning = !p.rotating_edges() && !o.general_cutter_path && !p.has_process_damping() &&
+                       !p.has_nose_radius();
+  const bool collocate = real || turning;
+  o.collocation_nodes = collocate ? kRealCutterNodes : 0;
+  if (collocate && o.steps_per_period == defaults.steps_per_period &&
       o.steps_per_vibration_cycle == defaults.steps_per_vibration_cycle)
     o.steps_per_period = o.steps_per_vibration_cycle = kRealCutterSteps;
   return o;
@@ -200,13 +205,16 @@ SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, cons
 
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
   if (o.collocation_nodes <= 0) return "";
-  const char* what = !p.rotating_edges()      ? "is turning"
-                     : p.has_speed_variation() ? "has spindle speed variation"
-                                               : nullptr;
+  const bool turning = !p.rotating_edges();
+  const char* what = p.has_speed_variation() && !turning  ? "is milling with spindle speed variation"
+                     : turning && p.has_nose_radius()      ? "is turning with a nose radius"
+                     : turning && p.has_process_damping()  ? "is turning with process damping"
+                                                           : nullptr;
   if (!what) return "";
   std::ostringstream os;
   os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for milling "
-     << "at constant speed; this cut " << what << ": use collocation 0 (the first-order steps)";
+     << "at constant speed, and for turning with a sharp edge and no process damping; this cut " << what
+     << ": use collocation 0 (the first-order steps)";
   return os.str();
 }
 
@@ -334,8 +342,7 @@ Grid make_grid(const Process& p, const SemiDiscretizationOptions& o, double f_ma
 Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_max_hz, double slowest_decay,
                  double rpm, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, const MatrixXd& U,
                  const MatrixXd& Sv) {
-  Grid g = with_branch_choice(make_grid(p, o, f_max_hz, rpm, turning_hhat_of(p), A, B, U, Sv), slowest_decay, o,
-                              A.rows(), Wx.rows());
+  Grid g = make_grid(p, o, f_max_hz, rpm, turning_hhat_of(p), A, B, U, Sv);
   if (o.collocation_nodes > 0) {
     if (on_cutter_grid(g.path)) {  // the step maps per depth (sdm_cutter_collocation.cpp)
       g.path = MapPath::kCutterCollocation;
@@ -344,7 +351,7 @@ Grid period_grid(const Process& p, const SemiDiscretizationOptions& o, double f_
       add_collocation(g, p, o.collocation_nodes, A, B, Wx, U);
     }
   }
-  return g;
+  return with_branch_choice(std::move(g), slowest_decay, o, A.rows(), Wx.rows());
 }
 
 // ĥ of turning: H = ĥ nᵀ, ĥ = H n since |n| = 1 ([K_f; 0] for the orthogonal
@@ -362,7 +369,8 @@ MatrixXd turning_hhat_of(const Process& p) {
 // Turning with a map larger than dense_max_dimension and τ min ζω >=
 // kBranchMinDecay: multipliers from the branch roots (SdmKernel::branches).
 Grid with_branch_choice(Grid g, double slowest_decay, const SemiDiscretizationOptions& o, Index n2, Index nr) {
-  g.branch_roots = o.turning_branch_roots && g.constant && nr == 1 && n2 + g.m * nr > o.dense_max_dimension &&
+  g.branch_roots = o.turning_branch_roots && g.constant && nr == 1 &&
+                   n2 + g.m * std::max(1, g.nodes) * nr > o.dense_max_dimension &&
                    g.tau * slowest_decay >= kBranchMinDecay;
   return g;
 }

@@ -12,7 +12,8 @@
 //   sdm_collocation.cpp, sdm_cutter_collocation.cpp  Gauss collocation on
 //                        the straight-teeth and on the real-cutter grid;
 //   sdm_multipliers.cpp  the dominant multiplier: dense eigen-decomposition,
-//                        restarted Arnoldi, the branch roots of turning;
+//                        restarted Arnoldi;
+//   sdm_branches.cpp     the branch roots of turning (first order, collocation);
 //   sdm_floquet.cpp      the Floquet analysis at a point: multiplier type
 //                        and the chatter-frequency rule;
 //   sdm_search.cpp       the depth search (limit_at);
@@ -290,6 +291,10 @@ struct PeriodMap {
   CutterMap cm;
   CollocationCutterMap cc;
   int nodes = 0;                // Gauss collocation nodes per step (0 unless the path collocates)
+  // Turning with collocation: the grid's constant step (its depth-independent
+  // node weights, owned by the Grid) and the depth, for the branch roots.
+  const Step* node_step = nullptr;
+  double depth = 0.0;           // m
 };
 
 // Dominant eigenpair of the one-period map.
@@ -349,8 +354,9 @@ bool real_cutter_grid(const Process& p, const SemiDiscretizationOptions& o);
 // The options with kAutoCollocation replaced by the choice for this cut
 // (kRealCutterNodes and kRealCutterSteps on the real-cutter path, else 0).
 SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, const Process& p);
-// Why collocation_nodes > 0 cannot run on this cut (turning, speed
-// variation, the real-cutter path), as an InputError message; "" when it can.
+// Why collocation_nodes > 0 cannot run on this cut (speed variation,
+// turning with a nose radius or process damping), as an InputError message;
+// "" when it can.
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o);
 
 // First pass of the real-cutter map at depth a: step boundaries 0, T and
@@ -394,7 +400,8 @@ void mode_integrals(const Eigen::Matrix2d& a, double T, int s, Eigen::Matrix2d& 
 NodeWeights node_weights(const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx, double h,
                          const std::vector<double>& c);
 // Gauss collocation (sdm_collocation.cpp): the depth-independent weights of
-// every cutting step of a straight-teeth milling grid (Step::WxEc … Eh).
+// every cutting step of a straight-teeth milling grid, or of the constant
+// step of turning with a sharp edge and no process damping (Step::WxEc … Eh).
 // @pre collocation_refusal(p, o) is empty (the solver checks it at construction).
 void add_collocation(Grid& g, const Process& p, int nodes, const MatrixXd& A, const MatrixXd& B,
                      const MatrixXd& Wx, const MatrixXd& U);
@@ -429,7 +436,8 @@ class SdmKernel {
   // `decide`: only the verdict ρ < 1 or ρ >= 1 matters (bracketing); the
   // Arnoldi iteration can then stop after a few steps, even for small maps.
   Dominant dominant(const PeriodMap& pm, bool want_vector, bool decide = false) const;
-  // Turning: the multipliers from the branch roots of the constant step map.
+  // Turning: the multipliers from the branch roots of the constant step map
+  // (first-order steps or collocation, sdm_multipliers.cpp).
   bool branches(const PeriodMap& pm, Dominant& out) const;
   // The largest of `eigs` in the left (Re μ < 0) and right half-planes into
   // out's rho_left/mu_left and rho_right/mu_right, each μ the member of its

@@ -49,6 +49,8 @@ void SdmKernel::build_map(const Grid& g, double depth, PeriodMap& pm) const {
   pm.tau = g.tau;
   pm.branch_roots = g.branch_roots && nr == 1;
   pm.steps.resize(g.steps.size());
+  pm.node_step = collocating && g.constant ? &g.steps[0] : nullptr;
+  pm.depth = depth;
   if (collocating) return build_collocation(g, depth, pm);
   if (n2 + 2 * nr <= kSmallAugmented)
     build_steps<SmallMatrix>(g, depth, pm);  // no heap traffic: most models

@@ -1,8 +1,8 @@
 // The dominant Floquet multiplier of one period map: a dense
 // eigen-decomposition of Φ for small maps, a restarted Arnoldi iteration on
-// Φ applied as its step maps for large ones, and the branch roots of the
-// constant step map of turning at low speed (docs/sdm.md). Part of the
-// `sdm` solver (sdm_internal.hpp).
+// Φ applied as its step maps for large ones, or (turning at low speed) the
+// branch roots of sdm_branches.cpp (docs/sdm.md). Part of the `sdm` solver
+// (sdm_internal.hpp).
 #include "sdm_internal.hpp"
 
 #include <algorithm>
@@ -21,14 +21,6 @@ namespace {
 // Arnoldi: relative residual of the dominant Ritz pair, and restart budget.
 constexpr double kArnoldiTol = 1e-10;
 constexpr int kArnoldiMaxRestarts = 60;
-
-// Branch roots of turning (SdmKernel::branches): Newton's iteration budget
-// and tolerance (on s τ, rad).
-constexpr int kBranchIterations = 50;
-constexpr double kBranchTolerance = 1e-11;
-// A branch whose Newton iterates stay below e^this times the dominant
-// multiplier's modulus cannot be dominant.
-constexpr double kNegligibleLog = -3.0;
 
 }  // namespace
 
@@ -66,91 +58,6 @@ Dominant SdmKernel::dominant(const PeriodMap& pm, bool want_vector, bool decide)
   } catch (const MapOverflow&) {
     return overflowed();
   }
-}
-
-// Turning: every step is the same map D, x_{i+1} = P x_i + R0 z_{i−m} +
-// R1 z_{i−m+1}, z = W x (one delayed quantity), and Φ = D^m. With x_i =
-// ν^i v the eigenvalues of D solve ν^m = g(ν), g(ν) = W (νI − P)⁻¹ (R0 +
-// R1 ν) (matrix determinant lemma), and the multipliers of Φ are μ = ν^m.
-// Writing ν = e^{sh} (τ = m h), each branch k = 0 … m/2 of
-//     s τ = Ln g(e^{sh}) + 2πjk
-// has one root while the map s ↦ (Ln g(e^{sh}) + 2πjk)/τ contracts, which
-// holds near the unit circle when τ min ζω is large (|d Ln g/ds| is about
-// 1/|s − λ| for a mode pole λ); the roots it misses lie within ~1/τ of the
-// poles, |μ| ≈ e^{−ζωτ}, never dominant there. Newton on each branch from
-// s = 2πjk/τ: cost O(m) per map instead of an eigenproblem of size m whose
-// multipliers crowd the unit circle. The multiplier is exact for the
-// discretised map; μ = e^{sτ}, and Im s is the chatter frequency (rad/s).
-// Returns false (caller falls back to the eigen-solvers) if P cannot be
-// diagonalised or a branch does not converge.
-bool SdmKernel::branches(const PeriodMap& pm, Dominant& out) const {
-  const StepMap& st = pm.steps[0];
-  const int n2 = pm.n2;
-  Eigen::ComplexEigenSolver<Eigen::MatrixXcd> es(st.P.cast<Cplx>());
-  if (es.info() != Eigen::Success) return false;
-  const Eigen::MatrixXcd& V = es.eigenvectors();
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(V);
-  if (!((V * lu.solve(Eigen::MatrixXcd::Identity(n2, n2)) - Eigen::MatrixXcd::Identity(n2, n2)).norm() < 1e-8))
-    return false;
-  const Eigen::VectorXcd lam = es.eigenvalues();
-  const Eigen::RowVectorXcd c = Wx_.row(0).cast<Cplx>() * V;
-  const Eigen::VectorXcd d0 = lu.solve(st.R0.col(0).cast<Cplx>());
-  const Eigen::VectorXcd d1 = lu.solve(st.R1.col(0).cast<Cplx>());
-  const double tau = pm.tau, h = tau / pm.m;
-  const int kmax = pm.m / 2;
-  out = Dominant{};
-  double best_re = -kInf;
-  double worst_failed = -kInf;  // largest Re s τ at which a branch gave up
-  Cplx best_s{0.0, 0.0};
-  for (int k = 0; k <= kmax; ++k) {
-    const Cplx twopik(0.0, kTwoPi * k);
-    Cplx s = twopik / tau;
-    bool ok = false;
-    for (int it = 0; it < kBranchIterations; ++it) {
-      const Cplx nu = std::exp(s * h);
-      Cplx G(0.0, 0.0), Gp(0.0, 0.0);
-      for (int i = 0; i < n2; ++i) {
-        const Cplx den = nu - lam(i);
-        G += c(i) * (d0(i) + d1(i) * nu) / den;
-        Gp -= c(i) * (d0(i) + d1(i) * lam(i)) / (den * den);
-      }
-      if (G == Cplx(0.0, 0.0)) break;  // no regeneration seen on this branch
-      const Cplx F = s * tau - std::log(G) - twopik;
-      const Cplx dF = tau - h * nu * Gp / G;
-      Cplx ds = F / dF;
-      if (std::abs(ds) * tau > kPi) ds *= kPi / (std::abs(ds) * tau);  // stay near branch k
-      s -= ds;
-      if (std::abs(ds) * tau < kBranchTolerance) {
-        ok = true;
-        break;
-      }
-    }
-    if (!ok) {
-      // Far from the modes g can vanish (Ln g → −∞) and Newton wanders at
-      // deeply damped values. Decided after all branches are known.
-      worst_failed = std::max(worst_failed, s.real() * tau);
-      continue;
-    }
-    const Cplx mu = std::exp(s * tau);
-    const Cplx mu_up = mu.imag() >= 0.0 ? mu : std::conj(mu);
-    const bool left = mu.real() < 0.0;
-    double& r = left ? out.rho_left : out.rho_right;
-    if (std::abs(mu) > r) {
-      r = std::abs(mu);
-      (left ? out.mu_left : out.mu_right) = mu_up;
-    }
-    if (s.real() > best_re) {
-      best_re = s.real();
-      best_s = s;
-    }
-  }
-  // A branch that did not converge cannot hold the dominant multiplier if
-  // its iterates stayed kNegligibleLog below it; else let the eigen-solvers decide.
-  if (worst_failed > best_re * tau + kNegligibleLog) return false;
-  out.mu = std::exp(best_s * tau);
-  if (out.mu.imag() < 0.0) out.mu = std::conj(out.mu);
-  out.branch_s = best_s;
-  return true;
 }
 
 bool SdmKernel::better(const Cplx& a, const Cplx& b) {  // a dominates b

@@ -15,7 +15,10 @@
 //
 // Turning: equal steps, a whole number per revolution, all with the same map
 // (built once per depth); at R_VA = 0 the samples and delays are exactly
-// those of the constant-speed solver, so its limit comes back.
+// those of the constant-speed solver, so its limit comes back. Turning with
+// a sharp edge collocates by default (sdm_cutter_collocation.cpp: the node
+// values one delay τ(t_k) back read by Lagrange interpolation of degree
+// 2s − 1, as the constant-speed default collocates).
 // Milling: the cutting coefficients follow the tooth angle θ(t), so the
 // grid is the constant-speed one in the mean-speed time t' = θ(t)/Ω₀ (tooth
 // entries and exits land on step boundaries, free flight is one exact
@@ -38,8 +41,12 @@ namespace {
 // Most steps in one principal period: each step keeps its map and its
 // delayed-sample terms (about 0.5 kB with one mode), so this bounds the
 // memory of one map near 0.5 GB. Case A at 100 rev/min with R_VF = 0.01
-// (100 revolutions) needs 362 000.
+// (100 revolutions) needs 362 000 (51 s).
 constexpr double kMaxPeriodSteps = 1e6;
+// With collocation, most node samples (steps × nodes) in one period: the
+// same case needs 34 000 (11 300 steps of 3 nodes; 4.5 s), 200 revolutions
+// 68 000 (20 s); the cost grows faster than the count (docs/ssv.md).
+constexpr double kMaxPeriodNodeSamples = 1.5e5;
 
 }  // namespace
 
@@ -58,15 +65,20 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
   g.h_target = std::min(tooth / o.steps_per_period, 1.0 / (o.steps_per_vibration_cycle * f_max_hz));
   const double per_tooth = std::ceil(tooth / g.h_target - 1e-9);
   const double needed = std::ceil(g.tau / g.h_target - 1e-9);
-  if (per_tooth > o.max_steps_per_period || needed > kMaxPeriodSteps) {
+  const int nodes = std::max(0, o.collocation_nodes);
+  const double samples = needed * std::max(1, nodes), budget = nodes > 0 ? kMaxPeriodNodeSamples : kMaxPeriodSteps;
+  if (per_tooth > o.max_steps_per_period || samples > budget) {
     std::ostringstream os;
     os.precision(6);
-    os << "sdm with speed variation at " << rpm << " rev/min needs about " << needed << " steps over its period of "
-       << g.tau << " s (" << g.ssv_period.modulation_periods << " modulation periods, " << per_tooth
-       << " steps per tooth period), more than " << (per_tooth > o.max_steps_per_period ? "max_steps_per_period = " : "")
-       << static_cast<long long>(per_tooth > o.max_steps_per_period ? o.max_steps_per_period : kMaxPeriodSteps)
-       << (per_tooth > o.max_steps_per_period ? " per tooth period" : " per period")
-       << ": raise the speed or the frequency ratio (a shorter modulation period), or lower "
+    os << "sdm with speed variation at " << rpm << " rev/min needs about " << needed << " steps";
+    if (nodes > 0) os << " (" << samples << " node samples at collocation_nodes = " << nodes << ")";
+    os << " over its period of " << g.tau << " s (" << g.ssv_period.modulation_periods << " modulation periods, "
+       << per_tooth << " steps per tooth period), more than ";
+    if (per_tooth > o.max_steps_per_period)
+      os << "max_steps_per_period = " << o.max_steps_per_period << " per tooth period";
+    else
+      os << static_cast<long long>(budget) << (nodes > 0 ? " node samples per period" : " steps per period");
+    os << ": raise the speed or the frequency ratio (a shorter modulation period), or lower "
           "steps_per_vibration_cycle";
     throw InputError(os.str());
   }

@@ -187,7 +187,7 @@ def test_default_method_is_the_clis(config):
 
 def test_collocation_matches_cli(tmp_path):
     """sdm with Gauss collocation (options={"collocation": 3} = --collocation 3):
-    the same table and point as the CLI, and the same refusal on turning."""
+    the same table and point as the CLI, and the same refusal on a nose radius."""
     config = SOURCE_DIR / "configs" / "milling_benchmark_ae005_down.toml"
     job = chatter.load(config)
     status, _, err = run_cli("lobes", config, "--method", "sdm", "--collocation", "3", "--rpm-points", "6",
@@ -201,8 +201,8 @@ def test_collocation_matches_cli(tmp_path):
                                "--depth-mm", "1")
     assert status == 0, err
     assert chatter.point(job, rpm=16000.0, depth_mm=1.0, method="sdm", options={"collocation": 3}) == json.loads(out)
-    turning = chatter.load(SOURCE_DIR / "configs" / "seed_turning_1dof.toml")
-    status, _, err = run_cli("lobes", SOURCE_DIR / "configs" / "seed_turning_1dof.toml", "--method", "sdm",
+    turning = chatter.load(SOURCE_DIR / "configs" / "turning_insert_lead_angle.toml")
+    status, _, err = run_cli("lobes", SOURCE_DIR / "configs" / "turning_insert_lead_angle.toml", "--method", "sdm",
                              "--collocation", "3", "--quiet", "--table", tmp_path / "u.csv")
     assert status == 2
     with pytest.raises(chatter.InputError) as e:
