@@ -189,11 +189,8 @@ void expect_refused(const StructuralModel& m, const Process& p, const SemiDiscre
 }
 
 TEST(SdmCollocation, RefusesWhatItDoesNotModelNamingTheOption) {
+  // The cuts it does not model: tests/test_sdm_turning_collocation.cpp.
   SemiDiscretizationOptions o = options(3, 8);
-  // Milling with speed variation (turning: tests/test_sdm_turning_collocation.cpp).
-  Process ssv = peers_process();
-  ssv.set_speed_variation({0.1, 0.3});
-  expect_refused(peers_model(), ssv, o, "milling with spindle speed variation");
   o.collocation_nodes = 4;
   expect_refused(peers_model(), peers_process(), o, "collocation_nodes = 4: must be in [0, 3]");
   o.collocation_nodes = -2;

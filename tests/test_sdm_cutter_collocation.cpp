@@ -43,6 +43,9 @@ constexpr double kAutoAgreeVariable = 3e-4;
 // kRealCutterSteps under process damping ~360 times the structure's own
 // (StrongProcessDamping... below): measured 1.06e-3.
 constexpr double kAutoAgreeStrongDamping = 2e-3;
+// The same with speed variation (SpeedVariation... below): measured 6.9e-7
+// (variable pitch) and 1.1e-8 (straight teeth, low immersion).
+constexpr double kSsvFirstOrderAgree = 1e-5;
 // Order 2s = 6: halving the step divides the error by 64; accepted from 24.
 constexpr double kOrderSixRatioMin = 24.0;
 // The straight cutter through the general path (one revolution, one delay
@@ -205,8 +208,9 @@ TEST(SdmCutterCollocation, TheDefaultTakesCollocationOnRealCuttersOnly) {
   const SemiDiscretizationOptions straight = chosen(two_mode(), Process::milling(half_immersion(2)));
   EXPECT_EQ(straight.collocation_nodes, 0);
   EXPECT_EQ(straight.steps_per_period, def.steps_per_period);
-  // So do the cross-check path, speed variation and process damping (which
-  // takes collocation when asked: ProcessDamping... below).
+  // So do the cross-check path and process damping (which takes
+  // collocation when asked: ProcessDamping... below); speed variation
+  // collocates as at constant speed (SpeedVariation... below).
   SemiDiscretizationOptions general;
   general.general_cutter_path = true;
   EXPECT_EQ(chosen(two_mode(), variable_pitch(), general).collocation_nodes, 0);
@@ -218,7 +222,7 @@ TEST(SdmCutterCollocation, TheDefaultTakesCollocationOnRealCuttersOnly) {
   v.amplitude_ratio = 0.1;
   v.frequency_ratio = 0.01;
   ssv.set_speed_variation(v);
-  EXPECT_EQ(chosen(issue45_tool(), ssv).collocation_nodes, 0);
+  EXPECT_EQ(chosen(issue45_tool(), ssv).collocation_nodes, kRealCutterNodes);
 }
 
 // ---------------------------------------------------------------- accuracy
@@ -235,6 +239,27 @@ TEST(SdmCutterCollocation, HelixDefaultIsWithinTolOfTheConvergedLimitOverTheRang
   // The reference against the first-order path at zero step (independent).
   const double rpm = 6000.0;
   EXPECT_NEAR(limit(m, p, options(3, 16), rpm) / first_order_zero_step(m, p, rpm), 1.0, kFirstOrderAgree);
+}
+
+// Spindle speed variation (docs/ssv.md): H at each node's mean-speed time,
+// the delays τ_g(t_k) at the node. Variable pitch (period one revolution)
+// with R_VA = 0.1, R_VF = 0.5 (principal period two revolutions), and the
+// straight 2-tooth cutter at low immersion (flip lobes) with R_VF = 0.25:
+// 3 nodes at 16 steps against the first order at 256 and 512 steps
+// extrapolated to zero step.
+TEST(SdmCutterCollocation, SpeedVariationAgreesWithTheFirstOrderAtZeroStep) {
+  Process vp = variable_pitch();
+  vp.set_speed_variation({0.1, 0.5});
+  MillingParameters low = half_immersion(2);
+  low.radial_immersion = 0.1;
+  Process straight = Process::milling(low);
+  straight.set_speed_variation({0.1, 0.25});
+  struct Case { const Process* p; double rpm; };
+  for (const Case c : {Case{&vp, 12000.0}, Case{&straight, 9000.0}}) {
+    const double ref = first_order_zero_step(two_mode(), *c.p, c.rpm);
+    const double got = limit(two_mode(), *c.p, options(3, 16), c.rpm);
+    EXPECT_NEAR(got / ref, 1.0, kSsvFirstOrderAgree) << c.rpm << " rev/min: collocation " << got << " vs " << ref;
+  }
 }
 
 TEST(SdmCutterCollocation, HalvingTheStepDividesTheErrorBySixtyFour) {

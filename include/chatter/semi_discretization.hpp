@@ -25,8 +25,8 @@
 //    sequence of step maps (cost O(m n²) per product, no dense product).
 // Error: O(h²) in the step h (second-order convergence, see docs/sdm.md).
 //
-// Collocation (collocation_nodes = s > 0, milling at constant speed; with
-// process damping the velocity at the nodes too): each cutting step instead collocates the cutting term at
+// Collocation (collocation_nodes = s > 0, milling, turning with a sharp edge;
+// with process damping the velocity at the nodes too): each cutting step instead collocates the cutting term at
 // its s Gauss–Legendre nodes (H sampled there, the delayed state read at the
 // nodes one period back, interpolated in degree 2s − 1 where a delay is not
 // the period), the free dynamics still exact; error O(h^{2s}) measured
@@ -56,7 +56,8 @@
 // path over the principal period p T_m = q T_F (speed_variation_period),
 // with the delay τ(t_i) at every step boundary from the integral of the
 // speed; ρ and μ are per that period (FloquetResult::period_s). Not with
-// process damping (InputError).
+// process damping (InputError). Collocation there reads H at each node's
+// mean-speed time and the delay τ_g(t_k) at the node.
 //
 // Thread safety: the solver is immutable after construction; every const
 // member allocates its own workspace, so several threads may call them.
@@ -81,8 +82,8 @@ inline constexpr int kMaxCollocationNodes = 3;
 inline constexpr int kCollocationSteps = 8;
 /// SemiDiscretizationOptions::collocation_nodes: chosen by the cut. A real
 /// cutter (a helix, variable pitch or helix, a profile, two engaged arcs;
-/// not on general_cutter_path) without process damping or speed variation,
-/// and turning with a sharp edge (no nose radius) without them, take
+/// not on general_cutter_path) without process damping, and turning with a
+/// sharp edge (no nose radius) without it, with or without speed variation, take
 /// kRealCutterNodes nodes, and kRealCutterSteps steps per period and per
 /// vibration cycle when those are left at their defaults (64, 64); every
 /// other cut the first-order steps.
@@ -149,7 +150,7 @@ struct SemiDiscretizationOptions {
   /// tooth-period grid, the constant turning step; byte-identical tables).
   bool general_cutter_path = false;
   /// Gauss collocation nodes per cutting step (0 … 3, or kAutoCollocation;
-  /// milling, or turning with a sharp edge, at constant speed). 0: first-order
+  /// milling, or turning with a sharp edge). 0: first-order
   /// semi-discretisation (H averaged over the step, the delayed term linear
   /// between samples; error O(h²)). s >= 1: exponential collocation at the s
   /// Gauss–Legendre nodes of each step — the free dynamics still exact, H
@@ -162,8 +163,8 @@ struct SemiDiscretizationOptions {
   /// kCollocationSteps) the peers' 2-DOF case is within 0.014 % of its
   /// converged limits, the default first-order steps within 1.2 %.
   /// The map holds s samples per cutting step (none for free flight).
-  /// The solver's constructor throws InputError for speed variation and
-  /// for turning with a nose radius or process damping (collocation_refusal).
+  /// The solver's constructor throws InputError for turning with a nose
+  /// radius or process damping (collocation_refusal).
   /// kAutoCollocation (the default): chosen by
   /// the cut (see kAutoCollocation); the solver's options() say which.
   int collocation_nodes = kAutoCollocation;

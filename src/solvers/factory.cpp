@@ -117,8 +117,8 @@ SolverDescriptor sdm_descriptor() {
                {"collocation", Kind::kInt,
                 "Gauss collocation nodes per step, 0-3 (default: 3 for a helix, variable pitch or a profile, "
                 "and for turning with a sharp edge; else 0: first order). 3 with its default 8 steps: limits "
-                "within ~0.02 % where first order is within ~1 %, and faster; not with process damping in "
-                "turning, a nose radius or speed variation",
+                "within ~0.02 % where first order is within ~1 %, and faster; not for turning with process "
+                "damping or a nose radius",
                 0.0, static_cast<double>(kMaxCollocationNodes), "", true}};
   d.make = [](const StructuralModel& m, const Process& p, double depth_max_m, const SolverValues& o) {
     SemiDiscretizationOptions s;

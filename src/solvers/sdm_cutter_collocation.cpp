@@ -1,6 +1,6 @@
 // Gauss collocation on the real-cutter grid of the `sdm` solver (helix,
 // variable pitch or helix, a profile, two engaged arcs, process damping, the
-// general path, turning with spindle speed variation; docs/sdm.md
+// general path, spindle speed variation; docs/sdm.md
 // "Collocation on real cutters", "Collocation with process damping",
 // "Collocation in turning"): the step maps at one depth
 // (SdmKernel::build_cutter_collocation) and Φ y
@@ -17,8 +17,9 @@
 // straight-teeth grid (sdm_collocation.cpp, whose step weights it shares):
 //   (I + [G_jk Hs_k]) Z = WxEc x_i + G d,   x_{i+1} = e^{A h} x_i + VB d − VBH Z,
 // G_jk = Wx W_jk B, Hs_k = Σ_g H_g(t_k) U, d_k = Σ_g H_g(t_k) U z(t_k − τ_g).
-// With speed variation (turning: H = a ĥ nᵀ, one delay) the delay at each
-// node is τ(t_k), the time of one revolution back (NodeDelay).
+// With speed variation the delay of group g at each node is τ_g(t_k), the
+// time over which the spindle turns the group's angle, and H is the cut's
+// at the node's mean-speed time θ(t_k)/Ω₀ (NodeClock; turning: H = a ĥ nᵀ).
 // The delayed z(t_k − τ_g) is read from the stored node samples: the sample
 // itself when it falls on a node (one delay equal to the period: a uniform
 // cutter), else the Lagrange polynomial through the 2s nodes of the step it
@@ -136,21 +137,20 @@ class NodeLayout {
 
 namespace {
 
-// The delay at a node of turning with spindle speed variation: the time
-// τ(t) over which the spindle turns one revolution at the mean speed
-// (ModulatedSpeed::delay; the grid's principal period and frequency ratio,
-// as ssv_cutter_grid reads them at the step boundaries). `turning` false:
-// no speed variation (the cut's constant delays apply).
-struct NodeDelay {
-  NodeDelay() = default;
-  NodeDelay(const Process& p, const Grid& g)
-      : turning(!p.rotating_edges()),
-        speed(g.rpm, {p.speed_variation().amplitude_ratio, g.ssv_period.frequency_ratio_used}),
-        revolution(speed.mean_rad_s() * p.delay_s(g.rpm)) {}
-  double at(double t) const { return speed.delay(t, revolution); }
-  bool turning = false;
+// Spindle speed variation at the nodes (the grid's principal period and
+// frequency ratio, as ssv_cutter_grid reads them at the step boundaries):
+// the delay of a group whose mean-speed delay is τ₀, the time τ(t) over
+// which the spindle turns Ω₀ τ₀ (ModulatedSpeed::delay), and the
+// mean-speed time θ(t)/Ω₀ at which the cut (built at the mean speed) gives
+// H. Without speed variation (`on` false) both are the identity.
+struct NodeClock {
+  NodeClock() = default;
+  NodeClock(const Process& p, const Grid& g)
+      : on(true), speed(g.rpm, {p.speed_variation().amplitude_ratio, g.ssv_period.frequency_ratio_used}) {}
+  double delay(double t, double tau0) const { return on ? speed.delay(t, speed.mean_rad_s() * tau0) : tau0; }
+  double mean_time(double t) const { return on ? speed.angle(t) / speed.mean_rad_s() : t; }
+  bool on = false;
   ModulatedSpeed speed{1.0, {}};
-  double revolution = 0.0;  // rad
 };
 
 // The step matrices of one cutting step from its weights and the node
@@ -225,6 +225,34 @@ void step_matrices_any(const NodeWeights& w, const MatrixXd& Hs, int n2, int nr,
 // its events with the depth, so the lengths of its spans change).
 constexpr std::size_t kWeightsKept = 256;
 
+// pm's fields for a collocation map of the steps between boundaries t with
+// N node samples per period, its cc emptied of the last depth's terms (its
+// step storage and weights kept for the same A and s).
+void start_map(PeriodMap& pm, int n2, int nr, double T, int s, const std::vector<double>& t, int N,
+               const double* A_data) {
+  pm.n2 = n2;
+  pm.nr = nr;
+  pm.tau = T;
+  pm.path = MapPath::kCutterCollocation;
+  pm.nodes = s;
+  pm.constant = pm.free_flight = pm.branch_roots = false;
+  pm.E = nullptr;
+  pm.steps.clear();
+  pm.m = static_cast<int>(t.size()) - 1;
+  CollocationCutterMap& cc = pm.cc;
+  cc.t = t;
+  cc.s = s;
+  cc.N = N;
+  cc.steps.resize(static_cast<std::size_t>(pm.m));  // kept between depths: no reallocation
+  cc.terms.clear();
+  cc.term_c.clear();
+  if (cc.weights_for != A_data || cc.weights_nodes != s || cc.weights.size() > kWeightsKept) {
+    cc.weights.clear();
+    cc.weights_for = A_data;
+    cc.weights_nodes = s;
+  }
+}
+
 // The weights of step length h from cc's cache, computed on first use (with
 // process damping, Sv non-null, also SvEc and Gv).
 const NodeWeights& step_weights(CollocationCutterMap& cc, const MatrixXd& A, const MatrixXd& B, const MatrixXd& Wx,
@@ -250,15 +278,16 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   // The grid at this depth (a helix or a profile moves its events with the
   // depth), or the speed's grid at 1 m scaled (straight teeth: H ∝ a).
   CutterGrid local;
-  if (!g.cutter_grid) local = cutter_grid(p, g, o_.axial_slices, a, true);
+  if (!g.cutter_grid)
+    local = g.ssv ? ssv_cutter_grid(p, g, o_.axial_slices, a, true) : cutter_grid(p, g, o_.axial_slices, a, true);
   const CutterGrid& cg = g.cutter_grid ? *g.cutter_grid : local;
   const double scale = g.cutter_grid ? a / cg.depth : 1.0;
   const RegenerativeCut* cut = cg.cut.get();  // at cg.depth
-  // Turning with speed variation: H = a ĥ nᵀ at every node, one delay τ(t).
-  const NodeDelay ssv = g.ssv ? NodeDelay(p, g) : NodeDelay();
-  if (!cut && !ssv.turning)
-    throw std::logic_error("sdm collocation: a grid without its cut (milling speed variation is refused)");
-  const MatrixXd ssv_HU = ssv.turning ? MatrixXd(a * turning_hhat_of(p) * U_) : MatrixXd();
+  const NodeClock clock = g.ssv ? NodeClock(p, g) : NodeClock();
+  // Turning with speed variation: H = a ĥ nᵀ at every node (no cut).
+  const bool ssv_turning = g.ssv && !p.rotating_edges();
+  if (!cut && !ssv_turning) throw std::logic_error("sdm collocation: a milling grid without its cut");
+  const MatrixXd ssv_HU = ssv_turning ? MatrixXd(a * turning_hhat_of(p) * U_) : MatrixXd();
   const double T = g.tau, h_zero = kFreeForce * cg.force_scale_n_per_m2 * a;  // N/m: a group not cutting
   // Process damping: C̄ D(t) Sv x at every node (C̄ = C_pd / V).
   const double cbar = p.process_damping_per_depth(g.rpm);
@@ -267,27 +296,8 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
   const NodeLayout layout(cg, c, T);
   const int M = static_cast<int>(cg.h.size()), ng = static_cast<int>(cg.gtau.size());
 
-  pm.n2 = n2;
-  pm.nr = nr;
-  pm.tau = T;
-  pm.path = MapPath::kCutterCollocation;
-  pm.nodes = s;
-  pm.constant = pm.free_flight = pm.branch_roots = false;
-  pm.E = nullptr;
-  pm.steps.clear();
-  pm.m = M;
+  start_map(pm, n2, nr, T, s, cg.t, layout.nodes(), A_.data());
   CollocationCutterMap& cc = pm.cc;
-  cc.t = cg.t;
-  cc.s = s;
-  cc.N = layout.nodes();
-  cc.steps.resize(static_cast<std::size_t>(M));  // kept between depths: no reallocation
-  cc.terms.clear();
-  cc.term_c.clear();
-  if (cc.weights_for != A_.data() || cc.weights_nodes != s || cc.weights.size() > kWeightsKept) {
-    cc.weights.clear();
-    cc.weights_for = A_.data();
-    cc.weights_nodes = s;
-  }
   std::vector<Eigen::Matrix2d> per_edge, Hg(static_cast<std::size_t>(ng));
   MatrixXd Hs(2, snr), HU(2, nr), Dn(2, 2 * s);
   int lowest = 0;
@@ -316,13 +326,14 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
     };
     for (int k = 0; k < s; ++k) {
       const double tk = cg.t[iu] + c[static_cast<std::size_t>(k)] * st.h;
-      if (ssv.turning) {
+      if (ssv_turning) {
         Hs.middleCols(k * nr, nr) = ssv_HU;
-        add_terms(k, ssv_HU, tk - ssv.at(tk));
+        add_terms(k, ssv_HU, tk - clock.delay(tk, cg.gtau[0]));
         continue;
       }
-      cut->force_rates(tk, per_edge);
-      if (damped) Dn.middleCols(2 * k, 2) = (cbar * scale) * cut->damping_rate(tk);
+      const double tq = clock.mean_time(tk);  // the cut's time (tk at constant speed)
+      cut->force_rates(tq, per_edge);
+      if (damped) Dn.middleCols(2 * k, 2) = (cbar * scale) * cut->damping_rate(tq);
       for (auto& m : Hg) m.setZero();
       for (std::size_t e = 0; e < per_edge.size(); ++e) Hg[static_cast<std::size_t>(cg.edge_group[e])] += per_edge[e];
       Hs.middleCols(k * nr, nr).setZero();
@@ -331,7 +342,7 @@ void SdmKernel::build_cutter_collocation(const Grid& g, double a, PeriodMap& pm)
         if (H.norm() <= h_zero) continue;
         HU.noalias() = H * U_;  // 2 × n_r
         Hs.middleCols(k * nr, nr) += HU;
-        add_terms(k, HU, tk - cg.gtau[static_cast<std::size_t>(gi)]);
+        add_terms(k, HU, tk - clock.delay(tk, cg.gtau[static_cast<std::size_t>(gi)]));
       }
     }
     st.n_terms = static_cast<int>(cc.terms.size()) - st.first_term;

@@ -190,7 +190,7 @@ SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, cons
   // own damping its stiff, damped motion gets multipliers near −1 per step
   // (docs/sdm.md "Collocation with process damping").
   const bool real = real_cutter_grid(p, o) && !o.general_cutter_path && p.rotating_edges() &&
-                    !p.has_speed_variation() && !p.has_process_damping();
+                    !p.has_process_damping();
   // Turning with a sharp edge: the constant step collocates too (its branch
   // roots: sdm_branches.cpp); a nose radius's H depends on the depth.
   const bool turning = !p.rotating_edges() && !o.general_cutter_path && !p.has_process_damping() &&
@@ -206,14 +206,13 @@ SemiDiscretizationOptions resolved_collocation(SemiDiscretizationOptions o, cons
 std::string collocation_refusal(const Process& p, const SemiDiscretizationOptions& o) {
   if (o.collocation_nodes <= 0) return "";
   const bool turning = !p.rotating_edges();
-  const char* what = p.has_speed_variation() && !turning  ? "is milling with spindle speed variation"
-                     : turning && p.has_nose_radius()      ? "is turning with a nose radius"
+  const char* what = turning && p.has_nose_radius()        ? "is turning with a nose radius"
                      : turning && p.has_process_damping()  ? "is turning with process damping"
                                                            : nullptr;
   if (!what) return "";
   std::ostringstream os;
   os << "sdm: collocation_nodes = " << o.collocation_nodes << " (--collocation): Gauss collocation is for milling "
-     << "at constant speed, and for turning with a sharp edge and no process damping; this cut " << what
+     << "and for turning with a sharp edge and no process damping; this cut " << what
      << ": use collocation 0 (the first-order steps)";
   return os.str();
 }

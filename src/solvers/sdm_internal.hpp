@@ -106,7 +106,8 @@ struct Step {
 struct CutterGrid {
   double depth = 0.0;              // m
   // The cut it was built from (cutter_grid; collocation samples its H at the
-  // nodes); null from ssv_cutter_grid.
+  // nodes, with speed variation at their mean-speed times); null for turning
+  // with speed variation (H constant).
   std::shared_ptr<const RegenerativeCut> cut;
   std::vector<double> t;           // t_0 = 0 … t_M = T
   std::vector<double> h;           // step lengths, s
@@ -377,7 +378,9 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
 // The steps of one principal period at depth a: turning in equal steps;
 // milling on the constant-speed grid in the mean-speed time θ(t)/Ω₀, mapped
 // to real time, its integrals scaled by dt/dt'. tau_at: the delays τ(t_i).
-CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a);
+// collocation: milling's boundaries also at every edge's own events, and
+// without the step integrals (as cutter_grid).
+CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool collocation = false);
 
 // The grid of one period at `rpm` as the solver uses it: make_grid, the
 // branch-root choice of turning and, with collocation_nodes > 0, the

@@ -15,10 +15,11 @@
 //
 // Turning: equal steps, a whole number per revolution, all with the same map
 // (built once per depth); at R_VA = 0 the samples and delays are exactly
-// those of the constant-speed solver, so its limit comes back. Turning with
-// a sharp edge collocates by default (sdm_cutter_collocation.cpp: the node
-// values one delay τ(t_k) back read by Lagrange interpolation of degree
-// 2s − 1, as the constant-speed default collocates).
+// those of the constant-speed solver, so its limit comes back.
+// Collocation (sdm_cutter_collocation.cpp; the default for turning with a
+// sharp edge and for real cutters, as at constant speed): H at each node
+// from the cut at the node's mean-speed time θ(t_k)/Ω₀, the delayed node
+// values τ_g(t_k) back read by Lagrange interpolation of degree 2s − 1.
 // Milling: the cutting coefficients follow the tooth angle θ(t), so the
 // grid is the constant-speed one in the mean-speed time t' = θ(t)/Ω₀ (tooth
 // entries and exits land on step boundaries, free flight is one exact
@@ -83,11 +84,12 @@ Grid make_ssv_grid(const Process& p, const SemiDiscretizationOptions& o, double 
     throw InputError(os.str());
   }
   if (!p.has_helix() && !p.has_nose_radius())  // linear in a: once per speed at 1 m
-    g.cutter_grid = std::make_shared<const CutterGrid>(ssv_cutter_grid(p, g, o.axial_slices, 1.0));
+    g.cutter_grid =
+        std::make_shared<const CutterGrid>(ssv_cutter_grid(p, g, o.axial_slices, 1.0, o.collocation_nodes > 0));
   return g;
 }
 
-CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a) {
+CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, double a, bool collocation) {
   const SpeedVariation asked = p.speed_variation();
   const ModulatedSpeed speed(g.rpm, {asked.amplitude_ratio, g.ssv_period.frequency_ratio_used});
   const double T = g.tau, omega0 = speed.mean_rad_s();
@@ -122,7 +124,7 @@ CutterGrid ssv_cutter_grid(const Process& p, const Grid& g, int axial_slices, do
     // that their real length stays below h_target (dt <= dt' / (1 − R_VA)).
     Grid gm = g;
     gm.h_target = g.h_target * (1.0 - asked.amplitude_ratio);
-    cg = cutter_grid(p, gm, axial_slices, a);
+    cg = cutter_grid(p, gm, axial_slices, a, collocation);
     const std::size_t ng = cg.gtau.size();
     std::vector<double> t(cg.t.size());
     for (std::size_t i = 0; i < t.size(); ++i) t[i] = speed.time_at_angle(omega0 * cg.t[i]);
