@@ -127,8 +127,9 @@ struct CutterGrid {
 
 // The four ways the one-period map is built and applied, chosen once per
 // speed by period_grid (docs/sdm.md): on the tooth-period grid (straight
-// teeth and turning; turning's constant steps, branch roots and nose radius
-// are within kToothSteps) or on the real-cutter grid (a helix, variable
+// teeth and turning; turning's constant step and its branch roots are
+// within kToothSteps and kToothCollocation, a nose radius within
+// kToothSteps) or on the real-cutter grid (a helix, variable
 // pitch or helix, a profile, two arcs, process damping in milling, speed
 // variation), each with first-order steps or Gauss collocation. Every
 // dispatch (SdmKernel::build_map, apply, the chatter-frequency samples)
